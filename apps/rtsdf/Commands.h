@@ -1,0 +1,52 @@
+#pragma once
+/// @file Commands.h
+/// @brief The rtsdf subcommands: settings structs filled by CLI11 and the functions that run them.
+#include "reference/ExactSdf.h"
+
+#include <string>
+#include <vector>
+
+namespace rtsdf::app {
+
+/// @brief The SDF builders `bake` offers.
+enum class BakeMethod {
+  Exact,  ///< CPU exact reference (Embree closest points + robust sign)
+  OpenVdb ///< OpenVDB's meshToLevelSet
+};
+
+struct BakeSettings {
+  std::string scene;
+  std::string output;
+  std::string method = "exact";
+  int resolution = 128;
+  double band = 0.1;
+  bool fullDomain = false;
+  double padding = -1.0; ///< < 0: the band (so the band fits inside the grid)
+  double time = 0.0;
+  std::string sign = "auto";
+  bool fog = false;
+  bool halfFloat = false;
+  std::string compression = "blosc";
+};
+
+struct CompareSettings {
+  std::string a, b;
+};
+
+struct BenchSettings {
+  std::vector<std::string> scenes;
+  std::vector<int> resolutions{128, 256};
+  double bandFraction = 0.05;
+  int repeats = 3;
+  std::string output;
+};
+
+int runBake(const BakeSettings& s);
+int runInfo();
+int runCompare(const CompareSettings& s);
+int runBench(const BenchSettings& s);
+
+/// @brief Fail early (before any work) when @a path cannot be written: missing folder or a directory.
+void checkOutputPath(const std::string& path);
+
+} // namespace rtsdf::app

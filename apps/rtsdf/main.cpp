@@ -1,0 +1,99 @@
+// rtsdf: real-time signed distance fields of triangle-mesh scenes.
+#include "Commands.h"
+#include "util/Error.h"
+#include "util/Log.h"
+#include "util/Progress.h"
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <exception>
+
+int main(int argc, char** argv) {
+  using namespace rtsdf::app;
+  CLI::App app{"rtsdf: signed distance fields of triangle-mesh scenes (OpenVDB export, GPU jump flooding and ray "
+               "refinement, soft shadows)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("rtsdf ") + RTSDF_VERSION);
+  int verbosity = 0;
+  bool quiet = false;
+  app.add_flag("-v,--verbose", verbosity, "More log output (repeat for trace)");
+  app.add_flag("-q,--quiet", quiet, "Only warnings and errors; no progress bar");
+
+  BakeSettings bake;
+  CLI::App* bakeCmd = app.add_subcommand("bake", "Build the signed distance field of a scene and write it as a .vdb");
+  bakeCmd->add_option("scene", bake.scene, "Scene (.json) or mesh file (.obj, .ply, .stl, .gltf, ...)")->required();
+  bakeCmd->add_option("-o,--output", bake.output, "Output .vdb file (written atomically)")->required();
+  bakeCmd->add_option("-m,--method", bake.method, "exact: CPU exact reference; openvdb: OpenVDB's meshToLevelSet")
+      ->check(CLI::IsMember({"exact", "openvdb"}))
+      ->capture_default_str();
+  bakeCmd->add_option("-r,--res", bake.resolution, "Voxels along the scene's longest axis (other axes follow)")
+      ->check(CLI::Range(1, 8192))
+      ->capture_default_str();
+  bakeCmd->add_option("-d,--band", bake.band, "Narrow-band half-width in scene units (active voxels: |d| <= band)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  bakeCmd->add_flag("--full", bake.fullDomain, "Full-domain field: every voxel active (exact method only)");
+  bakeCmd->add_option("--padding", bake.padding, "Margin around the scene bounds in scene units (default: the band)")
+      ->check(CLI::NonNegativeNumber);
+  bakeCmd->add_option("-t,--time", bake.time, "Animation time in seconds")->capture_default_str();
+  bakeCmd->add_option("--sign", bake.sign,
+                      "Sign rule of the exact method: auto (pseudo-normal for closed meshes, winding number for "
+                      "open ones), pseudonormal, winding")
+      ->check(CLI::IsMember({"auto", "pseudonormal", "winding"}))
+      ->capture_default_str();
+  bakeCmd->add_flag("--fog", bake.fog, "Also write a 'density' fog grid so Blender shows the volume");
+  bakeCmd->add_flag("--half", bake.halfFloat, "Store values as 16-bit halves");
+  bakeCmd->add_option("--compression", bake.compression, "blosc, zip or none")
+      ->check(CLI::IsMember({"blosc", "zip", "none"}))
+      ->capture_default_str();
+
+  app.add_subcommand("info", "Print versions, Vulkan devices with their limits, and embedded shaders");
+
+  CompareSettings cmp;
+  CLI::App* cmpCmd = app.add_subcommand(
+      "compare", "Compare two level-set .vdb files on the voxels active in both: mean/RMS/max |difference| in voxels "
+                 "and the rate of sign disagreement");
+  cmpCmd->add_option("a", cmp.a, "First .vdb")->required()->check(CLI::ExistingFile);
+  cmpCmd->add_option("b", cmp.b, "Second .vdb")->required()->check(CLI::ExistingFile);
+
+  BenchSettings bench;
+  CLI::App* benchCmd = app.add_subcommand(
+      "bench", "Time the exact reference against OpenVDB's meshToLevelSet and write a Markdown table with ratios");
+  benchCmd->add_option("scenes", bench.scenes, "Scenes or meshes (default: data/scenes/default.json and the bunny)");
+  benchCmd->add_option("--res", bench.resolutions, "Resolutions (voxels along the longest axis)")
+      ->check(CLI::Range(1, 8192))
+      ->capture_default_str();
+  benchCmd->add_option("--band-fraction", bench.bandFraction, "Band half-width as a fraction of the scene's extent")
+      ->check(CLI::Range(1e-6, 10.0))
+      ->capture_default_str();
+  benchCmd->add_option("--repeats", bench.repeats, "Timed runs per point (the median is reported)")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  benchCmd->add_option("-o,--output", bench.output, "Also write the Markdown report to this file");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  rtsdf::initLogging(quiet ? -1 : verbosity);
+  rtsdf::Progress::setEnabled(!quiet);
+  try {
+    if (*bakeCmd) return runBake(bake);
+    if (app.got_subcommand("info")) return runInfo();
+    if (*cmpCmd) return runCompare(cmp);
+    if (*benchCmd) return runBench(bench);
+  } catch (const rtsdf::Error& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    spdlog::error("out of memory (try a lower --res or a narrower --band)");
+    return 1;
+  } catch (const std::exception& e) {
+    spdlog::error("unexpected failure: {}", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,287 @@
+#include "gpu/VulkanContext.h"
+
+#include "gpu/EmbeddedShaders.h"
+#include "gpu/VulkanError.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+
+namespace rtsdf::gpu {
+namespace {
+
+const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+const char* typeName(VkPhysicalDeviceType t) {
+  switch (t) {
+  case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
+  case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
+  case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
+  case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
+  default: return "other";
+  }
+}
+
+int typeRank(VkPhysicalDeviceType t) {
+  switch (t) {
+  case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+  case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+  case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+  case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+  default: return 4;
+  }
+}
+
+bool layerAvailable(const char* name) {
+  std::uint32_t n = 0;
+  vkEnumerateInstanceLayerProperties(&n, nullptr);
+  std::vector<VkLayerProperties> layers(n);
+  vkEnumerateInstanceLayerProperties(&n, layers.data());
+  for (const auto& l : layers)
+    if (std::strcmp(l.layerName, name) == 0) return true;
+  return false;
+}
+
+VkInstance createInstance(bool validation, const VkDebugUtilsMessengerCreateInfoEXT* messenger) {
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "rtsdf";
+  app.pEngineName = "rtsdf";
+  app.apiVersion = VK_API_VERSION_1_1;
+  std::vector<const char*> layers, extensions;
+  if (validation) {
+    if (!layerAvailable(kValidationLayer))
+      throw Error("Vulkan validation was requested but VK_LAYER_KHRONOS_validation is not installed "
+                  "(Debian package vulkan-validationlayers)");
+    layers.push_back(kValidationLayer);
+    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  }
+  VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ci.pNext = messenger; // covers vkCreateInstance itself; a separate messenger covers the device's life
+  ci.pApplicationInfo = &app;
+  ci.enabledLayerCount = std::uint32_t(layers.size());
+  ci.ppEnabledLayerNames = layers.data();
+  ci.enabledExtensionCount = std::uint32_t(extensions.size());
+  ci.ppEnabledExtensionNames = extensions.data();
+  VkInstance instance = VK_NULL_HANDLE;
+  const VkResult r = vkCreateInstance(&ci, nullptr, &instance);
+  if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
+    throw VulkanError(r, "creating a Vulkan instance: no Vulkan driver is installed (on Debian: mesa-vulkan-drivers "
+                         "provides lavapipe)");
+  check(r, "creating a Vulkan instance");
+  return instance;
+}
+
+DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index) {
+  VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  props2.pNext = &subgroup;
+  vkGetPhysicalDeviceProperties2(pd, &props2);
+  const VkPhysicalDeviceProperties& p = props2.properties;
+  DeviceInfo info;
+  info.index = index;
+  info.name = p.deviceName;
+  info.type = p.deviceType;
+  info.typeName = typeName(p.deviceType);
+  info.apiVersion = p.apiVersion;
+  info.driver = fmt::format("{}.{}.{}", VK_VERSION_MAJOR(p.driverVersion), VK_VERSION_MINOR(p.driverVersion),
+                            VK_VERSION_PATCH(p.driverVersion));
+  info.maxStorageBufferRange = p.limits.maxStorageBufferRange;
+  info.maxComputeSharedMemory = p.limits.maxComputeSharedMemorySize;
+  info.maxComputeInvocations = p.limits.maxComputeWorkGroupInvocations;
+  info.maxImageDimension3D = p.limits.maxImageDimension3D;
+  info.subgroupSize = subgroup.subgroupSize;
+  info.timestampPeriodNs = p.limits.timestampPeriod;
+  std::uint32_t nq = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &nq, nullptr);
+  std::vector<VkQueueFamilyProperties> qf(nq);
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &nq, qf.data());
+  for (const auto& q : qf)
+    if ((q.queueFlags & VK_QUEUE_COMPUTE_BIT) && q.timestampValidBits > 0) info.computeTimestamps = true;
+  VkPhysicalDeviceMemoryProperties mem;
+  vkGetPhysicalDeviceMemoryProperties(pd, &mem);
+  for (std::uint32_t h = 0; h < mem.memoryHeapCount; ++h)
+    if (mem.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      info.deviceLocalBytes = std::max<std::uint64_t>(info.deviceLocalBytes, mem.memoryHeaps[h].size);
+  return info;
+}
+
+std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
+  std::uint32_t n = 0;
+  check(vkEnumeratePhysicalDevices(instance, &n, nullptr), "enumerating Vulkan devices");
+  std::vector<VkPhysicalDevice> devices(n);
+  check(vkEnumeratePhysicalDevices(instance, &n, devices.data()), "enumerating Vulkan devices");
+  if (devices.empty())
+    throw VulkanError(VK_ERROR_INITIALIZATION_FAILED,
+                      "finding a Vulkan device: none present (on Debian: mesa-vulkan-drivers provides lavapipe)");
+  return devices;
+}
+
+} // namespace
+
+struct VulkanContext::Messages {
+  std::atomic<std::uint32_t> errors{0};
+  std::mutex mutex;
+  std::string last;
+};
+
+
+bool ContextOptions::validationRequestedByEnvironment() {
+  const char* v = std::getenv("RTSDF_VALIDATION");
+  return v && std::string(v) != "0" && std::string(v) != "";
+}
+
+std::vector<DeviceInfo> listDevices() {
+  VkInstance instance = createInstance(false, nullptr);
+  std::vector<DeviceInfo> out;
+  try {
+    const auto devices = physicalDevices(instance);
+    for (std::uint32_t i = 0; i < devices.size(); ++i) out.push_back(describe(devices[i], i));
+  } catch (...) {
+    vkDestroyInstance(instance, nullptr);
+    throw;
+  }
+  vkDestroyInstance(instance, nullptr);
+  return out;
+}
+
+std::uint32_t chooseDevice(const std::vector<DeviceInfo>& devices, const std::string& request) {
+  if (devices.empty()) throw Error("no Vulkan device to choose from");
+  if (request.empty()) {
+    const auto best = std::min_element(devices.begin(), devices.end(), [](const DeviceInfo& a, const DeviceInfo& b) {
+      return typeRank(a.type) < typeRank(b.type);
+    });
+    return best->index;
+  }
+  if (std::all_of(request.begin(), request.end(), [](unsigned char c) { return std::isdigit(c); })) {
+    const unsigned long i = std::stoul(request);
+    if (i >= devices.size())
+      throw Error(fmt::format("--device {}: there are only {} Vulkan device(s) (see 'rtsdf info')", request,
+                              devices.size()));
+    return std::uint32_t(i);
+  }
+  for (const auto& d : devices)
+    if (lower(d.name).find(lower(request)) != std::string::npos) return d.index;
+  throw Error(fmt::format("--device '{}': no Vulkan device has that name (see 'rtsdf info')", request));
+}
+
+VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Messages) {
+  try {
+    VkDebugUtilsMessengerCreateInfoEXT mci{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    mci.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+    mci.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    mci.pfnUserCallback = [](VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
+                             const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) -> VkBool32 {
+      auto* m = static_cast<Messages*>(user);
+      if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        ++m->errors;
+        std::lock_guard<std::mutex> lock(m->mutex);
+        m->last = data->pMessage ? data->pMessage : "";
+        spdlog::error("Vulkan validation: {}", m->last);
+      } else {
+        spdlog::debug("Vulkan validation: {}", data->pMessage ? data->pMessage : "");
+      }
+      return VK_FALSE;
+    };
+    mci.pUserData = mMessages;
+    mInstance = createInstance(options.validation, options.validation ? &mci : nullptr);
+    if (options.validation) {
+      auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(mInstance, "vkCreateDebugUtilsMessengerEXT"));
+      if (!create) throw VulkanError(VK_ERROR_EXTENSION_NOT_PRESENT, "loading vkCreateDebugUtilsMessengerEXT");
+      check(create(mInstance, &mci, nullptr, &mMessenger), "creating the validation messenger");
+    }
+    const auto devices = physicalDevices(mInstance);
+    std::vector<DeviceInfo> infos;
+    for (std::uint32_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], i));
+    const std::uint32_t chosen = chooseDevice(infos, options.device);
+    mPhysical = devices[chosen];
+    mInfo = infos[chosen];
+
+    std::uint32_t nq = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(mPhysical, &nq, nullptr);
+    std::vector<VkQueueFamilyProperties> qf(nq);
+    vkGetPhysicalDeviceQueueFamilyProperties(mPhysical, &nq, qf.data());
+    bool found = false;
+    for (std::uint32_t i = 0; i < nq && !found; ++i)
+      if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) { mQueueFamily = i; found = true; }
+    if (!found) throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, fmt::format("finding a compute queue on {}", mInfo.name));
+
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qci.queueFamilyIndex = mQueueFamily;
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &priority;
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &qci;
+    check(vkCreateDevice(mPhysical, &dci, nullptr, &mDevice), fmt::format("creating a device on {}", mInfo.name).c_str());
+    vkGetDeviceQueue(mDevice, mQueueFamily, 0, &mQueue);
+    spdlog::debug("Vulkan device: {} ({}){}", mInfo.name, mInfo.typeName, options.validation ? ", validation on" : "");
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+VulkanContext::VulkanContext(VulkanContext&& o) noexcept
+    : mInstance(o.mInstance), mMessenger(o.mMessenger), mPhysical(o.mPhysical), mDevice(o.mDevice), mQueue(o.mQueue),
+      mQueueFamily(o.mQueueFamily), mInfo(std::move(o.mInfo)), mMessages(o.mMessages) {
+  o.mInstance = VK_NULL_HANDLE;
+  o.mMessenger = VK_NULL_HANDLE;
+  o.mDevice = VK_NULL_HANDLE;
+  o.mMessages = nullptr;
+}
+
+VulkanContext::~VulkanContext() { release(); }
+
+void VulkanContext::release() {
+  if (mDevice) {
+    vkDeviceWaitIdle(mDevice);
+    vkDestroyDevice(mDevice, nullptr);
+    mDevice = VK_NULL_HANDLE;
+  }
+  if (mMessenger) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(mInstance, "vkDestroyDebugUtilsMessengerEXT"));
+    if (destroy) destroy(mInstance, mMessenger, nullptr);
+    mMessenger = VK_NULL_HANDLE;
+  }
+  if (mInstance) {
+    vkDestroyInstance(mInstance, nullptr);
+    mInstance = VK_NULL_HANDLE;
+  }
+  delete mMessages;
+  mMessages = nullptr;
+}
+
+std::uint32_t VulkanContext::validationErrors() const { return mMessages ? mMessages->errors.load() : 0; }
+
+std::string VulkanContext::lastValidationMessage() const {
+  if (!mMessages) return {};
+  std::lock_guard<std::mutex> lock(mMessages->mutex);
+  return mMessages->last;
+}
+
+VkShaderModule VulkanContext::createShaderModule(const std::string& name) const {
+  const EmbeddedShader& s = embeddedShader(name);
+  VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  ci.codeSize = s.count * sizeof(std::uint32_t);
+  ci.pCode = s.words;
+  VkShaderModule module = VK_NULL_HANDLE;
+  check(vkCreateShaderModule(mDevice, &ci, nullptr, &module), fmt::format("creating shader module {}", name).c_str());
+  return module;
+}
+
+} // namespace rtsdf::gpu

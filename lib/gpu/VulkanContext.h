@@ -1,0 +1,88 @@
+#pragma once
+/// @file VulkanContext.h
+/// @brief Vulkan instance and device choice for compute: prefers a discrete GPU, then any GPU, then a CPU
+///        device (Mesa lavapipe); optional validation layers with a device-lifetime messenger that counts
+///        errors.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtsdf::gpu {
+
+/// @brief What rtsdf needs to know about a physical device.
+struct DeviceInfo {
+  std::uint32_t index = 0;
+  std::string name;
+  std::string typeName; ///< "discrete", "integrated", "virtual", "cpu" or "other"
+  VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  std::uint32_t apiVersion = 0;
+  std::string driver;
+  std::uint64_t maxStorageBufferRange = 0;
+  std::uint32_t maxComputeSharedMemory = 0;
+  std::uint32_t maxComputeInvocations = 0;
+  std::uint32_t maxImageDimension3D = 0;
+  std::uint32_t subgroupSize = 0;
+  float timestampPeriodNs = 0.0f;
+  bool computeTimestamps = false;
+  std::uint64_t deviceLocalBytes = 0;
+};
+
+/// @brief Options for creating a VulkanContext.
+struct ContextOptions {
+  /// Device by index or by a case-insensitive substring of its name; empty picks the best one.
+  std::string device;
+  /// Enable VK_LAYER_KHRONOS_validation and count its errors. The default follows the environment
+  /// variable RTSDF_VALIDATION (1 = on), which the test suite sets.
+  bool validation = validationRequestedByEnvironment();
+  static bool validationRequestedByEnvironment();
+};
+
+/// @brief The devices Vulkan reports, in its order, without creating a device.
+/// @throw VulkanError with a clear message when no Vulkan driver or device is present.
+std::vector<DeviceInfo> listDevices();
+
+/// @brief Index of the device rtsdf would choose among @a devices for @a request (see ContextOptions).
+/// @throw Error when the request matches none.
+std::uint32_t chooseDevice(const std::vector<DeviceInfo>& devices, const std::string& request);
+
+/// @brief A Vulkan instance and a logical device with one compute queue. Move-only.
+class VulkanContext {
+public:
+  explicit VulkanContext(const ContextOptions& options = {});
+  ~VulkanContext();
+  VulkanContext(VulkanContext&& other) noexcept;
+  VulkanContext& operator=(VulkanContext&&) = delete;
+  VulkanContext(const VulkanContext&) = delete;
+  VulkanContext& operator=(const VulkanContext&) = delete;
+
+  VkInstance instance() const { return mInstance; }
+  VkPhysicalDevice physicalDevice() const { return mPhysical; }
+  VkDevice device() const { return mDevice; }
+  VkQueue queue() const { return mQueue; }
+  std::uint32_t queueFamily() const { return mQueueFamily; }
+  const DeviceInfo& info() const { return mInfo; }
+  bool validationEnabled() const { return mMessenger != VK_NULL_HANDLE; }
+  /// @brief Validation errors reported since the context was created.
+  std::uint32_t validationErrors() const;
+  /// @brief The last validation error message (empty if none).
+  std::string lastValidationMessage() const;
+
+  /// @brief Create a shader module from an embedded shader (shaders/@a name). The caller owns it.
+  VkShaderModule createShaderModule(const std::string& name) const;
+
+private:
+  void release();
+  struct Messages;
+  VkInstance mInstance = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT mMessenger = VK_NULL_HANDLE;
+  VkPhysicalDevice mPhysical = VK_NULL_HANDLE;
+  VkDevice mDevice = VK_NULL_HANDLE;
+  VkQueue mQueue = VK_NULL_HANDLE;
+  std::uint32_t mQueueFamily = 0;
+  DeviceInfo mInfo;
+  Messages* mMessages = nullptr;
+};
+
+} // namespace rtsdf::gpu

@@ -1,0 +1,26 @@
+#include "gpu/VulkanError.h"
+
+#include <fmt/format.h>
+
+namespace rtsdf::gpu {
+
+const char* resultName(VkResult r) {
+  switch (r) {
+#define RTSDF_CASE(x) case x: return #x;
+    RTSDF_CASE(VK_SUCCESS) RTSDF_CASE(VK_NOT_READY) RTSDF_CASE(VK_TIMEOUT) RTSDF_CASE(VK_EVENT_SET)
+    RTSDF_CASE(VK_EVENT_RESET) RTSDF_CASE(VK_INCOMPLETE) RTSDF_CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
+    RTSDF_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY) RTSDF_CASE(VK_ERROR_INITIALIZATION_FAILED)
+    RTSDF_CASE(VK_ERROR_DEVICE_LOST) RTSDF_CASE(VK_ERROR_MEMORY_MAP_FAILED) RTSDF_CASE(VK_ERROR_LAYER_NOT_PRESENT)
+    RTSDF_CASE(VK_ERROR_EXTENSION_NOT_PRESENT) RTSDF_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
+    RTSDF_CASE(VK_ERROR_INCOMPATIBLE_DRIVER) RTSDF_CASE(VK_ERROR_TOO_MANY_OBJECTS)
+    RTSDF_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED) RTSDF_CASE(VK_ERROR_FRAGMENTED_POOL) RTSDF_CASE(VK_ERROR_UNKNOWN)
+    RTSDF_CASE(VK_ERROR_OUT_OF_POOL_MEMORY)
+#undef RTSDF_CASE
+  default: return "VK_RESULT_UNKNOWN";
+  }
+}
+
+VulkanError::VulkanError(VkResult result, const std::string& what)
+    : Error(fmt::format("Vulkan: {} failed: {} ({})", what, resultName(result), int(result))), mResult(result) {}
+
+} // namespace rtsdf::gpu

@@ -1,0 +1,184 @@
+#include "grid/VdbIO.h"
+
+#include "util/AtomicFile.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <openvdb/tools/LevelSetUtil.h>
+#include <openvdb/tools/SignedFloodFill.h>
+#include <tbb/blocked_range3d.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <memory>
+
+namespace rtsdf {
+namespace fs = std::filesystem;
+using openvdb::Coord;
+using openvdb::FloatGrid;
+using LeafT = FloatGrid::TreeType::LeafNodeType;
+
+namespace {
+void ensureOpenVdb() {
+  static const bool done = [] { openvdb::initialize(); return true; }();
+  (void)done;
+}
+constexpr int kLeafDim = LeafT::DIM;
+static_assert(kLeafDim == 8, "rtsdf's block functions assume 8^3 OpenVDB leaves");
+} // namespace
+
+openvdb::math::Transform::Ptr makeTransform(const GridSpec& spec) {
+  auto xf = openvdb::math::Transform::createLinearTransform(spec.voxelSize);
+  const glm::dvec3 c = spec.origin + 0.5 * spec.voxelSize;
+  xf->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
+  return xf;
+}
+
+FloatGrid::Ptr buildLevelSet(const GridSpec& spec, float band, const LevelSetBlockFn& fill) {
+  ensureOpenVdb();
+  if (!(band > 0.0f) || !std::isfinite(band)) throw Error(fmt::format("level set: band {} must be positive", band));
+  const glm::ivec3 blocks = (spec.dims + (kLeafDim - 1)) / kLeafDim;
+  const std::size_t count = std::size_t(blocks.x) * blocks.y * blocks.z;
+  std::vector<std::unique_ptr<LeafT>> leaves(count);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    float values[LeafT::SIZE];
+    bool active[LeafT::SIZE];
+    for (std::size_t b = r.begin(); b != r.end(); ++b) {
+      const glm::ivec3 bi(int(b % blocks.x), int((b / blocks.x) % blocks.y), int(b / (std::size_t(blocks.x) * blocks.y)));
+      const glm::ivec3 origin = bi * kLeafDim;
+      std::fill(values, values + LeafT::SIZE, band);
+      std::fill(active, active + LeafT::SIZE, false);
+      if (!fill(origin, values, active)) continue;
+      auto leaf = std::make_unique<LeafT>(Coord(origin.x, origin.y, origin.z), band, false);
+      for (openvdb::Index i = 0; i < LeafT::SIZE; ++i) {
+        // Inactive voxels hold ±band so that sign flood fill and level-set tools see a clean band.
+        const float v = values[i];
+        leaf->setValueOnly(i, active[i] ? v : std::copysign(band, v));
+        leaf->setActiveState(i, active[i]);
+      }
+      leaves[b] = std::move(leaf);
+    }
+  });
+  FloatGrid::Ptr grid = FloatGrid::create(band);
+  auto& tree = grid->tree();
+  for (auto& leaf : leaves)
+    if (leaf) tree.addLeaf(leaf.release());
+  openvdb::tools::signedFloodFill(tree);
+  grid->setTransform(makeTransform(spec));
+  grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  return grid;
+}
+
+FloatGrid::Ptr denseToLevelSet(const std::vector<float>& dense, const GridSpec& spec, float band) {
+  if (dense.size() != spec.voxelCount())
+    throw Error(fmt::format("level set: dense array has {} values, grid {} needs {}", dense.size(), spec.describe(),
+                            spec.voxelCount()));
+  return buildLevelSet(spec, band, [&](const glm::ivec3& o, float* values, bool* active) {
+    bool any = false;
+    const glm::ivec3 hi = glm::min(o + kLeafDim, spec.dims);
+    for (int x = o.x; x < hi.x; ++x)
+      for (int y = o.y; y < hi.y; ++y)
+        for (int z = o.z; z < hi.z; ++z) {
+          const int i = ((x - o.x) * kLeafDim + (y - o.y)) * kLeafDim + (z - o.z);
+          values[i] = dense[spec.linear(x, y, z)];
+          active[i] = std::fabs(values[i]) <= band;
+          any |= active[i];
+        }
+    return any;
+  });
+}
+
+std::vector<float> levelSetToDense(const FloatGrid& grid, const GridSpec& spec) {
+  std::vector<float> out(spec.voxelCount());
+  tbb::parallel_for(tbb::blocked_range<int>(0, spec.dims.z), [&](const tbb::blocked_range<int>& r) {
+    auto acc = grid.getConstAccessor();
+    for (int z = r.begin(); z != r.end(); ++z)
+      for (int y = 0; y < spec.dims.y; ++y)
+        for (int x = 0; x < spec.dims.x; ++x) out[spec.linear(x, y, z)] = acc.getValue(Coord(x, y, z));
+  });
+  return out;
+}
+
+void stampLevelSet(FloatGrid& grid, const GridSpec& spec, const std::map<std::string, std::string>& settings) {
+  grid.setName("surface");
+  grid.setGridClass(openvdb::GRID_LEVEL_SET);
+  grid.setTransform(makeTransform(spec));
+  grid.insertMeta("rtsdf:dims", openvdb::Vec3IMetadata(openvdb::Vec3i(spec.dims.x, spec.dims.y, spec.dims.z)));
+  grid.insertMeta("rtsdf:origin", openvdb::Vec3DMetadata(openvdb::Vec3d(spec.origin.x, spec.origin.y, spec.origin.z)));
+  grid.insertMeta("rtsdf:voxel_size", openvdb::DoubleMetadata(spec.voxelSize));
+  for (const auto& [k, v] : settings) grid.insertMeta("rtsdf:" + k, openvdb::StringMetadata(v));
+}
+
+GridSpec gridSpecOf(const FloatGrid& grid) {
+  const auto dims = grid.getMetadata<openvdb::Vec3IMetadata>("rtsdf:dims");
+  const auto origin = grid.getMetadata<openvdb::Vec3DMetadata>("rtsdf:origin");
+  const auto h = grid.getMetadata<openvdb::DoubleMetadata>("rtsdf:voxel_size");
+  if (!dims || !origin || !h)
+    throw Error(fmt::format("grid '{}' has no rtsdf:dims/origin/voxel_size metadata", grid.getName()));
+  GridSpec spec;
+  spec.dims = glm::ivec3(dims->value().x(), dims->value().y(), dims->value().z());
+  spec.origin = glm::dvec3(origin->value().x(), origin->value().y(), origin->value().z());
+  spec.voxelSize = h->value();
+  if (!(spec.voxelSize > 0) || spec.dims.x < 1 || spec.dims.y < 1 || spec.dims.z < 1)
+    throw Error(fmt::format("grid '{}': invalid rtsdf layout metadata", grid.getName()));
+  if (*makeTransform(spec) != grid.transform())
+    throw Error(fmt::format("grid '{}': transform disagrees with its rtsdf layout metadata", grid.getName()));
+  return spec;
+}
+
+FloatGrid::Ptr makeFogGrid(const FloatGrid& levelSet) {
+  FloatGrid::Ptr fog = levelSet.deepCopy();
+  openvdb::tools::sdfToFogVolume(*fog);
+  fog->setName("density");
+  return fog;
+}
+
+void writeVdb(const fs::path& path, const openvdb::GridPtrVec& grids, const VdbWriteOptions& options) {
+  ensureOpenVdb();
+  writeFileAtomically(path, [&](const fs::path& tmp) {
+    try {
+      for (const auto& g : grids) g->setSaveFloatAsHalf(options.halfFloat);
+      openvdb::io::File file(tmp.string());
+      std::uint32_t flags = openvdb::io::COMPRESS_ACTIVE_MASK;
+      if (options.compression == VdbCompression::Zip) flags |= openvdb::io::COMPRESS_ZIP;
+      if (options.compression == VdbCompression::Blosc) flags |= openvdb::io::COMPRESS_BLOSC;
+      file.setCompression(flags);
+      file.write(grids);
+      file.close();
+    } catch (const openvdb::Exception& e) {
+      throw Error(fmt::format("{}: cannot write .vdb: {}", path.string(), e.what()));
+    }
+  });
+}
+
+openvdb::GridPtrVec readVdb(const fs::path& path) {
+  ensureOpenVdb();
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error(fmt::format("{}: file not found", path.string()));
+  try {
+    openvdb::io::File file(path.string());
+    file.open();
+    openvdb::GridPtrVecPtr grids = file.getGrids();
+    file.close();
+    return *grids;
+  } catch (const openvdb::Exception& e) {
+    throw Error(fmt::format("{}: not a readable .vdb file: {}", path.string(), e.what()));
+  }
+}
+
+FloatGrid::Ptr readLevelSet(const fs::path& path) {
+  const openvdb::GridPtrVec grids = readVdb(path);
+  FloatGrid::Ptr only;
+  int levelSets = 0;
+  for (const auto& g : grids) {
+    auto f = openvdb::gridPtrCast<FloatGrid>(g);
+    if (!f) continue;
+    if (f->getName() == "surface") return f;
+    if (f->getGridClass() == openvdb::GRID_LEVEL_SET) { only = f; ++levelSets; }
+  }
+  if (levelSets == 1) return only;
+  throw Error(fmt::format("{}: no float grid named 'surface' and {} level-set grids (need exactly one)", path.string(),
+                          levelSets));
+}
+
+} // namespace rtsdf

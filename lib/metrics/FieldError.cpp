@@ -1,0 +1,96 @@
+#include "metrics/FieldError.h"
+
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <openvdb/tree/LeafManager.h>
+#include <tbb/parallel_reduce.h>
+
+#include <cmath>
+
+namespace rtsdf {
+namespace {
+
+struct Accum {
+  std::uint64_t n = 0, sign = 0, onlyA = 0;
+  double sum = 0.0, sum2 = 0.0, max = 0.0;
+  void add(double a, double b, double h) {
+    const double e = std::fabs(a - b) / h;
+    ++n;
+    sum += e;
+    sum2 += e * e;
+    max = std::max(max, e);
+    if ((a < 0.0) != (b < 0.0)) ++sign;
+  }
+  void join(const Accum& o) {
+    n += o.n; sign += o.sign; onlyA += o.onlyA; sum += o.sum; sum2 += o.sum2; max = std::max(max, o.max);
+  }
+};
+
+FieldError finish(const Accum& acc) {
+  FieldError e;
+  e.voxels = acc.n;
+  e.signMismatches = acc.sign;
+  e.onlyInA = acc.onlyA;
+  if (acc.n) {
+    e.meanAbs = acc.sum / double(acc.n);
+    e.rms = std::sqrt(acc.sum2 / double(acc.n));
+    e.maxAbs = acc.max;
+  }
+  return e;
+}
+
+using LeafRange = openvdb::tree::LeafManager<const openvdb::FloatTree>::LeafRange;
+
+} // namespace
+
+std::string FieldError::summary() const {
+  return fmt::format("{} voxels: mean {:.4f}, RMS {:.4f}, max {:.4f} voxels; wrong sign {} ({:.4f}%)", voxels, meanAbs,
+                     rms, maxAbs, signMismatches, 100.0 * signErrorRate());
+}
+
+FieldError compareFields(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) {
+  if (a.transform() != b.transform())
+    throw Error(fmt::format("cannot compare grids '{}' and '{}': their transforms differ (voxel size {} vs {})",
+                            a.getName(), b.getName(), a.voxelSize()[0], b.voxelSize()[0]));
+  const double h = a.voxelSize()[0];
+  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(a.tree());
+  const Accum acc = tbb::parallel_reduce(
+      leaves.leafRange(), Accum{},
+      [&](const LeafRange& r, Accum acc) {
+        auto bAcc = b.getConstAccessor();
+        for (auto leaf = r.begin(); leaf; ++leaf)
+          for (auto it = leaf->cbeginValueOn(); it; ++it) {
+            float bv;
+            if (bAcc.probeValue(it.getCoord(), bv)) acc.add(*it, bv, h);
+            else ++acc.onlyA;
+          }
+        return acc;
+      },
+      [](Accum x, const Accum& y) { x.join(y); return x; });
+  FieldError e = finish(acc);
+  e.onlyInB = b.activeVoxelCount() - e.voxels;
+  return e;
+}
+
+FieldError compareWithFunction(const openvdb::FloatGrid& field,
+                               const std::function<double(const openvdb::Vec3d&)>& reference, double ignoreWithin) {
+  const double h = field.voxelSize()[0];
+  const auto& xf = field.transform();
+  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(field.tree());
+  const Accum acc = tbb::parallel_reduce(
+      leaves.leafRange(), Accum{},
+      [&](const LeafRange& r, Accum acc) {
+        for (auto leaf = r.begin(); leaf; ++leaf)
+          for (auto it = leaf->cbeginValueOn(); it; ++it) {
+            const double ref = reference(xf.indexToWorld(it.getCoord()));
+            if (std::fabs(ref) < ignoreWithin) continue;
+            acc.add(*it, ref, h);
+          }
+        return acc;
+      },
+      [](Accum x, const Accum& y) { x.join(y); return x; });
+  return finish(acc);
+}
+
+} // namespace rtsdf

@@ -1,0 +1,37 @@
+#pragma once
+/// @file FieldError.h
+/// @brief Accuracy of a distance field against a reference: mean/RMS/max |error| in voxels and the rate
+///        of wrong signs, over the voxels active in both.
+#include <openvdb/openvdb.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace rtsdf {
+
+/// @brief Error statistics of a field against a reference, in voxels of the field's grid.
+struct FieldError {
+  std::uint64_t voxels = 0;        ///< voxels compared (active in both)
+  double meanAbs = 0.0;            ///< mean |a - b| / voxel size
+  double rms = 0.0;                ///< sqrt(mean (a - b)^2) / voxel size
+  double maxAbs = 0.0;             ///< max |a - b| / voxel size
+  std::uint64_t signMismatches = 0;///< voxels where exactly one of a, b is negative
+  std::uint64_t onlyInA = 0;       ///< active in A only
+  std::uint64_t onlyInB = 0;       ///< active in B only
+  double signErrorRate() const { return voxels ? double(signMismatches) / double(voxels) : 0.0; }
+  std::string summary() const;
+};
+
+/// @brief Compare two grids voxel by voxel over the voxels active in both.
+/// @throw Error when the grids' transforms differ (they must share voxel size and offset).
+FieldError compareFields(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b);
+
+/// @brief Compare the active voxels of @a field with @a reference evaluated at their world positions.
+/// @param ignoreWithin skip voxels whose reference |distance| is below this (world units), e.g. to
+///        exclude the ambiguous zero crossing from sign statistics; 0 keeps all.
+FieldError compareWithFunction(const openvdb::FloatGrid& field,
+                               const std::function<double(const openvdb::Vec3d&)>& reference,
+                               double ignoreWithin = 0.0);
+
+} // namespace rtsdf

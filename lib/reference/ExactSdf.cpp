@@ -1,0 +1,348 @@
+#include "reference/ExactSdf.h"
+
+#include "grid/VdbIO.h"
+#include "reference/TriangleDistance.h"
+#include "reference/WindingNumber.h"
+#include "util/Error.h"
+#include "util/Progress.h"
+
+#include <embree3/rtcore.h>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <tbb/enumerable_thread_specific.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <unordered_map>
+
+namespace rtsdf {
+
+SignMethod parseSignMethod(const std::string& name) {
+  if (name == "auto") return SignMethod::Auto;
+  if (name == "pseudonormal") return SignMethod::PseudoNormal;
+  if (name == "winding") return SignMethod::WindingNumber;
+  throw Error(fmt::format("unknown sign method '{}' (auto, pseudonormal or winding)", name));
+}
+
+const char* toString(SignMethod m) {
+  switch (m) {
+  case SignMethod::Auto: return "auto";
+  case SignMethod::PseudoNormal: return "pseudonormal";
+  case SignMethod::WindingNumber: return "winding";
+  }
+  return "?";
+}
+
+namespace {
+
+/// Per-mesh data for distance and sign: corners, and the pseudo-normals of every feature.
+struct MeshData {
+  const WorldMesh* mesh = nullptr;
+  std::vector<glm::vec3> faceNormal;   // per triangle
+  std::vector<glm::vec3> edgeNormal;   // per triangle, 3 (AB, BC, CA): sum of the adjacent face normals
+  std::vector<glm::vec3> vertexNormal; // per vertex: angle-weighted sum of face normals
+  std::unique_ptr<WindingNumberTree> winding;
+  bool useWinding = false;
+};
+
+void computePseudoNormals(MeshData& md) {
+  const WorldMesh& m = *md.mesh;
+  const std::size_t nt = m.triangles.size();
+  md.faceNormal.resize(nt);
+  md.edgeNormal.assign(3 * nt, glm::vec3(0.0f));
+  std::vector<glm::dvec3> vn(m.positions.size(), glm::dvec3(0.0));
+  std::unordered_map<std::uint64_t, glm::dvec3> edgeSum;
+  edgeSum.reserve(nt * 2);
+  auto key = [](unsigned a, unsigned b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); };
+  for (std::size_t t = 0; t < nt; ++t) {
+    const glm::uvec3 tri = m.triangles[t];
+    const glm::dvec3 p[3] = {glm::dvec3(m.positions[tri.x]), glm::dvec3(m.positions[tri.y]),
+                             glm::dvec3(m.positions[tri.z])};
+    const glm::dvec3 c = glm::cross(p[1] - p[0], p[2] - p[0]);
+    const double len = glm::length(c);
+    const glm::dvec3 n = len > 0.0 ? c / len : glm::dvec3(0.0);
+    md.faceNormal[t] = glm::vec3(n);
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
+      const double l1 = glm::length(e1), l2 = glm::length(e2);
+      if (l1 > 0.0 && l2 > 0.0) {
+        const double angle = std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0));
+        vn[tri[k]] += angle * n;
+      }
+      edgeSum[key(tri[k], tri[(k + 1) % 3])] += n;
+    }
+  }
+  for (std::size_t t = 0; t < nt; ++t) {
+    const glm::uvec3 tri = m.triangles[t];
+    for (int k = 0; k < 3; ++k) md.edgeNormal[3 * t + k] = glm::vec3(edgeSum[key(tri[k], tri[(k + 1) % 3])]);
+  }
+  md.vertexNormal.resize(vn.size());
+  for (std::size_t v = 0; v < vn.size(); ++v) md.vertexNormal[v] = glm::vec3(vn[v]);
+}
+
+[[noreturn]] void embreeFail(RTCDevice device, const char* what) {
+  throw Error(fmt::format("Embree: {} failed (error {})", what, int(rtcGetDeviceError(device))));
+}
+
+} // namespace
+
+struct ExactDistanceField::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::vector<MeshData> meshes;
+  SignMethod sign;
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+struct ClosestQuery {
+  const ExactDistanceField::Impl* impl;
+  ExactDistanceField::Hit* hit;
+  bool found;
+};
+
+bool closestCallback(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<ClosestQuery*>(args->userPtr);
+  const WorldMesh& m = *q->impl->meshes[args->geomID].mesh;
+  const glm::uvec3 tri = m.triangles[args->primID];
+  const glm::vec3 p(args->query->x, args->query->y, args->query->z);
+  TriangleFeature f;
+  const glm::vec3 c = closestPointOnTriangle(p, m.positions[tri.x], m.positions[tri.y], m.positions[tri.z], f);
+  const float d = glm::length(p - c);
+  if (d < args->query->radius) {
+    args->query->radius = d;
+    *q->hit = {d, c, args->geomID, args->primID, int(f)};
+    q->found = true;
+    return true; // the query radius shrank
+  }
+  return false;
+}
+
+struct CollectQuery {
+  const ExactDistanceField::Impl* impl;
+  std::vector<std::uint64_t>* out;
+};
+
+bool collectCallback(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<CollectQuery*>(args->userPtr);
+  const WorldMesh& m = *q->impl->meshes[args->geomID].mesh;
+  const glm::uvec3 tri = m.triangles[args->primID];
+  const glm::vec3 p(args->query->x, args->query->y, args->query->z);
+  const float d2 = distanceSquaredToTriangle(p, m.positions[tri.x], m.positions[tri.y], m.positions[tri.z]);
+  if (d2 <= args->query->radius * args->query->radius)
+    q->out->push_back((std::uint64_t(args->geomID) << 32) | args->primID);
+  return false;
+}
+
+} // namespace
+
+ExactDistanceField::ExactDistanceField(const SceneGeometry& geometry, SignMethod sign) : mImpl(new Impl) {
+  Impl& im = *mImpl;
+  im.sign = sign;
+  if (geometry.triangleCount() == 0) throw Error("exact SDF: the scene has no triangles");
+  im.device = rtcNewDevice(nullptr);
+  if (!im.device) throw Error(fmt::format("Embree: cannot create a device (error {})", int(rtcGetDeviceError(nullptr))));
+  im.scene = rtcNewScene(im.device);
+  rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
+  im.meshes.resize(geometry.meshes.size());
+  for (std::size_t i = 0; i < geometry.meshes.size(); ++i) {
+    const WorldMesh& wm = geometry.meshes[i];
+    MeshData& md = im.meshes[i];
+    md.mesh = &wm;
+    computePseudoNormals(md);
+    md.useWinding = sign == SignMethod::WindingNumber || (sign == SignMethod::Auto && !wm.watertight);
+    if (md.useWinding) md.winding = std::make_unique<WindingNumberTree>(wm.positions, wm.triangles);
+
+    RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree-owned buffers are padded as Embree needs; copy the world positions into them.
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), wm.positions.size()));
+    auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                             3 * sizeof(unsigned), wm.triangles.size()));
+    if (!v || !t) embreeFail(im.device, "allocating geometry buffers");
+    std::memcpy(v, wm.positions.data(), wm.positions.size() * sizeof(glm::vec3));
+    std::memcpy(t, wm.triangles.data(), wm.triangles.size() * sizeof(glm::uvec3));
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(im.scene, g, unsigned(i));
+    rtcReleaseGeometry(g);
+    if (rtcGetDeviceError(im.device) != RTC_ERROR_NONE) embreeFail(im.device, "attaching geometry");
+  }
+  rtcCommitScene(im.scene);
+  if (rtcGetDeviceError(im.device) != RTC_ERROR_NONE) embreeFail(im.device, "building the BVH");
+}
+
+ExactDistanceField::~ExactDistanceField() = default;
+
+bool ExactDistanceField::closest(const glm::vec3& p, float maxDistance, Hit& hit) const {
+  RTCPointQuery query;
+  query.x = p.x; query.y = p.y; query.z = p.z;
+  query.radius = std::isfinite(maxDistance) ? maxDistance : std::numeric_limits<float>::max();
+  query.time = 0.0f;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  ClosestQuery q{mImpl.get(), &hit, false};
+  rtcPointQuery(mImpl->scene, &query, &context, closestCallback, &q);
+  return q.found;
+}
+
+void ExactDistanceField::collect(const glm::vec3& p, float radius, std::vector<std::uint64_t>& out) const {
+  RTCPointQuery query;
+  query.x = p.x; query.y = p.y; query.z = p.z;
+  query.radius = radius;
+  query.time = 0.0f;
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  CollectQuery q{mImpl.get(), &out};
+  rtcPointQuery(mImpl->scene, &query, &context, collectCallback, &q);
+}
+
+bool ExactDistanceField::inside(const glm::vec3& p, const Hit& hit) const {
+  const MeshData& md = mImpl->meshes[hit.mesh];
+  if (md.useWinding) return md.winding->evaluate(glm::dvec3(p)) >= 0.5;
+  const glm::uvec3 tri = md.mesh->triangles[hit.triangle];
+  glm::vec3 n;
+  switch (TriangleFeature(hit.feature)) {
+  case TriangleFeature::Face: n = md.faceNormal[hit.triangle]; break;
+  case TriangleFeature::VertexA: n = md.vertexNormal[tri.x]; break;
+  case TriangleFeature::VertexB: n = md.vertexNormal[tri.y]; break;
+  case TriangleFeature::VertexC: n = md.vertexNormal[tri.z]; break;
+  case TriangleFeature::EdgeAB: n = md.edgeNormal[3 * hit.triangle + 0]; break;
+  case TriangleFeature::EdgeBC: n = md.edgeNormal[3 * hit.triangle + 1]; break;
+  case TriangleFeature::EdgeCA: n = md.edgeNormal[3 * hit.triangle + 2]; break;
+  default: n = md.faceNormal[hit.triangle]; break;
+  }
+  return glm::dot(p - hit.point, n) < 0.0f;
+}
+
+float ExactDistanceField::signedDistance(const glm::vec3& p) const {
+  Hit hit;
+  if (!closest(p, INFINITY, hit)) return INFINITY;
+  return inside(p, hit) ? -hit.distance : hit.distance;
+}
+
+namespace {
+
+struct Candidate {
+  glm::vec3 a, b, c;
+  unsigned mesh, triangle;
+};
+
+struct BlockScratch {
+  std::vector<std::uint64_t> ids;
+  std::vector<Candidate> cand;
+  std::vector<float> dist;
+  std::vector<int> sub;
+};
+
+} // namespace
+
+openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const GridSpec& spec,
+                                            const ExactSdfOptions& options, ExactSdfStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  if (std::isnan(options.band) || options.band <= 0.0)
+    throw Error(fmt::format("exact SDF: band {} must be positive (or inf for the full domain)", options.band));
+  ExactDistanceField field(geometry, options.sign);
+  const ExactDistanceField::Impl& im = field.impl();
+
+  // Full domain: a band no voxel can lie outside of.
+  const double domain = glm::length(spec.bounds().extent()) + glm::length(geometry.bounds.extent()) +
+                        glm::length(spec.bounds().center() - geometry.bounds.center());
+  const bool full = !(options.band < domain);
+  const float band = float(full ? domain : options.band);
+  const float h = float(spec.voxelSize);
+  const float r8 = 3.5f * std::sqrt(3.0f) * h; // block centre to its farthest voxel centre
+  const float r4 = 1.5f * std::sqrt(3.0f) * h; // sub-block centre to its farthest voxel centre
+  constexpr float kSlack = 1.0f + 1e-5f;       // float rounding in the distance bounds
+
+  tbb::enumerable_thread_specific<BlockScratch> scratch;
+  std::atomic<std::uint64_t> active{0}, evaluated{0}, winding{0};
+  const glm::ivec3 blocks = (spec.dims + 7) / 8;
+  Progress progress("exact SDF", options.progress ? std::uint64_t(blocks.x) * blocks.y * blocks.z : 0);
+
+  auto fill = [&](const glm::ivec3& o, float* values, bool* act) -> bool {
+    BlockScratch& s = scratch.local();
+    progress.add();
+    const glm::vec3 bc(spec.indexToWorld(glm::dvec3(o) + 3.5));
+    ExactDistanceField::Hit hit;
+    if (!field.closest(bc, band + r8, hit)) return false; // no voxel of this block is within the band
+    // Any voxel's nearest triangle lies within D + 2 r8 of the block centre; only band + r8 matters.
+    const float gather = std::min(hit.distance + 2.0f * r8, band + r8) * kSlack + 1e-6f * h;
+    s.ids.clear();
+    field.collect(bc, gather, s.ids);
+    s.cand.clear();
+    for (std::uint64_t id : s.ids) {
+      const unsigned mi = unsigned(id >> 32), ti = unsigned(id & 0xffffffffu);
+      const WorldMesh& m = *im.meshes[mi].mesh;
+      const glm::uvec3 t = m.triangles[ti];
+      s.cand.push_back({m.positions[t.x], m.positions[t.y], m.positions[t.z], mi, ti});
+    }
+    if (s.cand.empty()) return false;
+    s.dist.resize(s.cand.size());
+    bool any = false;
+    std::uint64_t nActive = 0, nEval = 0, nWinding = 0;
+    for (int sb = 0; sb < 8; ++sb) {
+      const glm::ivec3 so = o + 4 * glm::ivec3(sb & 1, (sb >> 1) & 1, (sb >> 2) & 1);
+      if (so.x >= spec.dims.x || so.y >= spec.dims.y || so.z >= spec.dims.z) continue;
+      const glm::vec3 sc(spec.indexToWorld(glm::dvec3(so) + 1.5));
+      float ds = INFINITY;
+      for (std::size_t i = 0; i < s.cand.size(); ++i) {
+        s.dist[i] = std::sqrt(distanceSquaredToTriangle(sc, s.cand[i].a, s.cand[i].b, s.cand[i].c));
+        ds = std::min(ds, s.dist[i]);
+      }
+      if (ds > band + r4) continue; // the whole sub-block is outside the band
+      const float keep = std::min(ds + 2.0f * r4, band + r4) * kSlack + 1e-6f * h;
+      s.sub.clear();
+      for (std::size_t i = 0; i < s.cand.size(); ++i)
+        if (s.dist[i] <= keep) s.sub.push_back(int(i));
+      const glm::ivec3 hi = glm::min(so + 4, spec.dims);
+      for (int x = so.x; x < hi.x; ++x)
+        for (int y = so.y; y < hi.y; ++y)
+          for (int z = so.z; z < hi.z; ++z) {
+            const glm::vec3 p(spec.indexToWorld(glm::dvec3(x, y, z)));
+            float best = INFINITY;
+            int bi = -1;
+            for (int i : s.sub) {
+              const float d2 = distanceSquaredToTriangle(p, s.cand[i].a, s.cand[i].b, s.cand[i].c);
+              if (d2 < best) { best = d2; bi = i; }
+            }
+            ++nEval;
+            const float d = std::sqrt(best);
+            if (!(d <= band)) continue; // inactive; its sign comes from signed flood fill
+            const Candidate& c = s.cand[bi];
+            TriangleFeature f;
+            const glm::vec3 q = closestPointOnTriangle(p, c.a, c.b, c.c, f);
+            const ExactDistanceField::Hit h2{d, q, c.mesh, c.triangle, int(f)};
+            if (im.meshes[c.mesh].useWinding) ++nWinding;
+            const bool in = field.inside(p, h2);
+            const int li = ((x - o.x) * 8 + (y - o.y)) * 8 + (z - o.z);
+            values[li] = in ? -d : d;
+            act[li] = true;
+            ++nActive;
+            any = true;
+          }
+    }
+    active += nActive;
+    evaluated += nEval;
+    winding += nWinding;
+    return any;
+  };
+
+  openvdb::FloatGrid::Ptr grid = buildLevelSet(spec, band, fill);
+  progress.finish();
+  if (stats) {
+    stats->activeVoxels = active;
+    stats->evaluatedVoxels = evaluated;
+    stats->windingQueries = winding;
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return grid;
+}
+
+} // namespace rtsdf

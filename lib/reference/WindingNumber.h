@@ -1,0 +1,44 @@
+#pragma once
+/// @file WindingNumber.h
+/// @brief Generalized winding number of a triangle mesh (Jacobson et al. 2013), evaluated with the
+///        hierarchical dipole approximation of Barill et al. 2018 ("fast winding numbers").
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief w(p) = (1/4pi) * sum of the signed solid angles of the triangles seen from p: 1 inside a closed
+///        outward-oriented mesh, 0 outside, and a smooth, robust inside/outside measure (w >= 1/2) for open,
+///        self-intersecting or non-manifold meshes.
+class WindingNumberTree {
+public:
+  /// @param positions vertices; @param triangles counter-clockwise seen from outside.
+  /// @param beta accuracy: a cluster is replaced by its dipole when it is farther than beta * its radius
+  ///        (2 gives errors well under 1e-2 away from the surface; larger is slower and more exact).
+  WindingNumberTree(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles,
+                    double beta = 2.0);
+
+  /// @brief The winding number at @a p (approximate only through the far-field dipoles).
+  double evaluate(const glm::dvec3& p) const;
+
+  /// @brief The exact winding number by summing every triangle's solid angle (slow; for tests).
+  double evaluateExact(const glm::dvec3& p) const;
+
+private:
+  struct Node {
+    glm::dvec3 center;     // area-weighted centroid
+    glm::dvec3 areaNormal; // sum of the triangles' vector areas
+    double radius;         // of a ball around center holding every vertex of the cluster
+    int first, count;      // triangle range (leaves)
+    int left, right;       // children, -1 for leaves
+  };
+  int build(int first, int count);
+  double solidAngle(int tri, const glm::dvec3& p) const;
+
+  std::vector<glm::dvec3> mA, mB, mC; // triangle corners, reordered by the tree
+  std::vector<Node> mNodes;
+  double mBeta;
+};
+
+} // namespace rtsdf

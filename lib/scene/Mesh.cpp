@@ -1,0 +1,136 @@
+#include "scene/Mesh.h"
+
+#include "util/Error.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
+
+namespace rtsdf {
+namespace {
+
+std::string where(const Mesh& m) {
+  return m.source == m.name || m.name.empty() ? m.source : fmt::format("{} (object '{}')", m.source, m.name);
+}
+
+struct PositionHash {
+  std::size_t operator()(const glm::vec3& p) const {
+    std::uint32_t b[3];
+    static_assert(sizeof(b) == sizeof(glm::vec3));
+    std::memcpy(b, &p, sizeof(b));
+    std::size_t h = b[0];
+    h = h * 0x9E3779B97F4A7C15ull ^ b[1];
+    h = h * 0x9E3779B97F4A7C15ull ^ b[2];
+    return h;
+  }
+};
+
+} // namespace
+
+MeshReport validateMesh(Mesh& mesh) {
+  MeshReport r;
+  r.inputTriangles = mesh.triangles.size();
+  r.inputVertices = mesh.positions.size();
+  if (mesh.triangles.empty())
+    throw Error(fmt::format("{}: empty mesh (no triangles)", where(mesh)));
+
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::vec3& p = mesh.positions[v];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw Error(fmt::format("{}: vertex {} has a non-finite coordinate ({}, {}, {})", where(mesh), v, p.x, p.y,
+                              p.z));
+  }
+  const std::size_t nv = mesh.positions.size();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const glm::uvec3& tri = mesh.triangles[t];
+    for (int c = 0; c < 3; ++c)
+      if (tri[c] >= nv)
+        throw Error(fmt::format("{}: triangle {} uses vertex index {} but the mesh has {} vertices", where(mesh),
+                                t, tri[c], nv));
+  }
+
+  // Weld vertices with identical positions so that topology (closed or open) is seen across split normals/UVs.
+  std::unordered_map<glm::vec3, std::uint32_t, PositionHash> first;
+  first.reserve(nv);
+  std::vector<std::uint32_t> remap(nv);
+  std::vector<glm::vec3> welded;
+  welded.reserve(nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    auto [it, inserted] = first.emplace(mesh.positions[v], std::uint32_t(welded.size()));
+    if (inserted) welded.push_back(mesh.positions[v]);
+    remap[v] = it->second;
+  }
+  r.weldedVertices = nv - welded.size();
+
+  std::vector<glm::uvec3> kept;
+  kept.reserve(mesh.triangles.size());
+  for (const glm::uvec3& t0 : mesh.triangles) {
+    const glm::uvec3 t(remap[t0.x], remap[t0.y], remap[t0.z]);
+    if (t.x == t.y || t.y == t.z || t.x == t.z) { ++r.degenerateDropped; continue; }
+    const glm::dvec3 a(welded[t.x]), b(welded[t.y]), c(welded[t.z]);
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    if (glm::dot(n, n) == 0.0 || !std::isfinite(glm::dot(n, n))) { ++r.degenerateDropped; continue; }
+    kept.push_back(t);
+  }
+  if (kept.empty())
+    throw Error(fmt::format("{}: empty mesh: all {} triangles have zero area", where(mesh), r.inputTriangles));
+
+  // Drop vertices no kept triangle uses.
+  std::vector<std::uint32_t> used(welded.size(), UINT32_MAX);
+  std::vector<glm::vec3> positions;
+  for (glm::uvec3& t : kept)
+    for (int c = 0; c < 3; ++c) {
+      if (used[t[c]] == UINT32_MAX) { used[t[c]] = std::uint32_t(positions.size()); positions.push_back(welded[t[c]]); }
+      t[c] = used[t[c]];
+    }
+  mesh.positions = std::move(positions);
+  mesh.triangles = std::move(kept);
+  r.triangles = mesh.triangles.size();
+  analyzeTopology(mesh, r);
+  return r;
+}
+
+void analyzeTopology(const Mesh& mesh, MeshReport& r) {
+  // Directed half-edges keyed by (min, max); count uses and the direction balance.
+  struct EdgeUse { std::uint32_t count = 0; std::int32_t forward = 0; };
+  std::unordered_map<std::uint64_t, EdgeUse> edges;
+  edges.reserve(mesh.triangles.size() * 2);
+  for (const glm::uvec3& t : mesh.triangles)
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t a = t[c], b = t[(c + 1) % 3];
+      const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      EdgeUse& e = edges[key];
+      ++e.count;
+      e.forward += a < b ? 1 : -1;
+    }
+  r.boundaryEdges = r.nonManifoldEdges = r.misorientedEdges = 0;
+  for (const auto& [key, e] : edges) {
+    if (e.count == 1) ++r.boundaryEdges;
+    else if (e.count > 2) ++r.nonManifoldEdges;
+    else if (e.forward != 0) ++r.misorientedEdges;
+  }
+}
+
+Mesh makeBoxMesh(const glm::vec3& size, std::string name) {
+  if (!(size.x > 0 && size.y > 0 && size.z > 0) || !std::isfinite(size.x + size.y + size.z))
+    throw Error(fmt::format("box '{}': size ({}, {}, {}) must be positive and finite", name, size.x, size.y, size.z));
+  Mesh m;
+  m.name = std::move(name);
+  m.source = "<box>";
+  const glm::vec3 h = 0.5f * size;
+  for (int i = 0; i < 8; ++i)
+    m.positions.emplace_back(i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z);
+  // Faces as quads (counter-clockwise from outside), split into two triangles each.
+  const unsigned quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& q : quads) {
+    m.triangles.emplace_back(q[0], q[1], q[2]);
+    m.triangles.emplace_back(q[0], q[2], q[3]);
+  }
+  return m;
+}
+
+} // namespace rtsdf

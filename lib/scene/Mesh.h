@@ -1,0 +1,49 @@
+#pragma once
+/// @file Mesh.h
+/// @brief Indexed triangle meshes, their validation and their topology.
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief An indexed triangle mesh in its own (object) space.
+struct Mesh {
+  std::string name;                  ///< name used in messages (scene key or file stem)
+  std::string source;                ///< file it came from, or "<box>" for built-in shapes
+  std::vector<glm::vec3> positions;
+  std::vector<glm::uvec3> triangles; ///< counter-clockwise seen from outside
+};
+
+/// @brief What validation found and did to a mesh.
+struct MeshReport {
+  std::size_t inputTriangles = 0;
+  std::size_t inputVertices = 0;
+  std::size_t degenerateDropped = 0; ///< zero-area triangles (repeated index or collinear points)
+  std::size_t weldedVertices = 0;    ///< vertices merged because they had identical positions
+  std::size_t triangles = 0;         ///< kept
+  std::size_t boundaryEdges = 0;     ///< edges used by one triangle (open mesh)
+  std::size_t nonManifoldEdges = 0;  ///< edges used by more than two triangles
+  std::size_t misorientedEdges = 0;  ///< edges whose two triangles traverse it in the same direction
+  /// @brief Closed, manifold and consistently oriented: the pseudo-normal sign is exact for it.
+  bool watertight() const { return boundaryEdges == 0 && nonManifoldEdges == 0 && misorientedEdges == 0; }
+};
+
+/// @brief Validate a mesh in place: errors for what cannot be repaired, counted drops for what can.
+/// @param mesh the mesh; on return it holds only finite, non-degenerate triangles over welded vertices.
+/// @return the counts of what was found and dropped, and the mesh's topology.
+/// @throw Error naming the mesh's source file and object when a vertex coordinate is NaN or Inf, when a
+///        triangle index is out of range, or when no triangle is left (empty mesh).
+/// @note Zero-area triangles are dropped and counted: Embree never hits them, and they carry no surface.
+MeshReport validateMesh(Mesh& mesh);
+
+/// @brief Edge topology of a mesh (boundary, non-manifold and mis-oriented edge counts).
+void analyzeTopology(const Mesh& mesh, MeshReport& report);
+
+/// @brief A closed axis-aligned box mesh (12 triangles, outward facing) centred at the origin.
+/// @param size full extents along x, y, z; each must be positive and finite.
+Mesh makeBoxMesh(const glm::vec3& size, std::string name = "box");
+
+} // namespace rtsdf

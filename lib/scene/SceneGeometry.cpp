@@ -1,0 +1,46 @@
+#include "scene/SceneGeometry.h"
+
+#include "util/Error.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace rtsdf {
+
+std::size_t SceneGeometry::triangleCount() const {
+  std::size_t n = 0;
+  for (const WorldMesh& m : meshes) n += m.triangles.size();
+  return n;
+}
+
+SceneGeometry buildSceneGeometry(const Scene& scene, double time) {
+  SceneGeometry geo;
+  geo.meshes.reserve(scene.instances.size());
+  for (const Instance& inst : scene.instances) {
+    const Mesh& mesh = scene.meshes.at(inst.mesh);
+    const glm::dmat4 m = inst.matrixAt(time);
+    WorldMesh w;
+    w.instance = inst.name;
+    w.source = mesh.source;
+    w.watertight = scene.meshReports.at(inst.mesh).watertight();
+    w.positions.reserve(mesh.positions.size());
+    for (const glm::vec3& p : mesh.positions) {
+      const glm::dvec3 q = glm::dvec3(m * glm::dvec4(glm::dvec3(p), 1.0));
+      const glm::vec3 f(q);
+      if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z))
+        throw Error(fmt::format("{}: instance '{}' moves a vertex to a non-finite position at time {}", scene.path,
+                                inst.name, time));
+      w.positions.push_back(f);
+      geo.bounds.add(glm::dvec3(f));
+    }
+    const bool mirrored = glm::determinant(glm::dmat3(m)) < 0.0;
+    w.triangles = mesh.triangles;
+    if (mirrored)
+      for (glm::uvec3& t : w.triangles) std::swap(t.y, t.z);
+    geo.meshes.push_back(std::move(w));
+  }
+  return geo;
+}
+
+} // namespace rtsdf

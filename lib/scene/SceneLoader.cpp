@@ -1,0 +1,288 @@
+#include "scene/SceneLoader.h"
+
+#include "scene/MeshIO.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace rtsdf {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+/// Reads values from a JSON object while naming the file and the key path in every error.
+class Reader {
+public:
+  Reader(std::string file) : mFile(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw Error(fmt::format("{}: {}: {}", mFile, where, what));
+  }
+
+  void allowOnly(const json& obj, const std::string& where, std::initializer_list<const char*> keys) const {
+    if (!obj.is_object()) fail(where, "must be an object");
+    std::set<std::string> allowed(keys.begin(), keys.end());
+    for (const auto& [k, v] : obj.items())
+      if (!allowed.count(k)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(where, fmt::format("unknown key '{}' (allowed: {})", k, list));
+      }
+  }
+
+  double number(const json& v, const std::string& where) const {
+    if (!v.is_number()) fail(where, "must be a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(where, "must be finite");
+    return d;
+  }
+
+  double positive(const json& v, const std::string& where) const {
+    const double d = number(v, where);
+    if (!(d > 0.0)) fail(where, fmt::format("must be positive (got {})", d));
+    return d;
+  }
+
+  glm::dvec3 vec3(const json& v, const std::string& where) const {
+    if (!v.is_array() || v.size() != 3) fail(where, "must be an array of 3 numbers");
+    return {number(v[0], where + "[0]"), number(v[1], where + "[1]"), number(v[2], where + "[2]")};
+  }
+
+  glm::dvec3 unit(const json& v, const std::string& where) const {
+    const glm::dvec3 d = vec3(v, where);
+    const double len = glm::length(d);
+    if (!(len > 1e-12)) fail(where, "must be a non-zero vector");
+    return d / len;
+  }
+
+  std::string string(const json& v, const std::string& where) const {
+    if (!v.is_string()) fail(where, "must be a string");
+    return v.get<std::string>();
+  }
+
+  /// "rotate": [x, y, z] Euler degrees (applied X, then Y, then Z) or {"axis": [..], "degrees": a}.
+  glm::dquat rotation(const json& v, const std::string& where) const {
+    if (v.is_array()) {
+      const glm::dvec3 e = glm::radians(vec3(v, where));
+      return glm::angleAxis(e.z, glm::dvec3(0, 0, 1)) * glm::angleAxis(e.y, glm::dvec3(0, 1, 0)) *
+             glm::angleAxis(e.x, glm::dvec3(1, 0, 0));
+    }
+    allowOnly(v, where, {"axis", "degrees"});
+    if (!v.contains("axis") || !v.contains("degrees")) fail(where, "needs 'axis' and 'degrees'");
+    return glm::angleAxis(glm::radians(number(v["degrees"], where + ".degrees")), unit(v["axis"], where + ".axis"));
+  }
+
+  glm::dvec3 scale(const json& v, const std::string& where) const {
+    if (v.is_number()) return glm::dvec3(positive(v, where));
+    const glm::dvec3 s = vec3(v, where);
+    if (!(s.x > 0 && s.y > 0 && s.z > 0)) fail(where, "every scale factor must be positive");
+    return s;
+  }
+
+  Transform transform(const json& obj, const std::string& where) const {
+    Transform t;
+    if (obj.contains("translate")) t.translation = vec3(obj["translate"], where + ".translate");
+    if (obj.contains("rotate")) t.rotation = rotation(obj["rotate"], where + ".rotate");
+    if (obj.contains("scale")) t.scale = scale(obj["scale"], where + ".scale");
+    return t;
+  }
+
+private:
+  std::string mFile;
+};
+
+Animation parseAnimation(const Reader& rd, const json& a, const std::string& where) {
+  rd.allowOnly(a, where, {"orbit", "keyframes"});
+  Animation anim;
+  if (a.contains("orbit") == a.contains("keyframes")) rd.fail(where, "needs exactly one of 'orbit' or 'keyframes'");
+  if (a.contains("orbit")) {
+    const json& o = a["orbit"];
+    const std::string w = where + ".orbit";
+    rd.allowOnly(o, w, {"center", "axis", "period", "phase_deg", "rotate_with_orbit"});
+    anim.kind = Animation::Kind::Orbit;
+    if (o.contains("center")) anim.center = rd.vec3(o["center"], w + ".center");
+    if (o.contains("axis")) anim.axis = rd.unit(o["axis"], w + ".axis");
+    if (!o.contains("period")) rd.fail(w, "needs 'period' (seconds per revolution)");
+    anim.period = rd.positive(o["period"], w + ".period");
+    if (o.contains("phase_deg")) anim.phase = glm::radians(rd.number(o["phase_deg"], w + ".phase_deg"));
+    if (o.contains("rotate_with_orbit")) {
+      if (!o["rotate_with_orbit"].is_boolean()) rd.fail(w + ".rotate_with_orbit", "must be true or false");
+      anim.faceAlong = o["rotate_with_orbit"].get<bool>();
+    }
+  } else {
+    const json& k = a["keyframes"];
+    const std::string w = where + ".keyframes";
+    if (!k.is_array() || k.empty()) rd.fail(w, "must be a non-empty array");
+    anim.kind = Animation::Kind::Keyframes;
+    for (std::size_t i = 0; i < k.size(); ++i) {
+      const std::string wi = fmt::format("{}[{}]", w, i);
+      rd.allowOnly(k[i], wi, {"time", "translate", "rotate", "scale"});
+      if (!k[i].contains("time")) rd.fail(wi, "needs 'time' (seconds)");
+      Keyframe f;
+      f.time = rd.number(k[i]["time"], wi + ".time");
+      f.transform = rd.transform(k[i], wi);
+      if (!anim.keyframes.empty() && f.time <= anim.keyframes.back().time)
+        rd.fail(wi + ".time", "keyframe times must increase");
+      anim.keyframes.push_back(f);
+    }
+  }
+  return anim;
+}
+
+} // namespace
+
+Scene parseScene(const std::string& text, const fs::path& origin) {
+  const std::string file = origin.string();
+  const Reader rd(file);
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw Error(fmt::format("{}: malformed JSON: {}", file, e.what()));
+  }
+  rd.allowOnly(doc, "scene", {"rtsdf_scene", "meshes", "instances", "lights", "camera", "comment"});
+  if (doc.contains("rtsdf_scene") && (!doc["rtsdf_scene"].is_number_integer() || doc["rtsdf_scene"].get<int>() != 1))
+    rd.fail("rtsdf_scene", "unsupported scene format version (this build reads version 1)");
+
+  Scene scene;
+  scene.path = file;
+  const fs::path base = origin.has_parent_path() ? origin.parent_path() : fs::path(".");
+
+  std::map<std::string, std::size_t> meshIndex;
+  if (!doc.contains("meshes") || !doc["meshes"].is_object() || doc["meshes"].empty())
+    rd.fail("meshes", "a scene needs a non-empty 'meshes' object (name -> {\"path\": ...} or {\"box\": [x, y, z]})");
+  for (const auto& [name, m] : doc["meshes"].items()) {
+    const std::string w = "meshes." + name;
+    rd.allowOnly(m, w, {"path", "box"});
+    Mesh mesh;
+    if (m.contains("path") == m.contains("box")) rd.fail(w, "needs exactly one of 'path' or 'box'");
+    if (m.contains("path")) {
+      fs::path p = rd.string(m["path"], w + ".path");
+      if (p.is_relative()) p = base / p;
+      mesh = loadMeshFile(p);
+    } else {
+      mesh = makeBoxMesh(glm::vec3(rd.vec3(m["box"], w + ".box")), name);
+    }
+    mesh.name = name;
+    MeshReport report = validateMesh(mesh);
+    if (report.degenerateDropped)
+      spdlog::warn("{} (mesh '{}'): dropped {} zero-area triangle(s) of {}", mesh.source, name,
+                   report.degenerateDropped, report.inputTriangles);
+    meshIndex[name] = scene.meshes.size();
+    scene.meshes.push_back(std::move(mesh));
+    scene.meshReports.push_back(report);
+  }
+
+  if (!doc.contains("instances") || !doc["instances"].is_array() || doc["instances"].empty())
+    rd.fail("instances", "a scene needs a non-empty 'instances' array");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < doc["instances"].size(); ++i) {
+    const json& in = doc["instances"][i];
+    const std::string w = fmt::format("instances[{}]", i);
+    rd.allowOnly(in, w, {"name", "mesh", "translate", "rotate", "scale", "animation"});
+    Instance inst;
+    if (!in.contains("mesh")) rd.fail(w, "needs 'mesh' (a key of 'meshes')");
+    const std::string meshName = rd.string(in["mesh"], w + ".mesh");
+    const auto it = meshIndex.find(meshName);
+    if (it == meshIndex.end()) rd.fail(w + ".mesh", fmt::format("no mesh named '{}'", meshName));
+    inst.mesh = it->second;
+    inst.name = in.contains("name") ? rd.string(in["name"], w + ".name") : fmt::format("{}#{}", meshName, i);
+    if (!names.insert(inst.name).second) rd.fail(w + ".name", fmt::format("duplicate instance name '{}'", inst.name));
+    inst.transform = rd.transform(in, w);
+    if (in.contains("animation")) inst.animation = parseAnimation(rd, in["animation"], w + ".animation");
+    scene.instances.push_back(std::move(inst));
+  }
+
+  if (doc.contains("lights")) {
+    if (!doc["lights"].is_array()) rd.fail("lights", "must be an array");
+    for (std::size_t i = 0; i < doc["lights"].size(); ++i) {
+      const json& l = doc["lights"][i];
+      const std::string w = fmt::format("lights[{}]", i);
+      rd.allowOnly(l, w, {"name", "type", "direction", "angular_radius_deg", "position", "radius", "color",
+                          "intensity"});
+      Light light;
+      light.name = l.contains("name") ? rd.string(l["name"], w + ".name") : fmt::format("light{}", i);
+      const std::string type = l.contains("type") ? rd.string(l["type"], w + ".type") : "";
+      if (type == "directional") {
+        light.type = Light::Type::Directional;
+        if (!l.contains("direction")) rd.fail(w, "a directional light needs 'direction'");
+        light.direction = rd.unit(l["direction"], w + ".direction");
+        if (l.contains("angular_radius_deg")) {
+          const double deg = rd.number(l["angular_radius_deg"], w + ".angular_radius_deg");
+          if (deg < 0.0 || deg >= 90.0) rd.fail(w + ".angular_radius_deg", "must be in [0, 90)");
+          light.angularRadius = glm::radians(deg);
+        }
+      } else if (type == "sphere") {
+        light.type = Light::Type::Sphere;
+        if (!l.contains("position")) rd.fail(w, "a sphere light needs 'position'");
+        light.position = rd.vec3(l["position"], w + ".position");
+        if (l.contains("radius")) {
+          light.radius = rd.number(l["radius"], w + ".radius");
+          if (light.radius < 0.0) rd.fail(w + ".radius", "must not be negative");
+        }
+      } else {
+        rd.fail(w + ".type", "must be \"directional\" or \"sphere\"");
+      }
+      if (l.contains("color")) light.color = rd.vec3(l["color"], w + ".color");
+      if (l.contains("intensity")) light.intensity = rd.number(l["intensity"], w + ".intensity");
+      scene.lights.push_back(light);
+    }
+  }
+
+  if (doc.contains("camera")) {
+    const json& c = doc["camera"];
+    rd.allowOnly(c, "camera", {"position", "look_at", "up", "fov_deg"});
+    if (!c.contains("position") || !c.contains("look_at")) rd.fail("camera", "needs 'position' and 'look_at'");
+    scene.camera.position = rd.vec3(c["position"], "camera.position");
+    scene.camera.target = rd.vec3(c["look_at"], "camera.look_at");
+    if (c.contains("up")) scene.camera.up = rd.unit(c["up"], "camera.up");
+    if (c.contains("fov_deg")) {
+      const double f = rd.number(c["fov_deg"], "camera.fov_deg");
+      if (!(f > 0.0 && f < 180.0)) rd.fail("camera.fov_deg", "must be in (0, 180)");
+      scene.camera.verticalFov = glm::radians(f);
+    }
+    if (glm::length(scene.camera.target - scene.camera.position) < 1e-12)
+      rd.fail("camera", "position and look_at must differ");
+    scene.hasCamera = true;
+  }
+  return scene;
+}
+
+Scene loadScene(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error(fmt::format("{}: scene file not found", path.string()));
+  if (path.extension() == ".json") {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(fmt::format("{}: cannot open scene file", path.string()));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parseScene(ss.str(), path);
+  }
+  if (!isMeshFile(path))
+    throw Error(fmt::format("{}: neither a .json scene nor a mesh format assimp reads", path.string()));
+  Scene scene;
+  scene.path = path.string();
+  Mesh mesh = loadMeshFile(path);
+  MeshReport report = validateMesh(mesh);
+  if (report.degenerateDropped)
+    spdlog::warn("{}: dropped {} zero-area triangle(s) of {}", path.string(), report.degenerateDropped,
+                 report.inputTriangles);
+  Instance inst;
+  inst.name = mesh.name;
+  scene.meshes.push_back(std::move(mesh));
+  scene.meshReports.push_back(report);
+  scene.instances.push_back(inst);
+  return scene;
+}
+
+} // namespace rtsdf

@@ -1,0 +1,21 @@
+#pragma once
+/// @file SceneLoader.h
+/// @brief Loading scenes: the JSON scene format (docs/scene-format.md) or a single mesh file.
+#include "scene/Scene.h"
+
+#include <filesystem>
+
+namespace rtsdf {
+
+/// @brief Load a scene from a .json scene file, or wrap a mesh file (.obj, .ply, .stl, .gltf, ...) as a
+///        one-instance scene.
+/// @param path the scene or mesh file; mesh paths inside a scene are relative to the scene's folder.
+/// @throw Error naming the file and the problem (missing file, malformed JSON, unknown keys, bad values,
+///        invalid meshes).
+/// @note Every mesh is validated (validateMesh); what was dropped is logged and kept in Scene::meshReports.
+Scene loadScene(const std::filesystem::path& path);
+
+/// @brief Parse a scene from JSON text; @a origin names it in messages and anchors relative mesh paths.
+Scene parseScene(const std::string& jsonText, const std::filesystem::path& origin);
+
+} // namespace rtsdf

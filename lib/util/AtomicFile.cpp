@@ -1,0 +1,37 @@
+#include "util/AtomicFile.h"
+
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <random>
+#include <system_error>
+#include <unistd.h>
+
+namespace rtsdf {
+namespace fs = std::filesystem;
+
+void writeFileAtomically(const fs::path& target,
+                         const std::function<void(const fs::path&)>& write) {
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw Error(fmt::format("{}: output directory '{}' does not exist", target.string(), dir.string()));
+  if (fs::is_directory(target, ec))
+    throw Error(fmt::format("{}: is a directory, not a file", target.string()));
+  std::random_device rd;
+  const fs::path tmp = dir / fmt::format(".{}.tmp-{}-{:08x}", target.filename().string(), getpid(), rd());
+  try {
+    write(tmp);
+  } catch (...) {
+    fs::remove(tmp, ec);
+    throw;
+  }
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw Error(fmt::format("{}: cannot move the finished file into place: {}", target.string(), ec.message()));
+  }
+}
+
+} // namespace rtsdf

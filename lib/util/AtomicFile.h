@@ -1,0 +1,16 @@
+#pragma once
+/// @file AtomicFile.h
+/// @brief Write-to-temporary-then-rename, so a failed write never leaves a partial output file.
+#include <filesystem>
+#include <functional>
+
+namespace rtsdf {
+
+/// @brief Call @a write with a temporary path beside @a target, then rename it onto @a target.
+/// @param target the final path; its directory must exist.
+/// @param write  writes the complete file to the path it is given; throws on failure.
+/// @note On any exception the temporary file is removed and @a target is left untouched.
+void writeFileAtomically(const std::filesystem::path& target,
+                         const std::function<void(const std::filesystem::path&)>& write);
+
+} // namespace rtsdf

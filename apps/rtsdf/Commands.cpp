@@ -18,6 +18,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 
 namespace rtsdf::app {
@@ -53,6 +54,9 @@ int runBake(const BakeSettings& s) {
     throw Error("--full needs --method exact (OpenVDB's meshToLevelSet builds a narrow band only)");
   const SignMethod sign = parseSignMethod(s.sign);
   if (!std::isfinite(s.time)) throw Error("--time must be finite");
+  if (!std::isfinite(s.band) || !(s.band > 0.0)) throw Error(fmt::format("--band {} must be positive and finite", s.band));
+  if (std::isnan(s.padding) || std::isinf(s.padding))
+    throw Error(fmt::format("--padding {} must be finite", s.padding));
 
   const Scene scene = loadScene(s.scene);
   spdlog::info("{}: {}", s.scene, meshSummary(scene));

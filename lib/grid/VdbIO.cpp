@@ -135,6 +135,9 @@ FloatGrid::Ptr makeFogGrid(const FloatGrid& levelSet) {
 
 void writeVdb(const fs::path& path, const openvdb::GridPtrVec& grids, const VdbWriteOptions& options) {
   ensureOpenVdb();
+  if (grids.empty()) throw Error(fmt::format("{}: no grids to write", path.string()));
+  for (const auto& g : grids)
+    if (!g) throw Error(fmt::format("{}: cannot write a null grid", path.string()));
   writeFileAtomically(path, [&](const fs::path& tmp) {
     try {
       for (const auto& g : grids) g->setSaveFloatAsHalf(options.halfFloat);

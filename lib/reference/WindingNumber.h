@@ -14,8 +14,9 @@ namespace rtsdf {
 class WindingNumberTree {
 public:
   /// @param positions vertices; @param triangles counter-clockwise seen from outside.
-  /// @param beta accuracy: a cluster is replaced by its dipole when it is farther than beta * its radius
-  ///        (2 gives errors well under 1e-2 away from the surface; larger is slower and more exact).
+  /// @param beta accuracy: a cluster is replaced by its dipole when it is farther than beta * its radius.
+  ///        With 2, errors stay below ~0.04 at points a few triangle sizes from the surface (tested): ample
+  ///        for the sign test w >= 1/2; larger is slower and more exact.
   WindingNumberTree(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles,
                     double beta = 2.0);
 

@@ -82,10 +82,10 @@ public:
     return glm::angleAxis(glm::radians(number(v["degrees"], where + ".degrees")), unit(v["axis"], where + ".axis"));
   }
 
+  /// A number or [x, y, z]; negative factors mirror, zero would flatten the mesh.
   glm::dvec3 scale(const json& v, const std::string& where) const {
-    if (v.is_number()) return glm::dvec3(positive(v, where));
-    const glm::dvec3 s = vec3(v, where);
-    if (!(s.x > 0 && s.y > 0 && s.z > 0)) fail(where, "every scale factor must be positive");
+    const glm::dvec3 s = v.is_number() ? glm::dvec3(number(v, where)) : vec3(v, where);
+    if (s.x == 0.0 || s.y == 0.0 || s.z == 0.0) fail(where, "scale factors must not be zero");
     return s;
   }
 
@@ -165,16 +165,23 @@ Scene parseScene(const std::string& text, const fs::path& origin) {
     const std::string w = "meshes." + name;
     rd.allowOnly(m, w, {"path", "box"});
     Mesh mesh;
+    MeshReport report;
     if (m.contains("path") == m.contains("box")) rd.fail(w, "needs exactly one of 'path' or 'box'");
-    if (m.contains("path")) {
-      fs::path p = rd.string(m["path"], w + ".path");
-      if (p.is_relative()) p = base / p;
-      mesh = loadMeshFile(p);
-    } else {
-      mesh = makeBoxMesh(glm::vec3(rd.vec3(m["box"], w + ".box")), name);
+    try {
+      if (m.contains("path")) {
+        fs::path p = rd.string(m["path"], w + ".path");
+        if (p.is_relative()) p = base / p;
+        mesh = loadMeshFile(p);
+      } else {
+        mesh = makeBoxMesh(glm::vec3(rd.vec3(m["box"], w + ".box")), name);
+      }
+      mesh.name = name;
+      report = validateMesh(mesh);
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      if (msg.rfind(file, 0) == 0) throw; // already names the scene file
+      rd.fail(w, msg);
     }
-    mesh.name = name;
-    MeshReport report = validateMesh(mesh);
     if (report.degenerateDropped)
       spdlog::warn("{} (mesh '{}'): dropped {} zero-area triangle(s) of {}", mesh.source, name,
                    report.degenerateDropped, report.inputTriangles);

@@ -1,0 +1,149 @@
+// End-to-end tests of the rtsdf command line: real scenes in, .vdb files out, and every bad input refused
+// with a clear message, a non-zero exit and no output file.
+#include "TestUtil.h"
+#include "grid/VdbIO.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+using namespace rtsdf;
+using rtsdf::test::TempDir;
+using rtsdf::test::writeText;
+
+namespace {
+
+struct Result {
+  int exitCode = -1;
+  std::string output; // stdout and stderr together
+};
+
+Result rtsdfCmd(const std::string& args) {
+  Result r;
+  const std::string cmd = std::string(RTSDF_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+  const int status = pclose(p);
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
+} // namespace
+
+TEST(Cli, HelpOnEveryCommand) {
+  const Result top = rtsdfCmd("--help");
+  EXPECT_EQ(top.exitCode, 0);
+  for (const char* cmd : {"bake", "info", "compare", "bench"}) {
+    EXPECT_NE(top.output.find(cmd), std::string::npos) << cmd;
+    const Result r = rtsdfCmd(std::string(cmd) + " --help");
+    EXPECT_EQ(r.exitCode, 0) << cmd;
+    EXPECT_NE(r.output.find("Usage"), std::string::npos) << r.output;
+  }
+  const Result bake = rtsdfCmd("bake --help");
+  for (const char* opt : {"--method", "--res", "--band", "--full", "--sign", "--fog", "--half", "--padding"})
+    EXPECT_NE(bake.output.find(opt), std::string::npos) << opt;
+}
+
+TEST(Cli, BakesTheDefaultSceneWithBothMethodsAndCompares) {
+  TempDir dir;
+  const std::string scene = q(test::dataPath("scenes/default.json"));
+  const Result exact = rtsdfCmd("bake " + scene + " --res 48 --band 0.1 --fog -o " + q(dir / "exact.vdb"));
+  ASSERT_EQ(exact.exitCode, 0) << exact.output;
+  EXPECT_NE(exact.output.find("active"), std::string::npos);
+  const auto grid = readLevelSet(dir / "exact.vdb");
+  EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:method"), "exact");
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:resolution"), "48");
+  EXPECT_GT(grid->activeVoxelCount(), 1000u);
+  EXPECT_EQ(readVdb(dir / "exact.vdb").size(), 2u); // surface + density
+
+  const Result vdb = rtsdfCmd("bake " + scene + " --res 48 --band 0.1 --method openvdb -o " + q(dir / "vdb.vdb"));
+  ASSERT_EQ(vdb.exitCode, 0) << vdb.output;
+  const Result cmp = rtsdfCmd("compare " + q(dir / "exact.vdb") + " " + q(dir / "vdb.vdb"));
+  ASSERT_EQ(cmp.exitCode, 0) << cmp.output;
+  EXPECT_NE(cmp.output.find("mean"), std::string::npos);
+  EXPECT_NE(cmp.output.find("sign"), std::string::npos);
+
+  // Different grids cannot be compared voxel by voxel.
+  ASSERT_EQ(rtsdfCmd("bake " + scene + " --res 40 -o " + q(dir / "coarse.vdb")).exitCode, 0);
+  const Result mismatch = rtsdfCmd("compare " + q(dir / "exact.vdb") + " " + q(dir / "coarse.vdb"));
+  EXPECT_NE(mismatch.exitCode, 0);
+  EXPECT_NE(mismatch.output.find("transforms differ"), std::string::npos) << mismatch.output;
+}
+
+TEST(Cli, BakesAMeshFileDirectlyAndTheFullDomain) {
+  TempDir dir;
+  const Result r = rtsdfCmd("bake " + q(test::dataPath("meshes/bunny.obj")) + " --res 24 --full -o " + q(dir / "b.vdb"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const auto grid = readLevelSet(dir / "b.vdb");
+  const GridSpec spec = gridSpecOf(*grid);
+  EXPECT_EQ(grid->activeVoxelCount(), spec.voxelCount());
+}
+
+TEST(Cli, InfoListsAVulkanDevice) {
+  const Result r = rtsdfCmd("info");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("OpenVDB"), std::string::npos);
+  EXPECT_NE(r.output.find("Vulkan devices"), std::string::npos);
+  EXPECT_NE(r.output.find("fill.comp"), std::string::npos);
+}
+
+TEST(Cli, BadInputIsRefusedClearlyWithNoOutputFile) {
+  TempDir dir;
+  writeText(dir / "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+  writeText(dir / "inf.obj", "v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n");
+  writeText(dir / "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  writeText(dir / "empty.obj", "# nothing here\n");
+  writeText(dir / "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+  writeText(dir / "broken.json", "{\"meshes\": {");
+  writeText(dir / "typo.json", R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b", "scael": 2}]})");
+  writeText(dir / "missing-mesh.json", R"({"meshes": {"m": {"path": "gone.obj"}}, "instances": [{"mesh": "m"}]})");
+  const std::string ok = q(test::dataPath("scenes/bunny.json"));
+  struct Case { std::string args; std::string expect; };
+  const std::vector<Case> cases = {
+      {q(dir / "absent.json"), "absent.json: scene file not found"},
+      {q(dir / "nan.obj"), "nan.obj"},
+      {q(dir / "inf.obj"), "inf.obj"},
+      {q(dir / "range.obj"), "range.obj"},
+      {q(dir / "empty.obj"), "empty.obj"},
+      {q(dir / "flat.obj"), "flat.obj"},
+      {q(dir / "broken.json"), "broken.json: malformed JSON"},
+      {q(dir / "typo.json"), "unknown key 'scael'"},
+      {q(dir / "missing-mesh.json"), "gone.obj: mesh file not found"},
+      {ok + " --res 0", "--res"},
+      {ok + " --res 100000", "--res"},
+      {ok + " --band -1", "--band"},
+      {ok + " --band nan", "--band"},
+      {ok + " --band 0", "--band"},
+      {ok + " --method magic", "--method"},
+      {ok + " --method openvdb --full", "--full needs --method exact"},
+      {ok + " --res 8192", "GiB"}, // too large for memory: refused before allocating
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto out = dir / "out.vdb";
+    const Result r = rtsdfCmd("bake " + c.args + " -o " + q(out));
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+  // Output that cannot be written is refused before any work.
+  const Result noDir = rtsdfCmd("bake " + ok + " -o " + q(dir / "nowhere" / "x.vdb"));
+  EXPECT_NE(noDir.exitCode, 0);
+  EXPECT_NE(noDir.output.find("does not exist"), std::string::npos) << noDir.output;
+  const Result isDir = rtsdfCmd("bake " + ok + " -o " + q(dir.path()));
+  EXPECT_NE(isDir.exitCode, 0);
+  // Nothing but the inputs is left in the folder (no temporaries).
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
+  EXPECT_EQ(files, 8u);
+  // compare names the file it cannot read.
+  writeText(dir / "junk.vdb", "junk");
+  const Result junk = rtsdfCmd("compare " + q(dir / "junk.vdb") + " " + q(dir / "junk.vdb"));
+  EXPECT_NE(junk.exitCode, 0);
+  EXPECT_NE(junk.output.find("junk.vdb"), std::string::npos) << junk.output;
+}

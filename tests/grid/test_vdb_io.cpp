@@ -1,0 +1,167 @@
+#include "TestUtil.h"
+#include "grid/VdbIO.h"
+#include "util/AtomicFile.h"
+#include "util/Error.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+using namespace rtsdf;
+using rtsdf::test::TempDir;
+
+namespace {
+
+/// A sphere's signed distance sampled on a non-cubic grid.
+std::vector<float> sphereField(const GridSpec& g, const glm::dvec3& c, double r) {
+  std::vector<float> v(g.voxelCount());
+  for (int z = 0; z < g.dims.z; ++z)
+    for (int y = 0; y < g.dims.y; ++y)
+      for (int x = 0; x < g.dims.x; ++x)
+        v[g.linear(x, y, z)] = float(glm::length(g.indexToWorld(glm::dvec3(x, y, z)) - c) - r);
+  return v;
+}
+
+std::string run(const std::string& cmd, int& status) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) { status = -1; return out; }
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  status = pclose(p);
+  return out;
+}
+
+} // namespace
+
+TEST(VdbIO, DenseToLevelSetKeepsTheBandAndSigns) {
+  const GridSpec g = GridSpec::fromBounds({{-1, -0.6, -0.8}, {1, 0.6, 0.8}}, 37, 0.1);
+  const std::vector<float> dense = sphereField(g, {0.1, 0, 0}, 0.5);
+  const float band = 0.15f;
+  const auto grid = denseToLevelSet(dense, g, band);
+  std::uint64_t inBand = 0;
+  for (float v : dense) inBand += std::fabs(v) <= band;
+  EXPECT_EQ(grid->activeVoxelCount(), inBand);
+  EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_FLOAT_EQ(grid->background(), band);
+  // Sampling back: band voxels exact, others ±band with the right sign (signed flood fill).
+  const std::vector<float> back = levelSetToDense(*grid, g);
+  for (std::size_t i = 0; i < dense.size(); ++i) {
+    if (std::fabs(dense[i]) <= band) ASSERT_EQ(back[i], dense[i]) << i;
+    else ASSERT_EQ(back[i], std::copysign(band, dense[i])) << i;
+  }
+  // The world position of voxel (i,j,k) is the cell centre.
+  const openvdb::Vec3d w = grid->transform().indexToWorld(openvdb::Coord(3, 4, 5));
+  const glm::dvec3 c = g.indexToWorld(glm::dvec3(3, 4, 5));
+  EXPECT_NEAR(w.x(), c.x, 1e-12);
+  EXPECT_NEAR(w.y(), c.y, 1e-12);
+  EXPECT_NEAR(w.z(), c.z, 1e-12);
+}
+
+TEST(VdbIO, WriteReadRoundTripKeepsValuesClassTransformAndMetadata) {
+  TempDir dir;
+  const GridSpec g = GridSpec::fromBounds({{-1, -1, -1}, {1, 1, 1}}, 24, 0.2);
+  const std::vector<float> dense = sphereField(g, {0, 0, 0}, 0.6);
+  auto grid = denseToLevelSet(dense, g, 0.3f);
+  stampLevelSet(*grid, g, {{"method", "test"}, {"band", "0.3"}});
+  for (VdbCompression c : {VdbCompression::Blosc, VdbCompression::Zip, VdbCompression::None}) {
+    const auto path = dir / "sphere.vdb";
+    writeVdb(path, {grid, makeFogGrid(*grid)}, {c, false});
+    const auto read = readLevelSet(path);
+    EXPECT_EQ(read->getName(), "surface");
+    EXPECT_EQ(read->getGridClass(), openvdb::GRID_LEVEL_SET);
+    EXPECT_EQ(read->transform(), grid->transform());
+    EXPECT_EQ(read->activeVoxelCount(), grid->activeVoxelCount());
+    EXPECT_EQ(read->metaValue<std::string>("rtsdf:method"), "test");
+    const GridSpec back = gridSpecOf(*read);
+    EXPECT_EQ(back.dims, g.dims);
+    EXPECT_DOUBLE_EQ(back.voxelSize, g.voxelSize);
+    const std::vector<float> values = levelSetToDense(*read, g);
+    for (std::size_t i = 0; i < values.size(); ++i) ASSERT_EQ(values[i], levelSetToDense(*grid, g)[i]);
+    const auto all = readVdb(path);
+    ASSERT_EQ(all.size(), 2u);
+    const auto fog = std::find_if(all.begin(), all.end(), [](const auto& g) { return g->getName() == "density"; });
+    ASSERT_NE(fog, all.end());
+    EXPECT_EQ((*fog)->getGridClass(), openvdb::GRID_FOG_VOLUME);
+  }
+}
+
+TEST(VdbIO, HalfFloatsAreSmallerAndClose) {
+  TempDir dir;
+  const GridSpec g = GridSpec::fromBounds({{-1, -1, -1}, {1, 1, 1}}, 48, 0.2);
+  auto grid = denseToLevelSet(sphereField(g, {0, 0, 0}, 0.6), g, 0.3f);
+  stampLevelSet(*grid, g, {});
+  writeVdb(dir / "full.vdb", {grid}, {VdbCompression::None, false});
+  auto copy = grid->deepCopy();
+  writeVdb(dir / "half.vdb", {copy}, {VdbCompression::None, true});
+  EXPECT_LT(std::filesystem::file_size(dir / "half.vdb"), std::filesystem::file_size(dir / "full.vdb"));
+  const auto half = readLevelSet(dir / "half.vdb");
+  const auto a = levelSetToDense(*grid, g), b = levelSetToDense(*half, g);
+  for (std::size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(a[i], b[i], 1e-3);
+}
+
+TEST(VdbIO, FailedWritesLeaveNoFileAndKeepTheOldOne) {
+  TempDir dir;
+  const GridSpec g = GridSpec::fromBounds({{-1, -1, -1}, {1, 1, 1}}, 8, 0.2);
+  auto grid = denseToLevelSet(sphereField(g, {0, 0, 0}, 0.6), g, 0.3f);
+  EXPECT_THROW(writeVdb(dir / "no-such-dir" / "x.vdb", {grid}), Error);
+  EXPECT_FALSE(std::filesystem::exists(dir / "no-such-dir"));
+  EXPECT_THROW(writeVdb(dir.path(), {grid}), Error); // a folder, not a file
+
+  // A write that fails midway (after writing part of the file) must leave the old file untouched.
+  const auto path = dir / "keep.vdb";
+  rtsdf::test::writeText(path, "old");
+  openvdb::GridPtrVec bad{grid, nullptr};
+  EXPECT_THROW(writeVdb(path, bad), Error);
+  EXPECT_THROW(writeFileAtomically(path,
+                                   [](const std::filesystem::path& tmp) {
+                                     rtsdf::test::writeText(tmp, "partial");
+                                     throw Error("disk full");
+                                   }),
+               Error);
+  std::ifstream in(path);
+  std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(content, "old");
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
+  EXPECT_EQ(files, 1u); // no temporary left behind
+}
+
+TEST(VdbIO, ReadErrorsNameTheFile) {
+  TempDir dir;
+  rtsdf::test::writeText(dir / "junk.vdb", "not a vdb");
+  for (const auto& p : {dir / "junk.vdb", dir / "missing.vdb"}) {
+    try {
+      readVdb(p);
+      FAIL() << "no error for " << p;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(p.filename().string()), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(VdbIO, PythonOpenVdbReadsTheLevelSet) {
+  int status = 0;
+  run("/usr/bin/python3 -c 'import pyopenvdb' 2>/dev/null", status);
+  if (status != 0) GTEST_SKIP() << "python3-openvdb (pyopenvdb) is not installed";
+  TempDir dir;
+  const GridSpec g = GridSpec::fromBounds({{-1, -1, -1}, {1, 1, 1}}, 20, 0.2);
+  auto grid = denseToLevelSet(sphereField(g, {0, 0, 0}, 0.6), g, 0.3f);
+  stampLevelSet(*grid, g, {{"method", "test"}});
+  const auto path = dir / "py.vdb";
+  writeVdb(path, {grid});
+  const std::string out = run("/usr/bin/python3 -c \"import pyopenvdb as vdb; g = vdb.read('" + path.string() +
+                                  "', 'surface'); print(g.gridClass, g.transform.voxelSize()[0], g.activeVoxelCount(), "
+                                  "g.background, g['rtsdf:method'], sep='|')\"",
+                              status);
+  ASSERT_EQ(status, 0) << out;
+  std::vector<std::string> f;
+  std::stringstream ss(out.substr(0, out.find('\n')));
+  for (std::string item; std::getline(ss, item, '|');) f.push_back(item);
+  ASSERT_EQ(f.size(), 5u) << out;
+  EXPECT_EQ(f[0], "level set") << out;
+  EXPECT_NEAR(std::stod(f[1]), g.voxelSize, 1e-9);
+  EXPECT_EQ(std::stoull(f[2]), grid->activeVoxelCount());
+  EXPECT_NEAR(std::stod(f[3]), 0.3, 1e-6);
+  EXPECT_EQ(f[4], "test");
+}

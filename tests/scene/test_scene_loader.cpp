@@ -1,0 +1,140 @@
+#include "TestUtil.h"
+#include "scene/SceneGeometry.h"
+#include "scene/SceneLoader.h"
+#include "util/Error.h"
+
+#include <gtest/gtest.h>
+
+using namespace rtsdf;
+using rtsdf::test::TempDir;
+using rtsdf::test::writeText;
+
+namespace {
+
+/// The error message parseScene gives for @a json, or "" when it parses.
+std::string sceneError(const std::string& json, const std::filesystem::path& origin = "bad.json") {
+  try {
+    parseScene(json, origin);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kBox = R"("meshes": {"b": {"box": [1, 1, 1]}})";
+
+} // namespace
+
+TEST(SceneLoader, DefaultSceneLoads) {
+  const Scene s = loadScene(test::dataPath("scenes/default.json"));
+  EXPECT_EQ(s.instances.size(), 20u);
+  ASSERT_EQ(s.lights.size(), 1u);
+  EXPECT_EQ(s.lights[0].type, Light::Type::Directional);
+  EXPECT_GT(s.lights[0].angularRadius, 0.0);
+  EXPECT_TRUE(s.hasCamera);
+  std::size_t open = 0;
+  for (const auto& r : s.meshReports) open += r.watertight() ? 0 : 1;
+  EXPECT_EQ(open, 1u); // the teapot
+
+  // The scene is about 2 units across and the objects do not interpenetrate their supports.
+  const SceneGeometry g = buildSceneGeometry(s, 0.0);
+  EXPECT_NEAR(g.bounds.maxExtent(), 2.0, 0.05);
+  EXPECT_EQ(g.triangleCount(), 4882u);
+}
+
+TEST(SceneLoader, TeapotOrbits) {
+  const Scene s = loadScene(test::dataPath("scenes/default.json"));
+  const Instance* teapot = nullptr;
+  for (const auto& i : s.instances)
+    if (i.name == "teapot") teapot = &i;
+  ASSERT_NE(teapot, nullptr);
+  ASSERT_EQ(teapot->animation.kind, Animation::Kind::Orbit);
+  const glm::dvec3 c = teapot->animation.center;
+  const glm::dvec3 p0(teapot->matrixAt(0.0)[3]);
+  const glm::dvec3 p1(teapot->matrixAt(0.5 * teapot->animation.period)[3]);
+  const glm::dvec3 p2(teapot->matrixAt(teapot->animation.period)[3]);
+  EXPECT_NEAR(glm::length(p0 - c), glm::length(p1 - c), 1e-9);
+  EXPECT_NEAR(glm::length(p0 - p1), 2.0 * glm::length(glm::dvec2(p0.x - c.x, p0.z - c.z)), 1e-9); // opposite side
+  EXPECT_NEAR(glm::length(p0 - p2), 0.0, 1e-9);                                                   // full turn
+}
+
+TEST(SceneLoader, KeyframesInterpolateAndClamp) {
+  const Scene s = parseScene(std::string("{") + kBox + R"(, "instances": [{"mesh": "b", "animation": {"keyframes": [
+      {"time": 0, "translate": [0, 0, 0]}, {"time": 2, "translate": [2, 0, 0], "rotate": {"axis": [0, 1, 0], "degrees": 90}}]}}]})",
+                             "k.json");
+  const Instance& in = s.instances[0];
+  EXPECT_NEAR(in.matrixAt(1.0)[3].x, 1.0, 1e-12);
+  EXPECT_NEAR(in.matrixAt(-5.0)[3].x, 0.0, 1e-12);
+  EXPECT_NEAR(in.matrixAt(9.0)[3].x, 2.0, 1e-12);
+  // Halfway: 45 degrees about y maps +x to (cos 45, 0, -sin 45).
+  const glm::dvec3 x = glm::dvec3(in.matrixAt(1.0) * glm::dvec4(1, 0, 0, 0));
+  EXPECT_NEAR(x.x, std::sqrt(0.5), 1e-9);
+  EXPECT_NEAR(x.z, -std::sqrt(0.5), 1e-9);
+}
+
+TEST(SceneLoader, MirroringTransformKeepsOutsideOutside) {
+  const Scene s =
+      parseScene(std::string("{") + kBox + R"(, "instances": [{"mesh": "b", "scale": [-1, 1, 1]}]})", "m.json");
+  const SceneGeometry g = buildSceneGeometry(s);
+  EXPECT_NEAR(test::signedVolume(g.meshes[0].positions, g.meshes[0].triangles), 1.0, 1e-9);
+}
+
+TEST(SceneLoader, MeshFileAsScene) {
+  const Scene s = loadScene(test::dataPath("meshes/bunny.obj"));
+  ASSERT_EQ(s.instances.size(), 1u);
+  EXPECT_EQ(s.meshReports[0].triangles, 3674u);
+}
+
+TEST(SceneLoader, ErrorsNameFileAndKey) {
+  struct Case { const char* json; const char* expect; };
+  const std::string b = kBox;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{ not json", "malformed JSON"},
+      {"[]", "must be an object"},
+      {"{" + b + R"(, "instances": [{"mesh": "b", "colour": 1}]})", "unknown key 'colour'"},
+      {"{" + b + R"(, "instances": [{"mesh": "nope"}]})", "instances[0].mesh: no mesh named 'nope'"},
+      {"{" + b + R"(, "instances": [{"mesh": "b", "scale": 0}]})", "instances[0].scale: scale factors must not be zero"},
+      {"{" + b + R"(, "instances": [{"mesh": "b", "translate": [0, 1]}]})", "instances[0].translate"},
+      {"{" + b + R"(, "instances": []})", "non-empty 'instances'"},
+      {R"({"meshes": {}, "instances": [{"mesh": "b"}]})", "non-empty 'meshes'"},
+      {R"({"meshes": {"b": {"box": [1, 0, 1]}}, "instances": [{"mesh": "b"}]})", "must be positive"},
+      {R"({"meshes": {"b": {"path": "missing.obj"}}, "instances": [{"mesh": "b"}]})", "missing.obj: mesh file not found"},
+      {"{" + b + R"(, "instances": [{"mesh": "b"}], "lights": [{"type": "spot"}]})", "lights[0].type"},
+      {"{" + b + R"(, "instances": [{"mesh": "b"}], "lights": [{"type": "directional", "direction": [0, 0, 0]}]})",
+       "non-zero vector"},
+      {"{" + b + R"(, "instances": [{"mesh": "b"}], "camera": {"position": [0, 0, 0], "look_at": [0, 0, 0]}})",
+       "must differ"},
+      {"{" + b + R"(, "instances": [{"mesh": "b", "animation": {"keyframes": [{"time": 1}, {"time": 1}]}}]})",
+       "must increase"},
+      {"{" + b + R"(, "instances": [{"mesh": "b", "animation": {"orbit": {"period": 0}}}]})", "period: must be positive"},
+      {"{" + b + R"(, "instances": [{"mesh": "b", "name": "x"}, {"mesh": "b", "name": "x"}]})", "duplicate instance"},
+      {R"({"rtsdf_scene": 7, )" + b + R"(, "instances": [{"mesh": "b"}]})", "unsupported scene format"},
+  };
+  for (const auto& [json, expect] : cases) {
+    SCOPED_TRACE(json);
+    const std::string msg = sceneError(json);
+    EXPECT_NE(msg.find("bad.json"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(expect), std::string::npos) << msg;
+  }
+}
+
+TEST(SceneLoader, MissingSceneFileAndUnknownFormat) {
+  TempDir dir;
+  try {
+    loadScene(dir / "nothing.json");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("nothing.json: scene file not found"), std::string::npos);
+  }
+  writeText(dir / "notes.txt", "hello");
+  EXPECT_THROW(loadScene(dir / "notes.txt"), Error);
+}
+
+TEST(SceneLoader, MeshPathsAreRelativeToTheSceneFile) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "sub");
+  writeText(dir / "sub" / "tet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  writeText(dir / "s.json", R"({"meshes": {"t": {"path": "sub/tet.obj"}}, "instances": [{"mesh": "t"}]})");
+  const Scene s = loadScene(dir / "s.json");
+  EXPECT_EQ(s.meshReports[0].triangles, 4u);
+}

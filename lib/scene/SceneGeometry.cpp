@@ -3,6 +3,7 @@
 #include "util/Error.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <cmath>
 
@@ -35,9 +36,21 @@ SceneGeometry buildSceneGeometry(const Scene& scene, double time) {
       geo.bounds.add(glm::dvec3(f));
     }
     const bool mirrored = glm::determinant(glm::dmat3(m)) < 0.0;
-    w.triangles = mesh.triangles;
-    if (mirrored)
-      for (glm::uvec3& t : w.triangles) std::swap(t.y, t.z);
+    w.triangles.reserve(mesh.triangles.size());
+    std::size_t collapsed = 0;
+    for (glm::uvec3 t : mesh.triangles) {
+      // A tiny scale can round a valid triangle to zero area in float: Embree would silently skip it.
+      const glm::vec3 n = glm::cross(w.positions[t.y] - w.positions[t.x], w.positions[t.z] - w.positions[t.x]);
+      if (!(glm::dot(n, n) > 0.0f)) { ++collapsed; continue; }
+      if (mirrored) std::swap(t.y, t.z);
+      w.triangles.push_back(t);
+    }
+    if (collapsed)
+      spdlog::warn("{}: instance '{}': {} of {} triangles have zero area in world space (float rounding of its "
+                   "transform) and were dropped", scene.path, inst.name, collapsed, mesh.triangles.size());
+    if (w.triangles.empty())
+      throw Error(fmt::format("{}: instance '{}' has no triangle of non-zero area in world space", scene.path,
+                              inst.name));
     geo.meshes.push_back(std::move(w));
   }
   return geo;

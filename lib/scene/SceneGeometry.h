@@ -27,7 +27,9 @@ struct SceneGeometry {
 
 /// @brief Transform every instance of @a scene to world space at @a time seconds.
 /// @note A mirroring transform (negative determinant) reverses triangle winding so outside stays outside.
-/// @throw Error when a transform turns coordinates non-finite.
+/// @note Triangles that a transform rounds to zero area in float are dropped with a warning (Embree would
+///       skip them silently).
+/// @throw Error when a transform turns coordinates non-finite or leaves an instance no triangle.
 SceneGeometry buildSceneGeometry(const Scene& scene, double time = 0.0);
 
 } // namespace rtsdf

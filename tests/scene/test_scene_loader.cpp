@@ -138,3 +138,17 @@ TEST(SceneLoader, MeshPathsAreRelativeToTheSceneFile) {
   const Scene s = loadScene(dir / "s.json");
   EXPECT_EQ(s.meshReports[0].triangles, 4u);
 }
+
+TEST(SceneGeometry, TransformsThatBreakTrianglesAreErrors) {
+  const Scene tiny =
+      parseScene(R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b", "scale": 1e-30}]})", "tiny.json");
+  try {
+    buildSceneGeometry(tiny);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no triangle of non-zero area"), std::string::npos) << e.what();
+  }
+  const Scene huge =
+      parseScene(R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b", "scale": 1e40}]})", "huge.json");
+  EXPECT_THROW(buildSceneGeometry(huge), Error);
+}

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Set everything up, build, and run every test through ctest (Vulkan validation on, lavapipe on CPU-only
+# machines). Usage: scripts/test.sh [Release|Sanitize]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+type="${1:-Release}"
+dir=build
+[ "$type" = Release ] || dir="build-$(echo "$type" | tr '[:upper:]' '[:lower:]')"
+./scripts/build.sh "$type"
+cd "$dir"
+ctest --output-on-failure -j "$(nproc)"

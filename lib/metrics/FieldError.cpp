@@ -20,7 +20,9 @@ struct Accum {
     sum += e;
     sum2 += e * e;
     max = std::max(max, e);
-    if ((a < 0.0) != (b < 0.0)) ++sign;
+    // A voxel centre on the surface has no sign to get wrong.
+    const double onSurface = kOnSurfaceVoxels * h;
+    if ((a < 0.0) != (b < 0.0) && std::fabs(a) > onSurface && std::fabs(b) > onSurface) ++sign;
   }
   void join(const Accum& o) {
     n += o.n; sign += o.sign; onlyA += o.onlyA; sum += o.sum; sum2 += o.sum2; max = std::max(max, o.max);

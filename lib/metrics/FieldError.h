@@ -10,13 +10,17 @@
 
 namespace rtsdf {
 
+/// @brief Values within this many voxels of zero are "on the surface": they count toward the distance error
+///        but not toward wrong signs (a voxel centre lying on a face, as on axis-aligned walls, has no sign).
+constexpr double kOnSurfaceVoxels = 1e-3;
+
 /// @brief Error statistics of a field against a reference, in voxels of the field's grid.
 struct FieldError {
   std::uint64_t voxels = 0;        ///< voxels compared (active in both)
   double meanAbs = 0.0;            ///< mean |a - b| / voxel size
   double rms = 0.0;                ///< sqrt(mean (a - b)^2) / voxel size
   double maxAbs = 0.0;             ///< max |a - b| / voxel size
-  std::uint64_t signMismatches = 0;///< voxels where exactly one of a, b is negative
+  std::uint64_t signMismatches = 0;///< voxels where exactly one of a, b is negative, neither on the surface
   std::uint64_t onlyInA = 0;       ///< active in A only
   std::uint64_t onlyInB = 0;       ///< active in B only
   double signErrorRate() const { return voxels ? double(signMismatches) / double(voxels) : 0.0; }

@@ -130,6 +130,7 @@ std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
 } // namespace
 
 struct VulkanContext::Messages {
+  std::atomic<std::int64_t> live{0};
   std::atomic<std::uint32_t> errors{0};
   std::mutex mutex;
   std::string last;
@@ -218,6 +219,19 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
       if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) { mQueueFamily = i; found = true; }
     if (!found) throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, fmt::format("finding a compute queue on {}", mInfo.name));
 
+    std::uint32_t next = 0;
+    vkEnumerateDeviceExtensionProperties(mPhysical, nullptr, &next, nullptr);
+    std::vector<VkExtensionProperties> exts(next);
+    vkEnumerateDeviceExtensionProperties(mPhysical, nullptr, &next, exts.data());
+    const bool push = std::any_of(exts.begin(), exts.end(), [](const VkExtensionProperties& e) {
+      return std::strcmp(e.extensionName, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME) == 0;
+    });
+    if (!push)
+      throw VulkanError(VK_ERROR_EXTENSION_NOT_PRESENT,
+                        fmt::format("enabling {} on {} (rtsdf binds buffers with push descriptors)",
+                                    VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME, mInfo.name));
+    const char* deviceExtensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qci.queueFamilyIndex = mQueueFamily;
@@ -226,8 +240,14 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
+    dci.enabledExtensionCount = 1;
+    dci.ppEnabledExtensionNames = deviceExtensions;
     check(vkCreateDevice(mPhysical, &dci, nullptr, &mDevice), fmt::format("creating a device on {}", mInfo.name).c_str());
     vkGetDeviceQueue(mDevice, mQueueFamily, 0, &mQueue);
+    mPushDescriptorSet = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
+        vkGetDeviceProcAddr(mDevice, "vkCmdPushDescriptorSetKHR"));
+    if (!mPushDescriptorSet) throw VulkanError(VK_ERROR_EXTENSION_NOT_PRESENT, "loading vkCmdPushDescriptorSetKHR");
+    vkGetPhysicalDeviceMemoryProperties(mPhysical, &mMemory);
     spdlog::debug("Vulkan device: {} ({}){}", mInfo.name, mInfo.typeName, options.validation ? ", validation on" : "");
   } catch (...) {
     release();
@@ -235,18 +255,12 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
   }
 }
 
-VulkanContext::VulkanContext(VulkanContext&& o) noexcept
-    : mInstance(o.mInstance), mMessenger(o.mMessenger), mPhysical(o.mPhysical), mDevice(o.mDevice), mQueue(o.mQueue),
-      mQueueFamily(o.mQueueFamily), mInfo(std::move(o.mInfo)), mMessages(o.mMessages) {
-  o.mInstance = VK_NULL_HANDLE;
-  o.mMessenger = VK_NULL_HANDLE;
-  o.mDevice = VK_NULL_HANDLE;
-  o.mMessages = nullptr;
-}
-
 VulkanContext::~VulkanContext() { release(); }
 
 void VulkanContext::release() {
+  if (mMessages && mMessages->live.load() != 0)
+    spdlog::error("Vulkan: {} object(s) created by rtsdf were still alive at shutdown (leak)",
+                  mMessages->live.load());
   if (mDevice) {
     vkDeviceWaitIdle(mDevice);
     vkDestroyDevice(mDevice, nullptr);
@@ -264,6 +278,19 @@ void VulkanContext::release() {
   }
   delete mMessages;
   mMessages = nullptr;
+}
+
+std::int64_t VulkanContext::liveObjects() const { return mMessages ? mMessages->live.load() : 0; }
+
+void VulkanContext::trackObject(int delta) const {
+  if (mMessages) mMessages->live += delta;
+}
+
+std::uint32_t VulkanContext::memoryType(std::uint32_t typeBits, VkMemoryPropertyFlags properties) const {
+  for (std::uint32_t i = 0; i < mMemory.memoryTypeCount; ++i)
+    if ((typeBits & (1u << i)) && (mMemory.memoryTypes[i].propertyFlags & properties) == properties) return i;
+  throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT,
+                    fmt::format("finding a memory type with properties 0x{:x} on {}", properties, mInfo.name));
 }
 
 std::uint32_t VulkanContext::validationErrors() const { return mMessages ? mMessages->errors.load() : 0; }

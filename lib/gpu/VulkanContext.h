@@ -47,12 +47,13 @@ std::vector<DeviceInfo> listDevices();
 /// @throw Error when the request matches none.
 std::uint32_t chooseDevice(const std::vector<DeviceInfo>& devices, const std::string& request);
 
-/// @brief A Vulkan instance and a logical device with one compute queue. Move-only.
+/// @brief A Vulkan instance and a logical device with one compute queue. Neither copied nor moved: the
+///        RAII wrappers keep a pointer to their context (hold it in a std::unique_ptr to pass it around).
 class VulkanContext {
 public:
   explicit VulkanContext(const ContextOptions& options = {});
   ~VulkanContext();
-  VulkanContext(VulkanContext&& other) noexcept;
+  VulkanContext(VulkanContext&&) = delete;
   VulkanContext& operator=(VulkanContext&&) = delete;
   VulkanContext(const VulkanContext&) = delete;
   VulkanContext& operator=(const VulkanContext&) = delete;
@@ -72,6 +73,18 @@ public:
   /// @brief Create a shader module from an embedded shader (shaders/@a name). The caller owns it.
   VkShaderModule createShaderModule(const std::string& name) const;
 
+  /// @brief Index of a memory type allowed by @a typeBits with all of @a properties.
+  /// @throw VulkanError when there is none.
+  std::uint32_t memoryType(std::uint32_t typeBits, VkMemoryPropertyFlags properties) const;
+  /// @brief vkCmdPushDescriptorSetKHR (VK_KHR_push_descriptor is required and enabled).
+  PFN_vkCmdPushDescriptorSetKHR pushDescriptorSet() const { return mPushDescriptorSet; }
+
+  /// @brief Objects created through the RAII wrappers and not yet destroyed; a leak report is logged at
+  ///        shutdown when it is not zero.
+  std::int64_t liveObjects() const;
+  /// @brief Called by the wrappers: +1 on creation, -1 on destruction.
+  void trackObject(int delta) const;
+
 private:
   void release();
   struct Messages;
@@ -83,6 +96,8 @@ private:
   std::uint32_t mQueueFamily = 0;
   DeviceInfo mInfo;
   Messages* mMessages = nullptr;
+  PFN_vkCmdPushDescriptorSetKHR mPushDescriptorSet = nullptr;
+  VkPhysicalDeviceMemoryProperties mMemory{};
 };
 
 } // namespace rtsdf::gpu

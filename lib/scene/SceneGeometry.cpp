@@ -15,6 +15,15 @@ std::size_t SceneGeometry::triangleCount() const {
   return n;
 }
 
+std::vector<glm::vec4> triangleCorners(const SceneGeometry& geometry) {
+  std::vector<glm::vec4> out;
+  out.reserve(3 * geometry.triangleCount());
+  for (const WorldMesh& m : geometry.meshes)
+    for (const glm::uvec3& t : m.triangles)
+      for (int c = 0; c < 3; ++c) out.emplace_back(m.positions[t[c]], 1.0f);
+  return out;
+}
+
 SceneGeometry buildSceneGeometry(const Scene& scene, double time) {
   SceneGeometry geo;
   geo.meshes.reserve(scene.instances.size());

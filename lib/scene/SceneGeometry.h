@@ -25,6 +25,9 @@ struct SceneGeometry {
   std::size_t triangleCount() const;
 };
 
+/// @brief Every triangle as three world-space corners (w = 1), instance by instance: the GPU upload format.
+std::vector<glm::vec4> triangleCorners(const SceneGeometry& geometry);
+
 /// @brief Transform every instance of @a scene to world space at @a time seconds.
 /// @note A mirroring transform (negative determinant) reverses triangle winding so outside stays outside.
 /// @note Triangles that a transform rounds to zero area in float are dropped with a warning (Embree would

@@ -1,0 +1,265 @@
+#include "gpu/Resources.h"
+
+#include "gpu/VulkanError.h"
+
+#include <fmt/format.h>
+
+#include <cstring>
+#include <vector>
+
+namespace rtsdf::gpu {
+
+// ---------------------------------------------------------------------------------------------- Buffer
+
+Buffer::Buffer(const VulkanContext& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, Memory memory, std::string name)
+    : mCtx(&ctx), mSize(bytes), mName(std::move(name)) {
+  if (bytes == 0) throw Error(fmt::format("buffer '{}': size must be positive", mName));
+  if ((usage & VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) && bytes > ctx.info().maxStorageBufferRange)
+    throw Error(fmt::format("buffer '{}': {} MiB exceeds {}'s maxStorageBufferRange of {} MiB", mName, bytes >> 20,
+                            ctx.info().name, ctx.info().maxStorageBufferRange >> 20));
+  VkBufferCreateInfo ci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  ci.size = bytes;
+  ci.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  check(vkCreateBuffer(ctx.device(), &ci, nullptr, &mBuffer), fmt::format("creating buffer '{}'", mName).c_str());
+  ctx.trackObject(+1);
+  try {
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(ctx.device(), mBuffer, &req);
+    const VkMemoryPropertyFlags props = memory == Memory::Host
+                                            ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                            : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = ctx.memoryType(req.memoryTypeBits, props);
+    check(vkAllocateMemory(ctx.device(), &ai, nullptr, &mMemory),
+          fmt::format("allocating {} MiB for buffer '{}'", req.size >> 20, mName).c_str());
+    check(vkBindBufferMemory(ctx.device(), mBuffer, mMemory, 0), fmt::format("binding buffer '{}'", mName).c_str());
+    if (memory == Memory::Host)
+      check(vkMapMemory(ctx.device(), mMemory, 0, VK_WHOLE_SIZE, 0, &mMapped),
+            fmt::format("mapping buffer '{}'", mName).c_str());
+  } catch (...) {
+    reset();
+    throw;
+  }
+}
+
+void Buffer::reset() {
+  if (!mCtx) return;
+  if (mMapped) vkUnmapMemory(mCtx->device(), mMemory);
+  if (mBuffer) {
+    vkDestroyBuffer(mCtx->device(), mBuffer, nullptr);
+    mCtx->trackObject(-1);
+  }
+  if (mMemory) vkFreeMemory(mCtx->device(), mMemory, nullptr);
+  mBuffer = VK_NULL_HANDLE;
+  mMemory = VK_NULL_HANDLE;
+  mMapped = nullptr;
+  mCtx = nullptr;
+}
+
+Buffer::~Buffer() { reset(); }
+
+Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+  if (this != &o) {
+    reset();
+    mCtx = o.mCtx; mBuffer = o.mBuffer; mMemory = o.mMemory; mSize = o.mSize; mMapped = o.mMapped;
+    mName = std::move(o.mName);
+    o.mCtx = nullptr; o.mBuffer = VK_NULL_HANDLE; o.mMemory = VK_NULL_HANDLE; o.mMapped = nullptr; o.mSize = 0;
+  }
+  return *this;
+}
+
+// --------------------------------------------------------------------------------------- CommandBuffer
+
+CommandBuffer::CommandBuffer(const VulkanContext& ctx) : mCtx(&ctx) {
+  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pci.queueFamilyIndex = ctx.queueFamily();
+  pci.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+  check(vkCreateCommandPool(ctx.device(), &pci, nullptr, &mPool), "creating a command pool");
+  ctx.trackObject(+1);
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = mPool;
+  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ai.commandBufferCount = 1;
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  try {
+    check(vkAllocateCommandBuffers(ctx.device(), &ai, &mCmd), "allocating a command buffer");
+    check(vkCreateFence(ctx.device(), &fci, nullptr, &mFence), "creating a fence");
+    ctx.trackObject(+1);
+    check(vkBeginCommandBuffer(mCmd, &bi), "beginning a command buffer");
+    mRecording = true;
+  } catch (...) {
+    destroy();
+    throw;
+  }
+}
+
+CommandBuffer::~CommandBuffer() { destroy(); }
+
+void CommandBuffer::destroy() {
+  if (!mCtx) return;
+  if (mRecording) vkEndCommandBuffer(mCmd);
+  if (mFence) {
+    vkDestroyFence(mCtx->device(), mFence, nullptr);
+    mCtx->trackObject(-1);
+  }
+  if (mPool) {
+    vkDestroyCommandPool(mCtx->device(), mPool, nullptr); // frees mCmd
+    mCtx->trackObject(-1);
+  }
+  mCtx = nullptr;
+}
+
+CommandBuffer::CommandBuffer(CommandBuffer&& o) noexcept
+    : mCtx(o.mCtx), mPool(o.mPool), mCmd(o.mCmd), mFence(o.mFence), mRecording(o.mRecording) {
+  o.mCtx = nullptr;
+}
+
+void CommandBuffer::submitAndWait(double timeoutSeconds) {
+  if (!mRecording) throw Error("command buffer submitted twice");
+  mRecording = false;
+  check(vkEndCommandBuffer(mCmd), "ending a command buffer");
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &mCmd;
+  check(vkQueueSubmit(mCtx->queue(), 1, &si, mFence), "submitting to the compute queue");
+  const VkResult r = vkWaitForFences(mCtx->device(), 1, &mFence, VK_TRUE, std::uint64_t(timeoutSeconds * 1e9));
+  if (r == VK_TIMEOUT)
+    throw VulkanError(r, fmt::format("waiting for the GPU ({} s without completion)", timeoutSeconds));
+  check(r, "waiting for the GPU");
+}
+
+// ------------------------------------------------------------------------------------- ComputePipeline
+
+ComputePipeline::ComputePipeline(const VulkanContext& ctx, const std::string& shader, std::uint32_t storageBuffers,
+                                 std::uint32_t pushConstantBytes)
+    : mCtx(&ctx), mName(shader), mBindings(storageBuffers), mPushBytes(pushConstantBytes) {
+  try {
+    mModule = ctx.createShaderModule(shader);
+    ctx.trackObject(+1);
+    std::vector<VkDescriptorSetLayoutBinding> bindings(storageBuffers);
+    for (std::uint32_t i = 0; i < storageBuffers; ++i)
+      bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    lci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+    lci.bindingCount = storageBuffers;
+    lci.pBindings = bindings.data();
+    check(vkCreateDescriptorSetLayout(ctx.device(), &lci, nullptr, &mSetLayout),
+          fmt::format("creating the descriptor set layout of {}", shader).c_str());
+    ctx.trackObject(+1);
+    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
+    VkPipelineLayoutCreateInfo pci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pci.setLayoutCount = 1;
+    pci.pSetLayouts = &mSetLayout;
+    pci.pushConstantRangeCount = pushConstantBytes ? 1 : 0;
+    pci.pPushConstantRanges = &range;
+    check(vkCreatePipelineLayout(ctx.device(), &pci, nullptr, &mLayout),
+          fmt::format("creating the pipeline layout of {}", shader).c_str());
+    ctx.trackObject(+1);
+    VkComputePipelineCreateInfo cci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    cci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    cci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    cci.stage.module = mModule;
+    cci.stage.pName = "main";
+    cci.layout = mLayout;
+    check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &cci, nullptr, &mPipeline),
+          fmt::format("creating the compute pipeline {}", shader).c_str());
+    ctx.trackObject(+1);
+  } catch (...) {
+    reset();
+    throw;
+  }
+}
+
+void ComputePipeline::reset() {
+  if (!mCtx) return;
+  const VkDevice d = mCtx->device();
+  if (mPipeline) { vkDestroyPipeline(d, mPipeline, nullptr); mCtx->trackObject(-1); }
+  if (mLayout) { vkDestroyPipelineLayout(d, mLayout, nullptr); mCtx->trackObject(-1); }
+  if (mSetLayout) { vkDestroyDescriptorSetLayout(d, mSetLayout, nullptr); mCtx->trackObject(-1); }
+  if (mModule) { vkDestroyShaderModule(d, mModule, nullptr); mCtx->trackObject(-1); }
+  mPipeline = VK_NULL_HANDLE;
+  mLayout = VK_NULL_HANDLE;
+  mSetLayout = VK_NULL_HANDLE;
+  mModule = VK_NULL_HANDLE;
+  mCtx = nullptr;
+}
+
+ComputePipeline::~ComputePipeline() { reset(); }
+
+ComputePipeline::ComputePipeline(ComputePipeline&& o) noexcept { *this = std::move(o); }
+
+ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
+  if (this != &o) {
+    reset();
+    mCtx = o.mCtx; mName = std::move(o.mName); mBindings = o.mBindings; mPushBytes = o.mPushBytes;
+    mModule = o.mModule; mSetLayout = o.mSetLayout; mLayout = o.mLayout; mPipeline = o.mPipeline;
+    o.mCtx = nullptr; o.mModule = VK_NULL_HANDLE; o.mSetLayout = VK_NULL_HANDLE; o.mLayout = VK_NULL_HANDLE;
+    o.mPipeline = VK_NULL_HANDLE;
+  }
+  return *this;
+}
+
+void ComputePipeline::dispatch(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push,
+                               glm::uvec3 groups) const {
+  if (buffers.size() != mBindings)
+    throw Error(fmt::format("{}: {} buffers given for {} bindings", mName, buffers.size(), mBindings));
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mPipeline);
+  std::vector<VkDescriptorBufferInfo> infos;
+  std::vector<VkWriteDescriptorSet> writes;
+  infos.reserve(mBindings);
+  for (const Buffer* b : buffers) infos.push_back({b->handle(), 0, VK_WHOLE_SIZE});
+  for (std::uint32_t i = 0; i < mBindings; ++i) {
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstBinding = i;
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    w.pBufferInfo = &infos[i];
+    writes.push_back(w);
+  }
+  if (mBindings)
+    mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mLayout, 0, mBindings, writes.data());
+  if (mPushBytes) vkCmdPushConstants(cmd, mLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, mPushBytes, push);
+  if (groups.x && groups.y && groups.z) vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
+}
+
+void computeBarrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                    VK_ACCESS_TRANSFER_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &b, 0, nullptr, 0,
+                       nullptr);
+}
+
+void upload(const VulkanContext& ctx, const Buffer& dst, const void* data, std::size_t bytes) {
+  if (bytes > dst.size()) throw Error(fmt::format("upload of {} bytes into buffer '{}' of {}", bytes, dst.name(), dst.size()));
+  if (bytes == 0) return;
+  if (dst.mapped()) { std::memcpy(dst.mapped(), data, bytes); return; }
+  Buffer staging(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Buffer::Memory::Host, dst.name() + " (staging)");
+  std::memcpy(staging.mapped(), data, bytes);
+  CommandBuffer cmd(ctx);
+  const VkBufferCopy region{0, 0, bytes};
+  vkCmdCopyBuffer(cmd.handle(), staging.handle(), dst.handle(), 1, &region);
+  cmd.submitAndWait();
+}
+
+void download(const VulkanContext& ctx, const Buffer& src, void* data, std::size_t bytes) {
+  if (bytes > src.size()) throw Error(fmt::format("download of {} bytes from buffer '{}' of {}", bytes, src.name(), src.size()));
+  if (bytes == 0) return;
+  if (src.mapped()) { std::memcpy(data, src.mapped(), bytes); return; }
+  Buffer staging(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Host, src.name() + " (readback)");
+  CommandBuffer cmd(ctx);
+  const VkBufferCopy region{0, 0, bytes};
+  vkCmdCopyBuffer(cmd.handle(), src.handle(), staging.handle(), 1, &region);
+  cmd.submitAndWait();
+  std::memcpy(data, staging.mapped(), bytes);
+}
+
+} // namespace rtsdf::gpu

@@ -1,0 +1,126 @@
+// Shared by C++ and GLSL: the coarse SDF's grid parameters, push constants, seed packing and the
+// conservative triangle/voxel overlap test. The CPU references call the very same functions.
+#ifndef RTSDF_GPU_SHARED_COARSESDF_H
+#define RTSDF_GPU_SHARED_COARSESDF_H
+#include "gpu/shared/Common.h"
+
+RTSDF_SHARED_BEGIN
+
+/// No seed (empty voxel) in a seed or nearest-seed buffer.
+const uint kNoSeed = 0xFFFFFFFFu;
+/// Seeds pack their voxel coordinates in 10 bits per axis: grids up to 1024 voxels per axis.
+const int kMaxSeedAxis = 1024;
+
+/// Push constants of voxelize.comp.
+struct VoxelizeParams {
+  vec4 originInvH;     // xyz: world corner of voxel (0,0,0), w: 1 / voxel size
+  ivec4 dims;          // xyz: voxels per axis
+  uint triangleCount;
+  uint slabSize;       // z voxels handled by one invocation
+  uint pad0, pad1;
+};
+
+/// Push constants of jump_flood.comp.
+struct JumpFloodParams {
+  ivec4 dims;
+  int step;
+  int pad0, pad1, pad2;
+};
+
+/// Push constants of coarse_distance.comp.
+struct CoarseDistanceParams {
+  ivec4 dims;
+  float voxelSize;
+  float beta;          // subtracted from the distance: surfaces become thin negative shells
+  float emptyDistance; // value where no seed exists at all (empty scene)
+  float pad0;
+};
+
+RTSDF_FN uint packSeed(ivec3 c) { return uint(c.x) | (uint(c.y) << 10) | (uint(c.z) << 20); }
+RTSDF_FN ivec3 unpackSeed(uint s) { return ivec3(int(s & 1023u), int((s >> 10) & 1023u), int((s >> 20) & 1023u)); }
+RTSDF_FN int distance2(ivec3 a, ivec3 b) {
+  ivec3 d = a - b;
+  return d.x * d.x + d.y * d.y + d.z * d.z;
+}
+
+/// Index-space position of a world point: voxel (i,j,k) covers [i, i+1] x [j, j+1] x [k, k+1].
+RTSDF_FN vec3 toVoxelSpace(vec3 p, vec4 originInvH) {
+  RTSDF_PRECISE vec3 t = (p - vec3(originInvH.x, originInvH.y, originInvH.z)) * originInvH.w;
+  return t;
+}
+
+/// a*b - c*d without fused multiply-add (a 'precise' result in GLSL), so both sides round alike.
+RTSDF_FN float diffOfProducts(float a, float b, float c, float d) {
+  RTSDF_PRECISE float r = a * b - c * d;
+  return r;
+}
+
+/// Separating-axis test of one axis: projections p0..p2 of the triangle against the box radius r.
+RTSDF_FN bool separated(float p0, float p1, float p2, float r) {
+  return min(p0, min(p1, p2)) > r || max(p0, max(p1, p2)) < -r;
+}
+
+/// Conservative triangle/box overlap (Akenine-Moller's separating axes): vertices relative to the box
+/// centre, box half-size h. Touching counts as overlap. Only +, -, *, abs, min, max: exact IEEE operations,
+/// so GPU and CPU agree bit for bit.
+RTSDF_FN bool triangleOverlapsBox(vec3 v0, vec3 v1, vec3 v2, float h) {
+  // The box's face normals: the triangle's bounds.
+  if (separated(v0.x, v1.x, v2.x, h) || separated(v0.y, v1.y, v2.y, h) || separated(v0.z, v1.z, v2.z, h)) return false;
+  RTSDF_PRECISE vec3 e0 = v1 - v0;
+  RTSDF_PRECISE vec3 e1 = v2 - v1;
+  RTSDF_PRECISE vec3 e2 = v0 - v2;
+  // The triangle's plane.
+  RTSDF_PRECISE vec3 n = vec3(diffOfProducts(e0.y, e1.z, e0.z, e1.y), diffOfProducts(e0.z, e1.x, e0.x, e1.z),
+                              diffOfProducts(e0.x, e1.y, e0.y, e1.x));
+  RTSDF_PRECISE float d = (n.x * v0.x + n.y * v0.y) + n.z * v0.z;
+  RTSDF_PRECISE float rn = h * (abs(n.x) + abs(n.y) + abs(n.z));
+  if (d > rn || d < -rn) return false;
+  // The nine cross products of box axes and triangle edges.
+  for (int i = 0; i < 3; ++i) {
+    RTSDF_PRECISE vec3 e = i == 0 ? e0 : (i == 1 ? e1 : e2);
+    // x cross e = (0, -e.z, e.y)
+    RTSDF_PRECISE float rx = h * (abs(e.z) + abs(e.y));
+    if (separated(diffOfProducts(e.y, v0.z, e.z, v0.y), diffOfProducts(e.y, v1.z, e.z, v1.y),
+                  diffOfProducts(e.y, v2.z, e.z, v2.y), rx))
+      return false;
+    // y cross e = (e.z, 0, -e.x)
+    RTSDF_PRECISE float ry = h * (abs(e.z) + abs(e.x));
+    if (separated(diffOfProducts(e.z, v0.x, e.x, v0.z), diffOfProducts(e.z, v1.x, e.x, v1.z),
+                  diffOfProducts(e.z, v2.x, e.x, v2.z), ry))
+      return false;
+    // z cross e = (-e.y, e.x, 0)
+    RTSDF_PRECISE float rz = h * (abs(e.y) + abs(e.x));
+    if (separated(diffOfProducts(e.x, v0.y, e.y, v0.x), diffOfProducts(e.x, v1.y, e.y, v1.x),
+                  diffOfProducts(e.x, v2.y, e.y, v2.x), rz))
+      return false;
+  }
+  return true;
+}
+
+/// The voxels whose boxes may touch a triangle with voxel-space corners t0..t2 (clamped to the grid):
+/// one voxel of margin around the bounds, the overlap test decides.
+RTSDF_FN ivec3 voxelRangeLo(vec3 t0, vec3 t1, vec3 t2) {
+  return max(ivec3(floor(min(t0, min(t1, t2)))) - ivec3(1), ivec3(0));
+}
+RTSDF_FN ivec3 voxelRangeHi(vec3 t0, vec3 t1, vec3 t2, ivec3 dims) {
+  return min(ivec3(floor(max(t0, max(t1, t2)))) + ivec3(1), dims - ivec3(1));
+}
+
+/// Whether voxel @a v overlaps the triangle with voxel-space corners t0..t2.
+RTSDF_FN bool voxelOverlaps(ivec3 v, vec3 t0, vec3 t1, vec3 t2) {
+  RTSDF_PRECISE vec3 c = vec3(v) + vec3(0.5);
+  return triangleOverlapsBox(t0 - c, t1 - c, t2 - c, 0.5);
+}
+
+/// One jump-flooding update: keep the nearer of @a best and @a candidate (ties: the smaller packed seed).
+RTSDF_FN uint nearerSeed(ivec3 p, uint best, uint candidate) {
+  if (candidate == kNoSeed) return best;
+  if (best == kNoSeed) return candidate;
+  int db = distance2(p, unpackSeed(best));
+  int dc = distance2(p, unpackSeed(candidate));
+  return (dc < db || (dc == db && candidate < best)) ? candidate : best;
+}
+
+RTSDF_SHARED_END
+
+#endif

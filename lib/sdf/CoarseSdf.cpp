@@ -1,0 +1,133 @@
+#include "sdf/CoarseSdf.h"
+
+#include "reference/CoarseReference.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace rtsdf {
+using namespace gpu::shared;
+
+VoxelizePass::VoxelizePass(const gpu::VulkanContext& ctx)
+    : mPipeline(ctx, "voxelize.comp", 2, sizeof(VoxelizeParams)) {}
+
+void VoxelizePass::record(VkCommandBuffer cmd, const gpu::Buffer& corners, const VoxelizeParams& params,
+                          std::uint32_t maxSlabs, const gpu::Buffer& seeds, gpu::GpuProfiler* profiler) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  vkCmdFillBuffer(cmd, seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
+  gpu::computeBarrier(cmd);
+  if (params.triangleCount)
+    mPipeline.dispatch(cmd, {&corners, &seeds}, &params, {gpu::groupsFor(params.triangleCount, 64), maxSlabs, 1});
+}
+
+JumpFloodPass::JumpFloodPass(const gpu::VulkanContext& ctx)
+    : mPipeline(ctx, "jump_flood.comp", 2, sizeof(JumpFloodParams)) {}
+
+const gpu::Buffer& JumpFloodPass::record(VkCommandBuffer cmd, const gpu::Buffer& a, const gpu::Buffer& b,
+                                         const glm::ivec3& dims, JfaVariant variant, gpu::GpuProfiler* profiler) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  const gpu::Buffer* src = &a;
+  const gpu::Buffer* dst = &b;
+  const glm::uvec3 groups(gpu::groupsFor(dims.x, 4), gpu::groupsFor(dims.y, 4), gpu::groupsFor(dims.z, 4));
+  for (int step : jumpFloodSteps(dims, variant)) {
+    JumpFloodParams p{};
+    p.dims = glm::ivec4(dims, 0);
+    p.step = step;
+    gpu::computeBarrier(cmd); // the previous step (or pass) wrote src
+    mPipeline.dispatch(cmd, {src, dst}, &p, groups);
+    std::swap(src, dst);
+  }
+  gpu::computeBarrier(cmd);
+  return *src;
+}
+
+CoarseDistancePass::CoarseDistancePass(const gpu::VulkanContext& ctx)
+    : mPipeline(ctx, "coarse_distance.comp", 2, sizeof(CoarseDistanceParams)) {}
+
+void CoarseDistancePass::record(VkCommandBuffer cmd, const gpu::Buffer& nearest, const gpu::Buffer& distance,
+                                const CoarseDistanceParams& params, gpu::GpuProfiler* profiler) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  const std::uint64_t n = std::uint64_t(params.dims.x) * params.dims.y * params.dims.z;
+  mPipeline.dispatch(cmd, {&nearest, &distance}, &params, {gpu::groupsFor(n, 64), 1, 1});
+  gpu::computeBarrier(cmd);
+}
+
+double CoarseSdf::passTotal(const std::string& pass) const {
+  double t = 0.0;
+  for (const auto& [name, ms] : passMs)
+    if (name == pass) t += ms;
+  return t;
+}
+
+float emptySceneDistance(const GridSpec& spec) { return float(glm::length(glm::dvec3(spec.dims)) * spec.voxelSize); }
+
+CoarseSdfBuilder::CoarseSdfBuilder(const gpu::VulkanContext& ctx)
+    : mCtx(ctx), mVoxelize(ctx), mJumpFlood(ctx), mDistance(ctx), mProfiler(ctx) {}
+
+CoarseSdf CoarseSdfBuilder::build(const SceneGeometry& geometry, const GridSpec& spec, const CoarseSdfSettings& settings,
+                                  bool keepSeeds) {
+  return build(triangleCorners(geometry), spec, settings, keepSeeds);
+}
+
+CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const GridSpec& spec,
+                                  const CoarseSdfSettings& settings, bool keepSeeds) {
+  const glm::ivec3 dims = spec.dims;
+  if (glm::any(glm::greaterThan(dims, glm::ivec3(kMaxSeedAxis))))
+    throw Error(fmt::format("coarse SDF: grid {}x{}x{} exceeds the {} voxels per axis that seeds can address",
+                            dims.x, dims.y, dims.z, kMaxSeedAxis));
+  if (corners.size() % 3) throw Error("coarse SDF: triangle corners must come in threes");
+  const std::uint64_t voxels = spec.voxelCount();
+  const std::uint32_t tris = std::uint32_t(corners.size() / 3);
+  const VoxelizeParams vp = voxelizeParams(spec, tris);
+  // The most z-slabs any triangle spans: the second dispatch dimension of VoxelizePass.
+  std::uint32_t maxSlabs = 1;
+  for (std::uint32_t t = 0; t < tris; ++t) {
+    const vec3 t0 = toVoxelSpace(glm::vec3(corners[3 * t]), vp.originInvH);
+    const vec3 t1 = toVoxelSpace(glm::vec3(corners[3 * t + 1]), vp.originInvH);
+    const vec3 t2 = toVoxelSpace(glm::vec3(corners[3 * t + 2]), vp.originInvH);
+    const int span = voxelRangeHi(t0, t1, t2, dims).z - voxelRangeLo(t0, t1, t2).z + 1;
+    if (span > 0) maxSlabs = std::max(maxSlabs, gpu::groupsFor(std::uint64_t(span), vp.slabSize));
+  }
+
+  using gpu::Buffer;
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  Buffer cornerBuf(mCtx, std::max<std::size_t>(corners.size(), 3) * sizeof(glm::vec4), storage, Buffer::Memory::Device,
+                   "triangle corners");
+  upload(mCtx, cornerBuf, corners.data(), corners.size() * sizeof(glm::vec4));
+  Buffer a(mCtx, voxels * 4, storage, Buffer::Memory::Device, "seeds / jump flood A");
+  Buffer b(mCtx, voxels * 4, storage, Buffer::Memory::Device, "jump flood B");
+  Buffer dist(mCtx, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
+
+  CoarseSdf out;
+  out.spec = spec;
+  out.beta = float(settings.beta >= 0.0 ? settings.beta : 0.5 * spec.voxelSize);
+  CoarseDistanceParams dp{};
+  dp.dims = glm::ivec4(dims, 0);
+  dp.voxelSize = float(spec.voxelSize);
+  dp.beta = out.beta;
+  dp.emptyDistance = emptySceneDistance(spec);
+
+  if (keepSeeds) {
+    gpu::CommandBuffer cmd(mCtx);
+    mVoxelize.record(cmd.handle(), cornerBuf, vp, maxSlabs, a, nullptr);
+    cmd.submitAndWait();
+    out.seeds.resize(voxels);
+    download(mCtx, a, out.seeds.data(), voxels * 4);
+  }
+  gpu::CommandBuffer cmd(mCtx);
+  mProfiler.reset(cmd.handle());
+  mVoxelize.record(cmd.handle(), cornerBuf, vp, maxSlabs, a, &mProfiler);
+  const Buffer& nearest = mJumpFlood.record(cmd.handle(), a, b, dims, settings.variant, &mProfiler);
+  mDistance.record(cmd.handle(), nearest, dist, dp, &mProfiler);
+  cmd.submitAndWait();
+  out.passMs = mProfiler.results();
+  out.nearest.resize(voxels);
+  out.distance.resize(voxels);
+  download(mCtx, nearest, out.nearest.data(), voxels * 4);
+  download(mCtx, dist, out.distance.data(), voxels * 4);
+  return out;
+}
+
+} // namespace rtsdf

@@ -8,6 +8,7 @@
 #include "reference/OpenVdbLevelSet.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
+#include "sdf/CoarseSdf.h"
 #include "util/Error.h"
 
 #include <assimp/version.h>
@@ -49,7 +50,9 @@ std::string meshSummary(const Scene& scene) {
 
 int runBake(const BakeSettings& s) {
   checkOutputPath(s.output);
-  const BakeMethod method = s.method == "openvdb" ? BakeMethod::OpenVdb : BakeMethod::Exact;
+  const BakeMethod method = s.method == "openvdb" ? BakeMethod::OpenVdb
+                            : s.method == "jfa"   ? BakeMethod::Jfa
+                                                  : BakeMethod::Exact;
   if (s.fullDomain && method != BakeMethod::Exact)
     throw Error("--full needs --method exact (OpenVDB's meshToLevelSet builds a narrow band only)");
   const SignMethod sign = parseSignMethod(s.sign);
@@ -62,7 +65,8 @@ int runBake(const BakeSettings& s) {
   spdlog::info("{}: {}", s.scene, meshSummary(scene));
   const SceneGeometry geo = buildSceneGeometry(scene, s.time);
   const double padding = s.padding >= 0.0 ? s.padding : s.band;
-  const GridSpec spec = GridSpec::fromBounds(geo.bounds, s.resolution, padding);
+  const GridSpec spec =
+      GridSpec::fromBounds(geo.bounds, method == BakeMethod::Jfa ? s.coarse : s.resolution, padding);
   // Refuse before allocating: the full domain is dense; a band needs a pointer per 8^3 block at least.
   const std::uint64_t mem = physicalMemoryBytes();
   if (mem) checkDenseMemory(spec, s.fullDomain ? 8 : 1, mem / 2, "bake");
@@ -77,19 +81,38 @@ int runBake(const BakeSettings& s) {
     opt.band = s.fullDomain ? INFINITY : s.band;
     opt.sign = sign;
     grid = exactSignedDistance(geo, spec, opt, &stats);
-  } else {
+  } else if (method == BakeMethod::OpenVdb) {
     grid = openvdbLevelSet(geo, spec, s.band);
+  } else {
+    gpu::ContextOptions copt;
+    copt.device = s.device;
+    gpu::VulkanContext ctx(copt);
+    CoarseSdfSettings cs;
+    cs.variant = parseJfaVariant(s.jfaVariant);
+    cs.beta = s.beta;
+    CoarseSdfBuilder builder(ctx);
+    const CoarseSdf coarse = builder.build(geo, spec, cs);
+    spdlog::info("GPU {}: {}", ctx.info().name, [&] {
+      std::string t;
+      for (const char* p : {VoxelizePass::kName, JumpFloodPass::kName, CoarseDistancePass::kName})
+        t += fmt::format("{} {:.2f} ms  ", p, coarse.passTotal(p));
+      return t;
+    }());
+    grid = denseToLevelSet(coarse.distance, spec, float(s.band));
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   stampLevelSet(*grid, spec,
                 {{"method", s.method},
                  {"scene", s.scene},
-                 {"resolution", std::to_string(s.resolution)},
+                 {"resolution", std::to_string(method == BakeMethod::Jfa ? s.coarse : s.resolution)},
                  {"band", fmt::format("{}", s.fullDomain ? INFINITY : s.band)},
                  {"padding", fmt::format("{}", padding)},
                  {"time", fmt::format("{}", s.time)},
-                 {"sign", method == BakeMethod::Exact ? toString(sign) : "openvdb flood fill"},
+                 {"sign", method == BakeMethod::Exact     ? toString(sign)
+                          : method == BakeMethod::OpenVdb ? "openvdb flood fill"
+                                                          : "coarse shell: distance minus beta"},
+                 {"jfa", method == BakeMethod::Jfa ? s.jfaVariant : ""},
                  {"version", RTSDF_VERSION}});
   openvdb::GridPtrVec grids{grid};
   if (s.fog) grids.push_back(makeFogGrid(*grid));

@@ -10,8 +10,9 @@ namespace rtsdf::app {
 
 /// @brief The SDF builders `bake` offers.
 enum class BakeMethod {
-  Exact,  ///< CPU exact reference (Embree closest points + robust sign)
-  OpenVdb ///< OpenVDB's meshToLevelSet
+  Exact,   ///< CPU exact reference (Embree closest points + robust sign)
+  OpenVdb, ///< OpenVDB's meshToLevelSet
+  Jfa      ///< GPU coarse SDF: voxelization + 3D jump flooding (distance minus beta)
 };
 
 struct BakeSettings {
@@ -27,6 +28,10 @@ struct BakeSettings {
   bool fog = false;
   bool halfFloat = false;
   std::string compression = "blosc";
+  int coarse = 128;            ///< resolution of --method jfa
+  std::string jfaVariant = "1+jfa";
+  double beta = -1.0;          ///< < 0: half a coarse voxel
+  std::string device;          ///< Vulkan device by index or name; empty: the best one
 };
 
 struct CompareSettings {
@@ -39,6 +44,8 @@ struct BenchSettings {
   double bandFraction = 0.05;
   int repeats = 3;
   std::string output;
+  std::string suite = "reference"; ///< reference: exact vs OpenVDB; coarse: GPU coarse-SDF passes vs CPU
+  std::string device;
 };
 
 int runBake(const BakeSettings& s);

@@ -24,8 +24,10 @@ int main(int argc, char** argv) {
   CLI::App* bakeCmd = app.add_subcommand("bake", "Build the signed distance field of a scene and write it as a .vdb");
   bakeCmd->add_option("scene", bake.scene, "Scene (.json) or mesh file (.obj, .ply, .stl, .gltf, ...)")->required();
   bakeCmd->add_option("-o,--output", bake.output, "Output .vdb file (written atomically)")->required();
-  bakeCmd->add_option("-m,--method", bake.method, "exact: CPU exact reference; openvdb: OpenVDB's meshToLevelSet")
-      ->check(CLI::IsMember({"exact", "openvdb"}))
+  bakeCmd->add_option("-m,--method", bake.method,
+                      "exact: CPU exact reference; openvdb: OpenVDB's meshToLevelSet; jfa: GPU coarse SDF "
+                      "(voxelization + jump flooding, distance minus beta)")
+      ->check(CLI::IsMember({"exact", "openvdb", "jfa"}))
       ->capture_default_str();
   bakeCmd->add_option("-r,--res", bake.resolution, "Voxels along the scene's longest axis (other axes follow)")
       ->check(CLI::Range(1, 8192))
@@ -42,6 +44,16 @@ int main(int argc, char** argv) {
                       "open ones), pseudonormal, winding")
       ->check(CLI::IsMember({"auto", "pseudonormal", "winding"}))
       ->capture_default_str();
+  bakeCmd->add_option("--coarse", bake.coarse, "Resolution of the GPU coarse SDF (--method jfa)")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  bakeCmd->add_option("--jfa", bake.jfaVariant, "Jump-flooding variant: jfa, 1+jfa or jfa+2")
+      ->check(CLI::IsMember({"jfa", "1+jfa", "jfa+2"}))
+      ->capture_default_str();
+  bakeCmd->add_option("--beta", bake.beta,
+                      "Coarse SDF shell: distance minus beta, in scene units (default: half a coarse voxel)")
+      ->check(CLI::NonNegativeNumber);
+  bakeCmd->add_option("--device", bake.device, "Vulkan device by index or name (see 'rtsdf info')");
   bakeCmd->add_flag("--fog", bake.fog, "Also write a 'density' fog grid so Blender shows the volume");
   bakeCmd->add_flag("--half", bake.halfFloat, "Store values as 16-bit halves");
   bakeCmd->add_option("--compression", bake.compression, "blosc, zip or none")
@@ -59,7 +71,7 @@ int main(int argc, char** argv) {
 
   BenchSettings bench;
   CLI::App* benchCmd = app.add_subcommand(
-      "bench", "Time the exact reference against OpenVDB's meshToLevelSet and write a Markdown table with ratios");
+      "bench", "Time rtsdf's builders against their anchors in one run and write a Markdown table with ratios");
   benchCmd->add_option("scenes", bench.scenes, "Scenes or meshes (default: data/scenes/default.json and the bunny)");
   benchCmd->add_option("--res", bench.resolutions, "Resolutions (voxels along the longest axis)")
       ->check(CLI::Range(1, 8192))
@@ -71,6 +83,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   benchCmd->add_option("-o,--output", bench.output, "Also write the Markdown report to this file");
+  benchCmd->add_option("--suite", bench.suite,
+                       "reference: exact SDF vs OpenVDB meshToLevelSet; coarse: GPU voxelize + jump flooding per "
+                       "pass vs CPU jump flooding, exact EDT and OpenVDB meshToSignedDistanceField")
+      ->check(CLI::IsMember({"reference", "coarse"}))
+      ->capture_default_str();
+  benchCmd->add_option("--device", bench.device, "Vulkan device by index or name (coarse suite)");
 
   try {
     app.parse(argc, argv);

@@ -30,7 +30,8 @@ const gpu::Buffer& JumpFloodPass::record(VkCommandBuffer cmd, const gpu::Buffer&
   gpu::ProfileScope scope(profiler, cmd, kName);
   const gpu::Buffer* src = &a;
   const gpu::Buffer* dst = &b;
-  const glm::uvec3 groups(gpu::groupsFor(dims.x, 4), gpu::groupsFor(dims.y, 4), gpu::groupsFor(dims.z, 4));
+  const glm::uvec3 groups(gpu::groupsFor(dims.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(dims.y, RTSDF_JFA_GROUP_Y),
+                          gpu::groupsFor(dims.z, RTSDF_JFA_GROUP_Z));
   for (int step : jumpFloodSteps(dims, variant)) {
     JumpFloodParams p{};
     p.dims = glm::ivec4(dims, 0);

@@ -6,6 +6,11 @@
 
 RTSDF_SHARED_BEGIN
 
+/// Work-group shape of jump_flood.comp (x fastest in memory: a row of invocations reads contiguous seeds).
+#define RTSDF_JFA_GROUP_X 8
+#define RTSDF_JFA_GROUP_Y 8
+#define RTSDF_JFA_GROUP_Z 2
+
 /// No seed (empty voxel) in a seed or nearest-seed buffer.
 const uint kNoSeed = 0xFFFFFFFFu;
 /// Seeds pack their voxel coordinates in 10 bits per axis: grids up to 1024 voxels per axis.

@@ -69,7 +69,7 @@ int runBake(const BakeSettings& s) {
       GridSpec::fromBounds(geo.bounds, method == BakeMethod::Jfa ? s.coarse : s.resolution, padding);
   // Refuse before allocating: the full domain is dense; a band needs a pointer per 8^3 block at least.
   const std::uint64_t mem = physicalMemoryBytes();
-  if (mem) checkDenseMemory(spec, s.fullDomain ? 8 : 1, mem / 2, "bake");
+  if (mem) checkDenseMemory(spec, s.fullDomain ? 8 : (method == BakeMethod::Jfa ? 24 : 1), mem / 2, "bake");
   spdlog::info("grid: {}, band {} ({:.1f} voxels){}", spec.describe(), s.band, s.band / spec.voxelSize,
                s.fullDomain ? ", full domain" : "");
 
@@ -98,6 +98,9 @@ int runBake(const BakeSettings& s) {
         t += fmt::format("{} {:.2f} ms  ", p, coarse.passTotal(p));
       return t;
     }());
+    if (ctx.validationErrors())
+      throw Error(fmt::format("Vulkan validation reported {} error(s); last: {}", ctx.validationErrors(),
+                              ctx.lastValidationMessage()));
     grid = denseToLevelSet(coarse.distance, spec, float(s.band));
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -209,6 +209,10 @@ void ComputePipeline::dispatch(VkCommandBuffer cmd, std::initializer_list<const 
                                glm::uvec3 groups) const {
   if (buffers.size() != mBindings)
     throw Error(fmt::format("{}: {} buffers given for {} bindings", mName, buffers.size(), mBindings));
+  const glm::uvec3 limit = mCtx->info().maxWorkGroupCount;
+  if (groups.x > limit.x || groups.y > limit.y || groups.z > limit.z)
+    throw Error(fmt::format("{}: dispatch of {}x{}x{} work groups exceeds {}'s limit of {}x{}x{}", mName, groups.x,
+                            groups.y, groups.z, mCtx->info().name, limit.x, limit.y, limit.z));
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mPipeline);
   std::vector<VkDescriptorBufferInfo> infos;
   std::vector<VkWriteDescriptorSet> writes;

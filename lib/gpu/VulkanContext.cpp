@@ -99,6 +99,8 @@ DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index) {
   info.maxStorageBufferRange = p.limits.maxStorageBufferRange;
   info.maxComputeSharedMemory = p.limits.maxComputeSharedMemorySize;
   info.maxComputeInvocations = p.limits.maxComputeWorkGroupInvocations;
+  info.maxWorkGroupCount = glm::uvec3(p.limits.maxComputeWorkGroupCount[0], p.limits.maxComputeWorkGroupCount[1],
+                                      p.limits.maxComputeWorkGroupCount[2]);
   info.maxImageDimension3D = p.limits.maxImageDimension3D;
   info.subgroupSize = subgroup.subgroupSize;
   info.timestampPeriodNs = p.limits.timestampPeriod;

@@ -3,6 +3,7 @@
 /// @brief Vulkan instance and device choice for compute: prefers a discrete GPU, then any GPU, then a CPU
 ///        device (Mesa lavapipe); optional validation layers with a device-lifetime messenger that counts
 ///        errors.
+#include <glm/glm.hpp>
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
@@ -22,6 +23,7 @@ struct DeviceInfo {
   std::uint64_t maxStorageBufferRange = 0;
   std::uint32_t maxComputeSharedMemory = 0;
   std::uint32_t maxComputeInvocations = 0;
+  glm::uvec3 maxWorkGroupCount{0};
   std::uint32_t maxImageDimension3D = 0;
   std::uint32_t subgroupSize = 0;
   float timestampPeriodNs = 0.0f;

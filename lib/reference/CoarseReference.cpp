@@ -26,7 +26,7 @@ VoxelizeParams voxelizeParams(const GridSpec& spec, std::uint32_t triangleCount)
   p.originInvH = glm::vec4(glm::vec3(spec.origin), float(1.0 / spec.voxelSize));
   p.dims = glm::ivec4(spec.dims, 0);
   p.triangleCount = triangleCount;
-  p.slabSize = 4;
+  p.chunkSize = 4096;
   return p;
 }
 

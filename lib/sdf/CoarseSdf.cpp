@@ -14,12 +14,12 @@ VoxelizePass::VoxelizePass(const gpu::VulkanContext& ctx)
     : mPipeline(ctx, "voxelize.comp", 2, sizeof(VoxelizeParams)) {}
 
 void VoxelizePass::record(VkCommandBuffer cmd, const gpu::Buffer& corners, const VoxelizeParams& params,
-                          std::uint32_t maxSlabs, const gpu::Buffer& seeds, gpu::GpuProfiler* profiler) const {
+                          std::uint32_t maxChunks, const gpu::Buffer& seeds, gpu::GpuProfiler* profiler) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
   vkCmdFillBuffer(cmd, seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
   gpu::computeBarrier(cmd);
   if (params.triangleCount)
-    mPipeline.dispatch(cmd, {&corners, &seeds}, &params, {gpu::groupsFor(params.triangleCount, 64), maxSlabs, 1});
+    mPipeline.dispatch(cmd, {&corners, &seeds}, &params, {gpu::groupsFor(params.triangleCount, 64), maxChunks, 1});
 }
 
 JumpFloodPass::JumpFloodPass(const gpu::VulkanContext& ctx)
@@ -50,8 +50,9 @@ CoarseDistancePass::CoarseDistancePass(const gpu::VulkanContext& ctx)
 void CoarseDistancePass::record(VkCommandBuffer cmd, const gpu::Buffer& nearest, const gpu::Buffer& distance,
                                 const CoarseDistanceParams& params, gpu::GpuProfiler* profiler) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
-  const std::uint64_t n = std::uint64_t(params.dims.x) * params.dims.y * params.dims.z;
-  mPipeline.dispatch(cmd, {&nearest, &distance}, &params, {gpu::groupsFor(n, 64), 1, 1});
+  mPipeline.dispatch(cmd, {&nearest, &distance}, &params,
+                     {gpu::groupsFor(params.dims.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(params.dims.y, RTSDF_JFA_GROUP_Y),
+                      gpu::groupsFor(params.dims.z, RTSDF_JFA_GROUP_Z)});
   gpu::computeBarrier(cmd);
 }
 
@@ -82,14 +83,15 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
   const std::uint64_t voxels = spec.voxelCount();
   const std::uint32_t tris = std::uint32_t(corners.size() / 3);
   const VoxelizeParams vp = voxelizeParams(spec, tris);
-  // The most z-slabs any triangle spans: the second dispatch dimension of VoxelizePass.
-  std::uint32_t maxSlabs = 1;
+  // The most chunks any triangle's voxel range needs: the second dispatch dimension of VoxelizePass.
+  std::uint32_t maxChunks = 1;
   for (std::uint32_t t = 0; t < tris; ++t) {
     const vec3 t0 = toVoxelSpace(glm::vec3(corners[3 * t]), vp.originInvH);
     const vec3 t1 = toVoxelSpace(glm::vec3(corners[3 * t + 1]), vp.originInvH);
     const vec3 t2 = toVoxelSpace(glm::vec3(corners[3 * t + 2]), vp.originInvH);
-    const int span = voxelRangeHi(t0, t1, t2, dims).z - voxelRangeLo(t0, t1, t2).z + 1;
-    if (span > 0) maxSlabs = std::max(maxSlabs, gpu::groupsFor(std::uint64_t(span), vp.slabSize));
+    const glm::ivec3 n = voxelRangeHi(t0, t1, t2, dims) - voxelRangeLo(t0, t1, t2) + 1;
+    if (n.x > 0 && n.y > 0 && n.z > 0)
+      maxChunks = std::max(maxChunks, gpu::groupsFor(std::uint64_t(n.x) * n.y * n.z, vp.chunkSize));
   }
 
   using gpu::Buffer;
@@ -112,14 +114,14 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
 
   if (keepSeeds) {
     gpu::CommandBuffer cmd(mCtx);
-    mVoxelize.record(cmd.handle(), cornerBuf, vp, maxSlabs, a, nullptr);
+    mVoxelize.record(cmd.handle(), cornerBuf, vp, maxChunks, a, nullptr);
     cmd.submitAndWait();
     out.seeds.resize(voxels);
     download(mCtx, a, out.seeds.data(), voxels * 4);
   }
   gpu::CommandBuffer cmd(mCtx);
   mProfiler.reset(cmd.handle());
-  mVoxelize.record(cmd.handle(), cornerBuf, vp, maxSlabs, a, &mProfiler);
+  mVoxelize.record(cmd.handle(), cornerBuf, vp, maxChunks, a, &mProfiler);
   const Buffer& nearest = mJumpFlood.record(cmd.handle(), a, b, dims, settings.variant, &mProfiler);
   mDistance.record(cmd.handle(), nearest, dist, dp, &mProfiler);
   cmd.submitAndWait();

@@ -23,9 +23,9 @@ class VoxelizePass {
 public:
   static constexpr const char* kName = "VoxelizePass";
   explicit VoxelizePass(const gpu::VulkanContext& ctx);
-  /// @param maxSlabs the largest number of z-slabs (params.slabSize voxels each) any triangle spans.
+  /// @param maxChunks the most chunks (params.chunkSize voxels each) any triangle's voxel range needs.
   void record(VkCommandBuffer cmd, const gpu::Buffer& corners, const gpu::shared::VoxelizeParams& params,
-              std::uint32_t maxSlabs, const gpu::Buffer& seeds, gpu::GpuProfiler* profiler) const;
+              std::uint32_t maxChunks, const gpu::Buffer& seeds, gpu::GpuProfiler* profiler) const;
 
 private:
   gpu::ComputePipeline mPipeline;

@@ -84,6 +84,34 @@ TEST(Cli, BakesAMeshFileDirectlyAndTheFullDomain) {
   EXPECT_EQ(grid->activeVoxelCount(), spec.voxelCount());
 }
 
+TEST(Cli, BakesTheGpuCoarseSdf) {
+  TempDir dir;
+  const Result r = rtsdfCmd("bake " + q(test::dataPath("scenes/default.json")) +
+                            " --method jfa --coarse 40 --jfa jfa+2 --band 0.1 -o " + q(dir / "coarse.vdb"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("JumpFloodPass"), std::string::npos) << r.output;
+  const auto grid = readLevelSet(dir / "coarse.vdb");
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:method"), "jfa");
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:jfa"), "jfa+2");
+  EXPECT_EQ(gridSpecOf(*grid).dims.x, 44); // 40 across the scene plus the band's padding
+  EXPECT_GT(grid->activeVoxelCount(), 1000u);
+  // The coarse field is distance minus beta: its minimum is -beta (half a voxel by default) on the seeds.
+  float lo = 0.0f;
+  for (auto it = grid->cbeginValueOn(); it; ++it) lo = std::min(lo, *it);
+  EXPECT_NEAR(lo, -0.5 * grid->voxelSize()[0], 1e-6);
+
+  const Result bad = rtsdfCmd("bake " + q(test::dataPath("scenes/default.json")) +
+                              " --method jfa --device no-such-gpu -o " + q(dir / "x.vdb"));
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_NE(bad.output.find("no-such-gpu"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.vdb"));
+  const Result big = rtsdfCmd("bake " + q(test::dataPath("scenes/default.json")) + " --method jfa --coarse 2000 -o " +
+                              q(dir / "y.vdb"));
+  EXPECT_NE(big.exitCode, 0);
+  EXPECT_NE(big.output.find("--coarse"), std::string::npos) << big.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "y.vdb"));
+}
+
 TEST(Cli, InfoListsAVulkanDevice) {
   const Result r = rtsdfCmd("info");
   ASSERT_EQ(r.exitCode, 0) << r.output;

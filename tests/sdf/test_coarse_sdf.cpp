@@ -72,9 +72,11 @@ SceneGeometry sceneGeometry(const std::string& name) {
 
 } // namespace
 
+// At 128 the default scene's walls make long voxelization loops: an earlier voxelize.comp lost writes on
+// lavapipe there (127 seeds; lavapipe stops loops after ~16k iterations) while passing at 64.
 TEST_F(CoarseSdfGpu, DefaultSceneEqualsCpuForEveryVariant) {
   const SceneGeometry geo = sceneGeometry("default.json");
-  const GridSpec spec = GridSpec::fromBounds(geo.bounds, 64, 0.1);
+  const GridSpec spec = GridSpec::fromBounds(geo.bounds, 128, 0.1);
   for (JfaVariant v : {JfaVariant::Jfa, JfaVariant::OnePlusJfa, JfaVariant::JfaPlusTwo}) {
     SCOPED_TRACE(toString(v));
     expectGpuEqualsCpu(triangleCorners(geo), spec, v);
@@ -115,6 +117,18 @@ TEST_F(CoarseSdfGpu, NonCubicThinEmptyAndBoundaryGrids) {
   one.voxelSize = geo.bounds.maxExtent();
   one.origin = geo.bounds.center() - 0.5 * one.voxelSize;
   expectGpuEqualsCpu(corners, one, JfaVariant::OnePlusJfa);
+}
+
+TEST_F(CoarseSdfGpu, HugeTrianglesAreVoxelizedCompletely) {
+  // Two triangles across a 300 x 300 x 3 grid: each covers ~270k voxels of range, far beyond what one shader
+  // loop may run on lavapipe; VoxelizePass must split them into chunks and lose no seed.
+  GridSpec spec;
+  spec.dims = {300, 300, 3};
+  spec.voxelSize = 1.0 / 300.0;
+  spec.origin = glm::dvec3(0.0);
+  const std::vector<glm::vec4> quad = {{0.01f, 0.01f, 0.004f, 1}, {0.99f, 0.01f, 0.006f, 1}, {0.99f, 0.99f, 0.005f, 1},
+                                       {0.01f, 0.01f, 0.004f, 1}, {0.99f, 0.99f, 0.005f, 1}, {0.01f, 0.99f, 0.006f, 1}};
+  expectGpuEqualsCpu(quad, spec, JfaVariant::OnePlusJfa);
 }
 
 TEST_F(CoarseSdfGpu, SeedsAreConservativeAndTight) {

@@ -21,7 +21,7 @@ struct VoxelizeParams {
   vec4 originInvH;     // xyz: world corner of voxel (0,0,0), w: 1 / voxel size
   ivec4 dims;          // xyz: voxels per axis
   uint triangleCount;
-  uint slabSize;       // z voxels handled by one invocation
+  uint chunkSize;      // voxels of a triangle's range handled by one invocation (keeps loops short)
   uint pad0, pad1;
 };
 

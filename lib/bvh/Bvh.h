@@ -1,0 +1,43 @@
+#pragma once
+/// @file Bvh.h
+/// @brief BVHs built by Embree's builder API (rtcBuildBVH, SAH) and flattened for the GPU: one bottom level
+///        per mesh in object space, built once, and a top level over the instances, rebuilt every frame.
+#include "gpu/shared/Bvh.h"
+#include "scene/Scene.h"
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief The bottom levels of every mesh of a scene, concatenated: nodes (child and triangle indices are
+///        absolute) and triangle corners in leaf order.
+struct MeshBvhs {
+  std::vector<gpu::shared::BvhNode> nodes;
+  std::vector<glm::vec4> corners;        ///< 3 per triangle, object space, in leaf order
+  std::vector<std::uint32_t> triangleIds; ///< original triangle index of each leaf-ordered triangle
+  std::vector<std::uint32_t> roots;      ///< root node of each mesh
+  std::vector<glm::vec3> meshLo, meshHi; ///< object-space bounds of each mesh
+};
+
+/// @brief The top level at one moment: instances (in the scene's order) and a BVH over their world boxes.
+struct InstanceBvh {
+  std::vector<gpu::shared::BvhNode> nodes;
+  std::vector<std::uint32_t> slots;            ///< leaf primitive -> instance index
+  std::vector<gpu::shared::BvhInstance> instances;
+};
+
+/// @brief Build the bottom level of every mesh of @a scene (once: meshes do not change).
+/// @param maxLeafSize triangles per leaf at most (1 to 32).
+MeshBvhs buildMeshBvhs(const Scene& scene, int maxLeafSize = 4);
+
+/// @brief Build the top level for the instance transforms at @a time seconds.
+InstanceBvh buildInstanceBvh(const Scene& scene, const MeshBvhs& meshes, double time);
+
+/// @brief Generic SAH build over boxes with Embree's rtcBuildBVH, flattened to BvhNode (children adjacent).
+/// @param lo, hi the primitives' boxes; @param order receives the primitive index of each leaf slot.
+std::vector<gpu::shared::BvhNode> buildBvh(const std::vector<glm::vec3>& lo, const std::vector<glm::vec3>& hi,
+                                           int maxLeafSize, std::vector<std::uint32_t>& order);
+
+} // namespace rtsdf

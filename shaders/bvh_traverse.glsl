@@ -1,0 +1,195 @@
+// BVH traversal in GLSL: nearest ray hit and closest point over a two-level BVH (top level over instances
+// in world space, bottom levels per mesh in object space). The includer declares these buffers first:
+//   BvhNode blasNodes[]; vec4 corners[] (3 per triangle, leaf order); uint triangleIds[];
+//   BvhNode tlasNodes[]; uint tlasSlots[]; BvhInstance instances[];
+#ifndef RTSDF_BVH_TRAVERSE_GLSL
+#define RTSDF_BVH_TRAVERSE_GLSL
+
+#define RTSDF_BVH_STACK 64
+
+uint nodeFirst(BvhNode n) { return floatBitsToUint(n.lo.w); }
+uint nodeCount(BvhNode n) { return floatBitsToUint(n.hi.w); }
+
+vec3 xformPoint(vec4 m[3], vec3 p) { return vec3(dot(m[0].xyz, p) + m[0].w, dot(m[1].xyz, p) + m[1].w, dot(m[2].xyz, p) + m[2].w); }
+vec3 xformVector(vec4 m[3], vec3 v) { return vec3(dot(m[0].xyz, v), dot(m[1].xyz, v), dot(m[2].xyz, v)); }
+
+// Entry distance of the ray into the box, or +inf when it misses [tmin, tmax].
+float rayBox(vec3 o, vec3 invD, vec3 lo, vec3 hi, float tmin, float tmax) {
+  vec3 t0 = (lo - o) * invD, t1 = (hi - o) * invD;
+  vec3 tn = min(t0, t1), tf = max(t0, t1);
+  float a = max(max(tn.x, tn.y), max(tn.z, tmin));
+  float b = min(min(tf.x, tf.y), min(tf.z, tmax));
+  return a <= b ? a : 1.0 / 0.0;
+}
+
+// Moller-Trumbore; updates t and returns true on a nearer hit in (tmin, t). front: the ray arrives on the
+// side the counter-clockwise normal points to.
+bool rayTriangle(vec3 o, vec3 d, vec3 a, vec3 b, vec3 c, float tmin, inout float t, out bool front) {
+  vec3 e1 = b - a, e2 = c - a;
+  vec3 pv = cross(d, e2);
+  float det = dot(e1, pv);
+  front = det > 0.0; // det = -dot(d, cross(e1, e2)): positive when the ray opposes the normal
+  if (det == 0.0) return false;
+  float inv = 1.0 / det;
+  vec3 tv = o - a;
+  float u = dot(tv, pv) * inv;
+  if (u < 0.0 || u > 1.0) return false;
+  vec3 qv = cross(tv, e1);
+  float v = dot(d, qv) * inv;
+  if (v < 0.0 || u + v > 1.0) return false;
+  float th = dot(e2, qv) * inv;
+  if (th <= tmin || th >= t) return false;
+  t = th;
+  return true;
+}
+
+// Nearest hit along o + t d, t in (tmin, tmax). Returns false when nothing is hit.
+bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
+  hit.point = vec4(0.0, 0.0, 0.0, -1.0);
+  hit.instance = 0u; hit.triangle = 0u; hit.frontFace = 0u; hit.pad0 = 0u;
+  float best = tmax;
+  bool found = false;
+  vec3 invD = 1.0 / d;
+  uint tstack[RTSDF_BVH_STACK];
+  int tsp = 0;
+  tstack[tsp++] = 0u;
+  while (tsp > 0) {
+    BvhNode tn = tlasNodes[tstack[--tsp]];
+    if (isinf(rayBox(o, invD, tn.lo.xyz, tn.hi.xyz, tmin, best))) continue;
+    uint tc = nodeCount(tn);
+    if (tc == 0u) {
+      tstack[tsp++] = nodeFirst(tn) + 1u;
+      tstack[tsp++] = nodeFirst(tn);
+      continue;
+    }
+    for (uint s = 0u; s < tc; ++s) {
+      uint ii = tlasSlots[nodeFirst(tn) + s];
+      BvhInstance inst = instances[ii];
+      vec3 oo = xformPoint(inst.worldToObject, o);
+      vec3 dd = xformVector(inst.worldToObject, d);
+      vec3 invDD = 1.0 / dd;
+      uint stack[RTSDF_BVH_STACK];
+      int sp = 0;
+      stack[sp++] = inst.blasRoot;
+      while (sp > 0) {
+        BvhNode n = blasNodes[stack[--sp]];
+        if (isinf(rayBox(oo, invDD, n.lo.xyz, n.hi.xyz, tmin, best))) continue;
+        uint cnt = nodeCount(n);
+        if (cnt == 0u) {
+          // Visit the nearer child first.
+          BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
+          float tl = rayBox(oo, invDD, l.lo.xyz, l.hi.xyz, tmin, best);
+          float tr = rayBox(oo, invDD, r.lo.xyz, r.hi.xyz, tmin, best);
+          if (tl <= tr) { if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; if (!isinf(tl)) stack[sp++] = nodeFirst(n); }
+          else { if (!isinf(tl)) stack[sp++] = nodeFirst(n); if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; }
+          continue;
+        }
+        for (uint k = 0u; k < cnt; ++k) {
+          uint tri = nodeFirst(n) + k;
+          bool front;
+          if (rayTriangle(oo, dd, corners[3u * tri].xyz, corners[3u * tri + 1u].xyz, corners[3u * tri + 2u].xyz, tmin,
+                          best, front)) {
+            found = true;
+            hit.instance = inst.instanceId;
+            hit.triangle = triangleIds[tri];
+            hit.frontFace = (front != (inst.mirrored != 0u)) ? 1u : 0u;
+          }
+        }
+      }
+    }
+  }
+  if (found) hit.point = vec4(o + best * d, best);
+  return found;
+}
+
+// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
+vec3 closestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
+  vec3 ab = b - a, ac = c - a, ap = p - a;
+  float d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  vec3 bp = p - b;
+  float d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + (d1 / (d1 - d3)) * ab;
+  vec3 cp = p - c;
+  float d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
+  float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  float denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+float boxDistance(vec3 p, vec3 lo, vec3 hi) { return length(max(max(lo - p, p - hi), vec3(0.0))); }
+
+// Closest surface point to p within maxDist (world space). Returns false when none is that close.
+// The answer is kept in locals and written to 'hit' once at the end.
+bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
+  float best = maxDist;
+  bool found = false;
+  vec3 bestPoint = vec3(0.0);
+  uint bestInstance = 0u, bestTriangle = 0u;
+  uint tstack[RTSDF_BVH_STACK];
+  int tsp = 0;
+  tstack[tsp++] = 0u;
+  while (tsp > 0) {
+    BvhNode tn = tlasNodes[tstack[--tsp]];
+    if (boxDistance(p, tn.lo.xyz, tn.hi.xyz) > best) continue;
+    uint tc = nodeCount(tn);
+    if (tc == 0u) {
+      tstack[tsp++] = nodeFirst(tn) + 1u;
+      tstack[tsp++] = nodeFirst(tn);
+      continue;
+    }
+    for (uint s = 0u; s < tc; ++s) {
+      BvhInstance inst = instances[tlasSlots[nodeFirst(tn) + s]];
+      vec3 po = xformPoint(inst.worldToObject, p);
+      uint stack[RTSDF_BVH_STACK];
+      int sp = 0;
+      stack[sp++] = inst.blasRoot;
+      while (sp > 0) {
+        BvhNode n = blasNodes[stack[--sp]];
+        // World distance >= minScale * object distance: a conservative cull.
+        if (inst.minScale * boxDistance(po, n.lo.xyz, n.hi.xyz) > best) continue;
+        uint cnt = nodeCount(n);
+        if (cnt == 0u) {
+          // Push only children that can hold a nearer point, the nearer one last (visited first).
+          BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
+          float dl = inst.minScale * boxDistance(po, l.lo.xyz, l.hi.xyz);
+          float dr = inst.minScale * boxDistance(po, r.lo.xyz, r.hi.xyz);
+          uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;
+          uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);
+          if (max(dl, dr) <= best) stack[sp++] = farC;
+          if (min(dl, dr) <= best) stack[sp++] = nearC;
+          continue;
+        }
+        for (uint k = 0u; k < cnt; ++k) {
+          uint tri = nodeFirst(n) + k;
+          vec3 a = xformPoint(inst.objectToWorld, corners[3u * tri].xyz);
+          vec3 b = xformPoint(inst.objectToWorld, corners[3u * tri + 1u].xyz);
+          vec3 c = xformPoint(inst.objectToWorld, corners[3u * tri + 2u].xyz);
+          vec3 q = closestOnTriangle(p, a, b, c);
+          float dist = length(p - q);
+          if (dist < best) {
+            best = dist;
+            found = true;
+            bestPoint = q;
+            bestInstance = inst.instanceId;
+            bestTriangle = triangleIds[tri];
+          }
+        }
+      }
+    }
+  }
+  hit.point = found ? vec4(bestPoint, best) : vec4(0.0, 0.0, 0.0, -1.0);
+  hit.instance = bestInstance;
+  hit.triangle = bestTriangle;
+  hit.frontFace = 0u;
+  hit.pad0 = 0u;
+  return found;
+}
+
+#endif

@@ -131,7 +131,7 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
   float best = maxDist;
   bool found = false;
   vec3 bestPoint = vec3(0.0);
-  uint bestInstance = 0u, bestTriangle = 0u;
+  uint bestInstance = 0u, bestTriangle = 0u, bestFront = 0u;
   uint tstack[RTSDF_BVH_STACK];
   int tsp = 0;
   tstack[tsp++] = 0u;
@@ -179,6 +179,8 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
             bestPoint = q;
             bestInstance = inst.instanceId;
             bestTriangle = triangleIds[tri];
+            // Outside when p lies on the side the triangle's counter-clockwise normal points to.
+            bestFront = dot(p - q, cross(b - a, c - a)) * (inst.mirrored != 0u ? -1.0 : 1.0) >= 0.0 ? 1u : 0u;
           }
         }
       }
@@ -187,7 +189,7 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
   hit.point = found ? vec4(bestPoint, best) : vec4(0.0, 0.0, 0.0, -1.0);
   hit.instance = bestInstance;
   hit.triangle = bestTriangle;
-  hit.frontFace = 0u;
+  hit.frontFace = bestFront; // closest points: 1 when p is on the outer side of the closest triangle
   hit.pad0 = 0u;
   return found;
 }

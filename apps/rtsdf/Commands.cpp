@@ -9,7 +9,9 @@
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "sdf/CoarseSdf.h"
+#include "util/AtomicFile.h"
 #include "util/Error.h"
+#include "util/Progress.h"
 
 #include <assimp/version.h>
 #include <embree3/rtcore_config.h>
@@ -21,6 +23,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 namespace rtsdf::app {
 namespace fs = std::filesystem;
@@ -48,11 +51,153 @@ std::string meshSummary(const Scene& scene) {
 
 } // namespace
 
+PipelineSettings pipelineSettings(const BakeSettings& s) {
+  PipelineSettings p;
+  p.coarseRes = s.coarse;
+  p.fineRes = s.fine;
+  p.band = s.band;
+  p.alpha = s.alpha;
+  p.rays = s.rays;
+  p.mode = parseRefineMode(s.refine);
+  p.variant = parseJfaVariant(s.jfaVariant);
+  p.beta = s.beta;
+  p.seed = s.seed;
+  p.validate();
+  return p;
+}
+
+namespace {
+
+/// The fine SDF's narrow band as a level set (band d; at d = 0 three fine voxels, so the file is valid).
+openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeSettings& s, double time) {
+  const double band = s.band > 0.0 ? s.band : 3.0 * pipe.fineSpec().voxelSize;
+  auto grid = denseToLevelSet(pipe.fineField(), pipe.fineSpec(), float(band));
+  stampLevelSet(*grid, pipe.fineSpec(),
+                {{"method", "rtsdf"}, {"scene", s.scene}, {"coarse", std::to_string(s.coarse)},
+                 {"resolution", std::to_string(s.fine)}, {"band", fmt::format("{}", s.band)},
+                 {"alpha", fmt::format("{}", s.alpha)}, {"rays", std::to_string(s.rays)},
+                 {"frames", std::to_string(s.frames)}, {"refine", s.refine}, {"jfa", s.jfaVariant},
+                 {"seed", std::to_string(s.seed)}, {"time", fmt::format("{}", time)}, {"version", RTSDF_VERSION}});
+  return grid;
+}
+
+std::string passSummary(const FrameStats& st) {
+  std::string t;
+  for (const char* p : {VoxelizePass::kName, JumpFloodPass::kName, CoarseDistancePass::kName,
+                        SdfPipeline::kUpsampleName, SdfPipeline::kRefineName})
+    t += fmt::format("{} {:.1f} ms, ", p, st.passTotal(p));
+  return t + fmt::format("mirror (CPU) {:.1f} ms", st.mirrorMs);
+}
+
+int runBakeRtsdf(const BakeSettings& s) {
+  checkOutputPath(s.output);
+  if (s.frames < 1) throw Error(fmt::format("--frames {} must be at least 1", s.frames));
+  const PipelineSettings ps = pipelineSettings(s);
+  const Scene scene = loadScene(s.scene);
+  spdlog::info("{}: {}", s.scene, meshSummary(scene));
+  gpu::ContextOptions copt;
+  copt.device = s.device;
+  gpu::VulkanContext ctx(copt);
+  SdfPipeline pipe(ctx, scene, buildSceneGeometry(scene, s.time).bounds, ps);
+  spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
+  FrameStats st;
+  Progress progress("refining", std::uint64_t(s.frames));
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int f = 0; f < s.frames; ++f) {
+    st = pipe.runFrame(s.time);
+    progress.add();
+  }
+  progress.finish();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (ctx.validationErrors())
+    throw Error(fmt::format("Vulkan validation reported {} error(s); last: {}", ctx.validationErrors(),
+                            ctx.lastValidationMessage()));
+  auto grid = fineLevelSet(pipe, s, s.time);
+  writeVdb(s.output, {grid}, {});
+  fmt::print("scene      {}\n", s.scene);
+  fmt::print("method     rtsdf ({} refinement, x = {}, alpha = {}, {} frames, {})\n", s.refine, s.rays, s.alpha,
+             s.frames, s.jfaVariant);
+  fmt::print("coarse     {}\n", pipe.coarseSpec().describe());
+  fmt::print("fine       {}\n", pipe.fineSpec().describe());
+  fmt::print("ray mask   {} coarse voxels, {} fine voxels (band {})\n", st.maskCoarseVoxels, st.maskFineVoxels, s.band);
+  fmt::print("last frame {}\n", passSummary(st));
+  fmt::print("time       {:.3f} s for {} frames on {}\n", seconds, s.frames, ctx.info().name);
+  fmt::print("output     {} ({} active voxels)\n", s.output, grid->activeVoxelCount());
+  return 0;
+}
+
+} // namespace
+
+int runAnimate(const AnimateSettings& a) {
+  if (!a.csv.empty()) checkOutputPath(a.csv);
+  if (!a.vdbDir.empty() && !fs::is_directory(a.vdbDir))
+    throw Error(fmt::format("--vdb-dir {}: folder does not exist", a.vdbDir));
+  if (a.frames < 1) throw Error(fmt::format("--frames {} must be at least 1", a.frames));
+  if (!(a.fps > 0.0) || !std::isfinite(a.fps)) throw Error(fmt::format("--fps {} must be positive", a.fps));
+  const PipelineSettings ps = pipelineSettings(a.pipeline);
+  const Scene scene = loadScene(a.scene);
+  // Grids fixed over the whole animation: the union of the scene's bounds at every frame.
+  Bounds bounds;
+  for (int f = 0; f < a.frames; ++f) bounds.add(buildSceneGeometry(scene, f / a.fps).bounds);
+  gpu::ContextOptions copt;
+  copt.device = a.pipeline.device;
+  gpu::VulkanContext ctx(copt);
+  SdfPipeline pipe(ctx, scene, bounds, ps);
+  spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
+  std::string csv = "frame,time,mask_coarse,mask_fine,voxelize_ms,jump_flood_ms,distance_ms,upsample_ms,refine_ms,"
+                    "mirror_ms,band_voxels,mean_abs_error_voxels,max_abs_error_voxels,wrong_sign_rate\n";
+  fmt::print("{:>5} {:>7} {:>10} {:>10} {:>10} {:>10} {:>12} {:>12} {:>10}\n", "frame", "time", "mask", "GPU ms",
+             "mirror ms", "band", "mean err", "max err", "wrong sign");
+  for (int f = 0; f < a.frames; ++f) {
+    const double t = f / a.fps;
+    const FrameStats st = pipe.runFrame(t);
+    double gpuMs = 0.0;
+    for (const auto& [n, ms] : st.passMs) gpuMs += ms;
+    FieldError err;
+    if (a.error) {
+      // Against the exact field of the same moment, over the fine voxels in the band (|exact| <= d).
+      const SceneGeometry geo = buildSceneGeometry(scene, t);
+      ExactSdfOptions eo;
+      eo.band = ps.band > 0.0 ? ps.band : 3.0 * pipe.fineSpec().voxelSize;
+      eo.progress = false;
+      const auto exact = exactSignedDistance(geo, pipe.fineSpec(), eo);
+      const auto fine = denseToLevelSet(pipe.fineField(), pipe.fineSpec(), float(eo.band));
+      fine->setTransform(exact->transform().copy());
+      err = compareFields(*exact, *fine);
+    }
+    fmt::print("{:>5} {:>7.3f} {:>10} {:>10.1f} {:>10.1f} {:>10} {:>12.4f} {:>12.3f} {:>9.3f}%\n", f, t,
+               st.maskFineVoxels, gpuMs, st.mirrorMs, err.voxels, err.meanAbs, err.maxAbs, 100.0 * err.signErrorRate());
+    csv += fmt::format("{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{},{:.5f},{:.4f},{:.6f}\n", f, t,
+                       st.maskCoarseVoxels, st.maskFineVoxels, st.passTotal(VoxelizePass::kName),
+                       st.passTotal(JumpFloodPass::kName), st.passTotal(CoarseDistancePass::kName),
+                       st.passTotal(SdfPipeline::kUpsampleName), st.passTotal(SdfPipeline::kRefineName), st.mirrorMs,
+                       err.voxels, err.meanAbs, err.maxAbs, err.signErrorRate());
+    if (!a.vdbDir.empty()) {
+      BakeSettings b = a.pipeline;
+      b.scene = a.scene;
+      auto grid = fineLevelSet(pipe, b, t);
+      writeVdb(fs::path(a.vdbDir) / fmt::format("frame{:04d}.vdb", f), {grid}, {});
+    }
+  }
+  if (ctx.validationErrors())
+    throw Error(fmt::format("Vulkan validation reported {} error(s); last: {}", ctx.validationErrors(),
+                            ctx.lastValidationMessage()));
+  if (!a.csv.empty())
+    writeFileAtomically(a.csv, [&](const fs::path& tmp) {
+      std::ofstream out(tmp);
+      out << csv;
+      if (!out) throw Error(fmt::format("{}: cannot write", a.csv));
+    });
+  return 0;
+}
+
 int runBake(const BakeSettings& s) {
   checkOutputPath(s.output);
   const BakeMethod method = s.method == "openvdb" ? BakeMethod::OpenVdb
                             : s.method == "jfa"   ? BakeMethod::Jfa
+                            : s.method == "rtsdf" ? BakeMethod::Rtsdf
                                                   : BakeMethod::Exact;
+  if (method == BakeMethod::Rtsdf) return runBakeRtsdf(s);
   if (s.fullDomain && method != BakeMethod::Exact)
     throw Error("--full needs --method exact (OpenVDB's meshToLevelSet builds a narrow band only)");
   const SignMethod sign = parseSignMethod(s.sign);

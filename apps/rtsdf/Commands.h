@@ -2,6 +2,7 @@
 /// @file Commands.h
 /// @brief The rtsdf subcommands: settings structs filled by CLI11 and the functions that run them.
 #include "reference/ExactSdf.h"
+#include "sdf/SdfPipeline.h"
 
 #include <string>
 #include <vector>
@@ -12,7 +13,8 @@ namespace rtsdf::app {
 enum class BakeMethod {
   Exact,   ///< CPU exact reference (Embree closest points + robust sign)
   OpenVdb, ///< OpenVDB's meshToLevelSet
-  Jfa      ///< GPU coarse SDF: voxelization + 3D jump flooding (distance minus beta)
+  Jfa,     ///< GPU coarse SDF: voxelization + 3D jump flooding (distance minus beta)
+  Rtsdf    ///< the full pipeline: coarse SDF, OpenVDB ray mask, fine SDF refined through the GPU BVH
 };
 
 struct BakeSettings {
@@ -32,7 +34,26 @@ struct BakeSettings {
   std::string jfaVariant = "1+jfa";
   double beta = -1.0;          ///< < 0: half a coarse voxel
   std::string device;          ///< Vulkan device by index or name; empty: the best one
+  int fine = 256;              ///< fine resolution of --method rtsdf
+  int rays = 10;               ///< x
+  double alpha = 0.95;
+  int frames = 16;
+  std::string refine = "rays";
+  std::uint32_t seed = 1;
 };
+
+struct AnimateSettings {
+  std::string scene;
+  int frames = 60;
+  double fps = 30.0;
+  std::string csv;             ///< per-frame statistics (CSV); empty: stdout only
+  std::string vdbDir;          ///< per-frame .vdb files; empty: none
+  bool error = true;           ///< measure each frame against the exact field of the same moment
+  BakeSettings pipeline;       ///< coarse, fine, band, alpha, rays, refine, jfa, beta, seed, device
+};
+
+/// @brief The pipeline settings a bake or animate command asked for.
+PipelineSettings pipelineSettings(const BakeSettings& s);
 
 struct CompareSettings {
   std::string a, b;
@@ -52,6 +73,7 @@ int runBake(const BakeSettings& s);
 int runInfo();
 int runCompare(const CompareSettings& s);
 int runBench(const BenchSettings& s);
+int runAnimate(const AnimateSettings& s);
 
 /// @brief Fail early (before any work) when @a path cannot be written: missing folder or a directory.
 void checkOutputPath(const std::string& path);

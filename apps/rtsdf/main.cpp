@@ -9,6 +9,34 @@
 
 #include <exception>
 
+namespace {
+
+/// The GPU pipeline's knobs, shared by bake and animate.
+void addPipelineOptions(CLI::App* cmd, rtsdf::app::BakeSettings& s) {
+  cmd->add_option("--coarse", s.coarse, "Coarse SDF resolution: voxels across the scene (methods jfa, rtsdf)")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  cmd->add_option("--fine", s.fine, "Fine SDF resolution (method rtsdf), at least --coarse")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  cmd->add_option("--rays", s.rays, "Rays per masked fine voxel per frame (x)")->check(CLI::Range(0, 1024))->capture_default_str();
+  cmd->add_option("--alpha", s.alpha, "History decay: f = min(alpha f' + (1 - alpha) c, r)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--refine", s.refine, "rays: the paper's random rays; closest: exact closest-point distance")
+      ->check(CLI::IsMember({"rays", "closest"}))
+      ->capture_default_str();
+  cmd->add_option("--seed", s.seed, "Random seed of the ray directions")->capture_default_str();
+  cmd->add_option("--jfa", s.jfaVariant, "Jump-flooding variant: jfa, 1+jfa or jfa+2")
+      ->check(CLI::IsMember({"jfa", "1+jfa", "jfa+2"}))
+      ->capture_default_str();
+  cmd->add_option("--beta", s.beta, "Coarse SDF shell: distance minus beta, in scene units (default: half a coarse voxel)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--device", s.device, "Vulkan device by index or name (see 'rtsdf info')");
+}
+
+} // namespace
+
 int main(int argc, char** argv) {
   using namespace rtsdf::app;
   CLI::App app{"rtsdf: signed distance fields of triangle-mesh scenes (OpenVDB export, GPU jump flooding and ray "
@@ -26,14 +54,17 @@ int main(int argc, char** argv) {
   bakeCmd->add_option("-o,--output", bake.output, "Output .vdb file (written atomically)")->required();
   bakeCmd->add_option("-m,--method", bake.method,
                       "exact: CPU exact reference; openvdb: OpenVDB's meshToLevelSet; jfa: GPU coarse SDF "
-                      "(voxelization + jump flooding, distance minus beta)")
-      ->check(CLI::IsMember({"exact", "openvdb", "jfa"}))
+                      "(voxelization + jump flooding, distance minus beta); rtsdf: coarse SDF, OpenVDB ray mask and "
+                      "fine SDF refined through the GPU BVH")
+      ->check(CLI::IsMember({"exact", "openvdb", "jfa", "rtsdf"}))
       ->capture_default_str();
   bakeCmd->add_option("-r,--res", bake.resolution, "Voxels along the scene's longest axis (other axes follow)")
       ->check(CLI::Range(1, 8192))
       ->capture_default_str();
-  bakeCmd->add_option("-d,--band", bake.band, "Narrow-band half-width in scene units (active voxels: |d| <= band)")
-      ->check(CLI::PositiveNumber)
+  bakeCmd->add_option("-d,--band", bake.band,
+                      "Narrow-band half-width in scene units (active voxels: |d| <= band); for rtsdf the ray-mask "
+                      "band d (0: no refinement)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   bakeCmd->add_flag("--full", bake.fullDomain, "Full-domain field: every voxel active (exact method only)");
   bakeCmd->add_option("--padding", bake.padding, "Margin around the scene bounds in scene units (default: the band)")
@@ -44,21 +75,30 @@ int main(int argc, char** argv) {
                       "open ones), pseudonormal, winding")
       ->check(CLI::IsMember({"auto", "pseudonormal", "winding"}))
       ->capture_default_str();
-  bakeCmd->add_option("--coarse", bake.coarse, "Resolution of the GPU coarse SDF (--method jfa)")
-      ->check(CLI::Range(1, 1024))
+  addPipelineOptions(bakeCmd, bake);
+  bakeCmd->add_option("--frames", bake.frames, "Frames of refinement to accumulate (method rtsdf)")
+      ->check(CLI::Range(1, 100000))
       ->capture_default_str();
-  bakeCmd->add_option("--jfa", bake.jfaVariant, "Jump-flooding variant: jfa, 1+jfa or jfa+2")
-      ->check(CLI::IsMember({"jfa", "1+jfa", "jfa+2"}))
-      ->capture_default_str();
-  bakeCmd->add_option("--beta", bake.beta,
-                      "Coarse SDF shell: distance minus beta, in scene units (default: half a coarse voxel)")
-      ->check(CLI::NonNegativeNumber);
-  bakeCmd->add_option("--device", bake.device, "Vulkan device by index or name (see 'rtsdf info')");
   bakeCmd->add_flag("--fog", bake.fog, "Also write a 'density' fog grid so Blender shows the volume");
   bakeCmd->add_flag("--half", bake.halfFloat, "Store values as 16-bit halves");
   bakeCmd->add_option("--compression", bake.compression, "blosc, zip or none")
       ->check(CLI::IsMember({"blosc", "zip", "none"}))
       ->capture_default_str();
+
+  AnimateSettings anim;
+  CLI::App* animCmd = app.add_subcommand(
+      "animate", "Run the RTSDF pipeline over an animation: per-frame mask size, pass times and error against the "
+                 "exact field of the same moment (ghosting), optionally per-frame .vdb files");
+  animCmd->add_option("scene", anim.scene, "Scene (.json) or mesh file")->required();
+  animCmd->add_option("--frames", anim.frames, "Frames to run")->check(CLI::Range(1, 100000))->capture_default_str();
+  animCmd->add_option("--fps", anim.fps, "Frames per second of scene time")->check(CLI::PositiveNumber)->capture_default_str();
+  animCmd->add_option("--csv", anim.csv, "Write per-frame statistics to this CSV file");
+  animCmd->add_option("--vdb-dir", anim.vdbDir, "Write frameNNNN.vdb files (fine SDF band) into this folder");
+  animCmd->add_flag("!--no-error", anim.error, "Skip the per-frame comparison with the exact field");
+  animCmd->add_option("-d,--band", anim.pipeline.band, "Band d in scene units")->check(CLI::NonNegativeNumber)->capture_default_str();
+  anim.pipeline.fine = 128;
+  anim.pipeline.coarse = 64;
+  addPipelineOptions(animCmd, anim.pipeline);
 
   app.add_subcommand("info", "Print versions, Vulkan devices with their limits, and embedded shaders");
 
@@ -103,6 +143,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("info")) return runInfo();
     if (*cmpCmd) return runCompare(cmp);
     if (*benchCmd) return runBench(bench);
+    if (*animCmd) return runAnimate(anim);
   } catch (const rtsdf::Error& e) {
     spdlog::error("{}", e.what());
     return 1;

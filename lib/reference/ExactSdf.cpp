@@ -192,6 +192,27 @@ bool ExactDistanceField::closest(const glm::vec3& p, float maxDistance, Hit& hit
   return q.found;
 }
 
+bool ExactDistanceField::intersect(const glm::vec3& origin, const glm::vec3& direction, float tmax, float& t,
+                                   bool& front) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray.org_x = origin.x; rh.ray.org_y = origin.y; rh.ray.org_z = origin.z;
+  rh.ray.dir_x = direction.x; rh.ray.dir_y = direction.y; rh.ray.dir_z = direction.z;
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = tmax;
+  rh.ray.mask = ~0u;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(mImpl->scene, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  t = rh.ray.tfar;
+  const WorldMesh& m = *mImpl->meshes[rh.hit.geomID].mesh;
+  const glm::uvec3 tri = m.triangles[rh.hit.primID];
+  const glm::vec3 n = glm::cross(m.positions[tri.y] - m.positions[tri.x], m.positions[tri.z] - m.positions[tri.x]);
+  front = glm::dot(direction, n) < 0.0f;
+  return true;
+}
+
 void ExactDistanceField::collect(const glm::vec3& p, float radius, std::vector<std::uint64_t>& out) const {
   RTCPointQuery query;
   query.x = p.x; query.y = p.y; query.z = p.z;

@@ -55,6 +55,11 @@ public:
   /// @brief The signed distance at @a p (negative inside); +inf for an empty scene.
   float signedDistance(const glm::vec3& p) const;
 
+  /// @brief Nearest hit of the ray @a origin + t @a direction, t in (0, tmax), by Embree's rtcIntersect1.
+  /// @param t receives the hit distance (in units of @a direction); @param front whether the ray arrived on
+  ///        the side the triangle's counter-clockwise normal points to.
+  bool intersect(const glm::vec3& origin, const glm::vec3& direction, float tmax, float& t, bool& front) const;
+
   /// @brief Every triangle within @a radius of @a p, appended as (mesh << 32 | triangle).
   void collect(const glm::vec3& p, float radius, std::vector<std::uint64_t>& out) const;
 

@@ -1,0 +1,44 @@
+// Shared by C++ and GLSL: the fine-SDF refinement's parameters, its random numbers (PCG hash, identical
+// integer arithmetic on both sides) and the state it keeps per fine voxel.
+#ifndef RTSDF_GPU_SHARED_REFINE_H
+#define RTSDF_GPU_SHARED_REFINE_H
+#include "gpu/shared/Common.h"
+
+RTSDF_SHARED_BEGIN
+
+/// Refinement modes.
+const uint kRefineRays = 0u;    // the paper: x random rays per voxel per frame, nearest hit, decayed history
+const uint kRefineClosest = 1u; // exact closest-point distance through the same BVH, deterministic
+
+/// Push constants of refine_upsample.comp and refine_rays.comp.
+struct RefineParams {
+  vec4 fineOriginH;      // xyz: world corner of fine voxel (0,0,0), w: fine voxel size
+  ivec4 fineDims;        // xyz: fine voxels per axis, w: masked voxels this frame
+  vec4 coarseOriginInvH; // xyz: world corner of coarse voxel (0,0,0), w: 1 / coarse voxel size
+  ivec4 coarseDims;      // xyz: coarse voxels per axis
+  float alpha;           // history decay
+  float band;            // d
+  uint rays;             // x, rays per masked voxel per frame
+  uint frame;            // frame number (1, 2, ...): history older than frame - 1 is restarted
+  uint seed;             // per-run random seed
+  uint mode;             // kRefineRays or kRefineClosest
+  float beta;            // the coarse shell (closest mode widens its search by it)
+  uint pad0;
+};
+
+/// PCG hash (O'Neill's PCG-RXS-M-XS, as in Jarzynski and Olano 2020): a well-mixed 32-bit hash.
+RTSDF_FN uint pcgHash(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+
+/// The two uniform numbers in [0, 1) of ray @a ray of voxel @a voxel in frame @a frame.
+RTSDF_FN uint rayHash(uint voxel, uint frame, uint ray, uint seed) {
+  return pcgHash(voxel ^ pcgHash(frame * 0x9E3779B9u + pcgHash(ray + seed * 0x85EBCA6Bu)));
+}
+RTSDF_FN float unitFloat(uint h) { return float(h >> 8) * (1.0 / 16777216.0); }
+
+RTSDF_SHARED_END
+
+#endif

@@ -1,0 +1,25 @@
+#pragma once
+/// @file RefineReference.h
+/// @brief CPU reference of the refinement passes: the same trilinear upsampling and, for a fresh frame, the
+///        same ray sampling (the same PCG random directions) as refine_upsample.comp and refine.comp, with
+///        Embree's rtcIntersect1 for the rays.
+#include "grid/GridSpec.h"
+#include "scene/SceneGeometry.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief The coarse SDF trilinearly upsampled at the centre of fine voxel @a v (clamped at the borders).
+float upsampleCoarse(const std::vector<float>& coarse, const GridSpec& coarseSpec, const GridSpec& fineSpec,
+                     const glm::ivec3& v);
+
+/// @brief One fresh frame (no history) of rays-mode refinement at the packed fine voxels @a mask:
+///        f = min(c + beta + sqrt(3)/2 h_coarse, nearest hit), signed by the majority of back-face hits.
+std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vector<float>& coarse,
+                                 const GridSpec& coarseSpec, const GridSpec& fineSpec,
+                                 const std::vector<std::uint32_t>& mask, std::uint32_t rays, std::uint32_t frame,
+                                 std::uint32_t seed, float beta);
+
+} // namespace rtsdf

@@ -1,0 +1,211 @@
+#include "sdf/SdfPipeline.h"
+
+#include "grid/VdbIO.h"
+#include "gpu/shared/Refine.h"
+#include "scene/SceneGeometry.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <openvdb/tree/LeafManager.h>
+#include <tbb/parallel_sort.h>
+
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+namespace rtsdf {
+using gpu::Buffer;
+using gpu::shared::RefineParams;
+
+RefineMode parseRefineMode(const std::string& s) {
+  if (s == "rays") return RefineMode::Rays;
+  if (s == "closest") return RefineMode::Closest;
+  throw Error(fmt::format("unknown refinement mode '{}' (rays or closest)", s));
+}
+
+const char* toString(RefineMode m) { return m == RefineMode::Rays ? "rays" : "closest"; }
+
+void PipelineSettings::validate() const {
+  if (coarseRes < 1 || coarseRes > 1024) throw Error(fmt::format("--coarse {} is out of range [1, 1024]", coarseRes));
+  if (fineRes < coarseRes || fineRes > 1024)
+    throw Error(fmt::format("--fine {} must be in [--coarse ({}), 1024]", fineRes, coarseRes));
+  if (!std::isfinite(band) || band < 0.0) throw Error(fmt::format("--band {} must be finite and >= 0", band));
+  if (!(alpha >= 0.0 && alpha <= 1.0)) throw Error(fmt::format("--alpha {} must be in [0, 1]", alpha));
+  if (rays < 0 || rays > 1024) throw Error(fmt::format("--rays {} is out of range [0, 1024]", rays));
+}
+
+GridSpec fineGridUnder(const GridSpec& coarse, int coarseRes, int fineRes) {
+  GridSpec f;
+  f.origin = coarse.origin;
+  f.voxelSize = coarse.voxelSize * double(coarseRes) / double(fineRes);
+  const glm::dvec3 ext = glm::dvec3(coarse.dims) * coarse.voxelSize;
+  for (int a = 0; a < 3; ++a) f.dims[a] = std::max(1, int(std::ceil(ext[a] / f.voxelSize - 1e-9)));
+  return f;
+}
+
+RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& cs, const GridSpec& fs, double band) {
+  RayMask mask;
+  if (band <= 0.0) return mask; // d = 0: nothing is refined, the fine SDF is the upsampled coarse one
+  mask.coarse = denseToLevelSet(coarse, cs, float(band));
+  mask.coarseVoxels = mask.coarse->activeVoxelCount();
+  // Fine voxels whose centres fall in each active coarse voxel, leaf by leaf in parallel.
+  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(mask.coarse->tree());
+  std::mutex m;
+  const double ratio = cs.voxelSize / fs.voxelSize;
+  leaves.foreach([&](const openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
+    std::vector<std::uint32_t> local;
+    for (auto it = leaf.cbeginValueOn(); it; ++it) {
+      const openvdb::Coord c = it.getCoord();
+      glm::ivec3 lo, hi;
+      for (int a = 0; a < 3; ++a) {
+        // fine voxel j has its centre in coarse voxel i when i <= (j + 0.5) / ratio < i + 1
+        lo[a] = std::max(0, int(std::ceil(c[a] * ratio - 0.5)));
+        hi[a] = std::min(fs.dims[a] - 1, int(std::ceil((c[a] + 1) * ratio - 0.5)) - 1);
+      }
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x)
+            local.push_back(std::uint32_t(x) | (std::uint32_t(y) << 10) | (std::uint32_t(z) << 20));
+    }
+    std::lock_guard<std::mutex> lock(m);
+    mask.fineVoxels.insert(mask.fineVoxels.end(), local.begin(), local.end());
+  });
+  tbb::parallel_sort(mask.fineVoxels.begin(), mask.fineVoxels.end());
+  return mask;
+}
+
+double FrameStats::passTotal(const std::string& pass) const {
+  double t = 0.0;
+  for (const auto& [name, ms] : passMs)
+    if (name == pass) t += ms;
+  return t;
+}
+
+struct SdfPipeline::Gpu {
+  CoarseSdfBuilder coarse;
+  gpu::ComputePipeline upsample, refine;
+  gpu::GpuProfiler profiler;
+  Buffer blasNodes, corners, triangleIds;
+  Buffer coarseBuf, fine, history, votes, lastFrame;
+  Buffer mask, tlasNodes, tlasSlots, instances;
+  explicit Gpu(const gpu::VulkanContext& ctx)
+      : coarse(ctx), upsample(ctx, "refine_upsample.comp", 2, sizeof(RefineParams)),
+        refine(ctx, "refine.comp", 11, sizeof(RefineParams)), profiler(ctx) {}
+};
+
+namespace {
+const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+
+/// (Re)allocate @a b when it is smaller than @a bytes (at least 16 bytes), then upload.
+void uploadGrow(const gpu::VulkanContext& ctx, Buffer& b, const void* data, std::size_t bytes, const char* name) {
+  const std::size_t size = std::max<std::size_t>(bytes, 16);
+  if (!b || b.size() < size) b = Buffer(ctx, size, kStorage, Buffer::Memory::Device, name);
+  upload(ctx, b, data, bytes);
+}
+} // namespace
+
+SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
+                         const PipelineSettings& s)
+    : mCtx(ctx), mScene(scene), mSettings(s) {
+  s.validate();
+  // Padding keeps the band inside the grid, but a band wider than the scene must not blow the grid up.
+  mCoarseSpec = GridSpec::fromBounds(bounds, s.coarseRes, std::min(s.band, 0.25 * bounds.maxExtent()));
+  mFineSpec = fineGridUnder(mCoarseSpec, s.coarseRes, s.fineRes);
+  for (int a = 0; a < 3; ++a)
+    if (mFineSpec.dims[a] > 1024)
+      throw Error(fmt::format("fine grid {}: more than 1024 voxels along an axis", mFineSpec.describe()));
+  mMeshBvhs = buildMeshBvhs(scene);
+  mGpu = std::make_unique<Gpu>(ctx);
+  uploadGrow(ctx, mGpu->blasNodes, mMeshBvhs.nodes.data(), mMeshBvhs.nodes.size() * sizeof(gpu::shared::BvhNode),
+             "BLAS nodes");
+  uploadGrow(ctx, mGpu->corners, mMeshBvhs.corners.data(), mMeshBvhs.corners.size() * sizeof(glm::vec4),
+             "BLAS triangles");
+  uploadGrow(ctx, mGpu->triangleIds, mMeshBvhs.triangleIds.data(), mMeshBvhs.triangleIds.size() * 4, "triangle ids");
+  const std::size_t fineBytes = mFineSpec.voxelCount() * 4;
+  mGpu->fine = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine SDF");
+  mGpu->history = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine history");
+  mGpu->votes = Buffer(ctx, fineBytes * 2, kStorage, Buffer::Memory::Device, "fine sign votes");
+  mGpu->lastFrame = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine last frame");
+  gpu::CommandBuffer cmd(ctx);
+  // No history yet: lastFrame + 1 must differ from the first frame number (1).
+  vkCmdFillBuffer(cmd.handle(), mGpu->lastFrame.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+  vkCmdFillBuffer(cmd.handle(), mGpu->history.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd.handle(), mGpu->votes.handle(), 0, VK_WHOLE_SIZE, 0u);
+  cmd.submitAndWait();
+}
+
+SdfPipeline::~SdfPipeline() = default;
+
+FrameStats SdfPipeline::runFrame(double time) {
+  FrameStats stats;
+  stats.time = time;
+  ++mFrame;
+  const SceneGeometry geo = buildSceneGeometry(mScene, time);
+  CoarseSdfSettings cs;
+  cs.variant = mSettings.variant;
+  cs.beta = mSettings.beta;
+  CoarseSdf coarse = mGpu->coarse.build(geo, mCoarseSpec, cs);
+  stats.passMs = coarse.passMs;
+  mCoarse = std::move(coarse.distance);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const RayMask mask = buildRayMask(mCoarse, mCoarseSpec, mFineSpec, mSettings.band);
+  stats.mirrorMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  stats.maskCoarseVoxels = mask.coarseVoxels;
+  stats.maskFineVoxels = mask.fineVoxels.size();
+
+  const InstanceBvh top = buildInstanceBvh(mScene, mMeshBvhs, time);
+  uploadGrow(mCtx, mGpu->tlasNodes, top.nodes.data(), top.nodes.size() * sizeof(gpu::shared::BvhNode), "TLAS nodes");
+  uploadGrow(mCtx, mGpu->tlasSlots, top.slots.data(), top.slots.size() * 4, "TLAS slots");
+  uploadGrow(mCtx, mGpu->instances, top.instances.data(), top.instances.size() * sizeof(gpu::shared::BvhInstance),
+             "instances");
+  uploadGrow(mCtx, mGpu->mask, mask.fineVoxels.data(), mask.fineVoxels.size() * 4, "ray mask");
+  uploadGrow(mCtx, mGpu->coarseBuf, mCoarse.data(), mCoarse.size() * 4, "coarse SDF");
+
+  RefineParams p{};
+  p.fineOriginH = glm::vec4(glm::vec3(mFineSpec.origin), float(mFineSpec.voxelSize));
+  p.fineDims = glm::ivec4(mFineSpec.dims, int(mask.fineVoxels.size()));
+  p.coarseOriginInvH = glm::vec4(glm::vec3(mCoarseSpec.origin), float(1.0 / mCoarseSpec.voxelSize));
+  p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
+  p.alpha = float(mSettings.alpha);
+  p.band = float(mSettings.band);
+  p.rays = std::uint32_t(mSettings.rays);
+  p.frame = mFrame;
+  p.seed = mSettings.seed;
+  p.beta = float(mSettings.beta >= 0.0 ? mSettings.beta : 0.5 * mCoarseSpec.voxelSize);
+  p.mode = mSettings.mode == RefineMode::Rays ? gpu::shared::kRefineRays : gpu::shared::kRefineClosest;
+
+  gpu::CommandBuffer cmd(mCtx);
+  mGpu->profiler.reset(cmd.handle());
+  {
+    gpu::ProfileScope scope(&mGpu->profiler, cmd.handle(), kUpsampleName);
+    const glm::ivec3 d = mFineSpec.dims;
+    mGpu->upsample.dispatch(cmd.handle(), {&mGpu->coarseBuf, &mGpu->fine}, &p,
+                            {gpu::groupsFor(d.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(d.y, RTSDF_JFA_GROUP_Y),
+                             gpu::groupsFor(d.z, RTSDF_JFA_GROUP_Z)});
+    gpu::computeBarrier(cmd.handle());
+  }
+  if (!mask.fineVoxels.empty()) {
+    gpu::ProfileScope scope(&mGpu->profiler, cmd.handle(), kRefineName);
+    // Rows of 65535 groups: masks can exceed one dispatch dimension.
+    const std::uint32_t groups = gpu::groupsFor(mask.fineVoxels.size(), 64);
+    const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535u), gy = gpu::groupsFor(groups, gx);
+    Gpu& g = *mGpu;
+    g.refine.dispatch(cmd.handle(),
+                      {&g.blasNodes, &g.corners, &g.triangleIds, &g.tlasNodes, &g.tlasSlots, &g.instances, &g.mask,
+                       &g.fine, &g.history, &g.votes, &g.lastFrame},
+                      &p, {gx, gy, 1});
+    gpu::computeBarrier(cmd.handle());
+  }
+  cmd.submitAndWait();
+  for (const auto& r : mGpu->profiler.results()) stats.passMs.push_back(r);
+  return stats;
+}
+
+std::vector<float> SdfPipeline::fineField() const {
+  std::vector<float> out(mFineSpec.voxelCount());
+  download(mCtx, mGpu->fine, out.data(), out.size() * 4);
+  return out;
+}
+
+} // namespace rtsdf

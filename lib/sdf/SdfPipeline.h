@@ -1,0 +1,102 @@
+#pragma once
+/// @file SdfPipeline.h
+/// @brief One frame of the RTSDF pipeline: coarse SDF on the GPU (voxelize + jump flooding), its mirror in
+///        a sparse OpenVDB grid whose active band |c| <= d is the ray mask, then the fine SDF refined by
+///        BVH queries only under the mask, accumulated over frames.
+#include "bvh/Bvh.h"
+#include "gpu/Profiler.h"
+#include "gpu/Resources.h"
+#include "grid/GridSpec.h"
+#include "scene/Scene.h"
+#include "sdf/CoarseSdf.h"
+
+#include <openvdb/openvdb.h>
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief How the fine SDF is refined.
+enum class RefineMode {
+  Rays,   ///< the paper: x random rays per masked voxel per frame, decayed history
+  Closest ///< exact closest-point distance through the same BVH (deterministic)
+};
+RefineMode parseRefineMode(const std::string& s);
+const char* toString(RefineMode m);
+
+/// @brief Every knob of the pipeline (scene units for lengths).
+struct PipelineSettings {
+  int coarseRes = 128;   ///< voxels across the scene for the coarse SDF
+  int fineRes = 256;     ///< voxels across the scene for the fine SDF (>= coarseRes)
+  double band = 0.1;     ///< d: refine where |c| <= d
+  double alpha = 0.95;   ///< history decay
+  int rays = 10;         ///< x: rays per masked voxel per frame
+  RefineMode mode = RefineMode::Rays;
+  JfaVariant variant = JfaVariant::OnePlusJfa;
+  double beta = -1.0;    ///< coarse shell; < 0: half a coarse voxel
+  std::uint32_t seed = 1;
+  /// @throw Error naming the setting when one is out of range.
+  void validate() const;
+};
+
+/// @brief The fine grid under a coarse grid: same origin, voxel size h_coarse * coarseRes / fineRes, and
+///        enough voxels to cover the coarse grid.
+GridSpec fineGridUnder(const GridSpec& coarse, int coarseRes, int fineRes);
+
+/// @brief The ray mask: the coarse SDF mirrored into OpenVDB (active exactly where |c| <= d) and the fine
+///        voxels whose centres lie in active coarse voxels, packed 10 bits per axis, sorted.
+struct RayMask {
+  openvdb::FloatGrid::Ptr coarse; ///< the mirror (null when d = 0: nothing is refined)
+  std::vector<std::uint32_t> fineVoxels;
+  std::uint64_t coarseVoxels = 0; ///< active coarse voxels
+};
+RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& coarseSpec, const GridSpec& fineSpec,
+                     double band);
+
+/// @brief What one frame did and cost.
+struct FrameStats {
+  double time = 0.0;
+  std::uint64_t maskCoarseVoxels = 0, maskFineVoxels = 0;
+  double mirrorMs = 0.0;                               ///< CPU: OpenVDB mirror and mask list
+  std::vector<std::pair<std::string, double>> passMs;  ///< GPU time per pass
+  double passTotal(const std::string& pass) const;
+};
+
+/// @brief Runs frames of the pipeline for one scene on fixed grids (bounds given by the caller, e.g. the
+///        union over an animation, so history stays valid while objects move).
+class SdfPipeline {
+public:
+  SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds, const PipelineSettings& s);
+  ~SdfPipeline();
+  SdfPipeline(const SdfPipeline&) = delete;
+  SdfPipeline& operator=(const SdfPipeline&) = delete;
+
+  /// @brief One frame at @a time seconds: coarse SDF, mask, upsample, refinement.
+  FrameStats runFrame(double time);
+  /// @brief The dense fine SDF of the last frame (x fastest), scene units.
+  std::vector<float> fineField() const;
+  /// @brief The last frame's coarse SDF (x fastest).
+  const std::vector<float>& coarseField() const { return mCoarse; }
+  const GridSpec& coarseSpec() const { return mCoarseSpec; }
+  const GridSpec& fineSpec() const { return mFineSpec; }
+  const PipelineSettings& settings() const { return mSettings; }
+
+  static constexpr const char* kUpsampleName = "UpsamplePass";
+  static constexpr const char* kRefineName = "RayRefinePass";
+
+private:
+  struct Gpu;
+  const gpu::VulkanContext& mCtx;
+  const Scene& mScene;
+  PipelineSettings mSettings;
+  GridSpec mCoarseSpec, mFineSpec;
+  MeshBvhs mMeshBvhs;
+  std::vector<float> mCoarse;
+  std::uint32_t mFrame = 0;
+  std::unique_ptr<Gpu> mGpu;
+};
+
+} // namespace rtsdf

@@ -1,0 +1,76 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// RayRefinePass: for every fine voxel of the ray mask, refine the distance through the BVH.
+//   rays mode (the paper): x rays uniform on the sphere, r_t = nearest hit, f_t = min(alpha f_{t-1} +
+//   (1 - alpha) c^_t, r_t) with c^_t = c_t + beta + sqrt(3)/2 h_coarse (an upper bound: see below);
+//   front/back-face hits, decayed by alpha, vote for the sign (more back-face hits: inside).
+//   closest mode: f_t = exact distance by closest-point traversal; sign from the ray votes when x > 0,
+//   else from the side of the closest triangle.
+// History older than the previous frame (a voxel that just entered the mask) restarts from c_t.
+#include "gpu/shared/Bvh.h"
+#include "gpu/shared/Refine.h"
+
+layout(local_size_x = 64) in;
+layout(push_constant) uniform Push { RefineParams params; };
+layout(std430, binding = 0) readonly buffer BlasNodes { BvhNode blasNodes[]; };
+layout(std430, binding = 1) readonly buffer Corners { vec4 corners[]; };
+layout(std430, binding = 2) readonly buffer TriangleIds { uint triangleIds[]; };
+layout(std430, binding = 3) readonly buffer TlasNodes { BvhNode tlasNodes[]; };
+layout(std430, binding = 4) readonly buffer TlasSlots { uint tlasSlots[]; };
+layout(std430, binding = 5) readonly buffer Instances { BvhInstance instances[]; };
+layout(std430, binding = 6) readonly buffer Mask { uint mask[]; };       // packed fine voxels
+layout(std430, binding = 7) buffer Fine { float fine[]; };              // in: c_t upsampled; out: f_t signed
+layout(std430, binding = 8) buffer History { float history[]; };        // unsigned f_{t-1}
+layout(std430, binding = 9) buffer Votes { vec2 votes[]; };             // decayed (front, back) hits
+layout(std430, binding = 10) buffer LastFrame { uint lastFrame[]; };    // frame of the voxel's last refinement
+
+#include "bvh_traverse.glsl"
+
+void main() {
+  uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+  if (k >= uint(params.fineDims.w)) return;
+  uint packed = mask[k];
+  ivec3 v = ivec3(int(packed & 1023u), int((packed >> 10) & 1023u), int((packed >> 20) & 1023u));
+  ivec3 fd = params.fineDims.xyz;
+  uint i = uint((v.z * fd.y + v.y) * fd.x + v.x);
+  vec3 p = params.fineOriginH.xyz + (vec3(v) + 0.5) * params.fineOriginH.w;
+
+  // The coarse SDF as an upper bound of the distance: the nearest seed voxel touches the surface within half
+  // its diagonal, and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays,
+  // which can only over-estimate, could never lower f.)
+  float c = fine[i] + params.beta + 0.8660254 / params.coarseOriginInvH.w;
+  bool fresh = lastFrame[i] + 1u != params.frame;
+  float bound = fresh ? c : params.alpha * history[i] + (1.0 - params.alpha) * c;
+  vec2 vote = fresh ? vec2(0.0) : params.alpha * votes[i];
+
+  float front = 0.0, back = 0.0, nearest = 1.0 / 0.0;
+  for (uint r = 0u; r < params.rays; ++r) {
+    uint h = rayHash(i, params.frame, r, params.seed);
+    float z = 1.0 - 2.0 * unitFloat(h);
+    float phi = 6.28318530718 * unitFloat(pcgHash(h));
+    float s = sqrt(max(0.0, 1.0 - z * z));
+    BvhHit hit;
+    if (traceNearest(p, vec3(s * cos(phi), s * sin(phi), z), 0.0, 1e30, hit)) {
+      nearest = min(nearest, hit.point.w);
+      if (hit.frontFace != 0u) front += 1.0; else back += 1.0;
+    }
+  }
+  vote += vec2(front, back);
+
+  float f;
+  bool inside;
+  if (params.mode == kRefineClosest) {
+    // Search up to the bound plus a coarse cell diagonal (trilinear upsampling of the bound may fall short).
+    BvhHit hit;
+    float radius = bound + 1.7320508 / params.coarseOriginInvH.w;
+    f = closestPoint(p, radius, hit) ? hit.point.w : radius;
+    inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
+  } else {
+    f = min(bound, nearest);
+    inside = vote.y > vote.x;
+  }
+  fine[i] = inside ? -f : f;
+  history[i] = f;
+  votes[i] = vote;
+  lastFrame[i] = params.frame;
+}

@@ -21,7 +21,7 @@ layout(std430, binding = 5) readonly buffer Instances { BvhInstance instances[];
 layout(std430, binding = 6) readonly buffer Mask { uint mask[]; };       // packed fine voxels
 layout(std430, binding = 7) buffer Fine { float fine[]; };              // in: c_t upsampled; out: f_t signed
 layout(std430, binding = 8) buffer History { float history[]; };        // unsigned f_{t-1}
-layout(std430, binding = 9) buffer Votes { vec2 votes[]; };             // decayed (front, back) hits
+layout(std430, binding = 9) buffer Votes { uint votes[]; };             // decayed (front, back) hits, 2 halves
 layout(std430, binding = 10) buffer LastFrame { uint lastFrame[]; };    // frame of the voxel's last refinement
 
 #include "bvh_traverse.glsl"
@@ -41,8 +41,11 @@ void main() {
   float c = fine[i] + params.beta + 0.8660254 / params.coarseOriginInvH.w;
   bool fresh = lastFrame[i] + 1u != params.frame;
   float bound = fresh ? c : params.alpha * history[i] + (1.0 - params.alpha) * c;
-  vec2 vote = fresh ? vec2(0.0) : params.alpha * votes[i];
+  vec2 vote = fresh ? vec2(0.0) : params.alpha * unpackHalf2x16(votes[i]);
 
+  // Rays reach twice the current bound: far enough to vote for the sign (from inside a closed surface any
+  // ray meets a back face within that reach with good probability), short enough to keep traversal cheap.
+  float reach = 2.0 * bound + 1.0 / params.coarseOriginInvH.w;
   float front = 0.0, back = 0.0, nearest = 1.0 / 0.0;
   for (uint r = 0u; r < params.rays; ++r) {
     uint h = rayHash(i, params.frame, r, params.seed);
@@ -50,7 +53,7 @@ void main() {
     float phi = 6.28318530718 * unitFloat(pcgHash(h));
     float s = sqrt(max(0.0, 1.0 - z * z));
     BvhHit hit;
-    if (traceNearest(p, vec3(s * cos(phi), s * sin(phi), z), 0.0, 1e30, hit)) {
+    if (traceNearest(p, vec3(s * cos(phi), s * sin(phi), z), 0.0, reach, hit)) {
       nearest = min(nearest, hit.point.w);
       if (hit.frontFace != 0u) front += 1.0; else back += 1.0;
     }
@@ -71,6 +74,6 @@ void main() {
   }
   fine[i] = inside ? -f : f;
   history[i] = f;
-  votes[i] = vote;
+  votes[i] = packHalf2x16(min(vote, vec2(60000.0)));
   lastFrame[i] = params.frame;
 }

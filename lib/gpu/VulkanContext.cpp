@@ -53,7 +53,7 @@ bool layerAvailable(const char* name) {
   return false;
 }
 
-VkInstance createInstance(bool validation, const VkDebugUtilsMessengerCreateInfoEXT* messenger) {
+VkInstance createInstance(bool validation, bool sync, const VkDebugUtilsMessengerCreateInfoEXT* messenger) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "rtsdf";
   app.pEngineName = "rtsdf";
@@ -66,8 +66,15 @@ VkInstance createInstance(bool validation, const VkDebugUtilsMessengerCreateInfo
     layers.push_back(kValidationLayer);
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
   }
+  sync = sync && validation;
+  VkValidationFeatureEnableEXT syncFeature = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = &syncFeature;
+  features.pNext = messenger;
   VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  ci.pNext = messenger; // covers vkCreateInstance itself; a separate messenger covers the device's life
+  // The messenger here covers vkCreateInstance itself; a separate messenger covers the device's life.
+  ci.pNext = sync ? static_cast<const void*>(&features) : static_cast<const void*>(messenger);
   ci.pApplicationInfo = &app;
   ci.enabledLayerCount = std::uint32_t(layers.size());
   ci.ppEnabledLayerNames = layers.data();
@@ -139,13 +146,18 @@ struct VulkanContext::Messages {
 };
 
 
+bool ContextOptions::syncValidationRequestedByEnvironment() {
+  const char* v = std::getenv("RTSDF_SYNC_VALIDATION");
+  return v && std::string(v) == "1";
+}
+
 bool ContextOptions::validationRequestedByEnvironment() {
   const char* v = std::getenv("RTSDF_VALIDATION");
   return v && std::string(v) != "0" && std::string(v) != "";
 }
 
 std::vector<DeviceInfo> listDevices() {
-  VkInstance instance = createInstance(false, nullptr);
+  VkInstance instance = createInstance(false, false, nullptr);
   std::vector<DeviceInfo> out;
   try {
     const auto devices = physicalDevices(instance);
@@ -198,7 +210,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
       return VK_FALSE;
     };
     mci.pUserData = mMessages;
-    mInstance = createInstance(options.validation, options.validation ? &mci : nullptr);
+    mInstance = createInstance(options.validation, options.syncValidation, options.validation ? &mci : nullptr);
     if (options.validation) {
       auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
           vkGetInstanceProcAddr(mInstance, "vkCreateDebugUtilsMessengerEXT"));

@@ -38,7 +38,10 @@ struct ContextOptions {
   /// Enable VK_LAYER_KHRONOS_validation and count its errors. The default follows the environment
   /// variable RTSDF_VALIDATION (1 = on), which the test suite sets.
   bool validation = validationRequestedByEnvironment();
+  /// With validation, also synchronization validation. Default: RTSDF_SYNC_VALIDATION=1 (a CI step).
+  bool syncValidation = syncValidationRequestedByEnvironment();
   static bool validationRequestedByEnvironment();
+  static bool syncValidationRequestedByEnvironment();
 };
 
 /// @brief The devices Vulkan reports, in its order, without creating a device.

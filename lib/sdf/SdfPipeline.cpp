@@ -124,7 +124,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   const std::size_t fineBytes = mFineSpec.voxelCount() * 4;
   mGpu->fine = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine SDF");
   mGpu->history = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine history");
-  mGpu->votes = Buffer(ctx, fineBytes * 2, kStorage, Buffer::Memory::Device, "fine sign votes");
+  mGpu->votes = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine sign votes");
   mGpu->lastFrame = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine last frame");
   gpu::CommandBuffer cmd(ctx);
   // No history yet: lastFrame + 1 must differ from the first frame number (1).

@@ -37,7 +37,7 @@ std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
 TEST(Cli, HelpOnEveryCommand) {
   const Result top = rtsdfCmd("--help");
   EXPECT_EQ(top.exitCode, 0);
-  for (const char* cmd : {"bake", "info", "compare", "bench"}) {
+  for (const char* cmd : {"bake", "info", "compare", "bench", "animate"}) {
     EXPECT_NE(top.output.find(cmd), std::string::npos) << cmd;
     const Result r = rtsdfCmd(std::string(cmd) + " --help");
     EXPECT_EQ(r.exitCode, 0) << cmd;
@@ -110,6 +110,38 @@ TEST(Cli, BakesTheGpuCoarseSdf) {
   EXPECT_NE(big.exitCode, 0);
   EXPECT_NE(big.output.find("--coarse"), std::string::npos) << big.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "y.vdb"));
+}
+
+TEST(Cli, BakesTheRefinedSdfAndAnimates) {
+  TempDir dir;
+  const std::string scene = q(test::dataPath("scenes/default.json"));
+  const Result r = rtsdfCmd("bake " + scene + " --method rtsdf --coarse 24 --fine 48 --rays 2 --frames 2 -o " +
+                            q(dir / "fine.vdb"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("RayRefinePass"), std::string::npos) << r.output;
+  const auto grid = readLevelSet(dir / "fine.vdb");
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:method"), "rtsdf");
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:rays"), "2");
+  EXPECT_GT(grid->activeVoxelCount(), 1000u);
+
+  std::filesystem::create_directories(dir / "frames");
+  const Result a = rtsdfCmd("animate " + scene + " --frames 3 --coarse 16 --fine 32 --rays 2 --csv " +
+                            q(dir / "stats.csv") + " --vdb-dir " + q(dir / "frames"));
+  ASSERT_EQ(a.exitCode, 0) << a.output;
+  std::ifstream csv(dir / "stats.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_NE(header.find("mean_abs_error_voxels"), std::string::npos);
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 3);
+  EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "frame0002.vdb"));
+
+  for (const std::string& bad : {std::string("--alpha 2"), std::string("--rays -1"), std::string("--fine 8 --coarse 16")}) {
+    const Result b = rtsdfCmd("bake " + scene + " --method rtsdf " + bad + " -o " + q(dir / "bad.vdb"));
+    EXPECT_NE(b.exitCode, 0) << bad;
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad.vdb")) << bad;
+  }
 }
 
 TEST(Cli, InfoListsAVulkanDevice) {

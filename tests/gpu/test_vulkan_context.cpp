@@ -1,4 +1,5 @@
 #include "gpu/EmbeddedShaders.h"
+#include "gpu/Resources.h"
 #include "gpu/VulkanContext.h"
 #include "gpu/VulkanError.h"
 
@@ -61,6 +62,26 @@ TEST(VulkanContext, ValidationErrorsAreCounted) {
   vkCreateShaderModule(ctx.device(), &ci, nullptr, &m);
   if (m) vkDestroyShaderModule(ctx.device(), m, nullptr);
   EXPECT_GT(ctx.validationErrors(), 0u);
+}
+
+TEST(VulkanContext, SynchronizationValidationReportsAMissingBarrier) {
+  // Prove the synchronization-validation switch works: a buffer fill followed by a copy that reads the
+  // buffer, with no barrier between them, is a read-after-write hazard.
+  ContextOptions opt;
+  opt.validation = true;
+  opt.syncValidation = true;
+  VulkanContext ctx(opt);
+  {
+    Buffer a(ctx, 1024, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, Buffer::Memory::Device, "a");
+    Buffer b(ctx, 1024, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, Buffer::Memory::Device, "b");
+    CommandBuffer cmd(ctx);
+    vkCmdFillBuffer(cmd.handle(), a.handle(), 0, VK_WHOLE_SIZE, 7u);
+    const VkBufferCopy region{0, 0, 1024};
+    vkCmdCopyBuffer(cmd.handle(), a.handle(), b.handle(), 1, &region);
+    cmd.submitAndWait();
+  }
+  EXPECT_GT(ctx.validationErrors(), 0u);
+  EXPECT_NE(ctx.lastValidationMessage().find("SYNC"), std::string::npos) << ctx.lastValidationMessage();
 }
 
 TEST(VulkanContext, UnknownDeviceRequestIsAClearError) {

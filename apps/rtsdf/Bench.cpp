@@ -6,6 +6,8 @@
 #include "reference/CoarseReference.h"
 #include "reference/OpenVdbLevelSet.h"
 #include "sdf/CoarseSdf.h"
+#include "sdf/SdfPipeline.h"
+#include "grid/VdbIO.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "util/AtomicFile.h"
@@ -22,6 +24,7 @@
 #include <filesystem>
 #include <fstream>
 #include <thread>
+#include <tuple>
 
 namespace rtsdf::app {
 namespace fs = std::filesystem;
@@ -108,14 +111,97 @@ std::string coarseSuite(const BenchSettings& s) {
   return md;
 }
 
+/// Time and error of one pipeline configuration: `frames` frames accumulated; the last frame's GPU passes,
+/// and the fine field against the exact one over the band (|exact| <= d) after the last frame.
+struct RefinePoint {
+  double refineMs = 0.0, totalMs = 0.0, mirrorMs = 0.0;
+  std::uint64_t mask = 0;
+  FieldError error;
+};
+
+RefinePoint runRefinePoint(const gpu::VulkanContext& ctx, const Scene& scene, const SceneGeometry& geo,
+                           const PipelineSettings& ps, int frames, double errorBand) {
+  SdfPipeline pipe(ctx, scene, geo.bounds, ps);
+  FrameStats st;
+  for (int f = 0; f < frames; ++f) st = pipe.runFrame(0.0);
+  RefinePoint r;
+  r.refineMs = st.passTotal(SdfPipeline::kRefineName);
+  for (const auto& [n, ms] : st.passMs) r.totalMs += ms;
+  r.mirrorMs = st.mirrorMs;
+  r.mask = st.maskFineVoxels;
+  ExactSdfOptions eo;
+  eo.band = errorBand;
+  eo.progress = false;
+  const auto exact = exactSignedDistance(geo, pipe.fineSpec(), eo);
+  const auto fine = denseToLevelSet(pipe.fineField(), pipe.fineSpec(), float(errorBand));
+  r.error = compareFields(*exact, *fine);
+  return r;
+}
+
+/// The refinement suite: the paper's tables (ray-trace pass time for x at sizes S and M; band d x rays)
+/// with the error against the exact field beside each time, and OpenVDB's meshToLevelSet at the fine
+/// resolution and band as the anchor.
+std::string refineSuite(const BenchSettings& s) {
+  gpu::ContextOptions copt;
+  copt.device = s.device;
+  copt.validation = false;
+  gpu::VulkanContext ctx(copt);
+  const int frames = 2;
+  std::string md = fmt::format("GPU: {} ({}). Each point runs {} frames (static scene); times are the last "
+                               "frame's GPU timestamps; errors are after the last frame, in fine voxels, over the "
+                               "fine voxels with |exact| <= 0.1 (scene units), signs on the surface excluded.\n\n",
+                               ctx.info().name, ctx.info().typeName, frames);
+  for (const std::string& path : s.scenes) {
+    const Scene scene = loadScene(path);
+    const SceneGeometry geo = buildSceneGeometry(scene, 0.0);
+    const std::string name = fs::path(path).filename().string();
+    md += fmt::format("### {}: sizes x rays (d = 0.1, alpha = 0.95, 1+JFA)\n\n", name);
+    md += "| size | coarse/fine | mode | x | mask voxels | RayRefinePass (ms) | all passes (ms) | mirror CPU (ms) | "
+          "mean / max abs error | wrong sign | OpenVDB meshToLevelSet (ms) | refine / OpenVDB |\n";
+    md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& [size, coarse, fine] : {std::tuple<const char*, int, int>{"S", 64, 128}, {"M", 128, 256}}) {
+      PipelineSettings ps;
+      ps.coarseRes = coarse;
+      ps.fineRes = fine;
+      // The anchor: OpenVDB's narrow band at the fine voxels and the same band.
+      const GridSpec fineSpec = fineGridUnder(GridSpec::fromBounds(geo.bounds, coarse, std::min(ps.band, 0.25 * geo.bounds.maxExtent())), coarse, fine);
+      const double tVdb = 1e3 * medianSeconds(1, [&] { openvdbLevelSet(geo, fineSpec, ps.band); });
+      struct Mode { RefineMode mode; int rays; };
+      for (const Mode m : {Mode{RefineMode::Rays, 0}, Mode{RefineMode::Rays, 1}, Mode{RefineMode::Rays, 5},
+                           Mode{RefineMode::Rays, 10}, Mode{RefineMode::Closest, 1}}) {
+        ps.mode = m.mode;
+        ps.rays = m.rays;
+        spdlog::info("bench refine {} {} {} x={}", name, size, toString(m.mode), m.rays);
+        const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1);
+        md += fmt::format("| {} | {}/{} | {} | {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.3f} / {:.2f} | {:.3f}% | {:.0f} | "
+                          "{:.2f} |\n",
+                          size, coarse, fine, toString(m.mode), m.rays, r.mask, r.refineMs, r.totalMs, r.mirrorMs,
+                          r.error.meanAbs, r.error.maxAbs, 100.0 * r.error.signErrorRate(), tVdb, r.refineMs / tVdb);
+      }
+    }
+    md += fmt::format("\n### {}: band d x rays at size S (64/128)\n\n", name);
+    md += "| d | x | mask voxels | RayRefinePass (ms) | mean / max abs error | wrong sign |\n|---|---|---|---|---|---|\n";
+    for (double d : {0.01, 0.05, 0.1, 0.5, 1e3}) {
+      for (int x : {1, 5, 10, 15}) {
+        PipelineSettings ps;
+        ps.coarseRes = 64;
+        ps.fineRes = 128;
+        ps.band = d;
+        ps.rays = x;
+        spdlog::info("bench refine {} d={} x={}", name, d, x);
+        const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1);
+        md += fmt::format("| {} | {} | {} | {:.1f} | {:.3f} / {:.2f} | {:.3f}% |\n", d >= 1e3 ? "inf" : fmt::format("{}", d), x,
+                          r.mask, r.refineMs, r.error.meanAbs, r.error.maxAbs, 100.0 * r.error.signErrorRate());
+      }
+    }
+    md += "\n";
+  }
+  return md;
+}
+
 int finishReport(const BenchSettings& s, const std::string& md) {
   fmt::print("{}", md);
-  if (!s.output.empty())
-    writeFileAtomically(s.output, [&](const fs::path& tmp) {
-      std::ofstream out(tmp);
-      out << md;
-      if (!out) throw Error(fmt::format("{}: cannot write", s.output));
-    });
+  if (!s.output.empty()) writeTextAtomically(s.output, md);
   return 0;
 }
 
@@ -133,6 +219,10 @@ int runBench(const BenchSettings& settings) {
                     std::thread::hardware_concurrency(), fmt::localtime(now));
   if (s.suite == "coarse") {
     md += coarseSuite(s);
+    return finishReport(s, md);
+  }
+  if (s.suite == "refine") {
+    md += refineSuite(s);
     return finishReport(s, md);
   }
   md += fmt::format("Median of {} runs.\n\n", s.repeats);

@@ -182,12 +182,7 @@ int runAnimate(const AnimateSettings& a) {
   if (ctx.validationErrors())
     throw Error(fmt::format("Vulkan validation reported {} error(s); last: {}", ctx.validationErrors(),
                             ctx.lastValidationMessage()));
-  if (!a.csv.empty())
-    writeFileAtomically(a.csv, [&](const fs::path& tmp) {
-      std::ofstream out(tmp);
-      out << csv;
-      if (!out) throw Error(fmt::format("{}: cannot write", a.csv));
-    });
+  if (!a.csv.empty()) writeTextAtomically(a.csv, csv);
   return 0;
 }
 

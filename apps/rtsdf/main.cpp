@@ -125,8 +125,9 @@ int main(int argc, char** argv) {
   benchCmd->add_option("-o,--output", bench.output, "Also write the Markdown report to this file");
   benchCmd->add_option("--suite", bench.suite,
                        "reference: exact SDF vs OpenVDB meshToLevelSet; coarse: GPU voxelize + jump flooding per "
-                       "pass vs CPU jump flooding, exact EDT and OpenVDB meshToSignedDistanceField")
-      ->check(CLI::IsMember({"reference", "coarse"}))
+                       "pass vs CPU jump flooding, exact EDT and OpenVDB meshToSignedDistanceField; refine: the paper's "
+                       "ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet")
+      ->check(CLI::IsMember({"reference", "coarse", "refine"}))
       ->capture_default_str();
   benchCmd->add_option("--device", bench.device, "Vulkan device by index or name (coarse suite)");
 

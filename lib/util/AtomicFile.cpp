@@ -3,6 +3,7 @@
 #include "util/Error.h"
 
 #include <fmt/format.h>
+#include <fstream>
 #include <random>
 #include <system_error>
 #include <unistd.h>
@@ -32,6 +33,15 @@ void writeFileAtomically(const fs::path& target,
     fs::remove(tmp, ignored);
     throw Error(fmt::format("{}: cannot move the finished file into place: {}", target.string(), ec.message()));
   }
+}
+
+void writeTextAtomically(const fs::path& target, const std::string& text) {
+  writeFileAtomically(target, [&](const fs::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) throw Error(fmt::format("{}: cannot write", target.string()));
+  });
 }
 
 } // namespace rtsdf

@@ -3,6 +3,7 @@
 /// @brief Write-to-temporary-then-rename, so a failed write never leaves a partial output file.
 #include <filesystem>
 #include <functional>
+#include <string>
 
 namespace rtsdf {
 
@@ -12,5 +13,8 @@ namespace rtsdf {
 /// @note On any exception the temporary file is removed and @a target is left untouched.
 void writeFileAtomically(const std::filesystem::path& target,
                          const std::function<void(const std::filesystem::path&)>& write);
+
+/// @brief Write @a text to @a target atomically. @throw Error naming the file on failure.
+void writeTextAtomically(const std::filesystem::path& target, const std::string& text);
 
 } // namespace rtsdf

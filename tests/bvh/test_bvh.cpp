@@ -1,5 +1,6 @@
 // The GPU BVH traversal against Embree (rtcIntersect1 on the same world-space triangles) and against the
 // exact closest-point reference, on the bunny and the default scene (instances, rotations, scales).
+#include "GpuFixture.h"
 #include "TestUtil.h"
 #include "bvh/Bvh.h"
 #include "gpu/Resources.h"
@@ -73,21 +74,8 @@ struct EmbreeScene {
   ~EmbreeScene() { rtcReleaseScene(scene); rtcReleaseDevice(device); }
 };
 
-class BvhGpu : public ::testing::Test {
-protected:
-  static void SetUpTestSuite() {
-    gpu::ContextOptions opt;
-    opt.validation = true;
-    sCtx = std::make_unique<gpu::VulkanContext>(opt);
-  }
-  static void TearDownTestSuite() {
-    EXPECT_EQ(sCtx->liveObjects(), 0);
-    EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage();
-    sCtx.reset();
-  }
-  static std::unique_ptr<gpu::VulkanContext> sCtx;
-};
-std::unique_ptr<gpu::VulkanContext> BvhGpu::sCtx;
+struct BvhTag : test::NoSuiteObjects {};
+using BvhGpu = test::VulkanSuite<BvhTag>;
 
 void checkScene(const gpu::VulkanContext& ctx, const std::string& name, double time) {
   const Scene scene = loadScene(test::dataPath("scenes/" + name));

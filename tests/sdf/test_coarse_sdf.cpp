@@ -1,6 +1,7 @@
 // The coarse-SDF passes on the GPU (lavapipe in CI) against their CPU references on real scenes: the same
 // seeds and the same nearest seeds bit for bit (this is what proves the barriers between dispatches), and
 // jump flooding against the exact distance transform of the same seeds.
+#include "GpuFixture.h"
 #include "TestUtil.h"
 #include "gpu/VulkanContext.h"
 #include "reference/CoarseReference.h"
@@ -20,27 +21,22 @@ using gpu::shared::kNoSeed;
 namespace {
 
 /// One Vulkan context (validation on) for the whole suite; its error count must stay zero.
-class CoarseSdfGpu : public ::testing::Test {
+struct CoarseTag {
+  static void releaseSuiteObjects();
+};
+
+class CoarseSdfGpu : public test::VulkanSuite<CoarseTag> {
 protected:
-  static void SetUpTestSuite() {
-    gpu::ContextOptions opt;
-    opt.validation = true;
-    sCtx = std::make_unique<gpu::VulkanContext>(opt);
-    sBuilder = std::make_unique<CoarseSdfBuilder>(*sCtx);
+  static CoarseSdfBuilder& builder() {
+    if (!sBuilder) sBuilder = std::make_unique<CoarseSdfBuilder>(*sCtx);
+    return *sBuilder;
   }
-  static void TearDownTestSuite() {
-    sBuilder.reset();
-    EXPECT_EQ(sCtx->liveObjects(), 0);
-    EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage();
-    sCtx.reset();
-  }
-  void TearDown() override { EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage(); }
 
   /// GPU and CPU on the same triangles and grid: seeds and nearest seeds identical, distances within rounding.
   static void expectGpuEqualsCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec, JfaVariant variant) {
     CoarseSdfSettings s;
     s.variant = variant;
-    const CoarseSdf gpu = sBuilder->build(corners, spec, s, true);
+    const CoarseSdf gpu = builder().build(corners, spec, s, true);
     const std::vector<std::uint32_t> seeds = voxelizeCpu(corners, spec);
     ASSERT_EQ(gpu.seeds.size(), seeds.size());
     std::size_t seedDiff = 0, seedCount = 0;
@@ -60,11 +56,11 @@ protected:
     EXPECT_GT(gpu.passTotal(JumpFloodPass::kName), 0.0);
   }
 
-  static std::unique_ptr<gpu::VulkanContext> sCtx;
-  static std::unique_ptr<CoarseSdfBuilder> sBuilder;
+  static inline std::unique_ptr<CoarseSdfBuilder> sBuilder;
+  friend struct CoarseTag;
 };
-std::unique_ptr<gpu::VulkanContext> CoarseSdfGpu::sCtx;
-std::unique_ptr<CoarseSdfBuilder> CoarseSdfGpu::sBuilder;
+
+void CoarseTag::releaseSuiteObjects() { CoarseSdfGpu::sBuilder.reset(); }
 
 SceneGeometry sceneGeometry(const std::string& name) {
   return buildSceneGeometry(loadScene(test::dataPath("scenes/" + name)));
@@ -105,7 +101,7 @@ TEST_F(CoarseSdfGpu, NonCubicThinEmptyAndBoundaryGrids) {
   // The mesh touches the grid's boundary (no padding).
   expectGpuEqualsCpu(corners, GridSpec::fromBounds(geo.bounds, 50, 0.0), JfaVariant::Jfa);
   // No triangles at all: no seeds anywhere, every voxel at the empty-scene distance.
-  const CoarseSdf empty = sBuilder->build(std::vector<glm::vec4>{}, odd, {}, true);
+  const CoarseSdf empty = builder().build(std::vector<glm::vec4>{}, odd, {}, true);
   for (std::size_t i = 0; i < empty.nearest.size(); ++i) {
     ASSERT_EQ(empty.seeds[i], kNoSeed);
     ASSERT_EQ(empty.nearest[i], kNoSeed);
@@ -136,7 +132,7 @@ TEST_F(CoarseSdfGpu, SeedsAreConservativeAndTight) {
   // seed, and every seed's centre lies within half a voxel diagonal of the surface.
   const SceneGeometry geo = sceneGeometry("bunny.json");
   const GridSpec spec = GridSpec::fromBounds(geo.bounds, 64, 0.1);
-  const CoarseSdf c = sBuilder->build(geo, spec, {}, true);
+  const CoarseSdf c = builder().build(geo, spec, {}, true);
   const ExactDistanceField exact(geo);
   const float halfDiagonal = float(0.5 * std::sqrt(3.0) * spec.voxelSize);
   std::size_t seeds = 0;

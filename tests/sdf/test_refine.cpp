@@ -1,5 +1,6 @@
 // The refinement half of the pipeline on lavapipe: the OpenVDB ray mask, the closest-point mode against
 // the exact reference, the ray mode's one-sided error, and the extremes of every knob.
+#include "GpuFixture.h"
 #include "TestUtil.h"
 #include "grid/VdbIO.h"
 #include "reference/ExactSdf.h"
@@ -16,22 +17,8 @@ using namespace rtsdf;
 
 namespace {
 
-class Refine : public ::testing::Test {
-protected:
-  static void SetUpTestSuite() {
-    gpu::ContextOptions opt;
-    opt.validation = true;
-    sCtx = std::make_unique<gpu::VulkanContext>(opt);
-  }
-  static void TearDownTestSuite() {
-    EXPECT_EQ(sCtx->liveObjects(), 0);
-    EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage();
-    sCtx.reset();
-  }
-  void TearDown() override { EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage(); }
-  static std::unique_ptr<gpu::VulkanContext> sCtx;
-};
-std::unique_ptr<gpu::VulkanContext> Refine::sCtx;
+struct RefineTag : test::NoSuiteObjects {};
+using Refine = test::VulkanSuite<RefineTag>;
 
 /// Statistics of the fine field over the masked voxels against the exact field of the same moment.
 struct MaskedError {

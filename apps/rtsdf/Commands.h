@@ -49,6 +49,7 @@ struct AnimateSettings {
   std::string csv;             ///< per-frame statistics (CSV); empty: stdout only
   std::string vdbDir;          ///< per-frame .vdb files; empty: none
   bool error = true;           ///< measure each frame against the exact field of the same moment
+  std::string focus;           ///< measure only in the box an instance sweeps over the animation (ghosting)
   BakeSettings pipeline;       ///< coarse, fine, band, alpha, rays, refine, jfa, beta, seed, device
 };
 

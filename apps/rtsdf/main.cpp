@@ -95,6 +95,8 @@ int main(int argc, char** argv) {
   animCmd->add_option("--csv", anim.csv, "Write per-frame statistics to this CSV file");
   animCmd->add_option("--vdb-dir", anim.vdbDir, "Write frameNNNN.vdb files (fine SDF band) into this folder");
   animCmd->add_flag("!--no-error", anim.error, "Skip the per-frame comparison with the exact field");
+  animCmd->add_option("--focus", anim.focus,
+                      "Measure the error only in the box this instance sweeps (e.g. teapot: ghosting behind it)");
   animCmd->add_option("-d,--band", anim.pipeline.band, "Band d in scene units")->check(CLI::NonNegativeNumber)->capture_default_str();
   anim.pipeline.fine = 128;
   anim.pipeline.coarse = 64;

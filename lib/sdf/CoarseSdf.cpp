@@ -126,9 +126,11 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
   mDistance.record(cmd.handle(), nearest, dist, dp, &mProfiler);
   cmd.submitAndWait();
   out.passMs = mProfiler.results();
-  out.nearest.resize(voxels);
   out.distance.resize(voxels);
-  download(mCtx, nearest, out.nearest.data(), voxels * 4);
+  if (settings.readNearest) {
+    out.nearest.resize(voxels);
+    download(mCtx, nearest, out.nearest.data(), voxels * 4);
+  }
   download(mCtx, dist, out.distance.data(), voxels * 4);
   return out;
 }

@@ -61,6 +61,8 @@ struct CoarseSdfSettings {
   JfaVariant variant = JfaVariant::OnePlusJfa;
   /// Subtracted from the seed distance (scene units); negative: half a voxel.
   double beta = -1.0;
+  /// Read the nearest seeds back (tests, benchmarks); the pipeline needs only the distances.
+  bool readNearest = true;
 };
 
 /// @brief A coarse SDF read back from the GPU, with the time of each pass.
@@ -68,7 +70,7 @@ struct CoarseSdf {
   GridSpec spec;
   float beta = 0.0f;
   std::vector<std::uint32_t> seeds;   ///< only when asked for (for tests)
-  std::vector<std::uint32_t> nearest; ///< nearest seed per voxel (x fastest)
+  std::vector<std::uint32_t> nearest; ///< nearest seed per voxel (x fastest), if CoarseSdfSettings::readNearest
   std::vector<float> distance;        ///< c per voxel, scene units
   std::vector<std::pair<std::string, double>> passMs; ///< GPU time per pass, in recording order
   double passTotal(const std::string& pass) const;

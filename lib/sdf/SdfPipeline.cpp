@@ -144,6 +144,7 @@ FrameStats SdfPipeline::runFrame(double time) {
   CoarseSdfSettings cs;
   cs.variant = mSettings.variant;
   cs.beta = mSettings.beta;
+  cs.readNearest = false;
   CoarseSdf coarse = mGpu->coarse.build(geo, mCoarseSpec, cs);
   stats.passMs = coarse.passMs;
   mCoarse = std::move(coarse.distance);

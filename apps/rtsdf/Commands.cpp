@@ -136,6 +136,11 @@ int runAnimate(const AnimateSettings& a) {
   if (!(a.fps > 0.0) || !std::isfinite(a.fps)) throw Error(fmt::format("--fps {} must be positive", a.fps));
   const PipelineSettings ps = pipelineSettings(a.pipeline);
   const Scene scene = loadScene(a.scene);
+  std::size_t focusIndex = scene.instances.size();
+  for (std::size_t i = 0; i < scene.instances.size(); ++i)
+    if (scene.instances[i].name == a.focus) focusIndex = i;
+  if (!a.focus.empty() && focusIndex == scene.instances.size())
+    throw Error(fmt::format("--focus: {} has no instance named '{}'", a.scene, a.focus));
   // Grids fixed over the whole animation: the union of the scene's bounds at every frame.
   Bounds bounds;
   for (int f = 0; f < a.frames; ++f) bounds.add(buildSceneGeometry(scene, f / a.fps).bounds);
@@ -147,10 +152,7 @@ int runAnimate(const AnimateSettings& a) {
   // --focus: the box the instance sweeps over the animation, grown by the band, in fine index space.
   openvdb::CoordBBox focusBox;
   if (!a.focus.empty()) {
-    std::size_t idx = scene.instances.size();
-    for (std::size_t i = 0; i < scene.instances.size(); ++i)
-      if (scene.instances[i].name == a.focus) idx = i;
-    if (idx == scene.instances.size()) throw Error(fmt::format("--focus: {} has no instance named '{}'", a.scene, a.focus));
+    const std::size_t idx = focusIndex;
     Bounds swept;
     for (int f = 0; f < a.frames; ++f) {
       const SceneGeometry g = buildSceneGeometry(scene, f / a.fps);

@@ -207,12 +207,23 @@ ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
 
 void ComputePipeline::dispatch(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push,
                                glm::uvec3 groups) const {
-  if (buffers.size() != mBindings)
-    throw Error(fmt::format("{}: {} buffers given for {} bindings", mName, buffers.size(), mBindings));
   const glm::uvec3 limit = mCtx->info().maxWorkGroupCount;
   if (groups.x > limit.x || groups.y > limit.y || groups.z > limit.z)
     throw Error(fmt::format("{}: dispatch of {}x{}x{} work groups exceeds {}'s limit of {}x{}x{}", mName, groups.x,
                             groups.y, groups.z, mCtx->info().name, limit.x, limit.y, limit.z));
+  bind(cmd, buffers, push);
+  if (groups.x && groups.y && groups.z) vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
+}
+
+void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers,
+                                       const void* push, const Buffer& indirect) const {
+  bind(cmd, buffers, push);
+  vkCmdDispatchIndirect(cmd, indirect.handle(), 0);
+}
+
+void ComputePipeline::bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push) const {
+  if (buffers.size() != mBindings)
+    throw Error(fmt::format("{}: {} buffers given for {} bindings", mName, buffers.size(), mBindings));
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mPipeline);
   std::vector<VkDescriptorBufferInfo> infos;
   std::vector<VkWriteDescriptorSet> writes;
@@ -229,17 +240,17 @@ void ComputePipeline::dispatch(VkCommandBuffer cmd, std::initializer_list<const 
   if (mBindings)
     mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mLayout, 0, mBindings, writes.data());
   if (mPushBytes) vkCmdPushConstants(cmd, mLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, mPushBytes, push);
-  if (groups.x && groups.y && groups.z) vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
 }
 
 void computeBarrier(VkCommandBuffer cmd) {
   VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
   b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                    VK_ACCESS_TRANSFER_WRITE_BIT;
+                    VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &b, 0, nullptr, 0,
-                       nullptr);
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                       0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
 void upload(const VulkanContext& ctx, const Buffer& dst, const void* data, std::size_t bytes) {

@@ -88,9 +88,14 @@ public:
   /// @note @a push must point at exactly the pushConstantBytes given at creation (or be null when 0).
   void dispatch(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push,
                 glm::uvec3 groups) const;
+  /// @brief The same with the group counts read on the GPU from @a indirect (a VkDispatchIndirectCommand at
+  ///        offset 0; the buffer needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT).
+  void dispatchIndirect(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push,
+                        const Buffer& indirect) const;
   const std::string& name() const { return mName; }
 
 private:
+  void bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push) const;
   void reset();
   const VulkanContext* mCtx = nullptr;
   std::string mName;

@@ -88,6 +88,7 @@ struct SdfPipeline::Gpu {
   Buffer blasNodes, corners, triangleIds;
   Buffer coarseBuf, fine, history, votes, lastFrame;
   Buffer mask, tlasNodes, tlasSlots, instances;
+  Buffer indirect{}; // VkDispatchIndirectCommand of RayRefinePass
   explicit Gpu(const gpu::VulkanContext& ctx)
       : coarse(ctx), upsample(ctx, "refine_upsample.comp", 2, sizeof(RefineParams)),
         refine(ctx, "refine.comp", 11, sizeof(RefineParams)), profiler(ctx) {}
@@ -161,6 +162,14 @@ FrameStats SdfPipeline::runFrame(double time) {
   uploadGrow(mCtx, mGpu->instances, top.instances.data(), top.instances.size() * sizeof(gpu::shared::BvhInstance),
              "instances");
   uploadGrow(mCtx, mGpu->mask, mask.fineVoxels.data(), mask.fineVoxels.size() * 4, "ray mask");
+  // The mask's size travels as an indirect dispatch, so a GPU-side compaction can later write it in place.
+  const std::uint32_t groups = gpu::groupsFor(mask.fineVoxels.size(), 64);
+  const std::uint32_t gx = std::min<std::uint32_t>(std::max(groups, 1u), 65535u), gy = gpu::groupsFor(groups, gx);
+  const VkDispatchIndirectCommand dispatch{groups ? gx : 0u, groups ? gy : 0u, 1u};
+  if (!mGpu->indirect)
+    mGpu->indirect = Buffer(mCtx, sizeof(dispatch), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Host,
+                            "refine dispatch");
+  upload(mCtx, mGpu->indirect, &dispatch, sizeof(dispatch));
   uploadGrow(mCtx, mGpu->coarseBuf, mCoarse.data(), mCoarse.size() * 4, "coarse SDF");
 
   RefineParams p{};
@@ -188,14 +197,11 @@ FrameStats SdfPipeline::runFrame(double time) {
   }
   if (!mask.fineVoxels.empty()) {
     gpu::ProfileScope scope(&mGpu->profiler, cmd.handle(), kRefineName);
-    // Rows of 65535 groups: masks can exceed one dispatch dimension.
-    const std::uint32_t groups = gpu::groupsFor(mask.fineVoxels.size(), 64);
-    const std::uint32_t gx = std::min<std::uint32_t>(groups, 65535u), gy = gpu::groupsFor(groups, gx);
     Gpu& g = *mGpu;
-    g.refine.dispatch(cmd.handle(),
-                      {&g.blasNodes, &g.corners, &g.triangleIds, &g.tlasNodes, &g.tlasSlots, &g.instances, &g.mask,
-                       &g.fine, &g.history, &g.votes, &g.lastFrame},
-                      &p, {gx, gy, 1});
+    g.refine.dispatchIndirect(cmd.handle(),
+                              {&g.blasNodes, &g.corners, &g.triangleIds, &g.tlasNodes, &g.tlasSlots, &g.instances,
+                               &g.mask, &g.fine, &g.history, &g.votes, &g.lastFrame},
+                              &p, g.indirect);
     gpu::computeBarrier(cmd.handle());
   }
   cmd.submitAndWait();

@@ -209,6 +209,16 @@ TEST_F(Refine, ExtremesGiveFiniteFields) {
   pipe.runFrame(0.0);
   pipe.runFrame(0.0);
   for (float v : pipe.fineField()) ASSERT_TRUE(std::isfinite(v));
+  // A flat triangle with d = 0: grids one voxel thick.
+  test::writeText(dir / "flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Scene flat = loadScene(dir / "flat.obj");
+  PipelineSettings thin = base;
+  thin.band = 0.0;
+  SdfPipeline flatPipe(*sCtx, flat, boundsOf(flat), thin);
+  EXPECT_EQ(flatPipe.coarseSpec().dims.z, 1);
+  EXPECT_EQ(flatPipe.fineSpec().dims.z, 2); // fine voxels cover the coarse one: two at ratio 2
+  flatPipe.runFrame(0.0);
+  for (float v : flatPipe.fineField()) ASSERT_TRUE(std::isfinite(v));
 }
 
 TEST_F(Refine, RejectsBadSettings) {

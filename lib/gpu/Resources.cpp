@@ -253,6 +253,12 @@ void computeBarrier(VkCommandBuffer cmd) {
                        0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
+void reserve(const VulkanContext& ctx, Buffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage, Buffer::Memory memory,
+             const std::string& name) {
+  const VkDeviceSize size = std::max<VkDeviceSize>(bytes, 16);
+  if (!b || b.size() < size) b = Buffer(ctx, size, usage, memory, name);
+}
+
 void upload(const VulkanContext& ctx, const Buffer& dst, const void* data, std::size_t bytes) {
   if (bytes > dst.size()) throw Error(fmt::format("upload of {} bytes into buffer '{}' of {}", bytes, dst.name(), dst.size()));
   if (bytes == 0) return;

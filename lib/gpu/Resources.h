@@ -111,6 +111,11 @@ private:
 ///       validation layer misses dispatch-to-dispatch hazards on this driver version.
 void computeBarrier(VkCommandBuffer cmd);
 
+/// @brief (Re)create @a b when it is empty or smaller than @a bytes (at least 16); keeps it otherwise, so
+///        per-frame buffers are allocated once.
+void reserve(const VulkanContext& ctx, Buffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage, Buffer::Memory memory,
+             const std::string& name);
+
 /// @brief Copy @a bytes from host memory into @a dst (through a staging buffer when it is device memory).
 void upload(const VulkanContext& ctx, const Buffer& dst, const void* data, std::size_t bytes);
 /// @brief Copy @a bytes of @a src into host memory (through a staging buffer when it is device memory).

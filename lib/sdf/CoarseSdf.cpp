@@ -95,13 +95,14 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
   }
 
   using gpu::Buffer;
+  // Kept between builds: a frame loop allocates them once.
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  Buffer cornerBuf(mCtx, std::max<std::size_t>(corners.size(), 3) * sizeof(glm::vec4), storage, Buffer::Memory::Device,
-                   "triangle corners");
-  upload(mCtx, cornerBuf, corners.data(), corners.size() * sizeof(glm::vec4));
-  Buffer a(mCtx, voxels * 4, storage, Buffer::Memory::Device, "seeds / jump flood A");
-  Buffer b(mCtx, voxels * 4, storage, Buffer::Memory::Device, "jump flood B");
-  Buffer dist(mCtx, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
+  gpu::reserve(mCtx, mCorners, corners.size() * sizeof(glm::vec4), storage, Buffer::Memory::Device, "triangle corners");
+  upload(mCtx, mCorners, corners.data(), corners.size() * sizeof(glm::vec4));
+  gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / jump flood A");
+  gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "jump flood B");
+  gpu::reserve(mCtx, mDistanceBuf, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
+  const Buffer &cornerBuf = mCorners, &a = mSeedsA, &b = mSeedsB, &dist = mDistanceBuf;
 
   CoarseSdf out;
   out.spec = spec;

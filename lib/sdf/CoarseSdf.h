@@ -86,9 +86,13 @@ public:
   /// @brief The same on raw triangle corners (3 per triangle; an empty list gives an empty scene).
   CoarseSdf build(const std::vector<glm::vec4>& corners, const GridSpec& spec, const CoarseSdfSettings& settings,
                   bool keepSeeds = false);
+  /// @brief The last build's coarse SDF on the GPU (x fastest), valid until the next build: later passes
+  ///        read it in place instead of uploading the read-back copy again.
+  const gpu::Buffer& distanceBuffer() const { return mDistanceBuf; }
 
 private:
   const gpu::VulkanContext& mCtx;
+  gpu::Buffer mCorners, mSeedsA, mSeedsB, mDistanceBuf;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;
   CoarseDistancePass mDistance;

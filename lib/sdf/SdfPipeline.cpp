@@ -86,7 +86,7 @@ struct SdfPipeline::Gpu {
   gpu::ComputePipeline upsample, refine;
   gpu::GpuProfiler profiler;
   Buffer blasNodes, corners, triangleIds;
-  Buffer coarseBuf, fine, history, votes, lastFrame;
+  Buffer fine, history, votes, lastFrame;
   Buffer mask, tlasNodes, tlasSlots, instances;
   Buffer indirect{}; // VkDispatchIndirectCommand of RayRefinePass
   explicit Gpu(const gpu::VulkanContext& ctx)
@@ -97,10 +97,9 @@ struct SdfPipeline::Gpu {
 namespace {
 const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
-/// (Re)allocate @a b when it is smaller than @a bytes (at least 16 bytes), then upload.
+/// Grow @a b to @a bytes if needed, then upload.
 void uploadGrow(const gpu::VulkanContext& ctx, Buffer& b, const void* data, std::size_t bytes, const char* name) {
-  const std::size_t size = std::max<std::size_t>(bytes, 16);
-  if (!b || b.size() < size) b = Buffer(ctx, size, kStorage, Buffer::Memory::Device, name);
+  gpu::reserve(ctx, b, bytes, kStorage, Buffer::Memory::Device, name);
   upload(ctx, b, data, bytes);
 }
 } // namespace
@@ -170,7 +169,6 @@ FrameStats SdfPipeline::runFrame(double time) {
     mGpu->indirect = Buffer(mCtx, sizeof(dispatch), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Host,
                             "refine dispatch");
   upload(mCtx, mGpu->indirect, &dispatch, sizeof(dispatch));
-  uploadGrow(mCtx, mGpu->coarseBuf, mCoarse.data(), mCoarse.size() * 4, "coarse SDF");
 
   RefineParams p{};
   p.fineOriginH = glm::vec4(glm::vec3(mFineSpec.origin), float(mFineSpec.voxelSize));
@@ -190,7 +188,7 @@ FrameStats SdfPipeline::runFrame(double time) {
   {
     gpu::ProfileScope scope(&mGpu->profiler, cmd.handle(), kUpsampleName);
     const glm::ivec3 d = mFineSpec.dims;
-    mGpu->upsample.dispatch(cmd.handle(), {&mGpu->coarseBuf, &mGpu->fine}, &p,
+    mGpu->upsample.dispatch(cmd.handle(), {&mGpu->coarse.distanceBuffer(), &mGpu->fine}, &p,
                             {gpu::groupsFor(d.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(d.y, RTSDF_JFA_GROUP_Y),
                              gpu::groupsFor(d.z, RTSDF_JFA_GROUP_Z)});
     gpu::computeBarrier(cmd.handle());

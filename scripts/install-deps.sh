@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libopenvdb-dev libopenvdb-tools python3-openvdb libboost-iostreams-dev libblosc-dev
-  libembree-dev libtbb-dev libopenexr-dev libimath-dev python3-imath libglm-dev
+  libembree-dev libtbb-dev libopenexr-dev libimath-dev libpng-dev python3-imath libglm-dev
   libvulkan-dev mesa-vulkan-drivers glslc vulkan-validationlayers vulkan-tools
   libassimp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev

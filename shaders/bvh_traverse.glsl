@@ -46,7 +46,7 @@ bool rayTriangle(vec3 o, vec3 d, vec3 a, vec3 b, vec3 c, float tmin, inout float
 // Nearest hit along o + t d, t in (tmin, tmax). Returns false when nothing is hit.
 bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
   hit.point = vec4(0.0, 0.0, 0.0, -1.0);
-  hit.instance = 0u; hit.triangle = 0u; hit.frontFace = 0u; hit.pad0 = 0u;
+  hit.instance = 0u; hit.triangle = 0u; hit.frontFace = 0u; hit.leaf = 0u;
   float best = tmax;
   bool found = false;
   vec3 invD = 1.0 / d;
@@ -92,6 +92,7 @@ bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
             found = true;
             hit.instance = inst.instanceId;
             hit.triangle = triangleIds[tri];
+            hit.leaf = tri;
             hit.frontFace = (front != (inst.mirrored != 0u)) ? 1u : 0u;
           }
         }
@@ -131,7 +132,7 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
   float best = maxDist;
   bool found = false;
   vec3 bestPoint = vec3(0.0);
-  uint bestInstance = 0u, bestTriangle = 0u, bestFront = 0u;
+  uint bestInstance = 0u, bestTriangle = 0u, bestFront = 0u, bestLeaf = 0u;
   uint tstack[RTSDF_BVH_STACK];
   int tsp = 0;
   tstack[tsp++] = 0u;
@@ -179,6 +180,7 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
             bestPoint = q;
             bestInstance = inst.instanceId;
             bestTriangle = triangleIds[tri];
+            bestLeaf = tri;
             // Outside when p lies on the side the triangle's counter-clockwise normal points to.
             bestFront = dot(p - q, cross(b - a, c - a)) * (inst.mirrored != 0u ? -1.0 : 1.0) >= 0.0 ? 1u : 0u;
           }
@@ -190,7 +192,7 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
   hit.instance = bestInstance;
   hit.triangle = bestTriangle;
   hit.frontFace = bestFront; // closest points: 1 when p is on the outer side of the closest triangle
-  hit.pad0 = 0u;
+  hit.leaf = bestLeaf;
   return found;
 }
 

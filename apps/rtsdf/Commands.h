@@ -70,7 +70,30 @@ struct BenchSettings {
   std::string device;
 };
 
+struct RenderCommandSettings {
+  std::string scene;
+  std::string output;          ///< .exr
+  std::string png;             ///< empty: the output with .png
+  std::string shadows = "sdf";
+  int width = 640, height = 360;
+  int frames = 8;              ///< frames rendered (TAA and SDF accumulation); the last is written
+  double fps = 30.0;
+  double time = 0.0;           ///< time of the last frame
+  std::string penumbra = "improved";
+  double epsilon = 1.0, bias = 0.01, maxStep = 0.05, normalOffset = -1.0;
+  int maxSteps = 256;
+  bool jitter = true;
+  int shadowMapRes = 1024, pcfRadius = 2;
+  double shadowBias = 1.5;
+  bool taa = true;
+  double taaBlend = 0.1;
+  int samples = 256;
+  bool compare = false;        ///< also ray trace the truth and report the image error
+  BakeSettings pipeline;       ///< coarse, fine, band, alpha, rays, refine, jfa, beta, seed, device
+};
+
 int runBake(const BakeSettings& s);
+int runRender(const RenderCommandSettings& s);
 int runInfo();
 int runCompare(const CompareSettings& s);
 int runBench(const BenchSettings& s);

@@ -102,6 +102,69 @@ int main(int argc, char** argv) {
   anim.pipeline.coarse = 64;
   addPipelineOptions(animCmd, anim.pipeline);
 
+  RenderCommandSettings render;
+  CLI::App* renderCmd = app.add_subcommand(
+      "render", "Render the scene camera's view with soft shadows (SDF sphere tracing, shadow maps or ray-traced "
+                "truth) to a linear EXR (R, G, B and each light's visibility) and an sRGB PNG");
+  renderCmd->add_option("scene", render.scene, "Scene (.json) with a camera and lights")->required();
+  renderCmd->add_option("-o,--output", render.output, "Output .exr (written atomically)")->required();
+  renderCmd->add_option("--png", render.png, "Output .png (default: the .exr's name with .png)");
+  renderCmd->add_option("--shadows", render.shadows,
+                        "sdf: sphere tracing of the RTSDF fine SDF; shadowmap: depth maps with PCF; raytraced: "
+                        "distributed ray tracing on the CPU (the truth)")
+      ->check(CLI::IsMember({"sdf", "shadowmap", "raytraced"}))
+      ->capture_default_str();
+  renderCmd->add_option("--width", render.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  renderCmd->add_option("--height", render.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  renderCmd->add_option("--frames", render.frames, "Frames rendered (SDF refinement and TAA accumulate); the last one is written")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  renderCmd->add_option("--fps", render.fps, "Frames per second of scene time")->check(CLI::PositiveNumber)->capture_default_str();
+  renderCmd->add_option("-t,--time", render.time, "Scene time of the written frame in seconds")->capture_default_str();
+  renderCmd->add_option("--penumbra", render.penumbra,
+                        "SDF penumbra estimate: classic (k h / t), improved (triangulated between samples), centered "
+                        "(marches through occluders: penumbra centred on the shadow boundary)")
+      ->check(CLI::IsMember({"classic", "improved", "centered"}))
+      ->capture_default_str();
+  renderCmd->add_option("--epsilon", render.epsilon, "SDF hit threshold in fine voxels (>= 1)")
+      ->check(CLI::Range(1.0, 64.0))
+      ->capture_default_str();
+  renderCmd->add_option("--bias", render.bias, "Subtracted from SDF samples against leaks through thin surfaces (scene units)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  renderCmd->add_option("--max-step", render.maxStep, "Longest SDF march step, against banding (scene units)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  renderCmd->add_option("--max-steps", render.maxSteps, "SDF march steps at most")->check(CLI::Range(1, 4096))->capture_default_str();
+  renderCmd->add_option("--normal-offset", render.normalOffset,
+                        "SDF march start off the surface (scene units; default: bias + 2 epsilon)")
+      ->check(CLI::NonNegativeNumber);
+  renderCmd->add_flag("!--no-jitter", render.jitter, "Do not jitter the SDF march's start per pixel and frame");
+  renderCmd->add_option("--shadow-map-res", render.shadowMapRes, "Shadow map texels per side (per cube face)")
+      ->check(CLI::Range(1, 8192))
+      ->capture_default_str();
+  renderCmd->add_option("--pcf-radius", render.pcfRadius, "PCF kernel radius in texels")->check(CLI::Range(0, 16))->capture_default_str();
+  renderCmd->add_option("--shadow-bias", render.shadowBias, "Shadow map depth bias in texels")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  renderCmd->add_flag("!--no-taa", render.taa, "Turn temporal accumulation off");
+  renderCmd->add_option("--taa-blend", render.taaBlend, "TAA weight of the newest frame")
+      ->check(CLI::Range(1e-6, 1.0))
+      ->capture_default_str();
+  renderCmd->add_option("--samples", render.samples, "Ray-traced shadows: samples per pixel and light")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  renderCmd->add_flag("--compare", render.compare,
+                      "Also ray trace the truth and print the visibility RMSE and FLIP of the picture");
+  render.pipeline.coarse = 64;
+  render.pipeline.fine = 128;
+  render.pipeline.band = 0.1;
+  render.pipeline.refine = "closest";
+  renderCmd->add_option("-d,--band", render.pipeline.band, "SDF ray-mask band d in scene units")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  addPipelineOptions(renderCmd, render.pipeline);
+
   app.add_subcommand("info", "Print versions, Vulkan devices with their limits, and embedded shaders");
 
   CompareSettings cmp;
@@ -147,6 +210,7 @@ int main(int argc, char** argv) {
     if (*cmpCmd) return runCompare(cmp);
     if (*benchCmd) return runBench(bench);
     if (*animCmd) return runAnimate(anim);
+    if (*renderCmd) return runRender(render);
   } catch (const rtsdf::Error& e) {
     spdlog::error("{}", e.what());
     return 1;

@@ -85,9 +85,8 @@ struct SdfPipeline::Gpu {
   CoarseSdfBuilder coarse;
   gpu::ComputePipeline upsample, refine;
   gpu::GpuProfiler profiler;
-  Buffer blasNodes, corners, triangleIds;
   Buffer fine, history, votes, lastFrame;
-  Buffer mask, tlasNodes, tlasSlots, instances;
+  Buffer mask;
   Buffer indirect{}; // VkDispatchIndirectCommand of RayRefinePass
   explicit Gpu(const gpu::VulkanContext& ctx)
       : coarse(ctx), upsample(ctx, "refine_upsample.comp", 2, sizeof(RefineParams)),
@@ -114,13 +113,8 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   for (int a = 0; a < 3; ++a)
     if (mFineSpec.dims[a] > 1024)
       throw Error(fmt::format("fine grid {}: more than 1024 voxels along an axis", mFineSpec.describe()));
-  mMeshBvhs = buildMeshBvhs(scene);
+  mBvh = std::make_unique<GpuSceneBvh>(ctx, scene);
   mGpu = std::make_unique<Gpu>(ctx);
-  uploadGrow(ctx, mGpu->blasNodes, mMeshBvhs.nodes.data(), mMeshBvhs.nodes.size() * sizeof(gpu::shared::BvhNode),
-             "BLAS nodes");
-  uploadGrow(ctx, mGpu->corners, mMeshBvhs.corners.data(), mMeshBvhs.corners.size() * sizeof(glm::vec4),
-             "BLAS triangles");
-  uploadGrow(ctx, mGpu->triangleIds, mMeshBvhs.triangleIds.data(), mMeshBvhs.triangleIds.size() * 4, "triangle ids");
   const std::size_t fineBytes = mFineSpec.voxelCount() * 4;
   mGpu->fine = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine SDF");
   mGpu->history = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine history");
@@ -155,11 +149,7 @@ FrameStats SdfPipeline::runFrame(double time) {
   stats.maskCoarseVoxels = mask.coarseVoxels;
   stats.maskFineVoxels = mask.fineVoxels.size();
 
-  const InstanceBvh top = buildInstanceBvh(mScene, mMeshBvhs, time);
-  uploadGrow(mCtx, mGpu->tlasNodes, top.nodes.data(), top.nodes.size() * sizeof(gpu::shared::BvhNode), "TLAS nodes");
-  uploadGrow(mCtx, mGpu->tlasSlots, top.slots.data(), top.slots.size() * 4, "TLAS slots");
-  uploadGrow(mCtx, mGpu->instances, top.instances.data(), top.instances.size() * sizeof(gpu::shared::BvhInstance),
-             "instances");
+  mBvh->update(time);
   uploadGrow(mCtx, mGpu->mask, mask.fineVoxels.data(), mask.fineVoxels.size() * 4, "ray mask");
   // The mask's size travels as an indirect dispatch, so a GPU-side compaction can later write it in place.
   const std::uint32_t groups = gpu::groupsFor(mask.fineVoxels.size(), 64);
@@ -196,9 +186,9 @@ FrameStats SdfPipeline::runFrame(double time) {
   if (!mask.fineVoxels.empty()) {
     gpu::ProfileScope scope(&mGpu->profiler, cmd.handle(), kRefineName);
     Gpu& g = *mGpu;
+    const auto b = mBvh->buffers();
     g.refine.dispatchIndirect(cmd.handle(),
-                              {&g.blasNodes, &g.corners, &g.triangleIds, &g.tlasNodes, &g.tlasSlots, &g.instances,
-                               &g.mask, &g.fine, &g.history, &g.votes, &g.lastFrame},
+                              {b[0], b[1], b[2], b[3], b[4], b[5], &g.mask, &g.fine, &g.history, &g.votes, &g.lastFrame},
                               &p, g.indirect);
     gpu::computeBarrier(cmd.handle());
   }
@@ -206,6 +196,8 @@ FrameStats SdfPipeline::runFrame(double time) {
   for (const auto& r : mGpu->profiler.results()) stats.passMs.push_back(r);
   return stats;
 }
+
+const gpu::Buffer& SdfPipeline::fineBuffer() const { return mGpu->fine; }
 
 std::vector<float> SdfPipeline::fineField() const {
   std::vector<float> out(mFineSpec.voxelCount());

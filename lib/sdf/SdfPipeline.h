@@ -9,6 +9,7 @@
 #include "grid/GridSpec.h"
 #include "scene/Scene.h"
 #include "sdf/CoarseSdf.h"
+#include "sdf/GpuSceneBvh.h"
 
 #include <openvdb/openvdb.h>
 
@@ -83,6 +84,10 @@ public:
   const GridSpec& coarseSpec() const { return mCoarseSpec; }
   const GridSpec& fineSpec() const { return mFineSpec; }
   const PipelineSettings& settings() const { return mSettings; }
+  /// @brief The fine SDF on the GPU (dense, x fastest, fineSpec()), valid after runFrame().
+  const gpu::Buffer& fineBuffer() const;
+  /// @brief The scene's BVH on the GPU, its top level as of the last runFrame().
+  const GpuSceneBvh& bvh() const { return *mBvh; }
 
   static constexpr const char* kUpsampleName = "UpsamplePass";
   static constexpr const char* kRefineName = "RayRefinePass";
@@ -93,7 +98,7 @@ private:
   const Scene& mScene;
   PipelineSettings mSettings;
   GridSpec mCoarseSpec, mFineSpec;
-  MeshBvhs mMeshBvhs;
+  std::unique_ptr<GpuSceneBvh> mBvh;
   std::vector<float> mCoarse;
   std::uint32_t mFrame = 0;
   std::unique_ptr<Gpu> mGpu;

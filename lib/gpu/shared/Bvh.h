@@ -35,7 +35,7 @@ struct BvhHit {
   uint instance;  // index in the scene's instance list
   uint triangle;  // index in the mesh's (validated) triangle list
   uint frontFace; // rays: 1 when the ray hit the outside (front) of the triangle
-  uint pad0;
+  uint leaf;      // leaf-order triangle index (its corners are corners[3 leaf .. 3 leaf + 2], object space)
 };
 
 RTSDF_SHARED_END

@@ -1,0 +1,370 @@
+#include "render/Renderer.h"
+
+#include "image/ImageMetrics.h"
+#include "scene/SceneGeometry.h"
+#include "image/ImageIO.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace rtsdf {
+using gpu::Buffer;
+namespace sh = gpu::shared;
+
+ShadowTechnique parseShadowTechnique(const std::string& s) {
+  if (s == "sdf") return ShadowTechnique::Sdf;
+  if (s == "shadowmap") return ShadowTechnique::ShadowMap;
+  if (s == "raytraced") return ShadowTechnique::RayTraced;
+  throw Error(fmt::format("unknown shadow technique '{}' (sdf, shadowmap or raytraced)", s));
+}
+const char* toString(ShadowTechnique t) {
+  switch (t) {
+  case ShadowTechnique::Sdf: return "sdf";
+  case ShadowTechnique::ShadowMap: return "shadowmap";
+  default: return "raytraced";
+  }
+}
+PenumbraEstimate parsePenumbraEstimate(const std::string& s) {
+  if (s == "classic") return PenumbraEstimate::Classic;
+  if (s == "improved") return PenumbraEstimate::Improved;
+  if (s == "centered") return PenumbraEstimate::Centered;
+  throw Error(fmt::format("unknown penumbra estimate '{}' (classic, improved or centered)", s));
+}
+const char* toString(PenumbraEstimate p) {
+  switch (p) {
+  case PenumbraEstimate::Classic: return "classic";
+  case PenumbraEstimate::Improved: return "improved";
+  default: return "centered";
+  }
+}
+
+void RenderSettings::validate() const {
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw Error(fmt::format("image size {}x{} is out of range [1, 16384]", width, height));
+  if (!(sdf.epsilonVoxels >= 1.0 && sdf.epsilonVoxels <= 64.0))
+    throw Error(fmt::format("--epsilon {} must be in [1, 64] fine voxels", sdf.epsilonVoxels));
+  if (!(std::isfinite(sdf.bias) && sdf.bias >= 0.0)) throw Error(fmt::format("--bias {} must be finite and >= 0", sdf.bias));
+  if (!(std::isfinite(sdf.maxStep) && sdf.maxStep > 0.0))
+    throw Error(fmt::format("--max-step {} must be finite and > 0", sdf.maxStep));
+  if (sdf.maxSteps < 1 || sdf.maxSteps > 4096) throw Error(fmt::format("--max-steps {} is out of range [1, 4096]", sdf.maxSteps));
+  if (!std::isfinite(sdf.normalOffset)) throw Error("--normal-offset must be finite");
+  if (shadowMap.resolution < 1 || shadowMap.resolution > 8192)
+    throw Error(fmt::format("--shadow-map-res {} is out of range [1, 8192]", shadowMap.resolution));
+  if (shadowMap.pcfRadius < 0 || shadowMap.pcfRadius > 16)
+    throw Error(fmt::format("--pcf-radius {} is out of range [0, 16]", shadowMap.pcfRadius));
+  if (!(std::isfinite(shadowMap.depthBiasTexels) && shadowMap.depthBiasTexels >= 0.0))
+    throw Error("--shadow-bias must be finite and >= 0");
+  if (!(taa.blend > 0.0 && taa.blend <= 1.0)) throw Error(fmt::format("--taa-blend {} must be in (0, 1]", taa.blend));
+  if (rayTraced.samples < 1 || rayTraced.samples > 65536)
+    throw Error(fmt::format("--samples {} is out of range [1, 65536]", rayTraced.samples));
+  if (technique == ShadowTechnique::Sdf) pipeline.validate();
+}
+
+double RenderedFrame::passTotal(const std::string& pass) const {
+  double t = 0.0;
+  for (const auto& [name, ms] : passMs)
+    if (name == pass) t += ms;
+  return t;
+}
+
+std::vector<sh::ShadowMapParams> makeShadowMapParams(const std::vector<sh::GpuLight>& lights, const Bounds& bounds,
+                                                     const ShadowMapSettings& s, int width, int height) {
+  std::vector<sh::ShadowMapParams> maps;
+  const glm::dvec3 c = bounds.center();
+  const double radius = std::max(0.5 * glm::length(bounds.extent()), 1e-6);
+  for (std::size_t l = 0; l < lights.size(); ++l) {
+    sh::ShadowMapParams m{};
+    m.center = glm::vec4(glm::vec3(c), float(radius));
+    const glm::dvec3 L = glm::normalize(glm::dvec3(glm::vec3(lights[l].position)));
+    const glm::dvec3 helper = std::abs(L.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+    const glm::dvec3 right = glm::normalize(glm::cross(helper, L)), up = glm::cross(L, right);
+    m.lightAxis = glm::vec4(glm::vec3(L), float(radius * 1.05)); // the map plane lies just outside the scene
+    m.right = glm::vec4(glm::vec3(right), 0.0f);
+    m.up = glm::vec4(glm::vec3(up), 0.0f);
+    m.info = glm::ivec4(s.resolution, int(l), int(lights[l].position.w), int(lights.size()));
+    m.image = glm::ivec4(width, height, s.pcfRadius, 0);
+    m.depthBias = float(s.depthBiasTexels);
+    maps.push_back(m);
+  }
+  return maps;
+}
+
+std::string lightChannelName(const Scene& scene, std::size_t light) {
+  const std::string& n = scene.lights.at(light).name;
+  return n.empty() ? fmt::format("light{}", light) : n;
+}
+
+namespace {
+const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+
+void checkRenderable(const Scene& scene) {
+  if (!scene.hasCamera) throw Error(fmt::format("{}: the scene has no camera to render from", scene.path));
+  if (scene.lights.empty()) throw Error(fmt::format("{}: the scene has no light to cast shadows", scene.path));
+}
+
+GBuffer downloadGBuffer(const gpu::VulkanContext& ctx, const GpuGBuffer& g) {
+  GBuffer out;
+  out.width = g.width;
+  out.height = g.height;
+  out.position.resize(out.pixelCount());
+  out.normal.resize(out.pixelCount());
+  download(ctx, g.position, out.position.data(), out.position.size() * sizeof(glm::vec4));
+  download(ctx, g.normal, out.normal.data(), out.normal.size() * sizeof(glm::vec4));
+  return out;
+}
+
+LightVisibility downloadVisibility(const gpu::VulkanContext& ctx, const Buffer& b, std::size_t lights,
+                                   std::size_t pixels) {
+  std::vector<float> all(lights * pixels);
+  download(ctx, b, all.data(), all.size() * 4);
+  LightVisibility v(lights);
+  for (std::size_t l = 0; l < lights; ++l)
+    v[l].assign(all.begin() + std::ptrdiff_t(l * pixels), all.begin() + std::ptrdiff_t((l + 1) * pixels));
+  return v;
+}
+} // namespace
+
+struct Renderer::Gpu {
+  GBufferPass gbufferPass;
+  SdfShadowPass sdfShadowPass;
+  ShadowMapPass shadowMapPass;
+  TaaPass taaPass;
+  gpu::GpuProfiler profiler;
+  GpuGBuffer gbuffer;
+  Buffer lights, visibility, history, depth, maps;
+  explicit Gpu(const gpu::VulkanContext& ctx)
+      : gbufferPass(ctx), sdfShadowPass(ctx), shadowMapPass(ctx), taaPass(ctx), profiler(ctx) {}
+};
+
+Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& sdfBounds,
+                   const RenderSettings& settings)
+    : mCtx(ctx), mScene(scene), mSettings(settings), mBounds(sdfBounds) {
+  if (settings.technique == ShadowTechnique::RayTraced)
+    throw Error("the GPU renderer draws sdf or shadowmap shadows; ray tracing runs on the CPU (renderRayTraced)");
+  settings.validate();
+  checkRenderable(scene);
+  mCamera = makeCameraParams(scene.camera, settings.width, settings.height);
+  mLights = makeGpuLights(scene.lights);
+  mGpu = std::make_unique<Gpu>(ctx);
+  const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
+  mGpu->gbuffer.reserve(ctx, settings.width, settings.height);
+  mGpu->lights = Buffer(ctx, mLights.size() * sizeof(sh::GpuLight), kStorage, Buffer::Memory::Device, "lights");
+  upload(ctx, mGpu->lights, mLights.data(), mLights.size() * sizeof(sh::GpuLight));
+  const VkDeviceSize visBytes = VkDeviceSize(pixels * mLights.size() * 4);
+  mGpu->visibility = Buffer(ctx, visBytes, kStorage, Buffer::Memory::Device, "visibility");
+  mGpu->history = Buffer(ctx, visBytes, kStorage, Buffer::Memory::Device, "TAA history");
+  if (settings.technique == ShadowTechnique::Sdf) {
+    mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, settings.pipeline);
+    const GridSpec& f = mSdf->fineSpec();
+    sh::SdfShadowParams& p = mSdfParams;
+    p.gridOriginH = glm::vec4(glm::vec3(f.origin), float(f.voxelSize));
+    p.gridDims = glm::ivec4(f.dims, int(mLights.size()));
+    p.image = glm::ivec4(settings.width, settings.height, 0, int(settings.pipeline.seed));
+    p.epsilon = float(settings.sdf.epsilonVoxels * f.voxelSize);
+    p.bias = float(settings.sdf.bias);
+    p.maxStep = float(std::max(settings.sdf.maxStep, double(p.epsilon)));
+    p.normalOffset = float(settings.sdf.normalOffset >= 0.0 ? settings.sdf.normalOffset
+                                                            : settings.sdf.bias + 2.0 * double(p.epsilon));
+    p.maxSteps = std::uint32_t(settings.sdf.maxSteps);
+    p.penumbra = settings.sdf.penumbra == PenumbraEstimate::Classic    ? sh::kPenumbraClassic
+                 : settings.sdf.penumbra == PenumbraEstimate::Improved ? sh::kPenumbraImproved
+                                                                       : sh::kPenumbraCentered;
+    p.jitter = settings.sdf.jitter ? 1.0f : 0.0f;
+  } else {
+    mBvh = std::make_unique<GpuSceneBvh>(ctx, scene);
+    mMapParams = makeShadowMapParams(mLights, buildSceneGeometry(scene, 0.0).bounds, settings.shadowMap,
+                                     settings.width, settings.height);
+    const std::size_t n = std::size_t(settings.shadowMap.resolution);
+    const std::size_t bytes = mLights.size() * 6 * n * n * 4;
+    if (bytes > ctx.info().maxStorageBufferRange)
+      throw Error(fmt::format("--shadow-map-res {}: {} light(s) need {} MiB of depth maps, more than the device's "
+                              "storage buffer limit ({} MiB)",
+                              n, mLights.size(), bytes >> 20, ctx.info().maxStorageBufferRange >> 20));
+    mGpu->depth = Buffer(ctx, bytes, kStorage, Buffer::Memory::Device, "shadow maps");
+    mGpu->maps = Buffer(ctx, mMapParams.size() * sizeof(sh::ShadowMapParams), kStorage, Buffer::Memory::Device,
+                        "shadow map parameters");
+    upload(ctx, mGpu->maps, mMapParams.data(), mMapParams.size() * sizeof(sh::ShadowMapParams));
+  }
+}
+
+Renderer::~Renderer() = default;
+
+RenderedFrame Renderer::renderFrame(double time, bool readBack) {
+  RenderedFrame out;
+  out.time = time;
+  ++mFrame;
+  const GpuSceneBvh* bvh = nullptr;
+  if (mSdf) {
+    out.sdf = mSdf->runFrame(time);
+    out.passMs = out.sdf.passMs;
+    bvh = &mSdf->bvh();
+  } else {
+    // Shadow maps cover the scene as it is now (the maps' frame follows the moving instances' bounds).
+    mBvh->update(time);
+    bvh = mBvh.get();
+    if (!mScene.instances.empty()) {
+      mMapParams = makeShadowMapParams(mLights, buildSceneGeometry(mScene, time).bounds, mSettings.shadowMap,
+                                       mSettings.width, mSettings.height);
+      upload(mCtx, mGpu->maps, mMapParams.data(), mMapParams.size() * sizeof(sh::ShadowMapParams));
+    }
+  }
+  gpu::CommandBuffer cmd(mCtx);
+  Gpu& g = *mGpu;
+  g.profiler.reset(cmd.handle());
+  g.gbufferPass.execute(cmd.handle(), &g.profiler, *bvh, mCamera, g.gbuffer);
+  if (mSdf) {
+    mSdfParams.image.z = mFrame;
+    g.sdfShadowPass.execute(cmd.handle(), &g.profiler, g.gbuffer, mSdf->fineBuffer(), g.lights, mSdfParams,
+                            g.visibility);
+  } else {
+    g.shadowMapPass.execute(cmd.handle(), &g.profiler, *bvh, g.gbuffer, g.lights, mMapParams, g.maps, g.depth,
+                            g.visibility);
+  }
+  if (mSettings.taa.enabled) {
+    sh::TaaParams t{};
+    t.image = glm::ivec4(mSettings.width, mSettings.height, int(mLights.size()), mFrame);
+    t.blend = float(mSettings.taa.blend);
+    t.clampHistory = mSettings.taa.clampHistory ? 1u : 0u;
+    g.taaPass.execute(cmd.handle(), &g.profiler, g.visibility, g.history, t);
+  }
+  cmd.submitAndWait();
+  for (const auto& r : g.profiler.results()) out.passMs.push_back(r);
+  if (readBack) {
+    out.gbuffer = downloadGBuffer(mCtx, g.gbuffer);
+    out.visibility = downloadVisibility(mCtx, mSettings.taa.enabled ? g.history : g.visibility, mLights.size(),
+                                        out.gbuffer.pixelCount());
+  }
+  return out;
+}
+
+std::vector<float> Renderer::shadowMapDepths() const {
+  if (!mGpu->depth) return {};
+  std::vector<float> d(mGpu->depth.size() / 4);
+  download(mCtx, mGpu->depth, d.data(), d.size() * 4);
+  return d;
+}
+
+LightVisibility Renderer::rawVisibility() const {
+  return downloadVisibility(mCtx, mGpu->visibility, mLights.size(),
+                            std::size_t(mSettings.width) * std::size_t(mSettings.height));
+}
+
+RenderedFrame renderRayTraced(const Scene& scene, double time, const RenderSettings& settings) {
+  settings.validate();
+  checkRenderable(scene);
+  RenderedFrame out;
+  out.time = time;
+  const SceneGeometry geo = buildSceneGeometry(scene, time);
+  const auto t0 = std::chrono::steady_clock::now();
+  out.gbuffer = traceGBuffer(geo, makeCameraParams(scene.camera, settings.width, settings.height));
+  const auto t1 = std::chrono::steady_clock::now();
+  out.visibility = rayTracedVisibility(geo, scene.lights, out.gbuffer, settings.rayTraced);
+  const auto t2 = std::chrono::steady_clock::now();
+  out.passMs = {{"RayTracedGBuffer (CPU)", std::chrono::duration<double, std::milli>(t1 - t0).count()},
+                {"RayTracedShadows (CPU)", std::chrono::duration<double, std::milli>(t2 - t1).count()}};
+  return out;
+}
+
+namespace {
+glm::vec3 instanceAlbedo(int instance) {
+  if (instance < 0) return glm::vec3(0.0f);
+  // A soft palette: different instances are told apart, none too dark for shadows to show.
+  static const glm::vec3 palette[] = {{0.80f, 0.78f, 0.74f}, {0.70f, 0.55f, 0.45f}, {0.55f, 0.65f, 0.75f},
+                                      {0.60f, 0.72f, 0.55f}, {0.78f, 0.70f, 0.50f}, {0.68f, 0.60f, 0.72f}};
+  return palette[std::size_t(instance) % 6];
+}
+} // namespace
+
+std::vector<std::uint8_t> litSideMask(const Scene& scene, const GBuffer& g, std::size_t light) {
+  const auto lights = makeGpuLights(scene.lights);
+  const sh::GpuLight& l = lights.at(light);
+  std::vector<std::uint8_t> mask(g.pixelCount(), 0);
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (!g.hit(i)) continue;
+    const glm::vec3 p(g.position[i]), n(g.normal[i]);
+    const glm::vec3 L = std::uint32_t(l.position.w) == sh::kLightDirectional ? glm::vec3(l.position)
+                                                                            : glm::normalize(glm::vec3(l.position) - p);
+    mask[i] = glm::dot(n, L) > 0.0f ? 1 : 0;
+  }
+  return mask;
+}
+
+Image composeImage(const Scene& scene, const RenderedFrame& frame) {
+  const GBuffer& g = frame.gbuffer;
+  Image img(g.width, g.height);
+  const auto lights = makeGpuLights(scene.lights);
+  std::vector<float> r(g.pixelCount()), gr(g.pixelCount()), b(g.pixelCount());
+  const glm::vec3 ambient(0.06f, 0.065f, 0.075f), sky(0.35f, 0.42f, 0.52f);
+  for (std::size_t i = 0; i < g.pixelCount(); ++i) {
+    glm::vec3 c = sky;
+    if (g.hit(i)) {
+      const glm::vec3 p(g.position[i]), n(g.normal[i]);
+      glm::vec3 e = ambient;
+      for (std::size_t l = 0; l < lights.size(); ++l) {
+        const sh::GpuLight& L = lights[l];
+        glm::vec3 dir;
+        float atten = 1.0f;
+        if (std::uint32_t(L.position.w) == sh::kLightDirectional) {
+          dir = glm::vec3(L.position);
+        } else {
+          const glm::vec3 d = glm::vec3(L.position) - p;
+          const float d2 = std::max(glm::dot(d, d), 1e-8f);
+          dir = d / std::sqrt(d2);
+          atten = 1.0f / d2;
+        }
+        e += glm::vec3(L.color) * (std::max(0.0f, glm::dot(n, dir)) * atten * frame.visibility[l][i]);
+      }
+      c = instanceAlbedo(int(g.normal[i].w)) * e;
+    }
+    r[i] = c.r;
+    gr[i] = c.g;
+    b[i] = c.b;
+  }
+  img.setChannel("R", std::move(r));
+  img.setChannel("G", std::move(gr));
+  img.setChannel("B", std::move(b));
+  for (std::size_t l = 0; l < lights.size(); ++l) img.setChannel(lightChannelName(scene, l) + ".V", frame.visibility[l]);
+  return img;
+}
+
+ShadowImageError compareWithTruth(const Scene& scene, const RenderedFrame& test, const RenderedFrame& truth) {
+  const GBuffer& a = test.gbuffer;
+  const GBuffer& b = truth.gbuffer;
+  if (a.width != b.width || a.height != b.height)
+    throw Error(fmt::format("cannot compare a {}x{} frame with a {}x{} one", a.width, a.height, b.width, b.height));
+  ShadowImageError e;
+  std::vector<float> va, vb, pa, pb;
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    const std::vector<std::uint8_t> lit = litSideMask(scene, b, l);
+    for (std::size_t i = 0; i < b.pixelCount(); ++i) {
+      if (!lit[i] || !a.hit(i) || a.normal[i].w != b.normal[i].w) continue;
+      va.push_back(test.visibility[l][i]);
+      vb.push_back(truth.visibility[l][i]);
+      if (truth.visibility[l][i] > 0.02f && truth.visibility[l][i] < 0.98f) {
+        pa.push_back(test.visibility[l][i]);
+        pb.push_back(truth.visibility[l][i]);
+      }
+    }
+  }
+  if (va.empty()) throw Error("no pixel to compare: the frames see no lit surface in common");
+  e.pixels = va.size();
+  e.visibilityRmse = rmse(va, vb);
+  e.visibilityMeanAbs = meanAbsDifference(va, vb);
+  e.penumbraPixels = pa.size();
+  e.penumbraRmse = pa.empty() ? 0.0 : rmse(pa, pb);
+  const Image ia = composeImage(scene, test), ib = composeImage(scene, truth);
+  auto srgb = [](const Image& img) {
+    std::vector<glm::vec3> out(img.pixelCount());
+    const auto &r = img.channel("R"), &g = img.channel("G"), &bl = img.channel("B");
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = {linearToSrgb(r[i]), linearToSrgb(g[i]), linearToSrgb(bl[i])};
+    return out;
+  };
+  e.flip = flip(srgb(ib), srgb(ia), a.width, a.height).mean;
+  return e;
+}
+
+} // namespace rtsdf

@@ -1,0 +1,153 @@
+#pragma once
+/// @file Renderer.h
+/// @brief Soft shadows of a scene's lights, per frame: SDF sphere tracing (the technique), shadow maps (what
+///        games otherwise use) and distributed ray tracing (the truth), with TAA over frames.
+#include "image/Image.h"
+#include "reference/RayTracedShadows.h"
+#include "render/RenderPasses.h"
+#include "render/RenderTypes.h"
+#include "sdf/SdfPipeline.h"
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief Which shadows to render.
+enum class ShadowTechnique {
+  Sdf,       ///< sphere tracing of the fine SDF refined every frame (RTSDF)
+  ShadowMap, ///< a depth map per light with PCF filtering
+  RayTraced  ///< distributed ray tracing with Embree on the CPU: the ground truth
+};
+ShadowTechnique parseShadowTechnique(const std::string& s);
+const char* toString(ShadowTechnique t);
+
+/// @brief How the SDF march turns distances into visibility (gpu/shared/Render.h has the formulas).
+enum class PenumbraEstimate {
+  Classic,  ///< min over samples of k h / t with k = 1 / tan(light half-angle)
+  Improved, ///< the triangulated estimate between consecutive samples (less banding)
+  Centered  ///< marches on through occluders (signed h): the penumbra straddles the geometric boundary
+};
+PenumbraEstimate parsePenumbraEstimate(const std::string& s);
+const char* toString(PenumbraEstimate p);
+
+/// @brief SDF shadow settings (lengths in scene units unless stated).
+struct SdfShadowSettings {
+  PenumbraEstimate penumbra = PenumbraEstimate::Improved;
+  double epsilonVoxels = 1.0; ///< hit threshold in fine voxels (at least one: the field is no finer)
+  double bias = 0.01;         ///< subtracted from every SDF sample, against light leaking through thin surfaces
+  double maxStep = 0.05;      ///< longest march step, against banding
+  int maxSteps = 256;         ///< march steps at most
+  bool jitter = true;         ///< jitter the start per pixel and frame (TAA averages the noise away)
+  double normalOffset = -1.0; ///< march start off the surface; < 0: bias + 2 epsilon (clears the surface itself)
+};
+
+/// @brief Shadow-map baseline settings.
+struct ShadowMapSettings {
+  int resolution = 1024;        ///< texels per side (per cube face for sphere lights)
+  int pcfRadius = 2;            ///< PCF kernel: (2r + 1)^2 texels
+  double depthBiasTexels = 1.5; ///< depth bias in texel widths
+};
+
+/// @brief Temporal anti-aliasing of the visibility.
+struct TaaSettings {
+  bool enabled = true;
+  double blend = 0.1;      ///< weight of the newest frame once the history is established
+  bool clampHistory = true; ///< clamp the history into the current 3x3 neighbourhood (no ghosting)
+};
+
+/// @brief Everything a render needs.
+struct RenderSettings {
+  int width = 640, height = 360;
+  ShadowTechnique technique = ShadowTechnique::Sdf;
+  SdfShadowSettings sdf;
+  ShadowMapSettings shadowMap;
+  TaaSettings taa;
+  PipelineSettings pipeline;        ///< the SDF generation (Sdf technique)
+  RayTracedShadowSettings rayTraced; ///< the ground truth (RayTraced technique)
+  /// @throw Error naming the setting when one is out of range.
+  void validate() const;
+};
+
+/// @brief One rendered frame.
+struct RenderedFrame {
+  double time = 0.0;
+  GBuffer gbuffer;
+  LightVisibility visibility; ///< after TAA (the raw frame when TAA is off or for ray tracing)
+  std::vector<std::pair<std::string, double>> passMs; ///< GPU (or CPU, for ray tracing) time per pass
+  FrameStats sdf;             ///< the SDF generation's statistics (Sdf technique)
+  double passTotal(const std::string& pass) const;
+};
+
+/// @brief Renders frames of a scene's camera with the GPU techniques (Sdf, ShadowMap).
+class Renderer {
+public:
+  /// @param sdfBounds the SDF grids' bounds (the union over the animation, so the grids stay fixed).
+  /// @throw Error when the scene has no camera or no light, or on bad settings.
+  Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& sdfBounds, const RenderSettings& settings);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// @brief Render the frame at @a time seconds (the frames of one Renderer form the TAA sequence).
+  /// @param readBack download the G-buffer and visibility (off for benchmarks of the GPU time alone).
+  RenderedFrame renderFrame(double time, bool readBack = true);
+
+  const SdfPipeline* sdfPipeline() const { return mSdf.get(); }
+  /// @brief The SDF shadow parameters of the last frame (for the CPU reference).
+  const gpu::shared::SdfShadowParams& sdfShadowParams() const { return mSdfParams; }
+  /// @brief The shadow maps' parameters (one per light) and their depths (after a ShadowMap frame).
+  const std::vector<gpu::shared::ShadowMapParams>& shadowMapParams() const { return mMapParams; }
+  std::vector<float> shadowMapDepths() const;
+  /// @brief The raw (pre-TAA) visibility of the last frame.
+  LightVisibility rawVisibility() const;
+
+private:
+  struct Gpu;
+  const gpu::VulkanContext& mCtx;
+  const Scene& mScene;
+  RenderSettings mSettings;
+  Bounds mBounds;
+  gpu::shared::CameraParams mCamera{};
+  std::vector<gpu::shared::GpuLight> mLights;
+  gpu::shared::SdfShadowParams mSdfParams{};
+  std::vector<gpu::shared::ShadowMapParams> mMapParams;
+  std::unique_ptr<SdfPipeline> mSdf;
+  std::unique_ptr<GpuSceneBvh> mBvh; // ShadowMap technique (Sdf uses the pipeline's)
+  std::unique_ptr<Gpu> mGpu;
+  int mFrame = 0;
+};
+
+/// @brief The ground truth frame: Embree primary hits and distributed shadow rays (CPU, TBB).
+RenderedFrame renderRayTraced(const Scene& scene, double time, const RenderSettings& settings);
+
+/// @brief The shadow maps' parameters for @a lights over @a bounds.
+std::vector<gpu::shared::ShadowMapParams> makeShadowMapParams(const std::vector<gpu::shared::GpuLight>& lights,
+                                                              const Bounds& bounds, const ShadowMapSettings& s,
+                                                              int width, int height);
+
+/// @brief A light's name for channel names: its name, or "light<i>" when it has none.
+std::string lightChannelName(const Scene& scene, std::size_t light);
+
+/// @brief The picture: Lambertian surfaces (a colour per instance) lit by every light times its visibility,
+///        plus a little ambient light. Channels: R, G, B (linear) and "<light>.V" (visibility) per light.
+Image composeImage(const Scene& scene, const RenderedFrame& frame);
+
+/// @brief Pixels whose surface faces light @a light (n . L > 0 at the light's centre): where its shadows show.
+std::vector<std::uint8_t> litSideMask(const Scene& scene, const GBuffer& gbuffer, std::size_t light);
+
+/// @brief Image error of a frame against the ground truth of the same moment.
+struct ShadowImageError {
+  double visibilityRmse = 0.0;      ///< over lit-side pixels of every light where both frames see the same instance
+  double visibilityMeanAbs = 0.0;
+  double penumbraRmse = 0.0;        ///< over the truth's penumbra pixels (0.02 < visibility < 0.98)
+  double flip = 0.0;                ///< mean LDR-FLIP of the sRGB pictures
+  std::size_t pixels = 0, penumbraPixels = 0;
+};
+/// @brief Compare @a test with @a truth (same camera and size).
+/// @throw Error when the sizes differ or no pixel is comparable.
+ShadowImageError compareWithTruth(const Scene& scene, const RenderedFrame& test, const RenderedFrame& truth);
+
+} // namespace rtsdf

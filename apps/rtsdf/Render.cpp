@@ -102,7 +102,7 @@ int runRender(const RenderCommandSettings& c) {
                e.visibilityRmse, e.visibilityMeanAbs, e.pixels, e.penumbraRmse, e.penumbraPixels, e.flip);
   }
   writeExr(c.output, img);
-  writePng(png, img);
+  writePng(png, displayImage(img));
   fmt::print("wrote {} (channels R, G, B", c.output);
   for (std::size_t l = 0; l < scene.lights.size(); ++l) fmt::print(", {}.V", lightChannelName(scene, l));
   fmt::print(") and {}\n", png.string());

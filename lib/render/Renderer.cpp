@@ -331,6 +331,16 @@ Image composeImage(const Scene& scene, const RenderedFrame& frame) {
   return img;
 }
 
+Image displayImage(const Image& linear) {
+  Image out(linear.width(), linear.height());
+  for (const char* c : {"R", "G", "B"}) {
+    std::vector<float> v = linear.channel(c);
+    for (float& x : v) x = 1.0f - std::exp(-std::max(x, 0.0f));
+    out.setChannel(c, std::move(v));
+  }
+  return out;
+}
+
 ShadowImageError compareWithTruth(const Scene& scene, const RenderedFrame& test, const RenderedFrame& truth) {
   const GBuffer& a = test.gbuffer;
   const GBuffer& b = truth.gbuffer;
@@ -356,7 +366,7 @@ ShadowImageError compareWithTruth(const Scene& scene, const RenderedFrame& test,
   e.visibilityMeanAbs = meanAbsDifference(va, vb);
   e.penumbraPixels = pa.size();
   e.penumbraRmse = pa.empty() ? 0.0 : rmse(pa, pb);
-  const Image ia = composeImage(scene, test), ib = composeImage(scene, truth);
+  const Image ia = displayImage(composeImage(scene, test)), ib = displayImage(composeImage(scene, truth));
   auto srgb = [](const Image& img) {
     std::vector<glm::vec3> out(img.pixelCount());
     const auto &r = img.channel("R"), &g = img.channel("G"), &bl = img.channel("B");

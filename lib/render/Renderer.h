@@ -135,6 +135,10 @@ std::string lightChannelName(const Scene& scene, std::size_t light);
 ///        plus a little ambient light. Channels: R, G, B (linear) and "<light>.V" (visibility) per light.
 Image composeImage(const Scene& scene, const RenderedFrame& frame);
 
+/// @brief The picture for a display: R, G, B through the exposure curve 1 - exp(-x) (highlights roll off
+///        instead of clipping), for writePng.
+Image displayImage(const Image& linear);
+
 /// @brief Pixels whose surface faces light @a light (n . L > 0 at the light's centre): where its shadows show.
 std::vector<std::uint8_t> litSideMask(const Scene& scene, const GBuffer& gbuffer, std::size_t light);
 

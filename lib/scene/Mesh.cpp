@@ -133,4 +133,43 @@ Mesh makeBoxMesh(const glm::vec3& size, std::string name) {
   return m;
 }
 
+Mesh makeSphereMesh(float radius, int subdivisions, std::string name) {
+  if (!(radius > 0.0f) || !std::isfinite(radius))
+    throw Error(fmt::format("sphere '{}': radius {} must be positive and finite", name, radius));
+  if (subdivisions < 0 || subdivisions > 7)
+    throw Error(fmt::format("sphere '{}': subdivisions {} must be in [0, 7]", name, subdivisions));
+  Mesh m;
+  m.name = std::move(name);
+  m.source = "<sphere>";
+  // Work in double on the unit sphere, round once at the end.
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<glm::dvec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (auto& p : v) p = glm::normalize(p);
+  std::vector<glm::uvec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                               {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                               {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int s = 0; s < subdivisions; ++s) {
+    std::unordered_map<std::uint64_t, unsigned> mid;
+    mid.reserve(f.size() * 2);
+    auto midpoint = [&](unsigned a, unsigned b) {
+      const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      const auto [it, inserted] = mid.emplace(key, unsigned(v.size()));
+      if (inserted) v.push_back(glm::normalize(v[a] + v[b]));
+      return it->second;
+    };
+    std::vector<glm::uvec3> g;
+    g.reserve(4 * f.size());
+    for (const glm::uvec3& tri : f) {
+      const unsigned ab = midpoint(tri.x, tri.y), bc = midpoint(tri.y, tri.z), ca = midpoint(tri.z, tri.x);
+      g.insert(g.end(), {{tri.x, ab, ca}, {tri.y, bc, ab}, {tri.z, ca, bc}, {ab, bc, ca}});
+    }
+    f.swap(g);
+  }
+  m.positions.reserve(v.size());
+  for (const glm::dvec3& p : v) m.positions.push_back(glm::vec3(p * double(radius)));
+  m.triangles = std::move(f);
+  return m;
+}
+
 } // namespace rtsdf

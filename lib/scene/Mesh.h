@@ -46,4 +46,14 @@ void analyzeTopology(const Mesh& mesh, MeshReport& report);
 /// @param size full extents along x, y, z; each must be positive and finite.
 Mesh makeBoxMesh(const glm::vec3& size, std::string name = "box");
 
+/// @brief A closed icosphere mesh (outward facing) centred at the origin: an icosahedron whose triangles are
+///        split in four @a subdivisions times, every new vertex pushed out onto the sphere.
+/// @param radius the radius of the vertices; must be positive and finite.
+/// @param subdivisions 0 (the icosahedron) .. 7; the mesh has 20 * 4^subdivisions triangles and
+///        10 * 4^subdivisions + 2 vertices.
+/// @note The triangles lie inside the sphere: the largest gap (at face centres) shrinks about 4x with every
+///       subdivision (0.0011 x radius at 4, 0.00007 x radius at 6).
+/// @throw Error when the radius is not positive and finite or the subdivisions are out of range.
+Mesh makeSphereMesh(float radius, int subdivisions, std::string name = "sphere");
+
 } // namespace rtsdf

@@ -160,20 +160,37 @@ Scene parseScene(const std::string& text, const fs::path& origin) {
 
   std::map<std::string, std::size_t> meshIndex;
   if (!doc.contains("meshes") || !doc["meshes"].is_object() || doc["meshes"].empty())
-    rd.fail("meshes", "a scene needs a non-empty 'meshes' object (name -> {\"path\": ...} or {\"box\": [x, y, z]})");
+    rd.fail("meshes", "a scene needs a non-empty 'meshes' object (name -> {\"path\": ...}, {\"box\": [x, y, z]} "
+                      "or {\"sphere\": {\"radius\": r}})");
   for (const auto& [name, m] : doc["meshes"].items()) {
     const std::string w = "meshes." + name;
-    rd.allowOnly(m, w, {"path", "box"});
+    rd.allowOnly(m, w, {"path", "box", "sphere"});
     Mesh mesh;
     MeshReport report;
-    if (m.contains("path") == m.contains("box")) rd.fail(w, "needs exactly one of 'path' or 'box'");
+    if (int(m.contains("path")) + int(m.contains("box")) + int(m.contains("sphere")) != 1)
+      rd.fail(w, "needs exactly one of 'path', 'box' or 'sphere'");
     try {
       if (m.contains("path")) {
         fs::path p = rd.string(m["path"], w + ".path");
         if (p.is_relative()) p = base / p;
         mesh = loadMeshFile(p);
-      } else {
+      } else if (m.contains("box")) {
         mesh = makeBoxMesh(glm::vec3(rd.vec3(m["box"], w + ".box")), name);
+      } else {
+        const json& sp = m["sphere"];
+        const std::string ws = w + ".sphere";
+        rd.allowOnly(sp, ws, {"radius", "subdivisions"});
+        if (!sp.contains("radius")) rd.fail(ws, "needs 'radius'");
+        const double radius = rd.positive(sp["radius"], ws + ".radius");
+        if (!std::isfinite(float(radius))) rd.fail(ws + ".radius", "must be finite as a 32-bit float");
+        int subdivisions = 4;
+        if (sp.contains("subdivisions")) {
+          const json& n = sp["subdivisions"];
+          if (!n.is_number_integer() || n.get<long long>() < 0 || n.get<long long>() > 7)
+            rd.fail(ws + ".subdivisions", fmt::format("must be an integer in [0, 7] (got {})", n.dump()));
+          subdivisions = n.get<int>();
+        }
+        mesh = makeSphereMesh(float(radius), subdivisions, name);
       }
       mesh.name = name;
       report = validateMesh(mesh);

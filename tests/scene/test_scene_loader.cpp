@@ -152,3 +152,79 @@ TEST(SceneGeometry, TransformsThatBreakTrianglesAreErrors) {
       parseScene(R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b", "scale": 1e40}]})", "huge.json");
   EXPECT_THROW(buildSceneGeometry(huge), Error);
 }
+
+TEST(SphereMesh, IcosphereIsClosedOutwardAndOnTheSphere) {
+  for (int n : {0, 1, 3}) {
+    Mesh m = makeSphereMesh(0.5f, n, "ball");
+    EXPECT_EQ(m.name, "ball");
+    EXPECT_EQ(m.triangles.size(), 20u << (2 * n));
+    EXPECT_EQ(m.positions.size(), (10u << (2 * n)) + 2u);
+    for (const glm::vec3& p : m.positions) EXPECT_NEAR(glm::length(p), 0.5f, 1e-6f);
+    // Outward: positive volume, below the sphere's and approaching it with subdivision.
+    const double v = test::signedVolume(m.positions, m.triangles), ball = 4.0 / 3.0 * glm::pi<double>() * 0.125;
+    EXPECT_GT(v, 0.0);
+    EXPECT_LT(v, ball);
+    if (n == 3) EXPECT_NEAR(v / ball, 1.0, 0.02);
+    const MeshReport r = validateMesh(m);
+    EXPECT_TRUE(r.watertight());
+    EXPECT_EQ(r.degenerateDropped, 0u);
+    EXPECT_EQ(r.weldedVertices, 0u);
+  }
+  EXPECT_THROW(makeSphereMesh(0.0f, 2), Error);
+  EXPECT_THROW(makeSphereMesh(-1.0f, 2), Error);
+  EXPECT_THROW(makeSphereMesh(INFINITY, 2), Error);
+  EXPECT_THROW(makeSphereMesh(1.0f, -1), Error);
+  EXPECT_THROW(makeSphereMesh(1.0f, 8), Error);
+}
+
+TEST(SceneLoader, SphereMeshes) {
+  const Scene s = parseScene(R"({"meshes": {"ball": {"sphere": {"radius": 0.25, "subdivisions": 2}},
+                                            "dflt": {"sphere": {"radius": 2}}},
+                                 "instances": [{"mesh": "ball", "translate": [0, 0.5, 0]}, {"mesh": "dflt"}]})",
+                             "s.json");
+  ASSERT_EQ(s.meshes.size(), 2u);
+  const std::size_t ball = s.meshes[0].name == "ball" ? 0 : 1, dflt = 1 - ball;
+  EXPECT_EQ(s.meshes[ball].name, "ball");
+  EXPECT_EQ(s.meshes[ball].source, "<sphere>");
+  EXPECT_EQ(s.meshReports[ball].triangles, 320u);
+  EXPECT_TRUE(s.meshReports[ball].watertight());
+  EXPECT_EQ(s.meshReports[dflt].triangles, 5120u); // default: 4 subdivisions
+  for (const glm::vec3& p : s.meshes[ball].positions) EXPECT_NEAR(glm::length(p), 0.25f, 1e-6f);
+
+  const Scene a = loadScene(test::dataPath("scenes/analytic.json"));
+  ASSERT_EQ(a.instances.size(), 2u);
+  EXPECT_EQ(a.meshReports[a.instances[1].mesh].triangles, 81920u);
+  const SceneGeometry g = buildSceneGeometry(a);
+  double top = -1.0;
+  for (const glm::vec3& p : g.meshes[0].positions) top = std::max(top, double(p.y));
+  EXPECT_NEAR(top, 0.0, 1e-6); // the floor's top face
+}
+
+TEST(SceneLoader, BadSpheresNameFileAndKey) {
+  const std::string inst = R"(, "instances": [{"mesh": "s"}]})";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {R"({"meshes": {"s": {"sphere": {"radius": -1}}})", "meshes.s.sphere.radius: must be positive"},
+      {R"({"meshes": {"s": {"sphere": {"radius": 0}}})", "meshes.s.sphere.radius: must be positive"},
+      {R"({"meshes": {"s": {"sphere": {"radius": "big"}}})", "meshes.s.sphere.radius: must be a number"},
+      {R"({"meshes": {"s": {"sphere": {"radius": 1e300}}})", "meshes.s.sphere.radius: must be finite"},
+      {R"({"meshes": {"s": {"sphere": {"subdivisions": 2}}})", "meshes.s.sphere: needs 'radius'"},
+      {R"({"meshes": {"s": {"sphere": {"radius": 1, "subdivisions": 8}}})",
+       "meshes.s.sphere.subdivisions: must be an integer in [0, 7] (got 8)"},
+      {R"({"meshes": {"s": {"sphere": {"radius": 1, "subdivisions": -1}}})", "meshes.s.sphere.subdivisions"},
+      {R"({"meshes": {"s": {"sphere": {"radius": 1, "subdivisions": 2.5}}})", "meshes.s.sphere.subdivisions"},
+      {R"({"meshes": {"s": {"sphere": {"radius": 1, "subdivisions": 3.0}}})", "meshes.s.sphere.subdivisions"},
+      {R"({"meshes": {"s": {"sphere": {"radius": 1, "segments": 3}}})", "meshes.s.sphere: unknown key 'segments'"},
+      {R"({"meshes": {"s": {"sphere": [1, 2]}})", "meshes.s.sphere: must be an object"},
+      {R"({"meshes": {"s": {"box": [1, 1, 1], "sphere": {"radius": 1}}})",
+       "meshes.s: needs exactly one of 'path', 'box' or 'sphere'"},
+      {R"({"meshes": {"s": {"path": "x.obj", "sphere": {"radius": 1}}})", "needs exactly one of"},
+      {R"({"meshes": {"s": {}})", "needs exactly one of"},
+  };
+  for (const auto& [meshes, expect] : cases) {
+    const std::string json = meshes + inst;
+    SCOPED_TRACE(json);
+    const std::string msg = sceneError(json);
+    EXPECT_NE(msg.find("bad.json: "), std::string::npos) << msg;
+    EXPECT_NE(msg.find(expect), std::string::npos) << msg;
+  }
+}

@@ -79,8 +79,8 @@ struct RenderCommandSettings {
   int frames = 8;              ///< frames rendered (TAA and SDF accumulation); the last is written
   double fps = 30.0;
   double time = 0.0;           ///< time of the last frame
-  std::string penumbra = "improved";
-  double epsilon = 1.0, bias = 0.01, maxStep = 0.05, normalOffset = -1.0;
+  std::string penumbra = "centered";
+  double epsilon = 1.0, bias = 0.005, maxStep = 0.05, normalOffset = -1.0;
   int maxSteps = 256;
   bool jitter = true;
   int shadowMapRes = 1024, pcfRadius = 2;

@@ -100,6 +100,20 @@ int runRender(const RenderCommandSettings& c) {
     fmt::print("against ray-traced truth: visibility RMSE {:.4f}, mean |diff| {:.4f} ({} lit pixels); penumbra RMSE "
                "{:.4f} ({} pixels); FLIP {:.4f}\n",
                e.visibilityRmse, e.visibilityMeanAbs, e.pixels, e.penumbraRmse, e.penumbraPixels, e.flip);
+    // The visibility error as a picture: red where the frame is too dark, green where it is too bright.
+    Image err(rs.width, rs.height);
+    std::vector<float> r(frame.gbuffer.pixelCount(), 0.0f), g(r.size(), 0.0f), b(r.size(), 0.0f);
+    for (std::size_t l = 0; l < scene.lights.size(); ++l)
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        const float d = frame.visibility[l][i] - truth.visibility[l][i];
+        (d < 0.0f ? r[i] : g[i]) += std::fabs(d);
+      }
+    err.setChannel("R", std::move(r));
+    err.setChannel("G", std::move(g));
+    err.setChannel("B", std::move(b));
+    const fs::path errPath = fs::path(c.output).replace_extension("").string() + "_error.png";
+    writePng(errPath, err);
+    fmt::print("wrote the visibility error picture {}\n", errPath.string());
   }
   writeExr(c.output, img);
   writePng(png, displayImage(img));

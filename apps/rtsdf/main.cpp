@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   renderCmd->add_option("--max-steps", render.maxSteps, "SDF march steps at most")->check(CLI::Range(1, 4096))->capture_default_str();
   renderCmd->add_option("--normal-offset", render.normalOffset,
-                        "SDF march start off the surface (scene units; default: bias + 2 epsilon)")
+                        "SDF march start off the surface (scene units; default: bias + epsilon)")
       ->check(CLI::NonNegativeNumber);
   renderCmd->add_flag("!--no-jitter", render.jitter, "Do not jitter the SDF march's start per pixel and frame");
   renderCmd->add_option("--shadow-map-res", render.shadowMapRes, "Shadow map texels per side (per cube face)")
@@ -160,6 +160,7 @@ int main(int argc, char** argv) {
   render.pipeline.fine = 128;
   render.pipeline.band = 0.1;
   render.pipeline.refine = "closest";
+  render.pipeline.rays = 0; // closest points signed by the closest triangle: decayed ray votes lag behind moving objects
   renderCmd->add_option("-d,--band", render.pipeline.band, "SDF ray-mask band d in scene units")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

@@ -168,7 +168,7 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     p.bias = float(settings.sdf.bias);
     p.maxStep = float(std::max(settings.sdf.maxStep, double(p.epsilon)));
     p.normalOffset = float(settings.sdf.normalOffset >= 0.0 ? settings.sdf.normalOffset
-                                                            : settings.sdf.bias + 2.0 * double(p.epsilon));
+                                                            : settings.sdf.bias + double(p.epsilon));
     p.maxSteps = std::uint32_t(settings.sdf.maxSteps);
     p.penumbra = settings.sdf.penumbra == PenumbraEstimate::Classic    ? sh::kPenumbraClassic
                  : settings.sdf.penumbra == PenumbraEstimate::Improved ? sh::kPenumbraImproved

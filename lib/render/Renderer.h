@@ -35,13 +35,13 @@ const char* toString(PenumbraEstimate p);
 
 /// @brief SDF shadow settings (lengths in scene units unless stated).
 struct SdfShadowSettings {
-  PenumbraEstimate penumbra = PenumbraEstimate::Improved;
+  PenumbraEstimate penumbra = PenumbraEstimate::Centered;
   double epsilonVoxels = 1.0; ///< hit threshold in fine voxels (at least one: the field is no finer)
-  double bias = 0.01;         ///< subtracted from every SDF sample, against light leaking through thin surfaces
+  double bias = 0.005;        ///< subtracted from every SDF sample, against light leaking through thin surfaces
   double maxStep = 0.05;      ///< longest march step, against banding
   int maxSteps = 256;         ///< march steps at most
   bool jitter = true;         ///< jitter the start per pixel and frame (TAA averages the noise away)
-  double normalOffset = -1.0; ///< march start off the surface; < 0: bias + 2 epsilon (clears the surface itself)
+  double normalOffset = -1.0; ///< march start off the surface; < 0: bias + epsilon (clears the surface itself)
 };
 
 /// @brief Shadow-map baseline settings.

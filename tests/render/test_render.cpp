@@ -9,6 +9,7 @@
 #include "render/Renderer.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
+#include "util/Error.h"
 
 #include <gtest/gtest.h>
 
@@ -162,4 +163,185 @@ TEST_F(Render, TaaPassEqualsTheCpuAccumulation) {
     taaCpu(raw, history, p);
   }
   EXPECT_EQ(countAbove(f.visibility[0], history[0], 1e-6f), 0u);
+}
+
+namespace {
+RenderedFrame truthOf(const Scene& scene, double t, int w, int h, int samples = 256) {
+  RenderSettings s = small(ShadowTechnique::RayTraced, w, h);
+  s.rayTraced.samples = samples;
+  return renderRayTraced(scene, t, s);
+}
+} // namespace
+
+// The analytic scene: a sphere over a floor under a 4-degree sun; the ray tracer matches the closed form
+// there (test_shadow_reference). The SDF penumbra (centred estimate, fine 128) must match the truth
+// within an RMSE of 0.08 over the penumbra (measured 0.047 at 320x180) and beat the shadow map (measured
+// 0.19: a fixed PCF kernel cannot widen with the distance to the occluder). The paper's classic estimate
+// shrinks the penumbra to its outer half: it must be worse than the centred one.
+TEST_F(Render, AnalyticPenumbraMatchesTheTruth) {
+  const Scene scene = analyticScene();
+  const int w = 160, h = 90;
+  const RenderedFrame truth = truthOf(scene, 0.0, w, h);
+  // The truth itself against the closed form, per floor pixel.
+  std::size_t floorPixels = 0;
+  double maxDiff = 0.0;
+  const glm::dvec3 toLight = -glm::normalize(scene.lights[0].direction);
+  for (std::size_t i = 0; i < truth.gbuffer.pixelCount(); ++i) {
+    if (!truth.gbuffer.hit(i) || std::fabs(truth.gbuffer.position[i].y) > 1e-3f) continue;
+    ++floorPixels;
+    const double exact = sunVisibilityPastSphere(glm::dvec3(glm::vec3(truth.gbuffer.position[i])), toLight,
+                                                 scene.lights[0].angularRadius, glm::dvec3(0.0, 0.5, 0.0), 0.25);
+    maxDiff = std::max(maxDiff, std::fabs(exact - truth.visibility[0][i]));
+  }
+  EXPECT_GT(floorPixels, truth.gbuffer.pixelCount() / 2);
+  EXPECT_LT(maxDiff, 0.08);
+
+  auto sdfError = [&](PenumbraEstimate p) {
+    RenderSettings s = small(ShadowTechnique::Sdf, w, h);
+    s.sdf.penumbra = p;
+    Renderer r(*sCtx, scene, boundsOf(scene), s);
+    const RenderedFrame f = r.renderFrame(0.0);
+    expectAllFinite(f);
+    return compareWithTruth(scene, f, truth);
+  };
+  const ShadowImageError centred = sdfError(PenumbraEstimate::Centered);
+  const ShadowImageError classic = sdfError(PenumbraEstimate::Classic);
+  RenderSettings sm = small(ShadowTechnique::ShadowMap, w, h);
+  Renderer smr(*sCtx, scene, boundsOf(scene), sm);
+  const ShadowImageError map = compareWithTruth(scene, smr.renderFrame(0.0), truth);
+  std::printf("analytic penumbra RMSE: centred %.4f, classic %.4f, shadow map %.4f (%zu pixels)\n", centred.penumbraRmse,
+              classic.penumbraRmse, map.penumbraRmse, centred.penumbraPixels);
+  EXPECT_GT(centred.penumbraPixels, std::size_t(w * h / 5));
+  EXPECT_LT(centred.penumbraRmse, 0.08);
+  EXPECT_LT(centred.penumbraRmse, map.penumbraRmse);
+  EXPECT_LT(centred.penumbraRmse, classic.penumbraRmse);
+}
+
+// The default scene at 320x180: measured mean |visibility error| over lit surfaces 0.0056 for the SDF
+// (fine 128, closest) and 0.0066 for the 1024^2 shadow map, FLIP 0.0058 vs 0.0067. The SDF must stay below
+// both. (In the narrow penumbrae alone the shadow map is closer at this resolution: docs/results.md.)
+TEST_F(Render, SdfShadowsAreCloserToTheTruthThanShadowMapsOnTheDefaultScene) {
+  const Scene scene = defaultScene();
+  const int w = 320, h = 180;
+  const RenderedFrame truth = truthOf(scene, 0.0, w, h, 128);
+  RenderSettings s = small(ShadowTechnique::Sdf, w, h);
+  Renderer sdf(*sCtx, scene, boundsOf(scene), s);
+  const ShadowImageError es = compareWithTruth(scene, sdf.renderFrame(0.0), truth);
+  Renderer map(*sCtx, scene, boundsOf(scene), small(ShadowTechnique::ShadowMap, w, h));
+  const ShadowImageError em = compareWithTruth(scene, map.renderFrame(0.0), truth);
+  std::printf("default scene: SDF mean |err| %.4f FLIP %.4f penumbra RMSE %.4f; shadow map %.4f, %.4f, %.4f\n",
+              es.visibilityMeanAbs, es.flip, es.penumbraRmse, em.visibilityMeanAbs, em.flip, em.penumbraRmse);
+  EXPECT_LT(es.visibilityMeanAbs, em.visibilityMeanAbs);
+  EXPECT_LT(es.flip, em.flip);
+}
+
+// The orbiting teapot at 4 frames per second of scene time (it moves about 10 cm a frame). After 8 frames
+// with TAA, where the truth had its shadow 4 frames ago and has none now, the TAA frame may be darker than
+// a frame rendered afresh at the same moment (no history) by at most 0.1 on average. Without the
+// neighbourhood clamp the history keeps the stale shadow: that case must be worse.
+TEST_F(Render, ShadowsFollowTheOrbitingTeapot) {
+  const Scene scene = defaultScene();
+  const int w = 320, h = 180;
+  const double fps = 4.0, tEnd = 7.0 / fps;
+  const RenderedFrame now = truthOf(scene, tEnd, w, h, 32), before = truthOf(scene, tEnd - 4.0 / fps, w, h, 32);
+  Bounds bounds;
+  for (int f = 0; f < 8; ++f) bounds.add(boundsOf(scene, f / fps));
+  RenderSettings s = small(ShadowTechnique::Sdf, w, h);
+  s.pipeline.coarseRes = 48;
+  s.pipeline.fineRes = 96;
+  s.pipeline.rays = 0; // closest mode signed by the closest triangle: no decayed sign votes to lag behind
+  s.taa.blend = 0.1;
+  Renderer freshRenderer(*sCtx, scene, bounds, s);
+  const RenderedFrame fresh = freshRenderer.renderFrame(tEnd);
+  auto staleDarkness = [&](bool clamp) {
+    s.taa.enabled = true;
+    s.taa.clampHistory = clamp;
+    Renderer r(*sCtx, scene, bounds, s);
+    RenderedFrame f;
+    for (int k = 0; k < 8; ++k) f = r.renderFrame(k / fps, k == 7);
+    double deficit = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < now.gbuffer.pixelCount(); ++i) {
+      if (!(before.visibility[0][i] < 0.5f && now.visibility[0][i] > 0.9f)) continue;
+      deficit += fresh.visibility[0][i] - f.visibility[0][i];
+      ++n;
+    }
+    EXPECT_GT(n, 40u);
+    return n ? deficit / double(n) : 1.0;
+  };
+  const double clamped = staleDarkness(true), unclamped = staleDarkness(false);
+  std::printf("stale shadow darkness: clamped %.4f, unclamped %.4f\n", clamped, unclamped);
+  EXPECT_LT(clamped, 0.1);
+  EXPECT_GT(unclamped, clamped + 0.05);
+}
+
+// Every EXR written is read back, with every channel finite, at the extremes: the camera inside a box, a
+// sun grazing the floor, zero-radius and huge lights (sun 89 degrees, a sphere light around the room).
+TEST_F(Render, ExtremesGiveFiniteImagesThatReadBack) {
+  const test::TempDir dir;
+  std::vector<Scene> scenes;
+  Scene inside = defaultScene();
+  inside.camera.position = glm::dvec3(inside.instances[3].transform.translation); // inside the couch seat
+  inside.camera.target = inside.camera.position + glm::dvec3(1.0, 0.0, 0.0);
+  scenes.push_back(inside);
+  Scene grazing = defaultScene();
+  grazing.lights[0].direction = glm::dvec3(1.0, -1e-4, 0.0);
+  scenes.push_back(grazing);
+  Scene point = defaultScene();
+  point.lights[0].angularRadius = 0.0;
+  Light bulb;
+  bulb.type = Light::Type::Sphere;
+  bulb.position = glm::dvec3(0.0, 0.7, 0.0);
+  bulb.radius = 0.0;
+  point.lights.push_back(bulb);
+  scenes.push_back(point);
+  Scene huge = defaultScene();
+  huge.lights[0].angularRadius = glm::radians(89.0);
+  Light dome = bulb;
+  dome.radius = 10.0; // every surface is inside the light
+  huge.lights.push_back(dome);
+  scenes.push_back(huge);
+  int k = 0;
+  for (const Scene& scene : scenes) {
+    for (ShadowTechnique t : {ShadowTechnique::Sdf, ShadowTechnique::ShadowMap, ShadowTechnique::RayTraced}) {
+      RenderSettings s = small(t, 48, 27);
+      s.pipeline.coarseRes = 32;
+      s.pipeline.fineRes = 64;
+      s.shadowMap.resolution = 128;
+      s.rayTraced.samples = 16;
+      s.taa.enabled = true;
+      RenderedFrame f;
+      if (t == ShadowTechnique::RayTraced) {
+        f = renderRayTraced(scene, 0.0, s);
+      } else {
+        Renderer r(*sCtx, scene, boundsOf(scene), s);
+        for (int i = 0; i < 2; ++i) f = r.renderFrame(0.1 * i);
+      }
+      expectAllFinite(f);
+      const auto path = dir / ("frame" + std::to_string(k++) + ".exr");
+      const Image img = composeImage(scene, f);
+      writeExr(path, img);
+      const Image back = readExr(path);
+      ASSERT_EQ(back.channelNames().size(), img.channelNames().size());
+      for (const std::string& c : img.channelNames()) {
+        ASSERT_EQ(back.channel(c), img.channel(c)) << c;
+        for (float v : back.channel(c)) ASSERT_TRUE(std::isfinite(v)) << c;
+      }
+    }
+  }
+}
+
+TEST_F(Render, BadSettingsAndScenesAreClearErrors) {
+  Scene scene = defaultScene();
+  RenderSettings s = small(ShadowTechnique::Sdf);
+  s.sdf.epsilonVoxels = 0.5;
+  EXPECT_THROW(Renderer(*sCtx, scene, boundsOf(scene), s), Error);
+  s = small(ShadowTechnique::ShadowMap);
+  s.taa.blend = 0.0;
+  EXPECT_THROW(Renderer(*sCtx, scene, boundsOf(scene), s), Error);
+  scene.hasCamera = false;
+  EXPECT_THROW(Renderer(*sCtx, scene, boundsOf(scene), small(ShadowTechnique::ShadowMap)), Error);
+  scene = defaultScene();
+  scene.lights.clear();
+  EXPECT_THROW(renderRayTraced(scene, 0.0, small(ShadowTechnique::RayTraced)), Error);
 }

@@ -228,10 +228,12 @@ RTSDF_FN float shadowMapLookup(ShadowMapParams m, GpuLight l, vec3 p, vec3 n) {
   int r = m.image.z;
   float depth;
   float texel;
+  float cosTheta;
   uint face = 0u;
   float s, t;
   if (uint(l.position.w) == kLightDirectional) {
     texel = 2.0f * m.center.w / float(res);
+    cosTheta = dot(n, vec3(m.lightAxis));
     vec3 q = p + n * texel;
     vec3 rel = q - vec3(m.center);
     s = dot(rel, vec3(m.right)) / m.center.w;
@@ -242,6 +244,7 @@ RTSDF_FN float shadowMapLookup(ShadowMapParams m, GpuLight l, vec3 p, vec3 n) {
     float dist = length(toP);
     if (dist <= l.size.x || dist == 0.0f) return 1.0f;
     texel = 2.0f * dist / float(res);
+    cosTheta = dot(n, -toP / dist);
     vec3 q = p + n * texel;
     vec3 dq = q - vec3(l.position);
     depth = length(dq);
@@ -250,7 +253,9 @@ RTSDF_FN float shadowMapLookup(ShadowMapParams m, GpuLight l, vec3 p, vec3 n) {
   if (abs(s) > 1.0f || abs(t) > 1.0f) return 1.0f; // outside the map: nothing there casts a shadow
   int cx = clamp(int(floor((s * 0.5f + 0.5f) * float(res))), 0, res - 1);
   int cy = clamp(int(floor((t * 0.5f + 0.5f) * float(res))), 0, res - 1);
-  float bias = m.depthBias * texel;
+  // Slope-scaled: a surface at a grazing angle to the light changes depth fast across one texel.
+  float c = clamp(abs(cosTheta), 0.05f, 1.0f);
+  float bias = m.depthBias * texel * (1.0f + min(sqrt(1.0f - c * c) / c, 8.0f));
   int lit = 0, total = 0;
   for (int dy = -r; dy <= r; ++dy)
     for (int dx = -r; dx <= r; ++dx) {

@@ -192,8 +192,10 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--suite", bench.suite,
                        "reference: exact SDF vs OpenVDB meshToLevelSet; coarse: GPU voxelize + jump flooding per "
                        "pass vs CPU jump flooding, exact EDT and OpenVDB meshToSignedDistanceField; refine: the paper's "
-                       "ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet")
-      ->check(CLI::IsMember({"reference", "coarse", "refine"}))
+                       "ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet; render: per-pass "
+                       "times of SDF shadows and shadow maps at 640x360 and 1280x720 with their image error against "
+                       "the ray-traced truth, and the ray tracer's time per sample count (PNGs beside --output)")
+      ->check(CLI::IsMember({"reference", "coarse", "refine", "render"}))
       ->capture_default_str();
   benchCmd->add_option("--device", bench.device, "Vulkan device by index or name (coarse suite)");
 

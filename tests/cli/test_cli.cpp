@@ -2,6 +2,7 @@
 // with a clear message, a non-zero exit and no output file.
 #include "TestUtil.h"
 #include "grid/VdbIO.h"
+#include "image/ImageIO.h"
 
 #include <gtest/gtest.h>
 
@@ -37,7 +38,7 @@ std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
 TEST(Cli, HelpOnEveryCommand) {
   const Result top = rtsdfCmd("--help");
   EXPECT_EQ(top.exitCode, 0);
-  for (const char* cmd : {"bake", "info", "compare", "bench", "animate"}) {
+  for (const char* cmd : {"bake", "info", "compare", "bench", "animate", "render"}) {
     EXPECT_NE(top.output.find(cmd), std::string::npos) << cmd;
     const Result r = rtsdfCmd(std::string(cmd) + " --help");
     EXPECT_EQ(r.exitCode, 0) << cmd;
@@ -206,4 +207,62 @@ TEST(Cli, BadInputIsRefusedClearlyWithNoOutputFile) {
   const Result junk = rtsdfCmd("compare " + q(dir / "junk.vdb") + " " + q(dir / "junk.vdb"));
   EXPECT_NE(junk.exitCode, 0);
   EXPECT_NE(junk.output.find("junk.vdb"), std::string::npos) << junk.output;
+}
+
+// render end to end: every technique writes an EXR (R, G, B and the light's visibility) and a PNG that read
+// back; --compare prints the error against the truth and writes the error picture.
+TEST(Cli, RendersTheAnalyticSceneWithEveryTechnique) {
+  const TempDir dir;
+  const std::string scene = q(test::dataPath("scenes/analytic.json"));
+  for (const char* t : {"sdf", "shadowmap", "raytraced"}) {
+    SCOPED_TRACE(t);
+    const auto exr = dir / (std::string(t) + ".exr");
+    const Result r = rtsdfCmd("-q render " + scene + " --shadows " + t +
+                              " --width 64 --height 36 --frames 2 --coarse 32 --fine 64 --samples 16 "
+                              "--shadow-map-res 256 --compare -o " + q(exr));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("FLIP"), std::string::npos) << r.output;
+    const Image img = readExr(exr);
+    EXPECT_EQ(img.width(), 64);
+    EXPECT_EQ(img.height(), 36);
+    for (const char* c : {"R", "G", "B", "sun.V"}) {
+      ASSERT_TRUE(img.hasChannel(c)) << c;
+      for (float v : img.channel(c)) ASSERT_TRUE(std::isfinite(v));
+    }
+    const PngPixels png = readPng(dir / (std::string(t) + ".png"));
+    EXPECT_EQ(png.width, 64);
+    EXPECT_TRUE(std::filesystem::exists(dir / (std::string(t) + "_error.png")));
+  }
+}
+
+TEST(Cli, RenderRefusesBadInputWithoutWritingAnything) {
+  const TempDir dir;
+  writeText(dir / "nocamera.json", R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b"}],
+    "lights": [{"type": "directional", "direction": [0, -1, 0]}]})");
+  writeText(dir / "nolight.json", R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b"}],
+    "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]}})");
+  const std::string ok = q(test::dataPath("scenes/analytic.json"));
+  struct Case { std::string args; std::string expect; };
+  const std::vector<Case> cases = {
+      {q(dir / "nocamera.json"), "no camera"},
+      {q(dir / "nolight.json"), "no light"},
+      {q(dir / "absent.json"), "absent.json"},
+      {ok + " --shadows magic", "--shadows"},
+      {ok + " --epsilon 0.5", "--epsilon"},
+      {ok + " --width 0", "--width"},
+      {ok + " --max-step 0", "--max-step"},
+      {ok + " --taa-blend 0", "--taa-blend"},
+      {ok + " --shadows shadowmap --shadow-map-res 8192", "storage buffer limit"}, // lavapipe: 128 MiB
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const Result r = rtsdfCmd("-q render " + c.args + " --width 16 --height 9 -o " + q(dir / "out.exr"));
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out.exr"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
+  }
+  const Result noDir = rtsdfCmd("-q render " + ok + " -o " + q(dir / "nowhere" / "x.exr"));
+  EXPECT_NE(noDir.exitCode, 0);
+  EXPECT_NE(noDir.output.find("does not exist"), std::string::npos) << noDir.output;
 }

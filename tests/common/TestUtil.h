@@ -39,37 +39,7 @@ inline void writeText(const std::filesystem::path& p, const std::string& text) {
 inline std::string dataPath(const std::string& rel) { return std::string(RTSDF_DATA_DIR) + "/" + rel; }
 
 /// Icosphere of radius r, subdivided n times (20 * 4^n triangles), outward facing.
-inline Mesh makeSphere(float r, int n) {
-  Mesh m;
-  m.name = m.source = "sphere";
-  const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-  std::vector<glm::vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                              {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (auto& p : v) p = glm::normalize(p);
-  std::vector<glm::uvec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                               {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                               {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int s = 0; s < n; ++s) {
-    std::map<std::pair<unsigned, unsigned>, unsigned> mid;
-    auto midpoint = [&](unsigned a, unsigned b) {
-      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back(glm::normalize(v[a] + v[b]));
-      return mid[key] = unsigned(v.size() - 1);
-    };
-    std::vector<glm::uvec3> g;
-    for (const auto& tri : f) {
-      const unsigned ab = midpoint(tri.x, tri.y), bc = midpoint(tri.y, tri.z), ca = midpoint(tri.z, tri.x);
-      g.insert(g.end(), {{tri.x, ab, ca}, {tri.y, bc, ab}, {tri.z, ca, bc}, {ab, bc, ca}});
-    }
-    f.swap(g);
-  }
-  for (auto& p : v) p *= r;
-  m.positions = v;
-  m.triangles = f;
-  return m;
-}
+inline Mesh makeSphere(float r, int n) { return makeSphereMesh(r, n, "sphere"); }
 
 /// Torus around the y axis (major radius R, minor r), nu x nv quads split in two, outward facing.
 inline Mesh makeTorus(float R, float r, int nu, int nv) {

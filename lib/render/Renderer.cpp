@@ -206,11 +206,13 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
     // Shadow maps cover the scene as it is now (the maps' frame follows the moving instances' bounds).
     mBvh->update(time);
     bvh = mBvh.get();
-    if (!mScene.instances.empty()) {
-      mMapParams = makeShadowMapParams(mLights, buildSceneGeometry(mScene, time).bounds, mSettings.shadowMap,
-                                       mSettings.width, mSettings.height);
-      upload(mCtx, mGpu->maps, mMapParams.data(), mMapParams.size() * sizeof(sh::ShadowMapParams));
-    }
+    // The top level's root box bounds every instance at this time: no need to transform the meshes again.
+    const sh::BvhNode& root = mBvh->top().nodes.at(0);
+    Bounds now;
+    now.add(glm::dvec3(glm::vec3(root.lo)));
+    now.add(glm::dvec3(glm::vec3(root.hi)));
+    mMapParams = makeShadowMapParams(mLights, now, mSettings.shadowMap, mSettings.width, mSettings.height);
+    upload(mCtx, mGpu->maps, mMapParams.data(), mMapParams.size() * sizeof(sh::ShadowMapParams));
   }
   gpu::CommandBuffer cmd(mCtx);
   Gpu& g = *mGpu;

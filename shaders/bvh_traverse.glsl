@@ -103,7 +103,19 @@ bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
   return found;
 }
 
+// Closest point on segment ab to p (a point when a == b).
+vec3 closestOnSegment(vec3 p, vec3 a, vec3 b) {
+  vec3 ab = b - a;
+  float l2 = dot(ab, ab);
+  float t = l2 > 0.0 ? clamp(dot(p - a, ab) / l2, 0.0, 1.0) : 0.0;
+  return a + t * ab;
+}
+
 // Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
+// Slivers: rounding can skip every vertex and edge region yet leave a barycentric weight negative (or their
+// sum zero), which put the "face" point off the triangle, nearer than the true distance. The face point is
+// taken only when all three weights are positive and their sum is a normal number; otherwise the nearest of
+// the three edges, which for such a thin triangle is the answer to within rounding.
 vec3 closestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
   vec3 ab = b - a, ac = c - a, ap = p - a;
   float d1 = dot(ab, ap), d2 = dot(ac, ap);
@@ -120,8 +132,14 @@ vec3 closestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
   if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
   float va = d3 * d6 - d5 * d4;
   if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  float denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
+  float sum = va + vb + vc;
+  if (va > 0.0 && vb > 0.0 && vc > 0.0 && sum >= 1.17549435e-38 && !isinf(sum)) {
+    float denom = 1.0 / sum;
+    return a + ab * (vb * denom) + ac * (vc * denom);
+  }
+  vec3 qab = closestOnSegment(p, a, b), qbc = closestOnSegment(p, b, c), qca = closestOnSegment(p, c, a);
+  float dab = dot(p - qab, p - qab), dbc = dot(p - qbc, p - qbc), dca = dot(p - qca, p - qca);
+  return dab <= dbc ? (dab <= dca ? qab : qca) : (dbc <= dca ? qbc : qca);
 }
 
 float boxDistance(vec3 p, vec3 lo, vec3 hi) { return length(max(max(lo - p, p - hi), vec3(0.0))); }

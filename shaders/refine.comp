@@ -43,9 +43,11 @@ void main() {
   float bound = fresh ? c : params.alpha * history[i] + (1.0 - params.alpha) * c;
   vec2 vote = fresh ? vec2(0.0) : params.alpha * unpackHalf2x16(votes[i]);
 
-  // Rays reach twice the current bound: far enough to vote for the sign (from inside a closed surface any
-  // ray meets a back face within that reach with good probability), short enough to keep traversal cheap.
-  float reach = 2.0 * bound + 1.0 / params.coarseOriginInvH.w;
+  // Rays are not cut short: the nearest hit of a ray from inside a closed surface is always a back face and
+  // from outside always a front face, so every hit votes right. (A reach of twice the bound left deep
+  // voxels with no hit at all, hence no vote and the outside sign: sign flips far from the surface.) Traversal
+  // culls every box past the nearest hit found so far, so the longer reach costs little; the distance is min(bound, nearest) either way.
+  float reach = 3.0e38;
   float front = 0.0, back = 0.0, nearest = 1.0 / 0.0;
   for (uint r = 0u; r < params.rays; ++r) {
     uint h = rayHash(i, params.frame, r, params.seed);

@@ -27,7 +27,16 @@ constexpr int kLeafDim = LeafT::DIM;
 static_assert(kLeafDim == 8, "rtsdf's block functions assume 8^3 OpenVDB leaves");
 } // namespace
 
+double minVdbVoxelSize() {
+  // ScaleMap refuses |h^3| < 3 * Tolerance<double> (1e-15); stay a little above it.
+  return std::cbrt(3.0 * openvdb::math::Tolerance<double>::value()) * (1.0 + 1e-9);
+}
+
 openvdb::math::Transform::Ptr makeTransform(const GridSpec& spec) {
+  if (!(spec.voxelSize >= minVdbVoxelSize()))
+    throw Error(fmt::format("OpenVDB grid: voxel size {:.3g} is below the smallest OpenVDB transforms accept "
+                            "({:.3g}): the scene's units are too small for this resolution (scale the scene up or "
+                            "lower the resolution)", spec.voxelSize, minVdbVoxelSize()));
   auto xf = openvdb::math::Transform::createLinearTransform(spec.voxelSize);
   const glm::dvec3 c = spec.origin + 0.5 * spec.voxelSize;
   xf->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));

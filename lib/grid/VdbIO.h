@@ -14,7 +14,13 @@
 
 namespace rtsdf {
 
+/// @brief The smallest voxel size OpenVDB's linear transforms accept: their maps refuse a scale whose
+///        determinant h^3 is below 3e-15 ("Non-zero scale values required"), i.e. h below about 1.44e-5.
+double minVdbVoxelSize();
+
 /// @brief OpenVDB transform of a cell-centred grid: scale h, translated to voxel (0,0,0)'s centre.
+/// @throw Error naming the voxel size when it is below minVdbVoxelSize() (the scene's units are too small
+///        for OpenVDB at this resolution: scale the scene up or lower the resolution).
 openvdb::math::Transform::Ptr makeTransform(const GridSpec& spec);
 
 /// @brief Fills one 8x8x8 block of a level set. @a origin is the block's first voxel; @a values and

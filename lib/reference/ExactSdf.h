@@ -35,6 +35,8 @@ const char* toString(SignMethod method);
 class ExactDistanceField {
 public:
   /// @throw Error when the scene has no triangles.
+  /// @note @a geometry is referenced, not copied: it must outlive the field (a temporary leaves the queries
+  ///       reading freed triangles).
   explicit ExactDistanceField(const SceneGeometry& geometry, SignMethod sign = SignMethod::Auto);
   ~ExactDistanceField();
   ExactDistanceField(const ExactDistanceField&) = delete;

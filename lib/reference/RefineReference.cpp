@@ -36,7 +36,7 @@ std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vecto
       const auto i = std::uint32_t(fs.linear(v.x, v.y, v.z));
       const glm::vec3 p = glm::vec3(fs.origin) + (glm::vec3(v) + 0.5f) * float(fs.voxelSize);
       const float c = upsampleCoarse(coarse, cs, fs, v) + beta + 0.8660254f * float(cs.voxelSize);
-      const float reach = 2.0f * c + float(cs.voxelSize);
+      const float reach = 3.0e38f; // as refine.comp: rays are not cut short, every hit votes for the sign
       float nearest = INFINITY, front = 0.0f, back = 0.0f;
       for (std::uint32_t ray = 0; ray < rays; ++ray) {
         const std::uint32_t h = rayHash(i, frame, ray, seed);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
@@ -30,6 +31,12 @@ struct PositionHash {
 };
 
 } // namespace
+
+bool hasFloatArea(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+  const glm::vec3 n = glm::cross(b - a, c - a);
+  const float n2 = glm::dot(n, n);
+  return n2 >= std::numeric_limits<float>::min() && std::isfinite(n2);
+}
 
 MeshReport validateMesh(Mesh& mesh) {
   MeshReport r;
@@ -71,9 +78,7 @@ MeshReport validateMesh(Mesh& mesh) {
   for (const glm::uvec3& t0 : mesh.triangles) {
     const glm::uvec3 t(remap[t0.x], remap[t0.y], remap[t0.z]);
     if (t.x == t.y || t.y == t.z || t.x == t.z) { ++r.degenerateDropped; continue; }
-    const glm::dvec3 a(welded[t.x]), b(welded[t.y]), c(welded[t.z]);
-    const glm::dvec3 n = glm::cross(b - a, c - a);
-    if (glm::dot(n, n) == 0.0 || !std::isfinite(glm::dot(n, n))) { ++r.degenerateDropped; continue; }
+    if (!hasFloatArea(welded[t.x], welded[t.y], welded[t.z])) { ++r.degenerateDropped; continue; }
     kept.push_back(t);
   }
   if (kept.empty())

@@ -21,7 +21,7 @@ struct Mesh {
 struct MeshReport {
   std::size_t inputTriangles = 0;
   std::size_t inputVertices = 0;
-  std::size_t degenerateDropped = 0; ///< zero-area triangles (repeated index or collinear points)
+  std::size_t degenerateDropped = 0; ///< zero-area triangles (repeated index, collinear points, !hasFloatArea)
   std::size_t weldedVertices = 0;    ///< vertices merged because they had identical positions
   std::size_t triangles = 0;         ///< kept
   std::size_t boundaryEdges = 0;     ///< edges used by one triangle (open mesh)
@@ -31,12 +31,20 @@ struct MeshReport {
   bool watertight() const { return boundaryEdges == 0 && nonManifoldEdges == 0 && misorientedEdges == 0; }
 };
 
+/// @brief Whether triangle (a, b, c) has an area float arithmetic can use: its float normal's squared length
+///        is finite and a normal number (>= FLT_MIN). Thinner triangles (a sliver 1e-20 high) are degenerate:
+///        their barycentrics are all rounding, a GPU flushing denormals sees zero area, and Embree never hits
+///        them. validateMesh and buildSceneGeometry use this one test, so the rasterized coarse SDF and the
+///        BVH see the same triangles.
+bool hasFloatArea(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
+
 /// @brief Validate a mesh in place: errors for what cannot be repaired, counted drops for what can.
 /// @param mesh the mesh; on return it holds only finite, non-degenerate triangles over welded vertices.
 /// @return the counts of what was found and dropped, and the mesh's topology.
 /// @throw Error naming the mesh's source file and object when a vertex coordinate is NaN or Inf, when a
 ///        triangle index is out of range, or when no triangle is left (empty mesh).
-/// @note Zero-area triangles are dropped and counted: Embree never hits them, and they carry no surface.
+/// @note Zero-area triangles (repeated indices, collinear points, or too thin for float: hasFloatArea) are
+///       dropped and counted: Embree never hits them, and they carry no surface.
 MeshReport validateMesh(Mesh& mesh);
 
 /// @brief Edge topology of a mesh (boundary, non-manifold and mis-oriented edge counts).

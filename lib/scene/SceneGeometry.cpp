@@ -49,8 +49,7 @@ SceneGeometry buildSceneGeometry(const Scene& scene, double time) {
     std::size_t collapsed = 0;
     for (glm::uvec3 t : mesh.triangles) {
       // A tiny scale can round a valid triangle to zero area in float: Embree would silently skip it.
-      const glm::vec3 n = glm::cross(w.positions[t.y] - w.positions[t.x], w.positions[t.z] - w.positions[t.x]);
-      if (!(glm::dot(n, n) > 0.0f)) { ++collapsed; continue; }
+      if (!hasFloatArea(w.positions[t.x], w.positions[t.y], w.positions[t.z])) { ++collapsed; continue; }
       if (mirrored) std::swap(t.y, t.z);
       w.triangles.push_back(t);
     }

@@ -10,6 +10,8 @@
 #include <tbb/parallel_sort.h>
 
 #include <chrono>
+#include <fstream>
+#include <tuple>
 #include <cmath>
 #include <mutex>
 
@@ -43,10 +45,108 @@ GridSpec fineGridUnder(const GridSpec& coarse, int coarseRes, int fineRes) {
   return f;
 }
 
+std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& s) {
+  s.validate();
+  // Padding keeps the band inside the grid, but a band wider than the scene must not blow the grid up.
+  const GridSpec coarse = GridSpec::fromBounds(bounds, s.coarseRes, std::min(s.band, 0.25 * bounds.maxExtent()));
+  const GridSpec fine = fineGridUnder(coarse, s.coarseRes, s.fineRes);
+  for (int a = 0; a < 3; ++a)
+    if (fine.dims[a] > gpu::shared::kMaxSeedAxis)
+      throw Error(fmt::format("fine grid {}: more than {} voxels along an axis (lower --fine)", fine.describe(),
+                              gpu::shared::kMaxSeedAxis));
+  return {coarse, fine};
+}
+
+namespace {
+std::string mib(std::uint64_t bytes) { return fmt::format("{:.1f} MiB", double(bytes) / (1024.0 * 1024.0)); }
+} // namespace
+
+std::string PipelineMemory::describe() const {
+  return fmt::format("coarse {}x{}x{}, fine {}x{}x{}: largest buffer '{}' {}, device {}, host {}", coarse.dims.x,
+                     coarse.dims.y, coarse.dims.z, fine.dims.x, fine.dims.y, fine.dims.z, largestBufferName,
+                     mib(largestBuffer), mib(deviceBytes), mib(hostBytes));
+}
+
+PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettings& s, std::uint64_t triangles) {
+  PipelineMemory m;
+  std::tie(m.coarse, m.fine) = pipelineGrids(bounds, s);
+  const std::uint64_t nc = m.coarse.voxelCount(), nf = m.fine.voxelCount();
+  const std::uint64_t coarseBuf = nc * 4, fineBuf = nf * 4;
+  if (fineBuf >= coarseBuf) { m.largestBuffer = fineBuf; m.largestBufferName = "fine SDF"; }
+  else { m.largestBuffer = coarseBuf; m.largestBufferName = "coarse SDF"; }
+  // Seeds A/B and the coarse SDF; fine SDF, history, votes, last frame and the mask at its largest; the BVH
+  // (nodes of 32 bytes, at most two per triangle, corners 48 bytes and ids 4 bytes per triangle) and the
+  // corners VoxelizePass reads (48 bytes per triangle).
+  m.deviceBytes = 3 * coarseBuf + 5 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
+  // Read-back and staging of the coarse SDF, its OpenVDB mirror (4 bytes and a mask bit per voxel at worst);
+  // the mask list and its staging upload; fineField() and its staging read-back.
+  m.hostBytes = nc * 13 + nf * 16;
+  return m;
+}
+
+std::uint64_t availableHostMemory() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  std::uint64_t value = 0;
+  std::string unit;
+  while (in >> key >> value) {
+    std::getline(in, unit);
+    if (key == "MemAvailable:") return value * 1024;
+  }
+  return physicalMemoryBytes();
+}
+
+MemoryLimits memoryLimits(const gpu::DeviceInfo& device) {
+  MemoryLimits l;
+  l.maxStorageBufferRange = device.maxStorageBufferRange;
+  l.deviceBytes = device.deviceLocalBytes;
+  l.hostBytes = availableHostMemory();
+  l.unifiedMemory = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  l.deviceName = device.name;
+  return l;
+}
+
+void checkPipelineMemory(const PipelineMemory& need, const MemoryLimits& limits) {
+  const std::string grids = fmt::format("coarse grid {}x{}x{}, fine grid {}x{}x{}", need.coarse.dims.x,
+                                        need.coarse.dims.y, need.coarse.dims.z, need.fine.dims.x, need.fine.dims.y,
+                                        need.fine.dims.z);
+  const char* lower = need.largestBufferName == "fine SDF" ? "--fine" : "--coarse";
+  if (limits.maxStorageBufferRange && need.largestBuffer > limits.maxStorageBufferRange)
+    throw Error(fmt::format("SdfPipeline: {}: buffer '{}' needs {}, more than {}'s maxStorageBufferRange of {}: "
+                            "lower {}", grids, need.largestBufferName, mib(need.largestBuffer), limits.deviceName,
+                            mib(limits.maxStorageBufferRange), lower));
+  if (limits.deviceBytes && need.deviceBytes > limits.deviceBytes)
+    throw Error(fmt::format("SdfPipeline: {}: the device buffers need {}, more than {}'s {} heap: lower --fine "
+                            "(and --coarse)", grids, mib(need.deviceBytes), limits.deviceName,
+                            mib(limits.deviceBytes)));
+  const std::uint64_t host = need.hostBytes + (limits.unifiedMemory ? need.deviceBytes : 0);
+  if (limits.hostBytes && host > limits.hostBytes)
+    throw Error(fmt::format("SdfPipeline: {}: needs {} of host memory{}, more than the {} available: lower --fine "
+                            "(and --coarse)", grids, mib(host), limits.unifiedMemory ? " (device buffers included)" : "",
+                            mib(limits.hostBytes)));
+}
+
 RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& cs, const GridSpec& fs, double band) {
   RayMask mask;
   if (band <= 0.0) return mask; // d = 0: nothing is refined, the fine SDF is the upsampled coarse one
-  mask.coarse = denseToLevelSet(coarse, cs, float(band));
+  // The mask needs index space only. Voxels too small for an OpenVDB transform (scenes in tiny units) are
+  // mirrored on the same grid measured in voxels: values and band divided by h, transform of voxel size 1.
+  if (cs.voxelSize >= minVdbVoxelSize()) {
+    mask.coarse = denseToLevelSet(coarse, cs, float(band));
+  } else {
+    GridSpec unit = cs;
+    unit.voxelSize = 1.0;
+    unit.origin = cs.origin / cs.voxelSize;
+    std::vector<float> scaled(coarse.size());
+    for (std::size_t i = 0; i < coarse.size(); ++i) scaled[i] = float(double(coarse[i]) / cs.voxelSize);
+    // The same voxels must be active: |c| <= band exactly as in world units.
+    const float unitBand = float(double(band) / cs.voxelSize);
+    for (std::size_t i = 0; i < coarse.size(); ++i)
+      if ((std::fabs(coarse[i]) <= float(band)) != (std::fabs(scaled[i]) <= unitBand))
+        scaled[i] = std::fabs(coarse[i]) <= float(band) ? std::copysign(unitBand, scaled[i])
+                                                         : std::copysign(std::nextafter(unitBand, INFINITY), scaled[i]);
+    mask.coarse = denseToLevelSet(scaled, unit, unitBand);
+  }
   mask.coarseVoxels = mask.coarse->activeVoxelCount();
   // Fine voxels whose centres fall in each active coarse voxel, leaf by leaf in parallel.
   openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(mask.coarse->tree());
@@ -106,13 +206,13 @@ void uploadGrow(const gpu::VulkanContext& ctx, Buffer& b, const void* data, std:
 SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
                          const PipelineSettings& s)
     : mCtx(ctx), mScene(scene), mSettings(s) {
-  s.validate();
-  // Padding keeps the band inside the grid, but a band wider than the scene must not blow the grid up.
-  mCoarseSpec = GridSpec::fromBounds(bounds, s.coarseRes, std::min(s.band, 0.25 * bounds.maxExtent()));
-  mFineSpec = fineGridUnder(mCoarseSpec, s.coarseRes, s.fineRes);
-  for (int a = 0; a < 3; ++a)
-    if (mFineSpec.dims[a] > 1024)
-      throw Error(fmt::format("fine grid {}: more than 1024 voxels along an axis", mFineSpec.describe()));
+  // Everything is checked before anything is allocated.
+  std::uint64_t triangles = 0;
+  for (const Instance& inst : scene.instances) triangles += scene.meshes.at(inst.mesh).triangles.size();
+  const PipelineMemory need = estimatePipelineMemory(bounds, s, triangles);
+  checkPipelineMemory(need, memoryLimits(ctx.info()));
+  mCoarseSpec = need.coarse;
+  mFineSpec = need.fine;
   mBvh = std::make_unique<GpuSceneBvh>(ctx, scene);
   mGpu = std::make_unique<Gpu>(ctx);
   const std::size_t fineBytes = mFineSpec.voxelCount() * 4;

@@ -47,10 +47,61 @@ struct PipelineSettings {
 ///        enough voxels to cover the coarse grid.
 GridSpec fineGridUnder(const GridSpec& coarse, int coarseRes, int fineRes);
 
+/// @brief The coarse and fine grids SdfPipeline builds for @a bounds and @a s: the coarse grid covers the
+///        bounds padded by min(d, a quarter of the longest side), the fine one lies under it.
+/// @throw Error when the settings are out of range (PipelineSettings::validate) or the fine grid needs more
+///        than 1024 voxels along an axis.
+std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& s);
+
+/// @brief What SdfPipeline would allocate for some settings and bounds, computed without allocating.
+///
+/// Device buffers: per coarse voxel 12 bytes (seeds, jump-flood scratch, coarse SDF); per fine voxel 16 bytes
+/// (fine SDF, history, sign votes, last frame) plus up to 4 for the ray mask (every fine voxel when d spans
+/// the scene); the BVH (about 100 bytes per triangle). Host memory per frame: per coarse voxel 13 bytes (its
+/// read-back, the staging copy and the OpenVDB mirror), per fine voxel 16 bytes (mask list and its staging
+/// upload, fineField() and its staging read-back).
+struct PipelineMemory {
+  GridSpec coarse, fine;          ///< the grids (pipelineGrids)
+  std::uint64_t largestBuffer = 0;///< bytes of the largest single storage buffer
+  std::string largestBufferName;  ///< which one ("fine SDF" or "coarse SDF")
+  std::uint64_t deviceBytes = 0;  ///< every device buffer together
+  std::uint64_t hostBytes = 0;    ///< host copies and staging buffers (peak of one frame)
+  std::string describe() const;
+};
+
+/// @brief Estimate the memory of a pipeline (see PipelineMemory) for @a triangles triangles.
+/// @throw Error as pipelineGrids does.
+PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettings& s, std::uint64_t triangles = 0);
+
+/// @brief Limits an estimate is checked against.
+struct MemoryLimits {
+  std::uint64_t maxStorageBufferRange = 0; ///< largest storage buffer (VkPhysicalDeviceLimits)
+  std::uint64_t deviceBytes = 0;           ///< the largest device-local heap; 0: unknown (not checked)
+  std::uint64_t hostBytes = 0;             ///< host memory available (MemAvailable); 0: unknown (not checked)
+  bool unifiedMemory = false;              ///< device memory is host memory (a CPU device such as lavapipe)
+  std::string deviceName;
+};
+
+/// @brief The limits of @a device on this machine: its buffer range and heap, and /proc/meminfo's
+///        MemAvailable (0 where unknown).
+MemoryLimits memoryLimits(const gpu::DeviceInfo& device);
+
+/// @brief Host memory available now (MemAvailable of /proc/meminfo, else physical memory; 0 when unknown).
+std::uint64_t availableHostMemory();
+
+/// @brief Refuse an estimate that does not fit: the largest buffer against maxStorageBufferRange, the
+///        device buffers against the device heap, host copies (plus device buffers on a unified-memory
+///        device) against the host memory available.
+/// @throw Error stating the grid, the bytes needed, the limit, and the setting to lower (--fine, --coarse).
+void checkPipelineMemory(const PipelineMemory& need, const MemoryLimits& limits);
+
 /// @brief The ray mask: the coarse SDF mirrored into OpenVDB (active exactly where |c| <= d) and the fine
 ///        voxels whose centres lie in active coarse voxels, packed 10 bits per axis, sorted.
 struct RayMask {
-  openvdb::FloatGrid::Ptr coarse; ///< the mirror (null when d = 0: nothing is refined)
+  /// The mirror (null when d = 0: nothing is refined). Its transform is the coarse grid's; where the coarse
+  /// voxels are smaller than OpenVDB accepts (minVdbVoxelSize()), the mirror is measured in voxels (voxel
+  /// size 1, values and background divided by h) and covers the same voxels.
+  openvdb::FloatGrid::Ptr coarse;
   std::vector<std::uint32_t> fineVoxels;
   std::uint64_t coarseVoxels = 0; ///< active coarse voxels
 };
@@ -70,6 +121,8 @@ struct FrameStats {
 ///        union over an animation, so history stays valid while objects move).
 class SdfPipeline {
 public:
+  /// @throw Error when a setting is out of range, or (before anything is allocated) when the grids would
+  ///        not fit the device's buffers and heap or the host's available memory (checkPipelineMemory).
   SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds, const PipelineSettings& s);
   ~SdfPipeline();
   SdfPipeline(const SdfPipeline&) = delete;

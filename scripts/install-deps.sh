@@ -10,6 +10,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers glslc vulkan-validationlayers vulkan-tools
   libassimp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  gnuplot-nox
 )
 
 missing=()

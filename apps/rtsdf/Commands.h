@@ -68,6 +68,12 @@ struct BenchSettings {
   std::string output;
   std::string suite = "reference"; ///< reference: exact vs OpenVDB; coarse: GPU coarse-SDF passes vs CPU
   std::string device;
+  std::string sweep;               ///< quick, default or paper: the speed/accuracy sweep (empty: a suite)
+  std::string outDir;              ///< the sweep's folder (CSV, report, plots); empty: sweep-<scene>
+  double errorBand = 0.1;          ///< the sweep's field error is measured where |exact| <= errorBand
+  bool shadows = true;             ///< the sweep also measures the shadow image error (scenes with a camera)
+  int truthSamples = 256;
+  std::string command;             ///< the command line, for the report
 };
 
 struct RenderCommandSettings {
@@ -97,6 +103,10 @@ int runRender(const RenderCommandSettings& s);
 int runInfo();
 int runCompare(const CompareSettings& s);
 int runBench(const BenchSettings& s);
+/// @brief `rtsdf bench --sweep`: every point of the preset on one scene; CSV rows as points finish, then the
+///        Markdown report and the plots. Ctrl-C stops after the current frame and keeps what finished.
+/// @return 0, or 130 when interrupted (the report then covers the finished points).
+int runSweep(const BenchSettings& s);
 int runAnimate(const AnimateSettings& s);
 
 /// @brief Fail early (before any work) when @a path cannot be written: missing folder or a directory.

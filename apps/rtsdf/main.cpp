@@ -197,7 +197,22 @@ int main(int argc, char** argv) {
                        "the ray-traced truth, and the ray tracer's time per sample count (PNGs beside --output)")
       ->check(CLI::IsMember({"reference", "coarse", "refine", "render"}))
       ->capture_default_str();
-  benchCmd->add_option("--device", bench.device, "Vulkan device by index or name (coarse suite)");
+  benchCmd->add_option("--device", bench.device, "Vulkan device by index or name (GPU suites and --sweep)");
+  benchCmd->add_option("--sweep", bench.sweep,
+                       "Run the speed/accuracy sweep on one scene instead of a suite: quick (tiny grids, a minute), "
+                       "default (sizes S 64/128 and M 128/256, every knob at S), paper (S, M, L 256/512, every knob "
+                       "at M: for a real GPU). Writes sweep.csv (row by row), report.md and PNG plots into --out")
+      ->check(CLI::IsMember({"quick", "default", "paper"}));
+  benchCmd->add_option("--out", bench.outDir, "The sweep's output folder (created; default: sweep-<scene name>)");
+  benchCmd->add_option("--error-band", bench.errorBand,
+                       "The sweep measures the field error where |exact| <= this (scene units)")
+      ->check(CLI::Range(1e-9, 1e9))
+      ->capture_default_str();
+  benchCmd->add_flag("!--no-shadows", bench.shadows, "The sweep skips the shadow image error");
+  benchCmd->add_option("--truth-samples", bench.truthSamples,
+                       "Samples per pixel of the sweep's ray-traced shadow truth")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
 
   try {
     app.parse(argc, argv);
@@ -211,7 +226,10 @@ int main(int argc, char** argv) {
     if (*bakeCmd) return runBake(bake);
     if (app.got_subcommand("info")) return runInfo();
     if (*cmpCmd) return runCompare(cmp);
-    if (*benchCmd) return runBench(bench);
+    if (*benchCmd) {
+      for (int i = 0; i < argc; ++i) bench.command += (i ? " " : "") + std::string(i ? argv[i] : "rtsdf");
+      return bench.sweep.empty() ? runBench(bench) : runSweep(bench);
+    }
     if (*animCmd) return runAnimate(anim);
     if (*renderCmd) return runRender(render);
   } catch (const rtsdf::Error& e) {

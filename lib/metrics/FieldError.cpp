@@ -95,4 +95,33 @@ FieldError compareWithFunction(const openvdb::FloatGrid& field,
   return finish(acc);
 }
 
+FieldError compareDenseWithReference(const std::vector<float>& dense, const GridSpec& spec,
+                                     const openvdb::FloatGrid& reference) {
+  if (dense.size() != spec.voxelCount())
+    throw Error(fmt::format("cannot compare a dense field of {} values with grid '{}': {} needs {}", dense.size(),
+                            reference.getName(), spec.describe(), spec.voxelCount()));
+  const double h = spec.voxelSize;
+  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(reference.tree());
+  const Accum acc = tbb::parallel_reduce(
+      leaves.leafRange(), Accum{},
+      [&](const LeafRange& r, Accum acc) {
+        for (auto leaf = r.begin(); leaf; ++leaf)
+          for (auto it = leaf->cbeginValueOn(); it; ++it) {
+            const openvdb::Coord c = it.getCoord();
+            if (c.x() < 0 || c.y() < 0 || c.z() < 0 || c.x() >= spec.dims.x || c.y() >= spec.dims.y ||
+                c.z() >= spec.dims.z) {
+              ++acc.onlyA; // counted as "only in the reference" below
+              continue;
+            }
+            acc.add(dense[spec.linear(c.x(), c.y(), c.z())], *it, h);
+          }
+        return acc;
+      },
+      [](Accum x, const Accum& y) { x.join(y); return x; });
+  FieldError e = finish(acc);
+  e.onlyInB = e.onlyInA;
+  e.onlyInA = 0;
+  return e;
+}
+
 } // namespace rtsdf

@@ -2,11 +2,14 @@
 /// @file FieldError.h
 /// @brief Accuracy of a distance field against a reference: mean/RMS/max |error| in voxels and the rate
 ///        of wrong signs, over the voxels active in both.
+#include "grid/GridSpec.h"
+
 #include <openvdb/openvdb.h>
 
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace rtsdf {
 
@@ -37,5 +40,15 @@ FieldError compareFields(const openvdb::FloatGrid& a, const openvdb::FloatGrid& 
 FieldError compareWithFunction(const openvdb::FloatGrid& field,
                                const std::function<double(const openvdb::Vec3d&)>& reference,
                                double ignoreWithin = 0.0);
+
+/// @brief Compare a dense field with a reference grid over every voxel active in the reference.
+/// @details Unlike compareFields on a level set built from @a dense, a voxel where the field is far off
+///          (outside any band it would be given) still counts: the reference alone decides where to look.
+/// @param dense values on @a spec's voxels, x fastest; voxel (i,j,k) is the reference's index (i,j,k).
+/// @param spec the dense grid; its voxel size is the unit of the error.
+/// @note Reference voxels outside the dense grid count in onlyInB.
+/// @throw Error when @a dense does not hold spec.voxelCount() values.
+FieldError compareDenseWithReference(const std::vector<float>& dense, const GridSpec& spec,
+                                     const openvdb::FloatGrid& reference);
 
 } // namespace rtsdf

@@ -6,7 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <csignal>
+#include <fstream>
+#include <thread>
+
 #include <sys/wait.h>
+#include <unistd.h>
 
 using namespace rtsdf;
 using rtsdf::test::TempDir;
@@ -265,4 +271,85 @@ TEST(Cli, RenderRefusesBadInputWithoutWritingAnything) {
   const Result noDir = rtsdfCmd("-q render " + ok + " -o " + q(dir / "nowhere" / "x.exr"));
   EXPECT_NE(noDir.exitCode, 0);
   EXPECT_NE(noDir.output.find("does not exist"), std::string::npos) << noDir.output;
+}
+
+namespace {
+std::size_t lineCount(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::size_t n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+} // namespace
+
+TEST(Cli, SweepWritesCsvReportAndPlots) {
+  TempDir dir;
+  const auto out = dir / "sweep";
+  const Result r = rtsdfCmd("bench " + q(test::dataPath("scenes/teapot.json")) + " --sweep quick --truth-samples 16 --out " +
+                            q(out));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("ETA"), std::string::npos) << "progress with an ETA";
+  // Header plus one row per point (a Dynamic point adds one row per frame).
+  EXPECT_GE(lineCount(out / "sweep.csv"), 20u);
+  std::ifstream md(out / "report.md");
+  const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  for (const char* section : {"Pass durations and sizes x rays", "Anchors", "Band d x rays", "History decay",
+                              "Frames accumulated", "Jump-flooding variant", "Storage", "Pareto front", "pareto.png"})
+    EXPECT_NE(report.find(section), std::string::npos) << section;
+  EXPECT_EQ(report.find("failed:"), std::string::npos) << report;
+  for (const char* png : {"pareto.png", "time_vs_work.png", "error_vs_frames.png"})
+    EXPECT_GT(readPng(out / png).width, 500) << png;
+}
+
+TEST(Cli, SweepInterruptedByCtrlCKeepsTheFinishedPoints) {
+  TempDir dir;
+  const auto out = dir / "sweep";
+  const std::string bin = RTSDF_BINARY, scene = test::dataPath("scenes/bunny.json"), outDir = out.string();
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stderr);
+    std::freopen("/dev/null", "w", stdout);
+    execl(bin.c_str(), bin.c_str(), "bench", scene.c_str(), "--sweep", "default", "--no-shadows", "--out",
+          outDir.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait for the first finished points (a header and two rows), then press Ctrl-C.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);
+  while (lineCount(out / "sweep.csv") < 3 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const std::size_t before = lineCount(out / "sweep.csv");
+  kill(pid, SIGINT);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_GE(before, 3u) << "no point finished in time";
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_GE(lineCount(out / "sweep.csv"), before) << "finished rows are kept";
+  std::ifstream md(out / "report.md");
+  const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(report.find("INTERRUPTED"), std::string::npos);
+  EXPECT_NE(report.find("Pass durations"), std::string::npos);
+}
+
+TEST(Cli, SweepRefusesBadInputWithoutCreatingItsFolder) {
+  TempDir dir;
+  const auto out = dir / "sweep";
+  const std::string scene = q(test::dataPath("scenes/bunny.json"));
+  Result r = rtsdfCmd("bench " + q(dir / "missing.json") + " --sweep quick --out " + q(out));
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("missing.json"), std::string::npos) << r.output;
+  r = rtsdfCmd("bench " + scene + " " + scene + " --sweep quick --out " + q(out));
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("one scene"), std::string::npos) << r.output;
+  r = rtsdfCmd("bench " + scene + " --sweep fast --out " + q(out));
+  EXPECT_NE(r.exitCode, 0);
+  r = rtsdfCmd("bench " + scene + " --sweep quick --out " + q(dir / "no" / "such" / "folder"));
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("does not exist"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  writeText(dir / "file", "x");
+  r = rtsdfCmd("bench " + scene + " --sweep quick --out " + q(dir / "file"));
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("not a folder"), std::string::npos) << r.output;
 }

@@ -49,3 +49,22 @@ TEST(FieldError, AgainstAFunction) {
   const FieldError skip = compareWithFunction(*a, [](const openvdb::Vec3d& p) { return p.x() - 0.25; }, 0.3);
   EXPECT_EQ(skip.voxels, 1u); // only x = 1 is farther than 0.3 from the reference surface
 }
+
+TEST(FieldError, DenseFieldAgainstAReferenceCountsEveryReferenceVoxel) {
+  GridSpec spec;
+  spec.dims = {4, 1, 1};
+  spec.voxelSize = 0.5;
+  // Reference voxels: (0..3, 0, 0) and one outside the dense grid.
+  const auto ref = gridWith({{{0, 0, 0}, 1.0f}, {{1, 0, 0}, -0.5f}, {{2, 0, 0}, 0.25f}, {{3, 0, 0}, 2.0f},
+                             {{7, 0, 0}, 1.0f}}, 0.5);
+  // The dense field is far off at voxel 3 (a level set from it with a narrow band would drop that voxel).
+  const std::vector<float> dense{1.0f, 0.5f, 0.25f, 9.0f};
+  const FieldError e = compareDenseWithReference(dense, spec, *ref);
+  EXPECT_EQ(e.voxels, 4u);
+  EXPECT_EQ(e.onlyInB, 1u);
+  // |differences| in voxels: 0, 2, 0, 14.
+  EXPECT_DOUBLE_EQ(e.meanAbs, 16.0 / 4);
+  EXPECT_DOUBLE_EQ(e.maxAbs, 14.0);
+  EXPECT_EQ(e.signMismatches, 1u);
+  EXPECT_THROW(compareDenseWithReference({1.0f}, spec, *ref), Error);
+}

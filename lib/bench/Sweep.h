@@ -1,0 +1,115 @@
+#pragma once
+/// @file Sweep.h
+/// @brief The speed/accuracy sweep behind `rtsdf bench --sweep`: which points a preset runs (the plan), what
+///        one point measured (a record), the CSV rows, the Pareto front, and the Markdown report.
+#include "sdf/SdfPipeline.h"
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace rtsdf::bench {
+
+/// @brief How much a sweep covers.
+enum class SweepPreset {
+  Quick,   ///< tiny grids (32/64), a few points per knob: a smoke run of every table (about a minute on a CPU)
+  Default, ///< sizes S and M, every knob at size S: the trade on a CPU Vulkan driver in minutes
+  Paper    ///< the paper's tables: sizes S, M and L, band x rays at size M, every knob at M (for a real GPU)
+};
+/// @throw Error naming the accepted values.
+SweepPreset parseSweepPreset(const std::string& name);
+const char* toString(SweepPreset p);
+
+/// @brief What a point varies: the table it belongs to in the report.
+enum class SweepGroup {
+  Sizes,   ///< grid sizes x rays per voxel (and closest-point mode)
+  Band,    ///< band d x rays; d = inf is the brute-force anchor (every voxel refined)
+  Alpha,   ///< history decay
+  Frames,  ///< frames accumulated on a static scene
+  Jfa,     ///< jump-flooding variant of the coarse SDF
+  Dynamic, ///< the scene's animation: one record per frame, each against the exact field of that moment
+  Anchor,  ///< OpenVDB meshToLevelSet and the exact reference at the same fine voxels and band
+  Storage  ///< the band as a sparse .vdb file vs a dense grid, per fine resolution (exact field)
+};
+const char* toString(SweepGroup g);
+SweepGroup parseSweepGroup(const std::string& name);
+
+/// @brief The anchors measured beside the pipeline.
+enum class AnchorKind { None, OpenVdb, Exact };
+const char* toString(AnchorKind a);
+
+/// @brief One point of a sweep.
+struct SweepPoint {
+  SweepGroup group = SweepGroup::Sizes;
+  std::string size;            ///< "XS", "S", "M" or "L" (coarse/fine resolutions)
+  PipelineSettings pipeline;
+  int frames = 2;              ///< frames run; the error is taken after the last (every frame for Dynamic)
+  AnchorKind anchor = AnchorKind::None;
+  bool bruteForce = false;     ///< d = inf: the band covers the whole grid
+  double storageBandVoxels = 0;///< Storage: the band's half-width in fine voxels; 0: the error band (scene units)
+  /// @brief A short name for tables and logs, e.g. "S rays x=5 d=0.1".
+  std::string label() const;
+  /// @brief A rough relative cost (voxels x rays x frames), for the progress bar's ETA.
+  double estimatedCost() const;
+};
+
+/// @brief The d used for "d = inf": far beyond any scene of the sweep (lengths are in scene units).
+/// @param sceneExtent the scene's largest extent.
+double bruteForceBand(double sceneExtent);
+
+/// @brief The points a preset runs, in order: sizes, anchors, band, alpha, frames, JFA, dynamic, storage.
+/// @param animated plan the Dynamic group (only scenes that move have one).
+/// @param sceneExtent the scene's largest extent (for the brute-force band).
+std::vector<SweepPoint> makeSweepPlan(SweepPreset preset, bool animated, double sceneExtent);
+
+constexpr double kNotMeasured = std::numeric_limits<double>::quiet_NaN();
+
+/// @brief What one point (or one frame of a Dynamic point) measured.
+struct SweepRecord {
+  SweepPoint point;
+  int frame = 0;               ///< the frame the error belongs to (0-based)
+  double time = 0.0;           ///< scene time of that frame (s)
+  std::uint64_t maskVoxels = 0;///< fine voxels in the ray mask
+  double voxelizeMs = 0.0, jumpFloodMs = 0.0, distanceMs = 0.0, upsampleMs = 0.0, refineMs = 0.0;
+  double mirrorMs = 0.0;       ///< CPU: the OpenVDB mirror and the mask list
+  double frameMs = 0.0;        ///< per-frame cost: the GPU passes plus the mirror (anchors: their CPU wall time)
+  double meanAbs = kNotMeasured, rms = kNotMeasured, maxAbs = kNotMeasured; ///< |error| in fine voxels
+  double signErrorRate = kNotMeasured;
+  std::uint64_t errorVoxels = 0;
+  double shadowRmse = kNotMeasured, shadowPenumbraRmse = kNotMeasured, shadowFlip = kNotMeasured;
+  double voxelSize = 0.0;      ///< the fine voxel h (scene units): the unit of the errors
+  std::string grid;            ///< the fine grid's dimensions, e.g. "128x126x99"
+  std::uint64_t vdbBytes = 0, denseBytes = 0; ///< Storage: the .vdb file and a dense float grid of the same box
+  double peakMiB = kNotMeasured; ///< peak resident memory of the process while the point ran
+  double peakGrowthMiB = kNotMeasured; ///< that peak minus the resident memory when the point started
+  std::string note;            ///< why a point could not run (empty when it did)
+  bool ok() const { return note.empty(); }
+};
+
+/// @brief The CSV header line (no newline) and one record as a CSV line (no newline). Unmeasured values
+///        are empty fields; text fields are quoted.
+std::string csvHeader();
+std::string csvRow(const SweepRecord& r);
+
+/// @brief Indices of the records on the Pareto front of (frameMs, meanAbs): no other pipeline record is both
+///        faster and more accurate. Only pipeline records that ran and were measured count (no anchors, and
+///        for Dynamic points only their last frame). Sorted by time.
+std::vector<std::size_t> paretoFront(const std::vector<SweepRecord>& records);
+
+/// @brief Facts for the report's header.
+struct SweepContext {
+  std::string scene, command, machine, device, date;
+  SweepPreset preset = SweepPreset::Default;
+  double errorBand = 0.1;      ///< where the field error is measured: |exact| <= errorBand (scene units)
+  int shadowWidth = 0, shadowHeight = 0, truthSamples = 0; ///< 0: the scene has no camera, no shadow error
+  std::size_t planned = 0;     ///< points planned (records may be fewer after an interrupt)
+  bool interrupted = false;
+  std::vector<std::string> plots; ///< PNG file names beside the report
+};
+
+/// @brief The Markdown report: the paper's tables (pass durations; sizes x rays; band d x rays), the other
+///        knobs, the anchors with ratios, the Pareto front, and every point with its peak memory.
+std::string markdownReport(const SweepContext& ctx, const std::vector<SweepRecord>& records);
+
+} // namespace rtsdf::bench

@@ -225,12 +225,12 @@ std::string csvRow(const SweepRecord& r) {
                      g(r.peakGrowthMiB), quoted(r.note));
 }
 
-std::vector<std::size_t> paretoFront(const std::vector<SweepRecord>& records) {
+std::vector<std::size_t> paretoFront(const std::vector<SweepRecord>& records, double maxSignErrorRate) {
   std::vector<std::size_t> cand;
   for (std::size_t i = 0; i < records.size(); ++i) {
     const SweepRecord& r = records[i];
     if (!r.ok() || r.point.anchor != AnchorKind::None || r.point.group == SweepGroup::Storage ||
-        !std::isfinite(r.meanAbs) || !std::isfinite(r.frameMs))
+        !std::isfinite(r.meanAbs) || !std::isfinite(r.frameMs) || r.signErrorRate > maxSignErrorRate)
       continue;
     if (r.point.group == SweepGroup::Dynamic && r.frame + 1 != r.point.frames) continue;
     cand.push_back(i);
@@ -412,7 +412,9 @@ std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>
   }
 
   if (const auto front = paretoFront(rs); !front.empty()) {
-    md += "## Pareto front (frame time vs mean error): no other point is both faster and more accurate\n\n";
+    md += fmt::format("## Pareto front (frame time vs mean error): no other point is both faster and more "
+                      "accurate\n\nPoints with more than {:g}% wrong signs are not eligible: their fields have holes.\n\n",
+                      100.0 * kParetoMaxSignErrorRate);
     md += "| point | frame (ms) | mean error (voxels) | wrong sign |\n|---|---|---|---|\n";
     for (std::size_t i : front)
       md += fmt::format("| {} | {} | {} | {} |\n", rs[i].point.label(), num(rs[i].frameMs, 1), num(rs[i].meanAbs, 3),

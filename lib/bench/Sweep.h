@@ -92,10 +92,15 @@ struct SweepRecord {
 std::string csvHeader();
 std::string csvRow(const SweepRecord& r);
 
-/// @brief Indices of the records on the Pareto front of (frameMs, meanAbs): no other pipeline record is both
-///        faster and more accurate. Only pipeline records that ran and were measured count (no anchors, and
-///        for Dynamic points only their last frame). Sorted by time.
-std::vector<std::size_t> paretoFront(const std::vector<SweepRecord>& records);
+/// @brief Wrong-sign rate above which a point cannot be on the Pareto front: its field has holes (an SDF with
+///        wrong signs lets shadows leak or casts them from nothing), however small its mean error.
+constexpr double kParetoMaxSignErrorRate = 0.01;
+
+/// @brief Indices of the records on the Pareto front of (frameMs, meanAbs): no other eligible record is both
+///        faster and more accurate. Eligible: pipeline records that ran and were measured (no anchors; for
+///        Dynamic points only their last frame) with at most @a maxSignErrorRate wrong signs. Sorted by time.
+std::vector<std::size_t> paretoFront(const std::vector<SweepRecord>& records,
+                                     double maxSignErrorRate = kParetoMaxSignErrorRate);
 
 /// @brief Facts for the report's header.
 struct SweepContext {

@@ -97,7 +97,8 @@ std::vector<std::string> writeSweepPlots(const fs::path& dir, const std::vector<
     all.push_back(exact);
     write(all);
     if (const std::string cmd = plotCommand(all, "1:2"); !cmd.empty()) {
-      gp += fmt::format("set output '../pareto.png'\nset title \"{}: time vs accuracy (lower left is better)\"\n"
+      gp += fmt::format("set output '../pareto.png'\nset title \"{}: time vs accuracy (lower left is better; the front skips points "
+                        "with > 1% wrong signs)\"\nset key outside right top\n"
                         "set logscale x\nunset logscale y\nset xlabel 'time per frame (ms, log scale; anchors: one "
                         "CPU run)'\nset ylabel 'mean |error| (fine voxels)'\n{}",
                         clean(title), cmd);
@@ -162,7 +163,7 @@ std::vector<std::string> writeSweepPlots(const fs::path& dir, const std::vector<
     for (const auto& k : order) all.push_back(dyn[k]);
     write(all);
     if (const std::string cmd = plotCommand(all, "1:2"); !cmd.empty()) {
-      gp += fmt::format("set output '../error_vs_frames.png'\nset title \"{}: error over frames\"\n"
+      gp += fmt::format("set output '../error_vs_frames.png'\nset title \"{}: error over frames\"\nset key inside top right opaque box\n"
                         "unset logscale\nset logscale x 2\nset xlabel 'frame (static: frames accumulated)'\n"
                         "set ylabel 'mean |error| vs the exact field of that frame (fine voxels)'\n{}",
                         clean(title), cmd);

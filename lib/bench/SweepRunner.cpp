@@ -136,7 +136,7 @@ std::vector<SweepRecord> SweepRunner::run(const SweepPoint& p) {
   for (SweepRecord& r : out) {
     r.peakMiB = toMiB(peakBytes);
     // Without a reset the peak may belong to an earlier point: then only the lifetime peak is known.
-    if (peakReset && peakBytes >= startBytes) r.peakGrowthMiB = toMiB(peakBytes - startBytes);
+    if (peakReset) r.peakGrowthMiB = toMiB(peakBytes > startBytes ? peakBytes - startBytes : 0);
   }
   return out;
 }

@@ -129,7 +129,11 @@ TEST(SweepPareto, KeepsOnlyUndominatedMeasuredPipelinePoints) {
   rs[6].point.frames = 4;
   rs.push_back(record(SweepGroup::Sizes, 10, 1.0));   // 7 tie with 0: only the first is kept
   rs.push_back(record(SweepGroup::Sizes, 40, 0.5));   // 8 as accurate as 1 but slower
+  rs.push_back(record(SweepGroup::Sizes, 2, 0.3));    // 9 fast and accurate, but 5% wrong signs: holes
+  rs[9].signErrorRate = 0.05;
+  rs[1].signErrorRate = 0.001;
   EXPECT_EQ(paretoFront(rs), (std::vector<std::size_t>{3, 0, 1}));
+  EXPECT_EQ(paretoFront(rs, 1.0), (std::vector<std::size_t>{9}));
   EXPECT_TRUE(paretoFront({}).empty());
 }
 

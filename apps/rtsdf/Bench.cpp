@@ -233,15 +233,27 @@ std::string renderSuite(const BenchSettings& s) {
       md += fmt::format("### {} at {}x{}\n\n", fs::path(path).filename().string(), size.x, size.y);
       md += "| technique | pass | GPU ms (median) |\n|---|---|---|\n";
       std::vector<std::tuple<std::string, ShadowImageError, double>> errors;
-      for (ShadowTechnique t : {ShadowTechnique::Sdf, ShadowTechnique::ShadowMap}) {
+      // SDF shadows both ways of sampling the field (hardware-filtered 3D texture, shader-filtered buffer).
+      struct Variant {
+        ShadowTechnique technique;
+        SdfSampling sampling;
+      };
+      for (const Variant variant : {Variant{ShadowTechnique::Sdf, SdfSampling::Texture},
+                                    Variant{ShadowTechnique::Sdf, SdfSampling::Buffer},
+                                    Variant{ShadowTechnique::ShadowMap, SdfSampling::Texture}}) {
+        const ShadowTechnique t = variant.technique;
         rs.technique = t;
+        rs.sdf.sampling = variant.sampling;
+        const std::string name = t == ShadowTechnique::Sdf
+                                     ? fmt::format("sdf ({})", toString(variant.sampling))
+                                     : std::string(toString(t));
         Bounds bounds = buildSceneGeometry(scene, 0.0).bounds;
         Renderer r(ctx, scene, bounds, rs);
         std::map<std::string, std::vector<double>> ms;
         std::vector<std::string> order;
         std::vector<double> totals;
         RenderedFrame last;
-        Progress progress(fmt::format("render {} {}x{}", toString(t), size.x, size.y), std::uint64_t(frames + 2));
+        Progress progress(fmt::format("render {} {}x{}", name, size.x, size.y), std::uint64_t(frames + 2));
         for (int f = 0; f < frames + 2; ++f) {
           last = r.renderFrame(0.0, f + 1 == frames + 2);
           progress.add();
@@ -261,11 +273,11 @@ std::string renderSuite(const BenchSettings& s) {
           std::sort(v.begin(), v.end());
           return v.empty() ? 0.0 : v[v.size() / 2];
         };
-        for (const auto& n : order) md += fmt::format("| {} | {} | {:.2f} |\n", toString(t), n, median(ms[n]));
+        for (const auto& n : order) md += fmt::format("| {} | {} | {:.2f} |\n", name, n, median(ms[n]));
         const double total = median(totals);
-        md += fmt::format("| {} | **frame total** | **{:.2f}** ({:.1f} fps) |\n", toString(t), total, 1000.0 / total);
-        errors.emplace_back(toString(t), compareWithTruth(scene, last, truth), total);
-        if (!s.output.empty() && size.x == 640) {
+        md += fmt::format("| {} | **frame total** | **{:.2f}** ({:.1f} fps) |\n", name, total, 1000.0 / total);
+        errors.emplace_back(name, compareWithTruth(scene, last, truth), total);
+        if (!s.output.empty() && size.x == 640 && variant.sampling == SdfSampling::Texture) {
           const fs::path png = fs::path(s.output).parent_path() /
                                fmt::format("{}_{}.png", fs::path(path).stem().string(), toString(t));
           writePng(png, displayImage(composeImage(scene, last)));

@@ -86,6 +86,7 @@ struct RenderCommandSettings {
   double fps = 30.0;
   double time = 0.0;           ///< time of the last frame
   std::string penumbra = "centered";
+  std::string sdfSampling = "texture";
   double epsilon = 1.0, bias = 0.005, maxStep = 0.05, normalOffset = -1.0;
   int maxSteps = 256;
   bool jitter = true;

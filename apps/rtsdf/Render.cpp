@@ -26,6 +26,7 @@ RenderSettings renderSettings(const RenderCommandSettings& c) {
   r.height = c.height;
   r.technique = parseShadowTechnique(c.shadows);
   r.sdf.penumbra = parsePenumbraEstimate(c.penumbra);
+  r.sdf.sampling = parseSdfSampling(c.sdfSampling);
   r.sdf.epsilonVoxels = c.epsilon;
   r.sdf.bias = c.bias;
   r.sdf.maxStep = c.maxStep;

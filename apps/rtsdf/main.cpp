@@ -126,6 +126,11 @@ int main(int argc, char** argv) {
                         "(marches through occluders: penumbra centred on the shadow boundary)")
       ->check(CLI::IsMember({"classic", "improved", "centered"}))
       ->capture_default_str();
+  renderCmd->add_option("--sdf-sampling", render.sdfSampling,
+                        "How the SDF march reads the fine SDF: texture (a 3D texture, hardware trilinear filtering, "
+                        "one fetch per step) or buffer (filtered in the shader like the CPU reference, eight fetches)")
+      ->check(CLI::IsMember({"texture", "buffer"}))
+      ->capture_default_str();
   renderCmd->add_option("--epsilon", render.epsilon, "SDF hit threshold in fine voxels (>= 1)")
       ->check(CLI::Range(1.0, 64.0))
       ->capture_default_str();

@@ -330,8 +330,8 @@ std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>
     md += fmt::format("## Band d x rays at size {} (alpha = 0.95, 2 frames; d = inf is brute-force ray sampling of "
                       "every voxel)\n\n",
                       v.front()->point.size);
-    md += "The grid is padded by min(d, extent / 4) to keep the band inside it, so d also sets the fine voxel h (the "
-          "unit of the error).\n\n";
+    md += "The grid is padded by min(d, extent / 4) to keep the band inside it: d changes the grid's size, not its "
+          "voxel h (the unit of the error).\n\n";
     md += "| d | x | fine voxel h | mask voxels | refine (ms) | frame (ms) | mean / RMS / max error | wrong sign | "
           "shadow RMSE / FLIP | peak MiB |\n|---|---|---|---|---|---|---|---|---|---|\n";
     for (const SweepRecord* r : v)

@@ -138,16 +138,24 @@ void CommandBuffer::submitAndWait(double timeoutSeconds) {
 
 ComputePipeline::ComputePipeline(const VulkanContext& ctx, const std::string& shader, std::uint32_t storageBuffers,
                                  std::uint32_t pushConstantBytes)
-    : mCtx(&ctx), mName(shader), mBindings(storageBuffers), mPushBytes(pushConstantBytes) {
+    : ComputePipeline(ctx, shader, std::vector<VkDescriptorType>(storageBuffers, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
+                      pushConstantBytes) {}
+
+ComputePipeline::ComputePipeline(const VulkanContext& ctx, const std::string& shader,
+                                 std::vector<VkDescriptorType> types, std::uint32_t pushConstantBytes)
+    : mCtx(&ctx), mName(shader), mTypes(std::move(types)), mPushBytes(pushConstantBytes) {
+  for (VkDescriptorType t : mTypes)
+    if (t != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER && t != VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)
+      throw Error(fmt::format("{}: unsupported descriptor type {}", shader, int(t)));
   try {
     mModule = ctx.createShaderModule(shader);
     ctx.trackObject(+1);
-    std::vector<VkDescriptorSetLayoutBinding> bindings(storageBuffers);
-    for (std::uint32_t i = 0; i < storageBuffers; ++i)
-      bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    const std::uint32_t n = std::uint32_t(mTypes.size());
+    std::vector<VkDescriptorSetLayoutBinding> bindings(n);
+    for (std::uint32_t i = 0; i < n; ++i) bindings[i] = {i, mTypes[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     lci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
-    lci.bindingCount = storageBuffers;
+    lci.bindingCount = n;
     lci.pBindings = bindings.data();
     check(vkCreateDescriptorSetLayout(ctx.device(), &lci, nullptr, &mSetLayout),
           fmt::format("creating the descriptor set layout of {}", shader).c_str());
@@ -197,7 +205,7 @@ ComputePipeline::ComputePipeline(ComputePipeline&& o) noexcept { *this = std::mo
 ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
   if (this != &o) {
     reset();
-    mCtx = o.mCtx; mName = std::move(o.mName); mBindings = o.mBindings; mPushBytes = o.mPushBytes;
+    mCtx = o.mCtx; mName = std::move(o.mName); mTypes = std::move(o.mTypes); mPushBytes = o.mPushBytes;
     mModule = o.mModule; mSetLayout = o.mSetLayout; mLayout = o.mLayout; mPipeline = o.mPipeline;
     o.mCtx = nullptr; o.mModule = VK_NULL_HANDLE; o.mSetLayout = VK_NULL_HANDLE; o.mLayout = VK_NULL_HANDLE;
     o.mPipeline = VK_NULL_HANDLE;
@@ -205,41 +213,180 @@ ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
   return *this;
 }
 
-void ComputePipeline::dispatch(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push,
+void ComputePipeline::dispatch(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push,
                                glm::uvec3 groups) const {
   const glm::uvec3 limit = mCtx->info().maxWorkGroupCount;
   if (groups.x > limit.x || groups.y > limit.y || groups.z > limit.z)
     throw Error(fmt::format("{}: dispatch of {}x{}x{} work groups exceeds {}'s limit of {}x{}x{}", mName, groups.x,
                             groups.y, groups.z, mCtx->info().name, limit.x, limit.y, limit.z));
-  bind(cmd, buffers, push);
+  bind(cmd, bindings, push);
   if (groups.x && groups.y && groups.z) vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
 }
 
-void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers,
+void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, std::initializer_list<Binding> bindings,
                                        const void* push, const Buffer& indirect) const {
-  bind(cmd, buffers, push);
+  bind(cmd, bindings, push);
   vkCmdDispatchIndirect(cmd, indirect.handle(), 0);
 }
 
-void ComputePipeline::bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push) const {
-  if (buffers.size() != mBindings)
-    throw Error(fmt::format("{}: {} buffers given for {} bindings", mName, buffers.size(), mBindings));
+void ComputePipeline::bind(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push) const {
+  const std::uint32_t n = std::uint32_t(mTypes.size());
+  if (bindings.size() != n)
+    throw Error(fmt::format("{}: {} resources given for {} bindings", mName, bindings.size(), n));
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mPipeline);
-  std::vector<VkDescriptorBufferInfo> infos;
+  std::vector<VkDescriptorBufferInfo> buffers(n);
+  std::vector<VkDescriptorImageInfo> images(n);
   std::vector<VkWriteDescriptorSet> writes;
-  infos.reserve(mBindings);
-  for (const Buffer* b : buffers) infos.push_back({b->handle(), 0, VK_WHOLE_SIZE});
-  for (std::uint32_t i = 0; i < mBindings; ++i) {
+  std::uint32_t i = 0;
+  for (const Binding& b : bindings) {
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstBinding = i;
     w.descriptorCount = 1;
-    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    w.pBufferInfo = &infos[i];
+    w.descriptorType = mTypes[i];
+    if (mTypes[i] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) {
+      if (!b.buffer || !*b.buffer) throw Error(fmt::format("{}: binding {} needs a storage buffer", mName, i));
+      buffers[i] = {b.buffer->handle(), 0, VK_WHOLE_SIZE};
+      w.pBufferInfo = &buffers[i];
+    } else {
+      if (!b.volume || !*b.volume) throw Error(fmt::format("{}: binding {} needs a sampled volume", mName, i));
+      images[i] = {b.volume->sampler(), b.volume->view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+      w.pImageInfo = &images[i];
+    }
     writes.push_back(w);
+    ++i;
   }
-  if (mBindings)
-    mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mLayout, 0, mBindings, writes.data());
+  if (n) mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mLayout, 0, n, writes.data());
   if (mPushBytes) vkCmdPushConstants(cmd, mLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, mPushBytes, push);
+}
+
+// ---------------------------------------------------------------------------------------------- SampledVolume
+
+bool SampledVolume::supported(const VulkanContext& ctx) {
+  VkFormatProperties fp;
+  vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), VK_FORMAT_R32_SFLOAT, &fp);
+  const VkFormatFeatureFlags need = VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT |
+                                    VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT |
+                                    VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
+  return (fp.optimalTilingFeatures & need) == need;
+}
+
+SampledVolume::SampledVolume(const VulkanContext& ctx, glm::uvec3 dims, std::string name)
+    : mCtx(&ctx), mDims(dims), mName(std::move(name)) {
+  const std::uint32_t limit = ctx.info().maxImageDimension3D;
+  if (dims.x == 0 || dims.y == 0 || dims.z == 0 || dims.x > limit || dims.y > limit || dims.z > limit)
+    throw Error(fmt::format("volume '{}': {}x{}x{} voxels is empty or beyond {}'s maxImageDimension3D of {}", mName,
+                            dims.x, dims.y, dims.z, ctx.info().name, limit));
+  if (!supported(ctx))
+    throw Error(fmt::format("volume '{}': {} cannot filter R32_SFLOAT 3D textures linearly (use buffer sampling)",
+                            mName, ctx.info().name));
+  try {
+    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ci.imageType = VK_IMAGE_TYPE_3D;
+    ci.format = VK_FORMAT_R32_SFLOAT;
+    ci.extent = {dims.x, dims.y, dims.z};
+    ci.mipLevels = 1;
+    ci.arrayLayers = 1;
+    ci.samples = VK_SAMPLE_COUNT_1_BIT;
+    ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    check(vkCreateImage(ctx.device(), &ci, nullptr, &mImage), fmt::format("creating volume '{}'", mName).c_str());
+    ctx.trackObject(+1);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(ctx.device(), mImage, &req);
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    ai.memoryTypeIndex = ctx.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    check(vkAllocateMemory(ctx.device(), &ai, nullptr, &mMemory),
+          fmt::format("allocating {} MiB for volume '{}'", req.size >> 20, mName).c_str());
+    ctx.trackObject(+1);
+    check(vkBindImageMemory(ctx.device(), mImage, mMemory, 0), fmt::format("binding volume '{}'", mName).c_str());
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = mImage;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_3D;
+    vi.format = VK_FORMAT_R32_SFLOAT;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    check(vkCreateImageView(ctx.device(), &vi, nullptr, &mView), fmt::format("creating the view of '{}'", mName).c_str());
+    ctx.trackObject(+1);
+    // Texel centres at (i + 0.5) / dims, clamped to the edge texels: the same trilinear field as the buffer
+    // path's sampleSdf (which clamps the continuous index to [0, dims - 1]).
+    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    si.magFilter = VK_FILTER_LINEAR;
+    si.minFilter = VK_FILTER_LINEAR;
+    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    si.maxLod = 0.0f;
+    check(vkCreateSampler(ctx.device(), &si, nullptr, &mSampler), fmt::format("creating the sampler of '{}'", mName).c_str());
+    ctx.trackObject(+1);
+  } catch (...) {
+    reset();
+    throw;
+  }
+}
+
+void SampledVolume::reset() {
+  if (!mCtx) return;
+  const VkDevice d = mCtx->device();
+  if (mSampler) { vkDestroySampler(d, mSampler, nullptr); mCtx->trackObject(-1); }
+  if (mView) { vkDestroyImageView(d, mView, nullptr); mCtx->trackObject(-1); }
+  if (mImage) { vkDestroyImage(d, mImage, nullptr); mCtx->trackObject(-1); }
+  if (mMemory) { vkFreeMemory(d, mMemory, nullptr); mCtx->trackObject(-1); }
+  mSampler = VK_NULL_HANDLE;
+  mView = VK_NULL_HANDLE;
+  mImage = VK_NULL_HANDLE;
+  mMemory = VK_NULL_HANDLE;
+  mCtx = nullptr;
+}
+
+SampledVolume::~SampledVolume() { reset(); }
+
+SampledVolume::SampledVolume(SampledVolume&& o) noexcept { *this = std::move(o); }
+
+SampledVolume& SampledVolume::operator=(SampledVolume&& o) noexcept {
+  if (this != &o) {
+    reset();
+    mCtx = o.mCtx; mImage = o.mImage; mMemory = o.mMemory; mView = o.mView; mSampler = o.mSampler;
+    mDims = o.mDims; mName = std::move(o.mName);
+    o.mCtx = nullptr; o.mImage = VK_NULL_HANDLE; o.mMemory = VK_NULL_HANDLE; o.mView = VK_NULL_HANDLE;
+    o.mSampler = VK_NULL_HANDLE;
+  }
+  return *this;
+}
+
+void SampledVolume::copyFrom(VkCommandBuffer cmd, const Buffer& src) const {
+  const VkDeviceSize bytes = VkDeviceSize(mDims.x) * mDims.y * mDims.z * sizeof(float);
+  if (src.size() < bytes)
+    throw Error(fmt::format("volume '{}': buffer '{}' holds {} bytes, the volume needs {}", mName, src.name(),
+                            src.size(), bytes));
+  // Earlier shader writes of the buffer before the copy reads it; the old contents of the image (last frame's,
+  // read by earlier shaders) are discarded: UNDEFINED -> TRANSFER_DST after those reads.
+  VkBufferMemoryBarrier bb{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
+  bb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  bb.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  bb.srcQueueFamilyIndex = bb.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  bb.buffer = src.handle();
+  bb.size = VK_WHOLE_SIZE;
+  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  ib.srcAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  ib.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  ib.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  ib.image = mImage;
+  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 1, &bb, 1, &ib);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {mDims.x, mDims.y, mDims.z};
+  vkCmdCopyBufferToImage(cmd, src.handle(), mImage, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+  ib.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  ib.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 0,
+                       nullptr, 1, &ib);
 }
 
 void computeBarrier(VkCommandBuffer cmd) {

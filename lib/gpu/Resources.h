@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 namespace rtsdf::gpu {
 
@@ -47,6 +48,55 @@ private:
   std::string mName;
 };
 
+/// @brief A 3D single-channel float texture (R32_SFLOAT, optimal tiling) with its view, its own memory and a
+///        sampler (trilinear filtering, clamp to edge, normalized coordinates), for fields the shaders sample
+///        with hardware filtering. Filled from a dense buffer by copyFrom(); counted by its context (leaks).
+class SampledVolume {
+public:
+  SampledVolume() = default;
+  /// @param dims voxels per axis; texel (i, j, k) is the buffer's value i + dims.x (j + dims.y k).
+  /// @throw Error when a dimension is 0 or beyond maxImageDimension3D, or when the device cannot filter
+  ///        R32_SFLOAT linearly (an optional feature); VulkanError (with the VkResult) when creation fails.
+  SampledVolume(const VulkanContext& ctx, glm::uvec3 dims, std::string name);
+  ~SampledVolume();
+  SampledVolume(SampledVolume&& other) noexcept;
+  SampledVolume& operator=(SampledVolume&& other) noexcept;
+  SampledVolume(const SampledVolume&) = delete;
+  SampledVolume& operator=(const SampledVolume&) = delete;
+
+  /// @brief Record: copy @a src (dims.x * dims.y * dims.z floats, x fastest, written by earlier shaders or
+  ///        transfers) into the texture and make it ready for sampling by later compute shaders.
+  /// @throw Error when @a src is smaller than the texture.
+  void copyFrom(VkCommandBuffer cmd, const Buffer& src) const;
+
+  /// @brief Whether @a ctx's device filters R32_SFLOAT 3D textures linearly.
+  static bool supported(const VulkanContext& ctx);
+
+  VkImageView view() const { return mView; }
+  VkSampler sampler() const { return mSampler; }
+  glm::uvec3 dims() const { return mDims; }
+  const std::string& name() const { return mName; }
+  explicit operator bool() const { return mImage != VK_NULL_HANDLE; }
+
+private:
+  void reset();
+  const VulkanContext* mCtx = nullptr;
+  VkImage mImage = VK_NULL_HANDLE;
+  VkDeviceMemory mMemory = VK_NULL_HANDLE;
+  VkImageView mView = VK_NULL_HANDLE;
+  VkSampler mSampler = VK_NULL_HANDLE;
+  glm::uvec3 mDims{0};
+  std::string mName;
+};
+
+/// @brief What a compute pipeline binds at one binding: a storage buffer or a sampled volume.
+struct Binding {
+  Binding(const Buffer* b) : buffer(b) {}        // NOLINT(google-explicit-constructor): {&a, &b} lists
+  Binding(const SampledVolume* v) : volume(v) {} // NOLINT(google-explicit-constructor)
+  const Buffer* buffer = nullptr;
+  const SampledVolume* volume = nullptr;
+};
+
 /// @brief A primary command buffer from its own pool, begun on construction; submit() waits for it.
 class CommandBuffer {
 public:
@@ -71,12 +121,17 @@ private:
   bool mRecording = false;
 };
 
-/// @brief A compute pipeline from an embedded shader whose bindings 0..n-1 are all storage buffers, bound
-///        by push descriptors, with an optional push-constant block.
+/// @brief A compute pipeline from an embedded shader whose bindings 0..n-1 are storage buffers (or, where
+///        given, combined image samplers), bound by push descriptors, with an optional push-constant block.
 class ComputePipeline {
 public:
   ComputePipeline() = default;
+  /// @brief Bindings 0..storageBuffers-1 are all storage buffers.
   ComputePipeline(const VulkanContext& ctx, const std::string& shader, std::uint32_t storageBuffers,
+                  std::uint32_t pushConstantBytes);
+  /// @brief Binding i has descriptor type @a bindings[i]: VK_DESCRIPTOR_TYPE_STORAGE_BUFFER or
+  ///        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER (a SampledVolume).
+  ComputePipeline(const VulkanContext& ctx, const std::string& shader, std::vector<VkDescriptorType> bindings,
                   std::uint32_t pushConstantBytes);
   ~ComputePipeline();
   ComputePipeline(ComputePipeline&& other) noexcept;
@@ -86,20 +141,22 @@ public:
 
   /// @brief Record: bind, push @a buffers to bindings 0.. in order and @a push constants, dispatch @a groups.
   /// @note @a push must point at exactly the pushConstantBytes given at creation (or be null when 0).
-  void dispatch(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push,
+  /// @throw Error when a binding's kind differs from the pipeline's layout.
+  void dispatch(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push,
                 glm::uvec3 groups) const;
   /// @brief The same with the group counts read on the GPU from @a indirect (a VkDispatchIndirectCommand at
   ///        offset 0; the buffer needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT).
-  void dispatchIndirect(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push,
+  void dispatchIndirect(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push,
                         const Buffer& indirect) const;
   const std::string& name() const { return mName; }
 
 private:
-  void bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push) const;
+  void bind(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push) const;
   void reset();
   const VulkanContext* mCtx = nullptr;
   std::string mName;
-  std::uint32_t mBindings = 0, mPushBytes = 0;
+  std::vector<VkDescriptorType> mTypes;
+  std::uint32_t mPushBytes = 0;
   VkShaderModule mModule = VK_NULL_HANDLE;
   VkDescriptorSetLayout mSetLayout = VK_NULL_HANDLE;
   VkPipelineLayout mLayout = VK_NULL_HANDLE;

@@ -32,14 +32,33 @@ void GBufferPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const
 }
 
 SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "sdf_shadow.comp", 5, sizeof(gpu::shared::SdfShadowParams)) {}
+    : mBufferPipeline(ctx, "sdf_shadow_buffer.comp", 5, sizeof(gpu::shared::SdfShadowParams)) {
+  if (gpu::SampledVolume::supported(ctx))
+    mTexturePipeline = gpu::ComputePipeline(
+        ctx, "sdf_shadow.comp",
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+        sizeof(gpu::shared::SdfShadowParams));
+}
 
 void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuGBuffer& gbuffer,
-                            const Buffer& field, const Buffer& lights, const gpu::shared::SdfShadowParams& params,
-                            const Buffer& visibility) const {
-  gpu::ProfileScope scope(profiler, cmd, kName);
-  mPipeline.dispatch(cmd, {&gbuffer.position, &gbuffer.normal, &field, &lights, &visibility}, &params,
-                     imageGroups(gbuffer.width, gbuffer.height));
+                            const Buffer& field, const gpu::SampledVolume* texture, const Buffer& lights,
+                            const gpu::shared::SdfShadowParams& params, const Buffer& visibility) const {
+  if (texture) {
+    if (mTexturePipeline.name().empty())
+      throw Error("SdfShadowPass: this device cannot sample the fine SDF as a filtered 3D texture");
+    {
+      gpu::ProfileScope scope(profiler, cmd, kCopyName);
+      texture->copyFrom(cmd, field);
+    }
+    gpu::ProfileScope scope(profiler, cmd, kName);
+    mTexturePipeline.dispatch(cmd, {&gbuffer.position, &gbuffer.normal, texture, &lights, &visibility}, &params,
+                              imageGroups(gbuffer.width, gbuffer.height));
+  } else {
+    gpu::ProfileScope scope(profiler, cmd, kName);
+    mBufferPipeline.dispatch(cmd, {&gbuffer.position, &gbuffer.normal, &field, &lights, &visibility}, &params,
+                             imageGroups(gbuffer.width, gbuffer.height));
+  }
   gpu::computeBarrier(cmd);
 }
 

@@ -34,15 +34,21 @@ private:
 class SdfShadowPass {
 public:
   static constexpr const char* kName = "SdfShadowPass";
+  static constexpr const char* kCopyName = "FineSdfTextureCopy"; ///< the fine buffer into the 3D texture
+  /// @note The texture variant is built only where the device filters R32_SFLOAT 3D textures linearly.
   explicit SdfShadowPass(const gpu::VulkanContext& ctx);
   /// @param field dense fine SDF (x fastest) on the grid described by @a params.gridOriginH / gridDims.
+  /// @param texture where given, @a field is first copied into it and the march samples it with hardware
+  ///        trilinear filtering (one fetch per step); null: the march filters @a field itself, exactly as the
+  ///        CPU reference does (eight fetches per step).
   /// @param visibility params.gridDims.w * width * height floats, light-major.
+  /// @throw Error when @a texture is given but the device cannot filter it (see gpu::SampledVolume::supported).
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuGBuffer& gbuffer, const gpu::Buffer& field,
-               const gpu::Buffer& lights, const gpu::shared::SdfShadowParams& params,
-               const gpu::Buffer& visibility) const;
+               const gpu::SampledVolume* texture, const gpu::Buffer& lights,
+               const gpu::shared::SdfShadowParams& params, const gpu::Buffer& visibility) const;
 
 private:
-  gpu::ComputePipeline mPipeline;
+  gpu::ComputePipeline mTexturePipeline, mBufferPipeline;
 };
 
 /// @brief Shadow maps (the baseline games use): a depth map per light (orthographic for directional lights,

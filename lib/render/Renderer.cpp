@@ -42,6 +42,13 @@ const char* toString(PenumbraEstimate p) {
   }
 }
 
+SdfSampling parseSdfSampling(const std::string& s) {
+  if (s == "texture") return SdfSampling::Texture;
+  if (s == "buffer") return SdfSampling::Buffer;
+  throw Error(fmt::format("unknown SDF sampling '{}' (texture or buffer)", s));
+}
+const char* toString(SdfSampling s) { return s == SdfSampling::Texture ? "texture" : "buffer"; }
+
 void RenderSettings::validate() const {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error(fmt::format("image size {}x{} is out of range [1, 16384]", width, height));
@@ -136,6 +143,7 @@ struct Renderer::Gpu {
   gpu::GpuProfiler profiler;
   GpuGBuffer gbuffer;
   Buffer lights, visibility, history, depth, maps;
+  gpu::SampledVolume fineTexture; ///< SdfSampling::Texture: the fine SDF for hardware-filtered sampling
   explicit Gpu(const gpu::VulkanContext& ctx)
       : gbufferPass(ctx), sdfShadowPass(ctx), shadowMapPass(ctx), taaPass(ctx), profiler(ctx) {}
 };
@@ -160,6 +168,14 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
   if (settings.technique == ShadowTechnique::Sdf) {
     mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, settings.pipeline);
     const GridSpec& f = mSdf->fineSpec();
+    mSampling = settings.sdf.sampling;
+    if (mSampling == SdfSampling::Texture && !gpu::SampledVolume::supported(ctx)) {
+      spdlog::warn("{} cannot filter R32_SFLOAT 3D textures: SDF shadows sample the fine buffer instead",
+                   ctx.info().name);
+      mSampling = SdfSampling::Buffer;
+    }
+    if (mSampling == SdfSampling::Texture)
+      mGpu->fineTexture = gpu::SampledVolume(ctx, glm::uvec3(f.dims), "fine SDF texture");
     sh::SdfShadowParams& p = mSdfParams;
     p.gridOriginH = glm::vec4(glm::vec3(f.origin), float(f.voxelSize));
     p.gridDims = glm::ivec4(f.dims, int(mLights.size()));
@@ -220,7 +236,8 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   g.gbufferPass.execute(cmd.handle(), &g.profiler, *bvh, mCamera, g.gbuffer);
   if (mSdf) {
     mSdfParams.image.z = mFrame;
-    g.sdfShadowPass.execute(cmd.handle(), &g.profiler, g.gbuffer, mSdf->fineBuffer(), g.lights, mSdfParams,
+    g.sdfShadowPass.execute(cmd.handle(), &g.profiler, g.gbuffer, mSdf->fineBuffer(),
+                            mSampling == SdfSampling::Texture ? &g.fineTexture : nullptr, g.lights, mSdfParams,
                             g.visibility);
   } else {
     g.shadowMapPass.execute(cmd.handle(), &g.profiler, *bvh, g.gbuffer, g.lights, mMapParams, g.maps, g.depth,

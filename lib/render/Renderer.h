@@ -33,6 +33,15 @@ enum class PenumbraEstimate {
 PenumbraEstimate parsePenumbraEstimate(const std::string& s);
 const char* toString(PenumbraEstimate p);
 
+/// @brief How the SDF march reads the fine SDF.
+enum class SdfSampling {
+  Texture, ///< a 3D texture with hardware trilinear filtering: one fetch per step (the fine buffer is copied
+           ///< into it each frame); falls back to Buffer where the device cannot filter R32_SFLOAT
+  Buffer   ///< the dense buffer, filtered in the shader exactly as the CPU reference does: eight fetches per step
+};
+SdfSampling parseSdfSampling(const std::string& s);
+const char* toString(SdfSampling s);
+
 /// @brief SDF shadow settings (lengths in scene units unless stated).
 struct SdfShadowSettings {
   PenumbraEstimate penumbra = PenumbraEstimate::Centered;
@@ -42,6 +51,7 @@ struct SdfShadowSettings {
   int maxSteps = 256;         ///< march steps at most
   bool jitter = true;         ///< jitter the start per pixel and frame (TAA averages the noise away)
   double normalOffset = -1.0; ///< march start off the surface; < 0: bias + epsilon (clears the surface itself)
+  SdfSampling sampling = SdfSampling::Texture;
 };
 
 /// @brief Shadow-map baseline settings.
@@ -96,6 +106,8 @@ public:
   RenderedFrame renderFrame(double time, bool readBack = true);
 
   const SdfPipeline* sdfPipeline() const { return mSdf.get(); }
+  /// @brief How the SDF march samples the fine SDF in this renderer (Texture may have fallen back to Buffer).
+  SdfSampling sdfSampling() const { return mSampling; }
   /// @brief The SDF shadow parameters of the last frame (for the CPU reference).
   const gpu::shared::SdfShadowParams& sdfShadowParams() const { return mSdfParams; }
   /// @brief The shadow maps' parameters (one per light) and their depths (after a ShadowMap frame).
@@ -115,6 +127,7 @@ private:
   gpu::shared::SdfShadowParams mSdfParams{};
   std::vector<gpu::shared::ShadowMapParams> mMapParams;
   std::unique_ptr<SdfPipeline> mSdf;
+  SdfSampling mSampling = SdfSampling::Buffer;
   std::unique_ptr<GpuSceneBvh> mBvh; // ShadowMap technique (Sdf uses the pipeline's)
   std::unique_ptr<Gpu> mGpu;
   int mFrame = 0;

@@ -75,9 +75,16 @@ struct TaaParams {
   uint pad0, pad1;
 };
 
-/// Trilinear sample of a cell-centred dense field at world point p (clamped to the grid), fetched through
-/// RTSDF_SDF_FETCH(linear index), which the includer defines.
-#ifdef RTSDF_SDF_FETCH
+/// Trilinear sample of a cell-centred dense field at world point p (clamped to the grid). The includer
+/// defines one of: RTSDF_SDF_TEXTURE(uvw), a hardware-filtered 3D texture lookup at normalized coordinates
+/// (texel centres at (i + 0.5) / dims, clamp to edge: the same field, to the filter's sub-texel precision);
+/// or RTSDF_SDF_FETCH(linear index), a dense buffer filtered here (the CPU reference's path).
+#if defined(RTSDF_SDF_TEXTURE)
+RTSDF_FN float sampleSdf(SdfShadowParams s, vec3 p) {
+  vec3 extent = vec3(s.gridDims.x, s.gridDims.y, s.gridDims.z) * s.gridOriginH.w;
+  return RTSDF_SDF_TEXTURE((p - vec3(s.gridOriginH)) / extent);
+}
+#elif defined(RTSDF_SDF_FETCH)
 RTSDF_FN float sampleSdf(SdfShadowParams s, vec3 p) {
   RTSDF_PRECISE vec3 g = (p - vec3(s.gridOriginH)) / s.gridOriginH.w - vec3(0.5f);
   vec3 hiC = vec3(s.gridDims.x - 1, s.gridDims.y - 1, s.gridDims.z - 1);
@@ -96,6 +103,9 @@ RTSDF_FN float sampleSdf(SdfShadowParams s, vec3 p) {
   RTSDF_PRECISE float r = y0 + (y1 - y0) * f.z;
   return r;
 }
+#endif
+
+#if defined(RTSDF_SDF_TEXTURE) || defined(RTSDF_SDF_FETCH)
 
 /// Distance along o + t d (d unit) at which the ray leaves the box [lo, hi] (0 when it starts outside and
 /// never enters: nothing to march through).
@@ -174,7 +184,7 @@ RTSDF_FN bool lightGeometry(GpuLight l, vec3 p, vec3 gridLo, vec3 gridHi, RTSDF_
   w = radius / sqrt(max(dist * dist - radius * radius, 1.0e-20f));
   return true;
 }
-#endif // RTSDF_SDF_FETCH
+#endif // RTSDF_SDF_TEXTURE || RTSDF_SDF_FETCH
 
 /// The pixel's jitter in [0, 1) for frame @a frame (a PCG hash; the same on both sides).
 RTSDF_FN float pixelJitter(uint pixel, uint frame, uint seed) {

@@ -46,6 +46,8 @@ double medianSeconds(int repeats, F&& run) {
   return t[t.size() / 2];
 }
 
+} // namespace
+
 std::string cpuName() {
   std::ifstream in("/proc/cpuinfo");
   std::string line;
@@ -53,8 +55,6 @@ std::string cpuName() {
     if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
   return "unknown CPU";
 }
-
-} // namespace
 
 namespace {
 

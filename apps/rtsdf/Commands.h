@@ -110,6 +110,9 @@ int runBench(const BenchSettings& s);
 int runSweep(const BenchSettings& s);
 int runAnimate(const AnimateSettings& s);
 
+/// @brief The CPU's model name (from /proc/cpuinfo), for benchmark reports.
+std::string cpuName();
+
 /// @brief Fail early (before any work) when @a path cannot be written: missing folder or a directory.
 void checkOutputPath(const std::string& path);
 

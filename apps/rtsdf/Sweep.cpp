@@ -38,14 +38,6 @@ extern "C" void onInterrupt(int) {
   }
 }
 
-std::string cpuModel() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown CPU";
-}
-
 std::string seconds(double s) {
   if (s < 90) return fmt::format("{:.0f} s", s);
   return fmt::format("{:.0f} min {:02.0f} s", std::floor(s / 60), std::fmod(s, 60));
@@ -98,7 +90,7 @@ int runSweep(const BenchSettings& s) {
   SweepContext ctx;
   ctx.scene = fs::path(scenePath).filename().string();
   ctx.command = s.command;
-  ctx.machine = fmt::format("{}, {} hardware threads", cpuModel(), std::thread::hardware_concurrency());
+  ctx.machine = fmt::format("{}, {} hardware threads", cpuName(), std::thread::hardware_concurrency());
   ctx.device = fmt::format("{} ({}, {})", runner.device().name, runner.device().typeName, runner.device().driver);
   ctx.date = fmt::format("{:%Y-%m-%d}", fmt::localtime(std::time(nullptr)));
   ctx.preset = preset;

@@ -71,6 +71,7 @@ int runSweep(const BenchSettings& s) {
   ro.errorBand = s.errorBand;
   ro.shadows = s.shadows;
   ro.truthSamples = s.truthSamples;
+  ro.repeats = s.repeats;
   if (preset == SweepPreset::Quick) {
     ro.shadowWidth = 160;
     ro.shadowHeight = 90;
@@ -96,6 +97,7 @@ int runSweep(const BenchSettings& s) {
   ctx.preset = preset;
   ctx.errorBand = s.errorBand;
   ctx.planned = plan.size();
+  ctx.repeats = s.repeats;
   if (runner.measuresShadows()) {
     ctx.shadowWidth = ro.shadowWidth;
     ctx.shadowHeight = ro.shadowHeight;
@@ -103,7 +105,7 @@ int runSweep(const BenchSettings& s) {
   }
 
   double totalCost = 0.0;
-  for (const SweepPoint& p : plan) totalCost += p.estimatedCost();
+  for (const SweepPoint& p : plan) totalCost += p.estimatedCost(s.repeats);
   spdlog::info("sweep '{}' on {}: {} points into {}/ (Ctrl-C stops after the current frame and keeps the finished "
                "points)",
                toString(preset), ctx.scene, plan.size(), dir.string());
@@ -125,8 +127,8 @@ int runSweep(const BenchSettings& s) {
     const SweepRecord& r = rs.back();
     if (!r.ok()) ++failed;
     records.insert(records.end(), rs.begin(), rs.end());
-    doneCost += plan[i].estimatedCost();
-    progress.add(std::uint64_t(plan[i].estimatedCost()));
+    doneCost += plan[i].estimatedCost(s.repeats);
+    progress.add(std::uint64_t(plan[i].estimatedCost(s.repeats)));
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double eta = elapsed * (totalCost - doneCost) / std::max(doneCost, 1e-9);
     if (r.ok() && r.point.group == SweepGroup::Storage)

@@ -190,7 +190,9 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--band-fraction", bench.bandFraction, "Band half-width as a fraction of the scene's extent")
       ->check(CLI::Range(1e-6, 10.0))
       ->capture_default_str();
-  benchCmd->add_option("--repeats", bench.repeats, "Timed runs per point (the median is reported)")
+  benchCmd->add_option("--repeats", bench.repeats,
+                       "Timed runs per point, the median is reported (--sweep: timed frames after a warm-up frame, "
+                       "and runs of each anchor)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   benchCmd->add_option("-o,--output", bench.output, "Also write the Markdown report to this file");

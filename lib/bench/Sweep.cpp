@@ -117,13 +117,15 @@ std::string SweepPoint::label() const {
   return s;
 }
 
-double SweepPoint::estimatedCost() const {
+double SweepPoint::estimatedCost(int repeats) const {
   const double voxels = std::pow(double(pipeline.fineRes) / 64.0, 3.0);
-  if (anchor != AnchorKind::None || group == SweepGroup::Storage) return 4.0 * voxels;
+  if (group == SweepGroup::Storage) return 4.0 * voxels;
+  if (anchor != AnchorKind::None) return 2.0 * (repeats + 1) * voxels;
   const double work = pipeline.mode == RefineMode::Closest ? 3.0 : 1.0 + pipeline.rays;
   const double maskShare = bruteForce ? 1.0 : std::min(1.0, 0.3 + 2.0 * pipeline.band);
   // Every point also pays the exact reference for its error (every frame for Dynamic points).
-  return voxels * (frames * (0.5 + work * maskShare) + (group == SweepGroup::Dynamic ? 2.0 * frames : 2.0));
+  const int run = group == SweepGroup::Dynamic ? frames : std::max(frames, repeats + 1);
+  return voxels * (run * (0.5 + work * maskShare) + (group == SweepGroup::Dynamic ? 2.0 * frames : 2.0));
 }
 
 double bruteForceBand(double sceneExtent) { return 4.0 * std::max(sceneExtent, 1e-6); }
@@ -267,12 +269,13 @@ std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>
                                   }),
                     c.planned, c.interrupted ? ", INTERRUPTED: the tables hold the points finished before Ctrl-C" : "");
   md += fmt::format(
-      "- Times: GPU timestamps per pass, median over the point's frames after the first (the first alone for one "
-      "frame); `mirror` is the CPU time of the OpenVDB mirror and mask list; `frame` = GPU passes + mirror. Anchors: "
-      "CPU wall time of one run.\n"
+      "- Times: GPU timestamps per pass, median over at least {} frames after a warm-up frame (a point with fewer "
+      "frames runs more after its error is measured, for timing only; a moving scene's frames are timed one by one); "
+      "`mirror` is the CPU time of the OpenVDB mirror and mask list; `frame` = GPU passes + mirror. Anchors: CPU "
+      "wall time, median of as many runs.\n"
       "- Field error: |fine - exact| in fine voxels (mean / RMS / max) and the rate of wrong signs, after the "
       "point's last frame, over every fine voxel with |exact| <= {:g} scene units.\n",
-      c.errorBand);
+      c.repeats, c.errorBand);
   if (c.shadowWidth > 0)
     md += fmt::format("- Shadow error: SDF soft shadows of the scene camera at {}x{} against the ray-traced truth "
                       "({} samples per pixel): visibility RMSE over lit surfaces / mean LDR-FLIP.\n",

@@ -51,7 +51,8 @@ struct SweepPoint {
   /// @brief A short name for tables and logs, e.g. "S rays x=5 d=0.1".
   std::string label() const;
   /// @brief A rough relative cost (voxels x rays x frames), for the progress bar's ETA.
-  double estimatedCost() const;
+  /// @param repeats timed frames at least after the first (SweepRunOptions::repeats).
+  double estimatedCost(int repeats = 3) const;
 };
 
 /// @brief The d used for "d = inf": far beyond any scene of the sweep (lengths are in scene units).
@@ -109,6 +110,7 @@ struct SweepContext {
   double errorBand = 0.1;      ///< where the field error is measured: |exact| <= errorBand (scene units)
   int shadowWidth = 0, shadowHeight = 0, truthSamples = 0; ///< 0: the scene has no camera, no shadow error
   std::size_t planned = 0;     ///< points planned (records may be fewer after an interrupt)
+  int repeats = 3;             ///< timed frames at least, after the warm-up frame
   bool interrupted = false;
   std::vector<std::string> plots; ///< PNG file names beside the report
 };

@@ -29,8 +29,8 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-/// The timings of a record: the median per pass over @a frames (the frames after the first when there are
-/// several: the first pays for first-touch allocations).
+/// The timings of a record: the median per pass over @a all but the first frame (the warm-up: it pays for
+/// first-touch allocations); the first alone when there is no other.
 void setTimings(SweepRecord& r, const std::vector<FrameStats>& all) {
   std::vector<FrameStats> frames(all.size() > 1 ? all.begin() + 1 : all.begin(), all.end());
   auto med = [&](auto get) {
@@ -70,6 +70,7 @@ SweepRunner::SweepRunner(const Scene& scene, const SweepRunOptions& o) : mScene(
   if (!(o.fps > 0.0) || !std::isfinite(o.fps)) throw Error(fmt::format("--fps {} must be positive", o.fps));
   if (o.shadowWidth < 8 || o.shadowHeight < 8 || o.shadowWidth > 4096 || o.shadowHeight > 4096)
     throw Error(fmt::format("shadow image {}x{} is out of range [8, 4096]", o.shadowWidth, o.shadowHeight));
+  if (o.repeats < 1 || o.repeats > 100) throw Error(fmt::format("--repeats {} is out of range [1, 100]", o.repeats));
   if (o.truthSamples < 1 || o.truthSamples > 65536)
     throw Error(fmt::format("--truth-samples {} is out of range [1, 65536]", o.truthSamples));
   for (const Instance& i : scene.instances) mAnimated |= i.animation.kind != Animation::Kind::None;
@@ -189,7 +190,6 @@ std::vector<SweepRecord> SweepRunner::runPipeline(const SweepPoint& p) {
   SweepRecord r;
   r.point = p;
   r.frame = p.frames - 1;
-  setTimings(r, stats);
   r.voxelSize = sdf.fineSpec().voxelSize;
   r.grid = fmt::format("{}x{}x{}", sdf.fineSpec().dims.x, sdf.fineSpec().dims.y, sdf.fineSpec().dims.z);
   stopIfRequested();
@@ -200,6 +200,12 @@ std::vector<SweepRecord> SweepRunner::runPipeline(const SweepPoint& p) {
     r.shadowPenumbraRmse = e.penumbraRmse;
     r.shadowFlip = e.flip;
   }
+  // More frames for the timing alone: every frame does the same work, whatever its history.
+  while (int(stats.size()) < mOptions.repeats + 1) {
+    stopIfRequested();
+    stats.push_back(renderer ? renderer->renderFrame(0.0, false).sdf : pipeline->runFrame(0.0));
+  }
+  setTimings(r, stats);
   out.push_back(r);
   return out;
 }
@@ -249,17 +255,22 @@ SweepRecord SweepRunner::runAnchor(const SweepPoint& p) {
   r.voxelSize = spec.voxelSize;
   r.grid = fmt::format("{}x{}x{}", spec.dims.x, spec.dims.y, spec.dims.z);
   const openvdb::FloatGrid& reference = exact(spec, 0.0);
-  const auto t0 = std::chrono::steady_clock::now();
   openvdb::FloatGrid::Ptr grid;
-  if (p.anchor == AnchorKind::OpenVdb) {
-    grid = openvdbLevelSet(geo, spec, band);
-  } else {
-    ExactSdfOptions eo;
-    eo.band = band;
-    eo.progress = false;
-    grid = exactSignedDistance(geo, spec, eo);
+  std::vector<double> ms;
+  for (int k = 0; k < mOptions.repeats; ++k) {
+    stopIfRequested();
+    const auto t0 = std::chrono::steady_clock::now();
+    if (p.anchor == AnchorKind::OpenVdb) {
+      grid = openvdbLevelSet(geo, spec, band);
+    } else {
+      ExactSdfOptions eo;
+      eo.band = band;
+      eo.progress = false;
+      grid = exactSignedDistance(geo, spec, eo);
+    }
+    ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  r.frameMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.frameMs = median(ms);
   r.maskVoxels = grid->activeVoxelCount();
   setError(r, compareFields(reference, *grid));
   return r;

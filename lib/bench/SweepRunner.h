@@ -21,6 +21,8 @@ struct SweepRunOptions {
   double errorBand = 0.1;      ///< the field error is measured where |exact| <= errorBand (scene units)
   double fps = 30.0;           ///< frame rate of Dynamic points (scene time advances 1/fps per frame)
   int animationFrames = 16;    ///< the most frames a Dynamic point runs (the grids cover all of them)
+  int repeats = 3;             ///< timed frames at least, after the first (warm-up): a static point with fewer
+                               ///< frames runs more after its error is measured, for timing only
   bool shadows = true;         ///< measure the shadow image error where the scene has a camera and a light
   int shadowWidth = 320, shadowHeight = 180;
   int truthSamples = 256;      ///< samples per pixel of the ray-traced truth

@@ -99,8 +99,8 @@ std::vector<std::string> writeSweepPlots(const fs::path& dir, const std::vector<
     if (const std::string cmd = plotCommand(all, "1:2"); !cmd.empty()) {
       gp += fmt::format("set output '../pareto.png'\nset title \"{}: time vs accuracy (lower left is better; the front skips points "
                         "with > 1% wrong signs)\"\nset key outside right top\n"
-                        "set logscale x\nunset logscale y\nset xlabel 'time per frame (ms, log scale; anchors: one "
-                        "CPU run)'\nset ylabel 'mean |error| (fine voxels)'\n{}",
+                        "set logscale x\nunset logscale y\nset xlabel 'time per frame (ms, log scale; anchors: CPU "
+                        "wall time)'\nset ylabel 'mean |error| (fine voxels)'\n{}",
                         clean(title), cmd);
       pngs.push_back("pareto.png");
     }

@@ -8,7 +8,7 @@ set title "default.json: time vs accuracy (lower left is better; the front skips
 set key outside right top
 set logscale x
 unset logscale y
-set xlabel 'time per frame (ms, log scale; anchors: one CPU run)'
+set xlabel 'time per frame (ms, log scale; anchors: CPU wall time)'
 set ylabel 'mean |error| (fine voxels)'
 plot 'pareto_front.tsv' using 1:2 with lines lw 2 lc rgb '#888888' title "Pareto front", \
      'pareto_front.tsv' using 1:2:3 with labels left offset 0.6,0.5 font ',8' tc rgb '#444444' notitle, \

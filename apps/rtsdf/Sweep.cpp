@@ -114,6 +114,7 @@ int runSweep(const BenchSettings& s) {
   const auto start = std::chrono::steady_clock::now();
   double doneCost = 0.0;
   std::size_t failed = 0;
+  std::size_t finished = 0;
   for (std::size_t i = 0; i < plan.size() && !gStop; ++i) {
     std::vector<SweepRecord> rs;
     try {
@@ -127,6 +128,7 @@ int runSweep(const BenchSettings& s) {
     const SweepRecord& r = rs.back();
     if (!r.ok()) ++failed;
     records.insert(records.end(), rs.begin(), rs.end());
+    finished = i + 1;
     doneCost += plan[i].estimatedCost(s.repeats);
     progress.add(std::uint64_t(plan[i].estimatedCost(s.repeats)));
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -142,7 +144,8 @@ int runSweep(const BenchSettings& s) {
   }
   progress.finish();
   csv.close();
-  ctx.interrupted = gStop.load();
+  // A Ctrl-C after the last point stopped nothing.
+  ctx.interrupted = gStop.load() && finished < plan.size();
   if (ctx.interrupted) spdlog::warn("sweep interrupted: writing the report of the {} records finished", records.size());
 
   std::string plotError;
@@ -155,8 +158,12 @@ int runSweep(const BenchSettings& s) {
   spdlog::info("wrote {}, {} and {} plot(s) in {}", csvPath.filename().string(), "report.md", ctx.plots.size(),
                dir.string());
   if (failed) spdlog::warn("{} point(s) could not run; report.md says why", failed);
+  if (ctx.interrupted) {
+    if (!plotError.empty()) spdlog::error("{}", plotError);
+    return 130;
+  }
   if (!plotError.empty()) throw Error(plotError);
-  return ctx.interrupted ? 130 : 0;
+  return 0;
 }
 
 } // namespace rtsdf::app

@@ -211,19 +211,20 @@ std::vector<SweepPoint> makeSweepPlan(SweepPreset preset, bool animated, double 
 std::string csvHeader() {
   return "group,label,size,anchor,coarse,fine,mode,jfa,rays,band,alpha,frames,frame,time,mask_voxels,voxelize_ms,"
          "jump_flood_ms,distance_ms,mirror_ms,upsample_ms,refine_ms,frame_ms,mean_abs_vox,rms_vox,max_abs_vox,"
-         "sign_error_rate,error_voxels,shadow_rmse,shadow_penumbra_rmse,shadow_flip,vdb_bytes,dense_bytes,peak_mib,peak_growth_mib,note";
+         "sign_error_rate,error_voxels,shadow_rmse,shadow_penumbra_rmse,shadow_flip,storage_band_voxels,vdb_bytes,dense_bytes,peak_mib,peak_growth_mib,note";
 }
 
 std::string csvRow(const SweepRecord& r) {
   const SweepPoint& p = r.point;
   auto g = [](double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string(); };
-  return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+  return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                      toString(p.group), quoted(p.label()), p.size, quoted(toString(p.anchor)), p.pipeline.coarseRes,
                      p.pipeline.fineRes, toString(p.pipeline.mode), toString(p.pipeline.variant), p.pipeline.rays,
                      p.bruteForce ? "inf" : g(p.pipeline.band), g(p.pipeline.alpha), p.frames, r.frame, g(r.time),
                      r.maskVoxels, g(r.voxelizeMs), g(r.jumpFloodMs), g(r.distanceMs), g(r.mirrorMs), g(r.upsampleMs),
                      g(r.refineMs), g(r.frameMs), g(r.meanAbs), g(r.rms), g(r.maxAbs), g(r.signErrorRate),
-                     r.errorVoxels, g(r.shadowRmse), g(r.shadowPenumbraRmse), g(r.shadowFlip), r.vdbBytes, r.denseBytes, g(r.peakMiB),
+                     r.errorVoxels, g(r.shadowRmse), g(r.shadowPenumbraRmse), g(r.shadowFlip),
+                     p.storageBandVoxels > 0 ? g(p.storageBandVoxels) : std::string(), r.vdbBytes, r.denseBytes, g(r.peakMiB),
                      g(r.peakGrowthMiB), quoted(r.note));
 }
 
@@ -232,9 +233,9 @@ std::vector<std::size_t> paretoFront(const std::vector<SweepRecord>& records, do
   for (std::size_t i = 0; i < records.size(); ++i) {
     const SweepRecord& r = records[i];
     if (!r.ok() || r.point.anchor != AnchorKind::None || r.point.group == SweepGroup::Storage ||
-        !std::isfinite(r.meanAbs) || !std::isfinite(r.frameMs) || r.signErrorRate > maxSignErrorRate)
+        r.point.group == SweepGroup::Dynamic || r.errorVoxels == 0 || !std::isfinite(r.meanAbs) ||
+        !std::isfinite(r.frameMs) || !(r.signErrorRate <= maxSignErrorRate))
       continue;
-    if (r.point.group == SweepGroup::Dynamic && r.frame + 1 != r.point.frames) continue;
     cand.push_back(i);
   }
   std::vector<std::size_t> front;
@@ -265,7 +266,8 @@ std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>
                     c.command, c.machine, c.device, c.date, toString(c.preset),
                     std::count_if(rs.begin(), rs.end(),
                                   [](const SweepRecord& r) {
-                                    return r.point.group != SweepGroup::Dynamic || r.frame + 1 == r.point.frames;
+                                    return r.point.group != SweepGroup::Dynamic || r.frame + 1 == r.point.frames ||
+                                           !r.ok();
                                   }),
                     c.planned, c.interrupted ? ", INTERRUPTED: the tables hold the points finished before Ctrl-C" : "");
   md += fmt::format(
@@ -280,7 +282,7 @@ std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>
     md += fmt::format("- Shadow error: SDF soft shadows of the scene camera at {}x{} against the ray-traced truth "
                       "({} samples per pixel): visibility RMSE over lit surfaces / mean LDR-FLIP.\n",
                       c.shadowWidth, c.shadowHeight, c.truthSamples);
-  md += "- Peak MiB: the process's peak resident memory while the point ran (host and, on a CPU Vulkan driver, device), and in brackets how far it rose above the resident memory at the point's start.\n\n";
+  md += "- Peak MiB: the process's peak resident memory while the point ran (host and, on a CPU Vulkan driver, device), and in brackets how far it rose above the resident memory at the point's start (freed memory is returned to the system first, and the exact field a point is measured against is built before it starts).\n\n";
   for (const std::string& p : c.plots) md += fmt::format("![{}]({})\n", p, p);
   if (!c.plots.empty()) md += "\n";
 
@@ -310,7 +312,7 @@ std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>
 
   // Anchors, with the pipeline's closest-point and x = 1 frames at the same fine resolution beside them.
   if (const auto v = ofGroup(SweepGroup::Anchor); !v.empty()) {
-    md += "## Anchors at the same fine voxels and band (d = 0.1)\n\n";
+    md += fmt::format("## Anchors at the same fine voxels and band (d = {:g})\n\n", v.front()->point.pipeline.band);
     md += "| fine | anchor | time (ms) | mean / RMS / max error | wrong sign | peak MiB | rtsdf closest frame / anchor "
           "| rtsdf rays x=1 frame / anchor |\n|---|---|---|---|---|---|---|---|\n";
     for (const SweepRecord* a : v) {
@@ -380,6 +382,10 @@ std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>
     }
     for (const std::string& k : order) {
       const auto& s = series[k];
+      if (!s.back()->ok()) {
+        md += fmt::format("| {} | {} | failed: {} | | | | |\n", k, s.back()->point.frames, s.back()->note);
+        continue;
+      }
       double sum = 0.0, worst = 0.0;
       int n = 0;
       for (const SweepRecord* r : s)

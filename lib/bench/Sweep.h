@@ -72,9 +72,10 @@ struct SweepRecord {
   int frame = 0;               ///< the frame the error belongs to (0-based)
   double time = 0.0;           ///< scene time of that frame (s)
   std::uint64_t maskVoxels = 0;///< fine voxels in the ray mask
-  double voxelizeMs = 0.0, jumpFloodMs = 0.0, distanceMs = 0.0, upsampleMs = 0.0, refineMs = 0.0;
-  double mirrorMs = 0.0;       ///< CPU: the OpenVDB mirror and the mask list
-  double frameMs = 0.0;        ///< per-frame cost: the GPU passes plus the mirror (anchors: their CPU wall time)
+  double voxelizeMs = kNotMeasured, jumpFloodMs = kNotMeasured, distanceMs = kNotMeasured,
+         upsampleMs = kNotMeasured, refineMs = kNotMeasured; ///< GPU pass times (pipeline points only)
+  double mirrorMs = kNotMeasured; ///< CPU: the OpenVDB mirror and the mask list
+  double frameMs = kNotMeasured;  ///< per-frame cost: the GPU passes plus the mirror (anchors, storage: CPU wall time)
   double meanAbs = kNotMeasured, rms = kNotMeasured, maxAbs = kNotMeasured; ///< |error| in fine voxels
   double signErrorRate = kNotMeasured;
   std::uint64_t errorVoxels = 0;
@@ -98,8 +99,9 @@ std::string csvRow(const SweepRecord& r);
 constexpr double kParetoMaxSignErrorRate = 0.01;
 
 /// @brief Indices of the records on the Pareto front of (frameMs, meanAbs): no other eligible record is both
-///        faster and more accurate. Eligible: pipeline records that ran and were measured (no anchors; for
-///        Dynamic points only their last frame) with at most @a maxSignErrorRate wrong signs. Sorted by time.
+///        faster and more accurate. Eligible: static pipeline records that ran and were measured over at least
+///        one voxel (no anchors, no Dynamic series: a moving scene is another trade), with at most
+///        @a maxSignErrorRate wrong signs. Sorted by time.
 std::vector<std::size_t> paretoFront(const std::vector<SweepRecord>& records,
                                      double maxSignErrorRate = kParetoMaxSignErrorRate);
 

@@ -55,7 +55,7 @@ std::vector<std::string> writeSweepPlots(const fs::path& dir, const std::vector<
   fs::create_directories(dataDir);
   std::vector<std::string> pngs;
   std::string gp = "# gnuplot script written by rtsdf bench --sweep; rerun with: gnuplot sweep.gp (in this folder)\n"
-                   "set terminal pngcairo size 1100,700 enhanced font 'sans,11'\n"
+                   "set terminal pngcairo size 1100,700 noenhanced font 'sans,11'\n"
                    "set datafile separator '\\t'\n"
                    "set grid\nset key outside right top\n";
   auto write = [&](std::vector<Series>& series) {
@@ -175,7 +175,10 @@ std::vector<std::string> writeSweepPlots(const fs::path& dir, const std::vector<
   const fs::path script = dataDir / "sweep.gp";
   writeTextAtomically(script, gp);
   for (const std::string& p : pngs) fs::remove(dir / p);
-  const std::string cmd = fmt::format("cd '{}' && gnuplot sweep.gp 2>&1", dataDir.string());
+  // The folder in single quotes, any single quote in it closed, escaped and reopened.
+  std::string quotedDir;
+  for (char c : dataDir.string()) quotedDir += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  const std::string cmd = fmt::format("cd '{}' && gnuplot sweep.gp 2>&1", quotedDir);
   const int rc = std::system(cmd.c_str());
   if (rc != 0) {
     const bool missing = WIFEXITED(rc) && WEXITSTATUS(rc) == 127;

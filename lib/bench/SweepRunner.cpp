@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <malloc.h>
 #include <unistd.h>
 
 namespace rtsdf::bench {
@@ -26,7 +27,8 @@ namespace {
 double median(std::vector<double> v) {
   if (v.empty()) return kNotMeasured;
   std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 /// The timings of a record: the median per pass over @a all but the first frame (the warm-up: it pays for
@@ -113,6 +115,19 @@ const openvdb::FloatGrid& SweepRunner::exact(const GridSpec& spec, double time) 
 }
 
 std::vector<SweepRecord> SweepRunner::run(const SweepPoint& p) {
+  // What the point is measured against is not part of its cost: build the exact field first (cached).
+  if (p.group != SweepGroup::Storage && p.group != SweepGroup::Dynamic) {
+    try {
+      // Only for grids the pipeline accepts: a refused point must not build a huge reference first.
+      const PipelineMemory need = estimatePipelineMemory(mBounds, p.pipeline);
+      checkPipelineMemory(need, memoryLimits(mCtx->info()));
+      exact(need.fine, 0.0);
+    } catch (const std::exception&) {
+      // The point itself reports why it cannot run.
+    }
+  }
+  // Freed memory the allocator kept would hide this point's own peak.
+  malloc_trim(0);
   const bool peakReset = resetPeakResidentMemory();
   const std::uint64_t startBytes = currentResidentMemory();
   std::vector<SweepRecord> out;
@@ -211,10 +226,8 @@ std::vector<SweepRecord> SweepRunner::runPipeline(const SweepPoint& p) {
 }
 
 GridSpec SweepRunner::fineSpecOf(const PipelineSettings& ps) const {
-  // As SdfPipeline: the coarse grid padded by the band (at most a quarter of the scene), the fine grid under it.
-  const double band = mOptions.errorBand;
-  const GridSpec coarse = GridSpec::fromBounds(mBounds, ps.coarseRes, std::min(band, 0.25 * mBounds.maxExtent()));
-  return fineGridUnder(coarse, ps.coarseRes, ps.fineRes);
+  // The pipeline's own fine grid for these settings (SdfPipeline pads by the band d).
+  return pipelineGrids(mBounds, ps).second;
 }
 
 SweepRecord SweepRunner::runStorage(const SweepPoint& p) {
@@ -246,8 +259,8 @@ SweepRecord SweepRunner::runStorage(const SweepPoint& p) {
 }
 
 SweepRecord SweepRunner::runAnchor(const SweepPoint& p) {
-  // The same fine voxels as the pipeline with d = errorBand, and the same band.
-  const double band = mOptions.errorBand;
+  // The same fine voxels as the pipeline with the same d, and a band of the same half-width.
+  const double band = p.pipeline.band;
   const GridSpec spec = fineSpecOf(p.pipeline);
   const SceneGeometry geo = buildSceneGeometry(mScene, 0.0);
   SweepRecord r;

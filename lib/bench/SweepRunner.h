@@ -61,7 +61,7 @@ private:
   std::vector<SweepRecord> runPipeline(const SweepPoint& point);
   SweepRecord runAnchor(const SweepPoint& point);
   SweepRecord runStorage(const SweepPoint& point);
-  /// The pipeline's fine grid for @a ps with d = the error band.
+  /// The pipeline's fine grid for @a ps (pipelineGrids).
   GridSpec fineSpecOf(const PipelineSettings& ps) const;
   /// The exact field on @a spec at @a time over the error band (cached for static scenes).
   const openvdb::FloatGrid& exact(const GridSpec& spec, double time);

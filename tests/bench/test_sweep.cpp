@@ -40,6 +40,8 @@ SweepRecord record(SweepGroup g, double ms, double err) {
   r.point.frames = 1;
   r.frameMs = ms;
   r.meanAbs = err;
+  r.errorVoxels = 100;
+  r.signErrorRate = 0.0;
   return r;
 }
 
@@ -134,6 +136,11 @@ TEST(SweepPareto, KeepsOnlyUndominatedMeasuredPipelinePoints) {
   rs[1].signErrorRate = 0.001;
   EXPECT_EQ(paretoFront(rs), (std::vector<std::size_t>{3, 0, 1}));
   EXPECT_EQ(paretoFront(rs, 1.0), (std::vector<std::size_t>{9}));
+  rs[9].errorVoxels = 0; // measured over nothing: no evidence of accuracy
+  EXPECT_EQ(paretoFront(rs, 1.0), (std::vector<std::size_t>{3, 0, 1}));
+  rs[9].errorVoxels = 100;
+  rs[9].signErrorRate = kNotMeasured; // an unknown sign error rate is not eligible either
+  EXPECT_EQ(paretoFront(rs), (std::vector<std::size_t>{3, 0, 1}));
   EXPECT_TRUE(paretoFront({}).empty());
 }
 

@@ -1,5 +1,5 @@
 # gnuplot script written by rtsdf bench --sweep; rerun with: gnuplot sweep.gp (in this folder)
-set terminal pngcairo size 1100,700 enhanced font 'sans,11'
+set terminal pngcairo size 1100,700 noenhanced font 'sans,11'
 set datafile separator '\t'
 set grid
 set key outside right top

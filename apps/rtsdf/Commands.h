@@ -87,7 +87,7 @@ struct RenderCommandSettings {
   double time = 0.0;           ///< time of the last frame
   std::string penumbra = "centered";
   std::string sdfSampling = "texture";
-  double epsilon = 1.0, bias = 0.005, maxStep = 0.05, normalOffset = -1.0;
+  double epsilon = 1.0, bias = 0.15, minStep = 0.5, maxStep = 0.05, normalOffset = -1.0;
   int maxSteps = 256;
   bool jitter = true;
   int shadowMapRes = 1024, pcfRadius = 2;

@@ -28,7 +28,8 @@ RenderSettings renderSettings(const RenderCommandSettings& c) {
   r.sdf.penumbra = parsePenumbraEstimate(c.penumbra);
   r.sdf.sampling = parseSdfSampling(c.sdfSampling);
   r.sdf.epsilonVoxels = c.epsilon;
-  r.sdf.bias = c.bias;
+  r.sdf.biasVoxels = c.bias;
+  r.sdf.minStepVoxels = c.minStep;
   r.sdf.maxStep = c.maxStep;
   r.sdf.maxSteps = c.maxSteps;
   r.sdf.jitter = c.jitter;

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -54,7 +55,10 @@ void RenderSettings::validate() const {
     throw Error(fmt::format("image size {}x{} is out of range [1, 16384]", width, height));
   if (!(sdf.epsilonVoxels >= 1.0 && sdf.epsilonVoxels <= 64.0))
     throw Error(fmt::format("--epsilon {} must be in [1, 64] fine voxels", sdf.epsilonVoxels));
-  if (!(std::isfinite(sdf.bias) && sdf.bias >= 0.0)) throw Error(fmt::format("--bias {} must be finite and >= 0", sdf.bias));
+  if (!(sdf.biasVoxels >= 0.0 && sdf.biasVoxels <= 64.0))
+    throw Error(fmt::format("--bias {} must be in [0, 64] fine voxels", sdf.biasVoxels));
+  if (!(sdf.minStepVoxels >= 0.05 && sdf.minStepVoxels <= 64.0))
+    throw Error(fmt::format("--min-step {} must be in [0.05, 64] fine voxels", sdf.minStepVoxels));
   if (!(std::isfinite(sdf.maxStep) && sdf.maxStep > 0.0))
     throw Error(fmt::format("--max-step {} must be finite and > 0", sdf.maxStep));
   if (sdf.maxSteps < 1 || sdf.maxSteps > 4096) throw Error(fmt::format("--max-steps {} is out of range [1, 4096]", sdf.maxSteps));
@@ -181,10 +185,10 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     p.gridDims = glm::ivec4(f.dims, int(mLights.size()));
     p.image = glm::ivec4(settings.width, settings.height, 0, int(settings.pipeline.seed));
     p.epsilon = float(settings.sdf.epsilonVoxels * f.voxelSize);
-    p.bias = float(settings.sdf.bias);
-    p.maxStep = float(std::max(settings.sdf.maxStep, double(p.epsilon)));
-    p.normalOffset = float(settings.sdf.normalOffset >= 0.0 ? settings.sdf.normalOffset
-                                                            : settings.sdf.bias + double(p.epsilon));
+    p.bias = float(settings.sdf.biasVoxels * f.voxelSize);
+    p.minStep = float(settings.sdf.minStepVoxels * f.voxelSize);
+    p.maxStep = float(std::max({settings.sdf.maxStep, double(p.epsilon), double(p.minStep)}));
+    p.normalOffset = float(settings.sdf.normalOffset >= 0.0 ? settings.sdf.normalOffset : double(p.bias));
     p.maxSteps = std::uint32_t(settings.sdf.maxSteps);
     p.penumbra = settings.sdf.penumbra == PenumbraEstimate::Classic    ? sh::kPenumbraClassic
                  : settings.sdf.penumbra == PenumbraEstimate::Improved ? sh::kPenumbraImproved

@@ -45,12 +45,17 @@ const char* toString(SdfSampling s);
 /// @brief SDF shadow settings (lengths in scene units unless stated).
 struct SdfShadowSettings {
   PenumbraEstimate penumbra = PenumbraEstimate::Centered;
-  double epsilonVoxels = 1.0; ///< hit threshold in fine voxels (at least one: the field is no finer)
-  double bias = 0.005;        ///< subtracted from every SDF sample, against light leaking through thin surfaces
+  double epsilonVoxels = 1.0; ///< hit threshold and march start in fine voxels (at least one: the field is no finer)
+  /// Subtracted from every SDF sample, in fine voxels: against light leaking through thin surfaces, and
+  /// against trilinear filtering's overestimate of the distance at convex edges (docs/design.md).
+  double biasVoxels = 0.15;
+  double minStepVoxels = 0.5; ///< shortest march step in fine voxels: samples the closest approach to an edge
   double maxStep = 0.05;      ///< longest march step, against banding
   int maxSteps = 256;         ///< march steps at most
   bool jitter = true;         ///< jitter the start per pixel and frame (TAA averages the noise away)
-  double normalOffset = -1.0; ///< march start off the surface; < 0: bias + epsilon (clears the surface itself)
+  /// March start off the surface along its normal (scene units); < 0: the bias, so that a flat receiver's own
+  /// plane, biased, is exactly its geometric horizon (docs/design.md).
+  double normalOffset = -1.0;
   SdfSampling sampling = SdfSampling::Texture;
 };
 

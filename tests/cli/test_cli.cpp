@@ -255,6 +255,8 @@ TEST(Cli, RenderRefusesBadInputWithoutWritingAnything) {
       {q(dir / "absent.json"), "absent.json"},
       {ok + " --shadows magic", "--shadows"},
       {ok + " --epsilon 0.5", "--epsilon"},
+      {ok + " --bias -0.1", "--bias"},
+      {ok + " --min-step 0.01", "--min-step"},
       {ok + " --width 0", "--width"},
       {ok + " --max-step 0", "--max-step"},
       {ok + " --taa-blend 0", "--taa-blend"},

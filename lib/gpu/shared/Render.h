@@ -45,14 +45,14 @@ struct SdfShadowParams {
   vec4 gridOriginH; // xyz: world corner of fine voxel (0,0,0), w: voxel size
   ivec4 gridDims;   // xyz: fine voxels per axis, w: number of lights
   ivec4 image;      // x: width, y: height, z: frame number (jitter), w: seed
-  float epsilon;    // a sample closer than this is a hit (scene units, >= one voxel)
-  float bias;       // subtracted from every SDF sample: thin surfaces cannot leak light
+  float epsilon;    // a sample closer than this is a hit; also where the march starts (scene units, >= one voxel)
+  float bias;       // subtracted from every SDF sample: thin surfaces cannot leak light (scene units)
   float maxStep;    // longest step (against banding where h is large)
   float normalOffset; // the march starts this far off the surface along its normal
   uint maxSteps;
   uint penumbra;    // kPenumbra*
   float jitter;     // 0: fixed start; 1: start offset jittered per pixel and frame by up to one epsilon
-  uint pad0;
+  float minStep;    // shortest step: the march samples h at least this densely near occluders
 };
 
 /// Push constants of shadow_map.comp (build) and shadow_lookup.comp.
@@ -152,8 +152,9 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float t
     }
     if (centered && res <= -1.0f) break;
     ph = h;
-    // Steps never shorter than epsilon (progress inside occluders, centred mode), never longer than maxStep.
-    t += clamp(abs(h), s.epsilon, s.maxStep);
+    // Steps never shorter than minStep (progress inside occluders, centred mode; samples near the closest
+    // approach to an occluder's edge), never longer than maxStep.
+    t += clamp(abs(h), s.minStep, s.maxStep);
   }
   if (centered) {
     RTSDF_PRECISE float r = clamp(res, -1.0f, 1.0f);

@@ -151,12 +151,15 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
   bool found = false;
   vec3 bestPoint = vec3(0.0);
   uint bestInstance = 0u, bestTriangle = 0u, bestFront = 0u, bestLeaf = 0u;
+  float bestFacing = -1.0; // |cos| between p - q and the best triangle's normal
+  // Ties (below) must be seen: culling keeps boxes within rounding of the best distance.
+  float ulp4 = 4.8e-7 * max(abs(p.x), max(abs(p.y), abs(p.z))); // 4 float ulps at p's coordinates
   uint tstack[RTSDF_BVH_STACK];
   int tsp = 0;
   tstack[tsp++] = 0u;
   while (tsp > 0) {
     BvhNode tn = tlasNodes[tstack[--tsp]];
-    if (boxDistance(p, tn.lo.xyz, tn.hi.xyz) > best) continue;
+    if (boxDistance(p, tn.lo.xyz, tn.hi.xyz) > best * (1.0 + 1.0e-5) + ulp4) continue;
     uint tc = nodeCount(tn);
     if (tc == 0u) {
       tstack[tsp++] = nodeFirst(tn) + 1u;
@@ -172,7 +175,8 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
       while (sp > 0) {
         BvhNode n = blasNodes[stack[--sp]];
         // World distance >= minScale * object distance: a conservative cull.
-        if (inst.minScale * boxDistance(po, n.lo.xyz, n.hi.xyz) > best) continue;
+        float reach = best * (1.0 + 1.0e-5) + ulp4;
+        if (inst.minScale * boxDistance(po, n.lo.xyz, n.hi.xyz) > reach) continue;
         uint cnt = nodeCount(n);
         if (cnt == 0u) {
           // Push only children that can hold a nearer point, the nearer one last (visited first).
@@ -181,8 +185,8 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
           float dr = inst.minScale * boxDistance(po, r.lo.xyz, r.hi.xyz);
           uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;
           uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);
-          if (max(dl, dr) <= best) stack[sp++] = farC;
-          if (min(dl, dr) <= best) stack[sp++] = nearC;
+          if (max(dl, dr) <= reach) stack[sp++] = farC;
+          if (min(dl, dr) <= reach) stack[sp++] = nearC;
           continue;
         }
         for (uint k = 0u; k < cnt; ++k) {
@@ -192,6 +196,23 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
           vec3 c = xformPoint(inst.objectToWorld, corners[3u * tri + 2u].xyz);
           vec3 q = closestOnTriangle(p, a, b, c);
           float dist = length(p - q);
+          // Triangles sharing the closest edge or vertex are equally near (to rounding); the sign comes from
+          // the one whose plane p lies most squarely off: near a sharp edge the other face's plane can pass
+          // within rounding of p, and its side test would be a coin toss.
+          vec3 nrm = cross(b - a, c - a);
+          float nl = length(nrm);
+          float facing = (dist > 0.0 && nl > 0.0) ? abs(dot(p - q, nrm)) / (dist * nl) : 0.0;
+          // A tie is the same distance and closest point (a shared edge or vertex) to rounding. The point
+          // slides along a shared edge by more than the distance changes (1e-3 of the distance covers it).
+          bool tie = found && abs(dist - best) <= 1.0e-5 * best + ulp4 &&
+                     length(q - bestPoint) <= 1.0e-3 * best + 2.0 * ulp4;
+          // Outside when p lies on the side the triangle's counter-clockwise normal points to.
+          uint front = dot(p - q, nrm) * (inst.mirrored != 0u ? -1.0 : 1.0) >= 0.0 ? 1u : 0u;
+          // The point and distance are the nearest's; in a tie only the side may come from another triangle.
+          if (tie && facing > bestFacing) {
+            bestFacing = facing;
+            bestFront = front;
+          }
           if (dist < best) {
             best = dist;
             found = true;
@@ -199,8 +220,10 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
             bestInstance = inst.instanceId;
             bestTriangle = triangleIds[tri];
             bestLeaf = tri;
-            // Outside when p lies on the side the triangle's counter-clockwise normal points to.
-            bestFront = dot(p - q, cross(b - a, c - a)) * (inst.mirrored != 0u ? -1.0 : 1.0) >= 0.0 ? 1u : 0u;
+            if (!tie) {
+              bestFacing = facing;
+              bestFront = front;
+            }
           }
         }
       }

@@ -223,7 +223,7 @@ std::string renderSuite(const BenchSettings& s) {
       rs.width = size.x;
       rs.height = size.y;
       rs.pipeline.coarseRes = 64;
-      rs.pipeline.fineRes = 128;
+      rs.pipeline.fineRes = 256; // what `rtsdf render` uses
       rs.pipeline.mode = RefineMode::Closest;
       rs.pipeline.rays = 0;
       rs.rayTraced.samples = truthSamples;

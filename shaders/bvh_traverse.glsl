@@ -196,6 +196,7 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
           vec3 c = xformPoint(inst.objectToWorld, corners[3u * tri + 2u].xyz);
           vec3 q = closestOnTriangle(p, a, b, c);
           float dist = length(p - q);
+          if (dist > best * (1.0 + 1.0e-5) + ulp4) continue; // neither nearer nor a tie: the common case
           // Triangles sharing the closest edge or vertex are equally near (to rounding); the sign comes from
           // the one whose plane p lies most squarely off: near a sharp edge the other face's plane can pass
           // within rounding of p, and its side test would be a coin toss.

@@ -6,14 +6,9 @@
 
 layout(local_size_x = 64) in;
 layout(push_constant) uniform Push { uint count; uint mode; uint pad0, pad1; } params;
-layout(std430, binding = 0) readonly buffer BlasNodes { BvhNode blasNodes[]; };
-layout(std430, binding = 1) readonly buffer Corners { vec4 corners[]; };
-layout(std430, binding = 2) readonly buffer TriangleIds { uint triangleIds[]; };
-layout(std430, binding = 3) readonly buffer TlasNodes { BvhNode tlasNodes[]; };
-layout(std430, binding = 4) readonly buffer TlasSlots { uint tlasSlots[]; };
-layout(std430, binding = 5) readonly buffer Instances { BvhInstance instances[]; };
-layout(std430, binding = 6) readonly buffer Queries { BvhQuery queries[]; };
-layout(std430, binding = 7) writeonly buffer Hits { BvhHit hits[]; };
+#include "bvh_bindings.glsl"
+layout(std430, binding = kBvhQueryBindingQueries) readonly buffer Queries { BvhQuery queries[]; };
+layout(std430, binding = kBvhQueryBindingHits) writeonly buffer Hits { BvhHit hits[]; };
 
 #include "bvh_traverse.glsl"
 

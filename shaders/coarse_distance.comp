@@ -5,8 +5,8 @@
 
 layout(local_size_x = RTSDF_JFA_GROUP_X, local_size_y = RTSDF_JFA_GROUP_Y, local_size_z = RTSDF_JFA_GROUP_Z) in;
 layout(push_constant) uniform Push { CoarseDistanceParams params; };
-layout(std430, binding = 0) readonly buffer Nearest { uint nearest[]; };
-layout(std430, binding = 1) writeonly buffer Distance { float distance[]; };
+layout(std430, binding = kCoarseDistanceBindingNearest) readonly buffer Nearest { uint nearest[]; };
+layout(std430, binding = kCoarseDistanceBindingDistance) writeonly buffer Distance { float distance[]; };
 
 void main() {
   ivec3 p = ivec3(gl_GlobalInvocationID);

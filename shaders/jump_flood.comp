@@ -7,8 +7,8 @@
 
 layout(local_size_x = RTSDF_JFA_GROUP_X, local_size_y = RTSDF_JFA_GROUP_Y, local_size_z = RTSDF_JFA_GROUP_Z) in;
 layout(push_constant) uniform Push { JumpFloodParams params; };
-layout(std430, binding = 0) readonly buffer Src { uint src[]; };
-layout(std430, binding = 1) writeonly buffer Dst { uint dst[]; };
+layout(std430, binding = kJumpFloodBindingSrc) readonly buffer Src { uint src[]; };
+layout(std430, binding = kJumpFloodBindingDst) writeonly buffer Dst { uint dst[]; };
 
 void main() {
   ivec3 p = ivec3(gl_GlobalInvocationID);

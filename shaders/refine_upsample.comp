@@ -2,13 +2,12 @@
 #extension GL_GOOGLE_include_directive : require
 // The first half of a refinement frame: every fine voxel gets the coarse SDF c_t, trilinearly upsampled
 // (the value outside the ray mask; RayRefinePass then overwrites the masked voxels).
-#include "gpu/shared/CoarseSdf.h"
 #include "gpu/shared/Refine.h"
 
-layout(local_size_x = RTSDF_JFA_GROUP_X, local_size_y = RTSDF_JFA_GROUP_Y, local_size_z = RTSDF_JFA_GROUP_Z) in;
+layout(local_size_x = RTSDF_UPSAMPLE_GROUP_X, local_size_y = RTSDF_UPSAMPLE_GROUP_Y, local_size_z = RTSDF_UPSAMPLE_GROUP_Z) in;
 layout(push_constant) uniform Push { RefineParams params; };
-layout(std430, binding = 0) readonly buffer Coarse { float coarse[]; };
-layout(std430, binding = 1) writeonly buffer Fine { float fine[]; };
+layout(std430, binding = kUpsampleBindingCoarse) readonly buffer Coarse { float coarse[]; };
+layout(std430, binding = kUpsampleBindingFine) writeonly buffer Fine { float fine[]; };
 
 float coarseAt(ivec3 c) {
   ivec3 d = params.coarseDims.xyz;

@@ -5,10 +5,10 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push { SdfShadowParams params; };
-layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = 3) readonly buffer Lights { GpuLight lights[]; };
-layout(std430, binding = 4) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = kSdfShadowBindingPositions) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = kSdfShadowBindingNormals) readonly buffer Normals { vec4 normals[]; };
+layout(std430, binding = kSdfShadowBindingLights) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = kSdfShadowBindingVisibility) writeonly buffer Visibility { float visibility[]; };
 
 void main() {
   uvec2 px = gl_GlobalInvocationID.xy;

@@ -2,19 +2,19 @@
 #extension GL_GOOGLE_include_directive : require
 // ShadowMapPass (lookup): PCF visibility of every light at every G-buffer pixel (shadowMapLookup in
 // gpu/shared/Render.h, shared with the CPU reference).
-#include "gpu/shared/Common.h"
-layout(std430, binding = 2) readonly buffer Depth { float depthMaps[]; }; // all lights' maps, 6 N^2 each
+#include "gpu/shared/RenderBindings.h"
+layout(std430, binding = kShadowLookupBindingDepth) readonly buffer Depth { float depthMaps[]; }; // all lights' maps, 6 N^2 each
 uint gMapBase = 0u;
 #define RTSDF_DEPTH_FETCH(i) depthMaps[gMapBase + uint(i)]
 #include "gpu/shared/Render.h"
 layout(push_constant) uniform Push { ShadowMapParams pushMap; }; // image size and number of lights
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = 3) readonly buffer Lights { GpuLight lights[]; };
-layout(std430, binding = 4) readonly buffer Maps { ShadowMapParams maps[]; };
-layout(std430, binding = 5) writeonly buffer Visibility { float visibility[]; };
+layout(std430, binding = kShadowLookupBindingPositions) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = kShadowLookupBindingNormals) readonly buffer Normals { vec4 normals[]; };
+layout(std430, binding = kShadowLookupBindingLights) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = kShadowLookupBindingMaps) readonly buffer Maps { ShadowMapParams maps[]; };
+layout(std430, binding = kShadowLookupBindingVisibility) writeonly buffer Visibility { float visibility[]; };
 
 void main() {
   uvec2 px = gl_GlobalInvocationID.xy;

@@ -8,14 +8,9 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push { ShadowMapParams map; };
-layout(std430, binding = 0) readonly buffer BlasNodes { BvhNode blasNodes[]; };
-layout(std430, binding = 1) readonly buffer Corners { vec4 corners[]; };
-layout(std430, binding = 2) readonly buffer TriangleIds { uint triangleIds[]; };
-layout(std430, binding = 3) readonly buffer TlasNodes { BvhNode tlasNodes[]; };
-layout(std430, binding = 4) readonly buffer TlasSlots { uint tlasSlots[]; };
-layout(std430, binding = 5) readonly buffer Instances { BvhInstance instances[]; };
-layout(std430, binding = 6) readonly buffer Lights { GpuLight lights[]; };
-layout(std430, binding = 7) writeonly buffer Depth { float depth[]; }; // all lights' maps, 6 N^2 each
+#include "bvh_bindings.glsl"
+layout(std430, binding = kShadowMapBindingLights) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = kShadowMapBindingDepth) writeonly buffer Depth { float depth[]; }; // all lights' maps, 6 N^2 each
 
 #include "bvh_traverse.glsl"
 

@@ -7,8 +7,8 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push { TaaParams params; };
-layout(std430, binding = 0) readonly buffer Current { float current[]; };
-layout(std430, binding = 1) buffer History { float history[]; }; // in: last output, out: this frame's
+layout(std430, binding = kTaaBindingCurrent) readonly buffer Current { float current[]; };
+layout(std430, binding = kTaaBindingHistory) buffer History { float history[]; }; // in: last output, out: this frame's
 
 void main() {
   ivec2 px = ivec2(gl_GlobalInvocationID.xy);

@@ -7,8 +7,8 @@
 
 layout(local_size_x = 64) in;
 layout(push_constant) uniform Push { VoxelizeParams params; };
-layout(std430, binding = 0) readonly buffer Triangles { vec4 corners[]; }; // 3 per triangle, world space
-layout(std430, binding = 1) buffer Seeds { uint seeds[]; };
+layout(std430, binding = kVoxelizeBindingCorners) readonly buffer Triangles { vec4 corners[]; }; // 3 per triangle, world space
+layout(std430, binding = kVoxelizeBindingSeeds) buffer Seeds { uint seeds[]; };
 
 void main() {
   uint tri = gl_GlobalInvocationID.x;

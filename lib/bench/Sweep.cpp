@@ -56,52 +56,6 @@ std::string quoted(const std::string& s) {
 
 } // namespace
 
-SweepPreset parseSweepPreset(const std::string& n) {
-  if (n == "quick") return SweepPreset::Quick;
-  if (n == "default") return SweepPreset::Default;
-  if (n == "paper") return SweepPreset::Paper;
-  throw Error(fmt::format("unknown sweep '{}' (expected quick, default or paper)", n));
-}
-
-const char* toString(SweepPreset p) {
-  switch (p) {
-  case SweepPreset::Quick: return "quick";
-  case SweepPreset::Default: return "default";
-  case SweepPreset::Paper: return "paper";
-  }
-  return "?";
-}
-
-const char* toString(SweepGroup g) {
-  switch (g) {
-  case SweepGroup::Sizes: return "sizes";
-  case SweepGroup::Band: return "band";
-  case SweepGroup::Alpha: return "alpha";
-  case SweepGroup::Frames: return "frames";
-  case SweepGroup::Jfa: return "jfa";
-  case SweepGroup::Dynamic: return "dynamic";
-  case SweepGroup::Anchor: return "anchor";
-  case SweepGroup::Storage: return "storage";
-  }
-  return "?";
-}
-
-SweepGroup parseSweepGroup(const std::string& n) {
-  for (SweepGroup g : {SweepGroup::Sizes, SweepGroup::Band, SweepGroup::Alpha, SweepGroup::Frames, SweepGroup::Jfa,
-                       SweepGroup::Dynamic, SweepGroup::Anchor, SweepGroup::Storage})
-    if (n == toString(g)) return g;
-  throw Error(fmt::format("unknown sweep group '{}'", n));
-}
-
-const char* toString(AnchorKind a) {
-  switch (a) {
-  case AnchorKind::None: return "";
-  case AnchorKind::OpenVdb: return "OpenVDB meshToLevelSet";
-  case AnchorKind::Exact: return "exact reference";
-  }
-  return "?";
-}
-
 std::string SweepPoint::label() const {
   if (group == SweepGroup::Storage)
     return storageBandVoxels > 0 ? fmt::format("storage fine {} band {:g} voxels", pipeline.fineRes, storageBandVoxels)

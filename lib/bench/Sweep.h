@@ -17,9 +17,6 @@ enum class SweepPreset {
   Default, ///< sizes S and M, every knob at size S: the trade on a CPU Vulkan driver in minutes
   Paper    ///< the paper's tables: sizes S, M and L, band x rays at size M, every knob at M (for a real GPU)
 };
-/// @throw Error naming the accepted values.
-SweepPreset parseSweepPreset(const std::string& name);
-const char* toString(SweepPreset p);
 
 /// @brief What a point varies: the table it belongs to in the report.
 enum class SweepGroup {
@@ -32,12 +29,35 @@ enum class SweepGroup {
   Anchor,  ///< OpenVDB meshToLevelSet and the exact reference at the same fine voxels and band
   Storage  ///< the band as a sparse .vdb file vs a dense grid, per fine resolution (exact field)
 };
-const char* toString(SweepGroup g);
-SweepGroup parseSweepGroup(const std::string& name);
 
 /// @brief The anchors measured beside the pipeline.
 enum class AnchorKind { None, OpenVdb, Exact };
-const char* toString(AnchorKind a);
+
+} // namespace rtsdf::bench
+
+namespace rtsdf {
+template <> struct EnumNames<bench::SweepPreset> {
+  static constexpr const char* kSetting = "sweep preset";
+  static constexpr std::pair<const char*, bench::SweepPreset> kValues[] = {
+      {"quick", bench::SweepPreset::Quick}, {"default", bench::SweepPreset::Default}, {"paper", bench::SweepPreset::Paper}};
+};
+template <> struct EnumNames<bench::SweepGroup> {
+  static constexpr const char* kSetting = "sweep group";
+  static constexpr std::pair<const char*, bench::SweepGroup> kValues[] = {
+      {"sizes", bench::SweepGroup::Sizes},     {"band", bench::SweepGroup::Band},      {"alpha", bench::SweepGroup::Alpha},
+      {"frames", bench::SweepGroup::Frames},   {"jfa", bench::SweepGroup::Jfa},        {"dynamic", bench::SweepGroup::Dynamic},
+      {"anchor", bench::SweepGroup::Anchor},   {"storage", bench::SweepGroup::Storage}};
+};
+/// The anchors' names as the report prints them ("" for none).
+template <> struct EnumNames<bench::AnchorKind> {
+  static constexpr const char* kSetting = "anchor";
+  static constexpr std::pair<const char*, bench::AnchorKind> kValues[] = {
+      {"", bench::AnchorKind::None}, {"OpenVDB meshToLevelSet", bench::AnchorKind::OpenVdb},
+      {"exact reference", bench::AnchorKind::Exact}};
+};
+} // namespace rtsdf
+
+namespace rtsdf::bench {
 
 /// @brief One point of a sweep.
 struct SweepPoint {

@@ -7,8 +7,10 @@
 #include "reference/OpenVdbLevelSet.h"
 #include "scene/SceneGeometry.h"
 #include "sdf/CoarseSdf.h"
+#include "sdf/RefinePasses.h"
 #include "util/Error.h"
-#include "util/PeakMemory.h"
+#include "util/Settings.h"
+#include "util/Memory.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -43,8 +45,8 @@ void setTimings(SweepRecord& r, const std::vector<FrameStats>& all) {
   r.voxelizeMs = med([](const FrameStats& f) { return f.passTotal(VoxelizePass::kName); });
   r.jumpFloodMs = med([](const FrameStats& f) { return f.passTotal(JumpFloodPass::kName); });
   r.distanceMs = med([](const FrameStats& f) { return f.passTotal(CoarseDistancePass::kName); });
-  r.upsampleMs = med([](const FrameStats& f) { return f.passTotal(SdfPipeline::kUpsampleName); });
-  r.refineMs = med([](const FrameStats& f) { return f.passTotal(SdfPipeline::kRefineName); });
+  r.upsampleMs = med([](const FrameStats& f) { return f.passTotal(UpsamplePass::kName); });
+  r.refineMs = med([](const FrameStats& f) { return f.refineMs(); });
   r.mirrorMs = med([](const FrameStats& f) { return f.mirrorMs; });
   r.frameMs = med([](const FrameStats& f) {
     double t = f.mirrorMs;
@@ -66,15 +68,18 @@ double toMiB(std::uint64_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
 
 } // namespace
 
+void SweepRunOptions::validate() const {
+  if (!(errorBand > 0.0) || !std::isfinite(errorBand))
+    throw SettingError("error band", fmt::format("error band {} must be a positive length", errorBand));
+  if (!(fps > 0.0) || !std::isfinite(fps)) throw SettingError("fps", fmt::format("fps {} must be positive", fps));
+  requireInRange("shadow image width", shadowWidth, 8, 4096);
+  requireInRange("shadow image height", shadowHeight, 8, 4096);
+  requireInRange("repeats", repeats, 1, 100);
+  requireInRange("truth samples", truthSamples, 1, 65536);
+}
+
 SweepRunner::SweepRunner(const Scene& scene, const SweepRunOptions& o) : mScene(scene), mOptions(o) {
-  if (!(o.errorBand > 0.0) || !std::isfinite(o.errorBand))
-    throw Error(fmt::format("--error-band {} must be a positive length", o.errorBand));
-  if (!(o.fps > 0.0) || !std::isfinite(o.fps)) throw Error(fmt::format("--fps {} must be positive", o.fps));
-  if (o.shadowWidth < 8 || o.shadowHeight < 8 || o.shadowWidth > 4096 || o.shadowHeight > 4096)
-    throw Error(fmt::format("shadow image {}x{} is out of range [8, 4096]", o.shadowWidth, o.shadowHeight));
-  if (o.repeats < 1 || o.repeats > 100) throw Error(fmt::format("--repeats {} is out of range [1, 100]", o.repeats));
-  if (o.truthSamples < 1 || o.truthSamples > 65536)
-    throw Error(fmt::format("--truth-samples {} is out of range [1, 65536]", o.truthSamples));
+  o.validate();
   for (const Instance& i : scene.instances) mAnimated |= i.animation.kind != Animation::Kind::None;
   // Fixed grids over every moment a Dynamic point visits, so history stays valid while objects move.
   const int frames = mAnimated ? std::max(1, o.animationFrames) : 1;

@@ -6,6 +6,7 @@
 #include "gpu/VulkanContext.h"
 #include "render/Renderer.h"
 #include "scene/Scene.h"
+#include "util/Error.h"
 
 #include <functional>
 #include <map>
@@ -28,12 +29,12 @@ struct SweepRunOptions {
   int truthSamples = 256;      ///< samples per pixel of the ray-traced truth
   /// @brief Polled between frames: return true to stop (the point in progress throws SweepInterrupted).
   std::function<bool()> stopRequested;
+  /// @throw SettingError naming the setting that is out of range.
+  void validate() const;
 };
 
 /// @brief Thrown when SweepRunOptions::stopRequested said stop in the middle of a point.
-struct SweepInterrupted : std::exception {
-  const char* what() const noexcept override { return "interrupted"; }
-};
+struct SweepInterrupted : Interrupted {};
 
 /// @brief One Vulkan context and one scene; points run one after another.
 class SweepRunner {

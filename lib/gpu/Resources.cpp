@@ -213,7 +213,7 @@ ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
   return *this;
 }
 
-void ComputePipeline::dispatch(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push,
+void ComputePipeline::dispatch(VkCommandBuffer cmd, BindingList bindings, const void* push,
                                glm::uvec3 groups) const {
   const glm::uvec3 limit = mCtx->info().maxWorkGroupCount;
   if (groups.x > limit.x || groups.y > limit.y || groups.z > limit.z)
@@ -223,13 +223,13 @@ void ComputePipeline::dispatch(VkCommandBuffer cmd, std::initializer_list<Bindin
   if (groups.x && groups.y && groups.z) vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
 }
 
-void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, std::initializer_list<Binding> bindings,
+void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, BindingList bindings,
                                        const void* push, const Buffer& indirect) const {
   bind(cmd, bindings, push);
   vkCmdDispatchIndirect(cmd, indirect.handle(), 0);
 }
 
-void ComputePipeline::bind(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push) const {
+void ComputePipeline::bind(VkCommandBuffer cmd, BindingList bindings, const void* push) const {
   const std::uint32_t n = std::uint32_t(mTypes.size());
   if (bindings.size() != n)
     throw Error(fmt::format("{}: {} resources given for {} bindings", mName, bindings.size(), n));
@@ -404,6 +404,12 @@ void reserve(const VulkanContext& ctx, Buffer& b, VkDeviceSize bytes, VkBufferUs
              const std::string& name) {
   const VkDeviceSize size = std::max<VkDeviceSize>(bytes, 16);
   if (!b || b.size() < size) b = Buffer(ctx, size, usage, memory, name);
+}
+
+void reserveAndUpload(const VulkanContext& ctx, Buffer& b, const void* data, std::size_t bytes,
+                      VkBufferUsageFlags usage, const std::string& name) {
+  reserve(ctx, b, bytes, usage, Buffer::Memory::Device, name);
+  upload(ctx, b, data, bytes);
 }
 
 void upload(const VulkanContext& ctx, const Buffer& dst, const void* data, std::size_t bytes) {

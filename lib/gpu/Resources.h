@@ -6,6 +6,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <cstddef>
 #include <initializer_list>
 #include <string>
@@ -91,10 +92,28 @@ private:
 
 /// @brief What a compute pipeline binds at one binding: a storage buffer or a sampled volume.
 struct Binding {
+  Binding() = default;                           ///< unset: a dispatch with an unset binding throws
   Binding(const Buffer* b) : buffer(b) {}        // NOLINT(google-explicit-constructor): {&a, &b} lists
   Binding(const SampledVolume* v) : volume(v) {} // NOLINT(google-explicit-constructor)
   const Buffer* buffer = nullptr;
   const SampledVolume* volume = nullptr;
+};
+
+/// @brief The bindings of one dispatch in binding order: a braced list {&a, &b}, or a std::array a pass fills
+///        by the named binding indices of its shared header (gpu/shared/*.h), so no call binds by position.
+/// @note A view: the list or array must outlive the call it is passed to (a braced list in the call does).
+class BindingList {
+public:
+  BindingList(std::initializer_list<Binding> list) : mData(list.begin()), mSize(list.size()) {} // NOLINT
+  template <std::size_t N>
+  BindingList(const std::array<Binding, N>& array) : mData(array.data()), mSize(N) {} // NOLINT
+  const Binding* begin() const { return mData; }
+  const Binding* end() const { return mData + mSize; }
+  std::size_t size() const { return mSize; }
+
+private:
+  const Binding* mData;
+  std::size_t mSize;
 };
 
 /// @brief A primary command buffer from its own pool, begun on construction; submit() waits for it.
@@ -142,16 +161,16 @@ public:
   /// @brief Record: bind, push @a buffers to bindings 0.. in order and @a push constants, dispatch @a groups.
   /// @note @a push must point at exactly the pushConstantBytes given at creation (or be null when 0).
   /// @throw Error when a binding's kind differs from the pipeline's layout.
-  void dispatch(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push,
+  void dispatch(VkCommandBuffer cmd, BindingList bindings, const void* push,
                 glm::uvec3 groups) const;
   /// @brief The same with the group counts read on the GPU from @a indirect (a VkDispatchIndirectCommand at
   ///        offset 0; the buffer needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT).
-  void dispatchIndirect(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push,
+  void dispatchIndirect(VkCommandBuffer cmd, BindingList bindings, const void* push,
                         const Buffer& indirect) const;
   const std::string& name() const { return mName; }
 
 private:
-  void bind(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push) const;
+  void bind(VkCommandBuffer cmd, BindingList bindings, const void* push) const;
   void reset();
   const VulkanContext* mCtx = nullptr;
   std::string mName;
@@ -172,6 +191,10 @@ void computeBarrier(VkCommandBuffer cmd);
 ///        per-frame buffers are allocated once.
 void reserve(const VulkanContext& ctx, Buffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage, Buffer::Memory memory,
              const std::string& name);
+
+/// @brief reserve() device memory for @a bytes in @a b, then upload() them: a per-frame buffer allocated once.
+void reserveAndUpload(const VulkanContext& ctx, Buffer& b, const void* data, std::size_t bytes,
+                      VkBufferUsageFlags usage, const std::string& name);
 
 /// @brief Copy @a bytes from host memory into @a dst (through a staging buffer when it is device memory).
 void upload(const VulkanContext& ctx, const Buffer& dst, const void* data, std::size_t bytes);

@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <unistd.h>
 
 namespace rtsdf {
 
@@ -46,12 +45,6 @@ void checkDenseMemory(const GridSpec& spec, std::size_t bytesPerVoxel, std::uint
     throw Error(fmt::format("{}: a {}x{}x{} grid needs {:.1f} GiB, more than the {:.1f} GiB available", what,
                             spec.dims.x, spec.dims.y, spec.dims.z, double(need / (1024.0L * 1024 * 1024)),
                             double(maxBytes) / (1024.0 * 1024 * 1024)));
-}
-
-std::uint64_t physicalMemoryBytes() {
-  const long pages = sysconf(_SC_PHYS_PAGES);
-  const long size = sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && size > 0 ? std::uint64_t(pages) * std::uint64_t(size) : 0;
 }
 
 } // namespace rtsdf

@@ -56,7 +56,4 @@ struct GridSpec {
 /// @throw Error naming @a what, the grid and the memory it would need.
 void checkDenseMemory(const GridSpec& spec, std::size_t bytesPerVoxel, std::uint64_t maxBytes, const std::string& what);
 
-/// @brief Physical memory of this machine in bytes (0 when unknown).
-std::uint64_t physicalMemoryBytes();
-
 } // namespace rtsdf

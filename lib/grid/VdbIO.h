@@ -3,6 +3,7 @@
 /// @brief The OpenVDB bridge: level-set grids from blocks or dense arrays, dense sampling, fog grids for
 ///        Blender, metadata, and atomic .vdb write / checked .vdb read.
 #include "grid/GridSpec.h"
+#include "util/EnumNames.h"
 
 #include <openvdb/openvdb.h>
 
@@ -58,6 +59,11 @@ enum class VdbCompression {
   None,  ///< raw values
   Zip,   ///< zlib
   Blosc  ///< Blosc LZ4 (OpenVDB's fastest; the default)
+};
+template <> struct EnumNames<VdbCompression> {
+  static constexpr const char* kSetting = "compression";
+  static constexpr std::pair<const char*, VdbCompression> kValues[] = {
+      {"blosc", VdbCompression::Blosc}, {"zip", VdbCompression::Zip}, {"none", VdbCompression::None}};
 };
 
 /// @brief Options of writeVdb.

@@ -19,22 +19,6 @@
 
 namespace rtsdf {
 
-SignMethod parseSignMethod(const std::string& name) {
-  if (name == "auto") return SignMethod::Auto;
-  if (name == "pseudonormal") return SignMethod::PseudoNormal;
-  if (name == "winding") return SignMethod::WindingNumber;
-  throw Error(fmt::format("unknown sign method '{}' (auto, pseudonormal or winding)", name));
-}
-
-const char* toString(SignMethod m) {
-  switch (m) {
-  case SignMethod::Auto: return "auto";
-  case SignMethod::PseudoNormal: return "pseudonormal";
-  case SignMethod::WindingNumber: return "winding";
-  }
-  return "?";
-}
-
 namespace {
 
 /// Per-mesh data for distance and sign: corners, and the pseudo-normals of every feature.

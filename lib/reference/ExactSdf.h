@@ -4,6 +4,7 @@
 ///        against. Distance by Embree 3 closest-point queries (rtcPointQuery), in parallel with TBB.
 #include "grid/GridSpec.h"
 #include "scene/SceneGeometry.h"
+#include "util/EnumNames.h"
 
 #include <openvdb/openvdb.h>
 
@@ -24,9 +25,11 @@ enum class SignMethod {
   WindingNumber
 };
 
-/// @brief Parse "auto", "pseudonormal" or "winding". @throw Error on anything else.
-SignMethod parseSignMethod(const std::string& name);
-const char* toString(SignMethod method);
+template <> struct EnumNames<SignMethod> {
+  static constexpr const char* kSetting = "sign method";
+  static constexpr std::pair<const char*, SignMethod> kValues[] = {
+      {"auto", SignMethod::Auto}, {"pseudonormal", SignMethod::PseudoNormal}, {"winding", SignMethod::WindingNumber}};
+};
 
 /// @brief Exact signed distance queries against a scene's world-space triangles.
 /// @note Points inside a mesh are negative. With interpenetrating meshes the sign comes from the mesh

@@ -2,8 +2,11 @@
 
 #include "util/Error.h"
 
+#include <array>
+
 namespace rtsdf {
 using gpu::Buffer;
+using namespace gpu::shared;
 
 namespace {
 glm::uvec3 imageGroups(int w, int h) { return {gpu::groupsFor(std::uint64_t(w), 8), gpu::groupsFor(std::uint64_t(h), 8), 1u}; }
@@ -18,82 +21,103 @@ void GpuGBuffer::reserve(const gpu::VulkanContext& ctx, int w, int h) {
 }
 
 GBufferPass::GBufferPass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "gbuffer.comp", 8, sizeof(gpu::shared::CameraParams)) {}
+    : mPipeline(ctx, "gbuffer.comp", kGBufferBindingCount, sizeof(CameraParams)) {}
 
-void GBufferPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh,
-                          const gpu::shared::CameraParams& camera, GpuGBuffer& out) const {
-  if (out.width != camera.size.x || out.height != camera.size.y)
+void GBufferPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                          const Params& camera) const {
+  const GpuGBuffer& g = out.gbuffer;
+  if (g.width != camera.size.x || g.height != camera.size.y)
     throw Error("GBufferPass: the G-buffer is not reserved for the camera's image size");
   gpu::ProfileScope scope(profiler, cmd, kName);
-  const auto b = bvh.buffers();
-  mPipeline.dispatch(cmd, {b[0], b[1], b[2], b[3], b[4], b[5], &out.position, &out.normal}, &camera,
-                     imageGroups(out.width, out.height));
+  std::array<gpu::Binding, kGBufferBindingCount> b;
+  in.bvh.bindTo(b);
+  b[kGBufferBindingPositions] = &g.position;
+  b[kGBufferBindingNormals] = &g.normal;
+  mPipeline.dispatch(cmd, b, &camera, imageGroups(g.width, g.height));
   gpu::computeBarrier(cmd);
 }
 
+namespace {
+std::vector<VkDescriptorType> sdfShadowTextureBindings() {
+  std::vector<VkDescriptorType> types(kSdfShadowBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  types[kSdfShadowBindingField] = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  return types;
+}
+} // namespace
+
 SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx)
-    : mBufferPipeline(ctx, "sdf_shadow_buffer.comp", 5, sizeof(gpu::shared::SdfShadowParams)) {
+    : mBufferPipeline(ctx, "sdf_shadow_buffer.comp", kSdfShadowBindingCount, sizeof(SdfShadowParams)) {
   if (gpu::SampledVolume::supported(ctx))
-    mTexturePipeline = gpu::ComputePipeline(
-        ctx, "sdf_shadow.comp",
-        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-        sizeof(gpu::shared::SdfShadowParams));
+    mTexturePipeline = gpu::ComputePipeline(ctx, "sdf_shadow.comp", sdfShadowTextureBindings(), sizeof(SdfShadowParams));
 }
 
-void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuGBuffer& gbuffer,
-                            const Buffer& field, const gpu::SampledVolume* texture, const Buffer& lights,
-                            const gpu::shared::SdfShadowParams& params, const Buffer& visibility) const {
-  if (texture) {
+void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                            const Params& params) const {
+  std::array<gpu::Binding, kSdfShadowBindingCount> b;
+  b[kSdfShadowBindingPositions] = &in.gbuffer.position;
+  b[kSdfShadowBindingNormals] = &in.gbuffer.normal;
+  b[kSdfShadowBindingLights] = &in.lights;
+  b[kSdfShadowBindingVisibility] = &out.visibility;
+  const glm::uvec3 groups = imageGroups(in.gbuffer.width, in.gbuffer.height);
+  if (in.texture) {
     if (mTexturePipeline.name().empty())
       throw Error("SdfShadowPass: this device cannot sample the fine SDF as a filtered 3D texture");
     {
       gpu::ProfileScope scope(profiler, cmd, kCopyName);
-      texture->copyFrom(cmd, field);
+      in.texture->copyFrom(cmd, in.field);
     }
     gpu::ProfileScope scope(profiler, cmd, kName);
-    mTexturePipeline.dispatch(cmd, {&gbuffer.position, &gbuffer.normal, texture, &lights, &visibility}, &params,
-                              imageGroups(gbuffer.width, gbuffer.height));
+    b[kSdfShadowBindingField] = in.texture;
+    mTexturePipeline.dispatch(cmd, b, &params, groups);
   } else {
     gpu::ProfileScope scope(profiler, cmd, kName);
-    mBufferPipeline.dispatch(cmd, {&gbuffer.position, &gbuffer.normal, &field, &lights, &visibility}, &params,
-                             imageGroups(gbuffer.width, gbuffer.height));
+    b[kSdfShadowBindingField] = &in.field;
+    mBufferPipeline.dispatch(cmd, b, &params, groups);
   }
   gpu::computeBarrier(cmd);
 }
 
 ShadowMapPass::ShadowMapPass(const gpu::VulkanContext& ctx)
-    : mBuild(ctx, "shadow_map.comp", 8, sizeof(gpu::shared::ShadowMapParams)),
-      mLookup(ctx, "shadow_lookup.comp", 6, sizeof(gpu::shared::ShadowMapParams)) {}
+    : mBuild(ctx, "shadow_map.comp", kShadowMapBindingCount, sizeof(ShadowMapParams)),
+      mLookup(ctx, "shadow_lookup.comp", kShadowLookupBindingCount, sizeof(ShadowMapParams)) {}
 
-void ShadowMapPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh,
-                            const GpuGBuffer& gbuffer, const Buffer& lights,
-                            const std::vector<gpu::shared::ShadowMapParams>& maps, const Buffer& mapsBuffer,
-                            const Buffer& depth, const Buffer& visibility) const {
+void ShadowMapPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                            const Params& maps) const {
   if (maps.empty()) return;
-  const auto b = bvh.buffers();
   {
     gpu::ProfileScope scope(profiler, cmd, kBuildName);
-    for (const gpu::shared::ShadowMapParams& m : maps) {
+    std::array<gpu::Binding, kShadowMapBindingCount> b;
+    in.bvh.bindTo(b);
+    b[kShadowMapBindingLights] = &in.lights;
+    b[kShadowMapBindingDepth] = &out.depth;
+    for (const ShadowMapParams& m : maps) {
       const std::uint32_t n = std::uint32_t(m.info.x);
-      const std::uint32_t faces = std::uint32_t(m.info.z) == gpu::shared::kLightSphere ? 6u : 1u;
-      mBuild.dispatch(cmd, {b[0], b[1], b[2], b[3], b[4], b[5], &lights, &depth}, &m,
-                      {gpu::groupsFor(n, 8), gpu::groupsFor(n, 8), faces});
+      const std::uint32_t faces = std::uint32_t(m.info.z) == kLightSphere ? 6u : 1u;
+      mBuild.dispatch(cmd, b, &m, {gpu::groupsFor(n, 8), gpu::groupsFor(n, 8), faces});
     }
     gpu::computeBarrier(cmd);
   }
   gpu::ProfileScope scope(profiler, cmd, kLookupName);
-  mLookup.dispatch(cmd, {&gbuffer.position, &gbuffer.normal, &depth, &lights, &mapsBuffer, &visibility}, &maps[0],
-                   imageGroups(gbuffer.width, gbuffer.height));
+  std::array<gpu::Binding, kShadowLookupBindingCount> b;
+  b[kShadowLookupBindingPositions] = &in.gbuffer.position;
+  b[kShadowLookupBindingNormals] = &in.gbuffer.normal;
+  b[kShadowLookupBindingDepth] = &out.depth;
+  b[kShadowLookupBindingLights] = &in.lights;
+  b[kShadowLookupBindingMaps] = &in.maps;
+  b[kShadowLookupBindingVisibility] = &out.visibility;
+  mLookup.dispatch(cmd, b, &maps[0], imageGroups(in.gbuffer.width, in.gbuffer.height));
   gpu::computeBarrier(cmd);
 }
 
-TaaPass::TaaPass(const gpu::VulkanContext& ctx) : mPipeline(ctx, "taa.comp", 2, sizeof(gpu::shared::TaaParams)) {}
+TaaPass::TaaPass(const gpu::VulkanContext& ctx) : mPipeline(ctx, "taa.comp", kTaaBindingCount, sizeof(TaaParams)) {}
 
-void TaaPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Buffer& current, const Buffer& history,
-                      const gpu::shared::TaaParams& params) const {
+void TaaPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                      const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
-  mPipeline.dispatch(cmd, {&current, &history}, &params, imageGroups(params.image.x, params.image.y));
+  std::array<gpu::Binding, kTaaBindingCount> b;
+  b[kTaaBindingCurrent] = &in.current;
+  b[kTaaBindingHistory] = &out.history;
+  mPipeline.dispatch(cmd, b, &params, imageGroups(params.image.x, params.image.y));
   gpu::computeBarrier(cmd);
 }
 

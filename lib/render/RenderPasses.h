@@ -1,11 +1,12 @@
 #pragma once
 /// @file RenderPasses.h
 /// @brief The renderer's GPU passes, each a small named unit (inputs, outputs, execute): GBufferPass,
-///        SdfShadowPass, ShadowMapPass, TaaPass. Each records into a command buffer; the caller submits.
+///        SdfShadowPass, ShadowMapPass, TaaPass.
 ///        Their CPU references are in RenderReference.h.
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"
 #include "gpu/shared/Render.h"
+#include "gpu/shared/RenderBindings.h"
 #include "sdf/GpuSceneBvh.h"
 
 namespace rtsdf {
@@ -17,14 +18,25 @@ struct GpuGBuffer {
   void reserve(const gpu::VulkanContext& ctx, int width, int height);
 };
 
+// Every pass has one shape: execute(cmd, profiler, inputs, outputs, params) records its dispatches into @a cmd
+// inside profiler scopes of its own names (null profiler: none); the caller submits. Buffers are bound at the
+// indices gpu/shared/RenderBindings.h names.
+
 /// @brief Primary visibility: one camera ray per pixel through the scene's BVH.
 class GBufferPass {
 public:
   static constexpr const char* kName = "GBufferPass";
+  struct Inputs {
+    const GpuSceneBvh& bvh;
+  };
+  struct Outputs {
+    const GpuGBuffer& gbuffer; ///< reserved for the camera's image size
+  };
+  using Params = gpu::shared::CameraParams;
   explicit GBufferPass(const gpu::VulkanContext& ctx);
-  /// @param out reserved for the camera's image size.
-  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh,
-               const gpu::shared::CameraParams& camera, GpuGBuffer& out) const;
+  /// @throw Error when the G-buffer is not reserved for the camera's image size.
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& camera) const;
 
 private:
   gpu::ComputePipeline mPipeline;
@@ -35,17 +47,25 @@ class SdfShadowPass {
 public:
   static constexpr const char* kName = "SdfShadowPass";
   static constexpr const char* kCopyName = "FineSdfTextureCopy"; ///< the fine buffer into the 3D texture
+  struct Inputs {
+    const GpuGBuffer& gbuffer;
+    /// Dense fine SDF (x fastest) on the grid of Params::gridOriginH / gridDims.
+    const gpu::Buffer& field;
+    /// Where given, @a field is first copied into it and the march samples it with hardware trilinear
+    /// filtering (one fetch per step); null: the march filters @a field itself, exactly as the CPU reference
+    /// does (eight fetches per step).
+    const gpu::SampledVolume* texture;
+    const gpu::Buffer& lights;
+  };
+  struct Outputs {
+    const gpu::Buffer& visibility; ///< params.gridDims.w * width * height floats, light-major
+  };
+  using Params = gpu::shared::SdfShadowParams;
   /// @note The texture variant is built only where the device filters R32_SFLOAT 3D textures linearly.
   explicit SdfShadowPass(const gpu::VulkanContext& ctx);
-  /// @param field dense fine SDF (x fastest) on the grid described by @a params.gridOriginH / gridDims.
-  /// @param texture where given, @a field is first copied into it and the march samples it with hardware
-  ///        trilinear filtering (one fetch per step); null: the march filters @a field itself, exactly as the
-  ///        CPU reference does (eight fetches per step).
-  /// @param visibility params.gridDims.w * width * height floats, light-major.
-  /// @throw Error when @a texture is given but the device cannot filter it (see gpu::SampledVolume::supported).
-  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuGBuffer& gbuffer, const gpu::Buffer& field,
-               const gpu::SampledVolume* texture, const gpu::Buffer& lights,
-               const gpu::shared::SdfShadowParams& params, const gpu::Buffer& visibility) const;
+  /// @throw Error when a texture is given but the device cannot filter it (see gpu::SampledVolume::supported).
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
 
 private:
   gpu::ComputePipeline mTexturePipeline, mBufferPipeline;
@@ -57,12 +77,20 @@ class ShadowMapPass {
 public:
   static constexpr const char* kBuildName = "ShadowMapBuildPass";
   static constexpr const char* kLookupName = "ShadowMapLookupPass";
+  struct Inputs {
+    const GpuSceneBvh& bvh;
+    const GpuGBuffer& gbuffer;
+    const gpu::Buffer& lights;
+    const gpu::Buffer& maps; ///< the ShadowMapParams of every light, on the GPU
+  };
+  struct Outputs {
+    const gpu::Buffer& depth;      ///< 6 * N^2 floats per light
+    const gpu::Buffer& visibility; ///< light-major
+  };
+  using Params = std::vector<gpu::shared::ShadowMapParams>; ///< one per light (host copy of Inputs::maps)
   explicit ShadowMapPass(const gpu::VulkanContext& ctx);
-  /// @param maps one ShadowMapParams per light (host copy of @a mapsBuffer).
-  /// @param depth 6 * N^2 floats per light.
-  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh, const GpuGBuffer& gbuffer,
-               const gpu::Buffer& lights, const std::vector<gpu::shared::ShadowMapParams>& maps,
-               const gpu::Buffer& mapsBuffer, const gpu::Buffer& depth, const gpu::Buffer& visibility) const;
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& maps) const;
 
 private:
   gpu::ComputePipeline mBuild, mLookup;
@@ -72,9 +100,16 @@ private:
 class TaaPass {
 public:
   static constexpr const char* kName = "TaaPass";
+  struct Inputs {
+    const gpu::Buffer& current;
+  };
+  struct Outputs {
+    const gpu::Buffer& history; ///< in: the last output; out: this frame's
+  };
+  using Params = gpu::shared::TaaParams;
   explicit TaaPass(const gpu::VulkanContext& ctx);
-  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const gpu::Buffer& current, const gpu::Buffer& history,
-               const gpu::shared::TaaParams& params) const;
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
 
 private:
   gpu::ComputePipeline mPipeline;

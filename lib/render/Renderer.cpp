@@ -4,6 +4,7 @@
 #include "scene/SceneGeometry.h"
 #include "image/ImageIO.h"
 #include "util/Error.h"
+#include "util/Settings.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -16,70 +17,24 @@ namespace rtsdf {
 using gpu::Buffer;
 namespace sh = gpu::shared;
 
-ShadowTechnique parseShadowTechnique(const std::string& s) {
-  if (s == "sdf") return ShadowTechnique::Sdf;
-  if (s == "shadowmap") return ShadowTechnique::ShadowMap;
-  if (s == "raytraced") return ShadowTechnique::RayTraced;
-  throw Error(fmt::format("unknown shadow technique '{}' (sdf, shadowmap or raytraced)", s));
-}
-const char* toString(ShadowTechnique t) {
-  switch (t) {
-  case ShadowTechnique::Sdf: return "sdf";
-  case ShadowTechnique::ShadowMap: return "shadowmap";
-  default: return "raytraced";
-  }
-}
-PenumbraEstimate parsePenumbraEstimate(const std::string& s) {
-  if (s == "classic") return PenumbraEstimate::Classic;
-  if (s == "improved") return PenumbraEstimate::Improved;
-  if (s == "centered") return PenumbraEstimate::Centered;
-  throw Error(fmt::format("unknown penumbra estimate '{}' (classic, improved or centered)", s));
-}
-const char* toString(PenumbraEstimate p) {
-  switch (p) {
-  case PenumbraEstimate::Classic: return "classic";
-  case PenumbraEstimate::Improved: return "improved";
-  default: return "centered";
-  }
-}
-
-SdfSampling parseSdfSampling(const std::string& s) {
-  if (s == "texture") return SdfSampling::Texture;
-  if (s == "buffer") return SdfSampling::Buffer;
-  throw Error(fmt::format("unknown SDF sampling '{}' (texture or buffer)", s));
-}
-const char* toString(SdfSampling s) { return s == SdfSampling::Texture ? "texture" : "buffer"; }
-
 void RenderSettings::validate() const {
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    throw Error(fmt::format("image size {}x{} is out of range [1, 16384]", width, height));
-  if (!(sdf.epsilonVoxels >= 1.0 && sdf.epsilonVoxels <= 64.0))
-    throw Error(fmt::format("--epsilon {} must be in [1, 64] fine voxels", sdf.epsilonVoxels));
-  if (!(sdf.biasVoxels >= 0.0 && sdf.biasVoxels <= 64.0))
-    throw Error(fmt::format("--bias {} must be in [0, 64] fine voxels", sdf.biasVoxels));
-  if (!(sdf.minStepVoxels >= 0.05 && sdf.minStepVoxels <= 64.0))
-    throw Error(fmt::format("--min-step {} must be in [0.05, 64] fine voxels", sdf.minStepVoxels));
+  requireInRange("image width", width, 1, 16384);
+  requireInRange("image height", height, 1, 16384);
+  requireInRange("epsilon", sdf.epsilonVoxels, 1.0, 64.0, " fine voxels");
+  requireInRange("bias", sdf.biasVoxels, 0.0, 64.0, " fine voxels");
+  requireInRange("min step", sdf.minStepVoxels, 0.05, 64.0, " fine voxels");
   if (!(std::isfinite(sdf.maxStep) && sdf.maxStep > 0.0))
-    throw Error(fmt::format("--max-step {} must be finite and > 0", sdf.maxStep));
-  if (sdf.maxSteps < 1 || sdf.maxSteps > 4096) throw Error(fmt::format("--max-steps {} is out of range [1, 4096]", sdf.maxSteps));
-  if (!std::isfinite(sdf.normalOffset)) throw Error("--normal-offset must be finite");
-  if (shadowMap.resolution < 1 || shadowMap.resolution > 8192)
-    throw Error(fmt::format("--shadow-map-res {} is out of range [1, 8192]", shadowMap.resolution));
-  if (shadowMap.pcfRadius < 0 || shadowMap.pcfRadius > 16)
-    throw Error(fmt::format("--pcf-radius {} is out of range [0, 16]", shadowMap.pcfRadius));
+    throw SettingError("max step", fmt::format("max step {} must be finite and > 0", sdf.maxStep));
+  requireInRange("max steps", sdf.maxSteps, 1, 4096);
+  requireFinite("normal offset", sdf.normalOffset);
+  requireInRange("shadow map resolution", shadowMap.resolution, 1, 8192);
+  requireInRange("PCF radius", shadowMap.pcfRadius, 0, 16);
   if (!(std::isfinite(shadowMap.depthBiasTexels) && shadowMap.depthBiasTexels >= 0.0))
-    throw Error("--shadow-bias must be finite and >= 0");
-  if (!(taa.blend > 0.0 && taa.blend <= 1.0)) throw Error(fmt::format("--taa-blend {} must be in (0, 1]", taa.blend));
-  if (rayTraced.samples < 1 || rayTraced.samples > 65536)
-    throw Error(fmt::format("--samples {} is out of range [1, 65536]", rayTraced.samples));
+    throw SettingError("shadow bias", fmt::format("shadow bias {} must be finite and >= 0", shadowMap.depthBiasTexels));
+  if (!(taa.blend > 0.0 && taa.blend <= 1.0))
+    throw SettingError("TAA blend", fmt::format("TAA blend {} must be in (0, 1]", taa.blend));
+  requireInRange("samples", rayTraced.samples, 1, 65536);
   if (technique == ShadowTechnique::Sdf) pipeline.validate();
-}
-
-double RenderedFrame::passTotal(const std::string& pass) const {
-  double t = 0.0;
-  for (const auto& [name, ms] : passMs)
-    if (name == pass) t += ms;
-  return t;
 }
 
 std::vector<sh::ShadowMapParams> makeShadowMapParams(const std::vector<sh::GpuLight>& lights, const Bounds& bounds,
@@ -201,9 +156,10 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     const std::size_t n = std::size_t(settings.shadowMap.resolution);
     const std::size_t bytes = mLights.size() * 6 * n * n * 4;
     if (bytes > ctx.info().maxStorageBufferRange)
-      throw Error(fmt::format("--shadow-map-res {}: {} light(s) need {} MiB of depth maps, more than the device's "
-                              "storage buffer limit ({} MiB)",
-                              n, mLights.size(), bytes >> 20, ctx.info().maxStorageBufferRange >> 20));
+      throw SettingError("shadow map resolution",
+                         fmt::format("shadow map resolution {}: {} light(s) need {} MiB of depth maps, more than the "
+                                     "device's storage buffer limit ({} MiB)",
+                                     n, mLights.size(), bytes >> 20, ctx.info().maxStorageBufferRange >> 20));
     mGpu->depth = Buffer(ctx, bytes, kStorage, Buffer::Memory::Device, "shadow maps");
     mGpu->maps = Buffer(ctx, mMapParams.size() * sizeof(sh::ShadowMapParams), kStorage, Buffer::Memory::Device,
                         "shadow map parameters");
@@ -237,22 +193,22 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   gpu::CommandBuffer cmd(mCtx);
   Gpu& g = *mGpu;
   g.profiler.reset(cmd.handle());
-  g.gbufferPass.execute(cmd.handle(), &g.profiler, *bvh, mCamera, g.gbuffer);
+  g.gbufferPass.execute(cmd.handle(), &g.profiler, {*bvh}, {g.gbuffer}, mCamera);
   if (mSdf) {
     mSdfParams.image.z = mFrame;
-    g.sdfShadowPass.execute(cmd.handle(), &g.profiler, g.gbuffer, mSdf->fineBuffer(),
-                            mSampling == SdfSampling::Texture ? &g.fineTexture : nullptr, g.lights, mSdfParams,
-                            g.visibility);
+    const gpu::SampledVolume* texture = mSampling == SdfSampling::Texture ? &g.fineTexture : nullptr;
+    g.sdfShadowPass.execute(cmd.handle(), &g.profiler, {g.gbuffer, mSdf->fineBuffer(), texture, g.lights},
+                            {g.visibility}, mSdfParams);
   } else {
-    g.shadowMapPass.execute(cmd.handle(), &g.profiler, *bvh, g.gbuffer, g.lights, mMapParams, g.maps, g.depth,
-                            g.visibility);
+    g.shadowMapPass.execute(cmd.handle(), &g.profiler, {*bvh, g.gbuffer, g.lights, g.maps}, {g.depth, g.visibility},
+                            mMapParams);
   }
   if (mSettings.taa.enabled) {
     sh::TaaParams t{};
     t.image = glm::ivec4(mSettings.width, mSettings.height, int(mLights.size()), mFrame);
     t.blend = float(mSettings.taa.blend);
     t.clampHistory = mSettings.taa.clampHistory ? 1u : 0u;
-    g.taaPass.execute(cmd.handle(), &g.profiler, g.visibility, g.history, t);
+    g.taaPass.execute(cmd.handle(), &g.profiler, {g.visibility}, {g.history}, t);
   }
   cmd.submitAndWait();
   for (const auto& r : g.profiler.results()) out.passMs.push_back(r);

@@ -3,7 +3,7 @@
 /// @brief Soft shadows of a scene's lights, per frame: SDF sphere tracing (the technique), shadow maps (what
 ///        games otherwise use) and distributed ray tracing (the truth), with TAA over frames.
 #include "image/Image.h"
-#include "reference/RayTracedShadows.h"
+#include "render/RayTracedShadows.h"
 #include "render/RenderPasses.h"
 #include "render/RenderTypes.h"
 #include "sdf/SdfPipeline.h"
@@ -21,8 +21,11 @@ enum class ShadowTechnique {
   ShadowMap, ///< a depth map per light with PCF filtering
   RayTraced  ///< distributed ray tracing with Embree on the CPU: the ground truth
 };
-ShadowTechnique parseShadowTechnique(const std::string& s);
-const char* toString(ShadowTechnique t);
+template <> struct EnumNames<ShadowTechnique> {
+  static constexpr const char* kSetting = "shadow technique";
+  static constexpr std::pair<const char*, ShadowTechnique> kValues[] = {
+      {"sdf", ShadowTechnique::Sdf}, {"shadowmap", ShadowTechnique::ShadowMap}, {"raytraced", ShadowTechnique::RayTraced}};
+};
 
 /// @brief How the SDF march turns distances into visibility (gpu/shared/Render.h has the formulas).
 enum class PenumbraEstimate {
@@ -30,8 +33,12 @@ enum class PenumbraEstimate {
   Improved, ///< the triangulated estimate between consecutive samples (less banding)
   Centered  ///< marches on through occluders (signed h): the penumbra straddles the geometric boundary
 };
-PenumbraEstimate parsePenumbraEstimate(const std::string& s);
-const char* toString(PenumbraEstimate p);
+template <> struct EnumNames<PenumbraEstimate> {
+  static constexpr const char* kSetting = "penumbra estimate";
+  static constexpr std::pair<const char*, PenumbraEstimate> kValues[] = {{"classic", PenumbraEstimate::Classic},
+                                                                         {"improved", PenumbraEstimate::Improved},
+                                                                         {"centered", PenumbraEstimate::Centered}};
+};
 
 /// @brief How the SDF march reads the fine SDF.
 enum class SdfSampling {
@@ -39,8 +46,11 @@ enum class SdfSampling {
            ///< into it each frame); falls back to Buffer where the device cannot filter R32_SFLOAT
   Buffer   ///< the dense buffer, filtered in the shader exactly as the CPU reference does: eight fetches per step
 };
-SdfSampling parseSdfSampling(const std::string& s);
-const char* toString(SdfSampling s);
+template <> struct EnumNames<SdfSampling> {
+  static constexpr const char* kSetting = "SDF sampling";
+  static constexpr std::pair<const char*, SdfSampling> kValues[] = {{"texture", SdfSampling::Texture},
+                                                                    {"buffer", SdfSampling::Buffer}};
+};
 
 /// @brief SDF shadow settings (lengths in scene units unless stated).
 struct SdfShadowSettings {
@@ -82,7 +92,7 @@ struct RenderSettings {
   TaaSettings taa;
   PipelineSettings pipeline;        ///< the SDF generation (Sdf technique)
   RayTracedShadowSettings rayTraced; ///< the ground truth (RayTraced technique)
-  /// @throw Error naming the setting when one is out of range.
+  /// @throw SettingError naming the setting when one is out of range.
   void validate() const;
 };
 
@@ -91,9 +101,9 @@ struct RenderedFrame {
   double time = 0.0;
   GBuffer gbuffer;
   LightVisibility visibility; ///< after TAA (the raw frame when TAA is off or for ray tracing)
-  std::vector<std::pair<std::string, double>> passMs; ///< GPU (or CPU, for ray tracing) time per pass
+  PassTimes passMs;           ///< GPU (or CPU, for ray tracing) time per pass
   FrameStats sdf;             ///< the SDF generation's statistics (Sdf technique)
-  double passTotal(const std::string& pass) const;
+  double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
 };
 
 /// @brief Renders frames of a scene's camera with the GPU techniques (Sdf, ShadowMap).

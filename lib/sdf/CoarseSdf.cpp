@@ -1,66 +1,73 @@
 #include "sdf/CoarseSdf.h"
 
-#include "reference/CoarseReference.h"
+#include "sdf/CoarseReference.h"
 #include "util/Error.h"
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 
 namespace rtsdf {
 using namespace gpu::shared;
 
 VoxelizePass::VoxelizePass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "voxelize.comp", 2, sizeof(VoxelizeParams)) {}
+    : mPipeline(ctx, "voxelize.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)) {}
 
-void VoxelizePass::record(VkCommandBuffer cmd, const gpu::Buffer& corners, const VoxelizeParams& params,
-                          std::uint32_t maxChunks, const gpu::Buffer& seeds, gpu::GpuProfiler* profiler) const {
+void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                           const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
-  vkCmdFillBuffer(cmd, seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
+  vkCmdFillBuffer(cmd, out.seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
   gpu::computeBarrier(cmd);
-  if (params.triangleCount)
-    mPipeline.dispatch(cmd, {&corners, &seeds}, &params, {gpu::groupsFor(params.triangleCount, 64), maxChunks, 1});
+  std::array<gpu::Binding, kVoxelizeBindingCount> b;
+  b[kVoxelizeBindingCorners] = &in.corners;
+  b[kVoxelizeBindingSeeds] = &out.seeds;
+  if (params.shader.triangleCount)
+    mPipeline.dispatch(cmd, b, &params.shader, {gpu::groupsFor(params.shader.triangleCount, 64), params.maxChunks, 1});
 }
 
 JumpFloodPass::JumpFloodPass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "jump_flood.comp", 2, sizeof(JumpFloodParams)) {}
+    : mPipeline(ctx, "jump_flood.comp", kJumpFloodBindingCount, sizeof(JumpFloodParams)) {}
 
-const gpu::Buffer& JumpFloodPass::record(VkCommandBuffer cmd, const gpu::Buffer& a, const gpu::Buffer& b,
-                                         const glm::ivec3& dims, JfaVariant variant, gpu::GpuProfiler* profiler) const {
+void JumpFloodPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                            const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
-  const gpu::Buffer* src = &a;
-  const gpu::Buffer* dst = &b;
+  const gpu::Buffer* src = &in.seeds;
+  const gpu::Buffer* dst = &out.scratch;
+  const glm::ivec3 dims = params.dims;
   const glm::uvec3 groups(gpu::groupsFor(dims.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(dims.y, RTSDF_JFA_GROUP_Y),
                           gpu::groupsFor(dims.z, RTSDF_JFA_GROUP_Z));
-  for (int step : jumpFloodSteps(dims, variant)) {
+  for (int step : jumpFloodSteps(dims, params.variant)) {
     JumpFloodParams p{};
     p.dims = glm::ivec4(dims, 0);
     p.step = step;
     gpu::computeBarrier(cmd); // the previous step (or pass) wrote src
-    mPipeline.dispatch(cmd, {src, dst}, &p, groups);
+    std::array<gpu::Binding, kJumpFloodBindingCount> b;
+    b[kJumpFloodBindingSrc] = src;
+    b[kJumpFloodBindingDst] = dst;
+    mPipeline.dispatch(cmd, b, &p, groups);
     std::swap(src, dst);
   }
   gpu::computeBarrier(cmd);
-  return *src;
+}
+
+const gpu::Buffer& JumpFloodPass::result(const Inputs& in, const Outputs& out, const Params& params) {
+  return jumpFloodSteps(params.dims, params.variant).size() % 2 ? out.scratch : in.seeds;
 }
 
 CoarseDistancePass::CoarseDistancePass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "coarse_distance.comp", 2, sizeof(CoarseDistanceParams)) {}
+    : mPipeline(ctx, "coarse_distance.comp", kCoarseDistanceBindingCount, sizeof(CoarseDistanceParams)) {}
 
-void CoarseDistancePass::record(VkCommandBuffer cmd, const gpu::Buffer& nearest, const gpu::Buffer& distance,
-                                const CoarseDistanceParams& params, gpu::GpuProfiler* profiler) const {
+void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in,
+                                 const Outputs& out, const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
-  mPipeline.dispatch(cmd, {&nearest, &distance}, &params,
+  std::array<gpu::Binding, kCoarseDistanceBindingCount> b;
+  b[kCoarseDistanceBindingNearest] = &in.nearest;
+  b[kCoarseDistanceBindingDistance] = &out.distance;
+  mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(params.dims.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(params.dims.y, RTSDF_JFA_GROUP_Y),
                       gpu::groupsFor(params.dims.z, RTSDF_JFA_GROUP_Z)});
   gpu::computeBarrier(cmd);
-}
-
-double CoarseSdf::passTotal(const std::string& pass) const {
-  double t = 0.0;
-  for (const auto& [name, ms] : passMs)
-    if (name == pass) t += ms;
-  return t;
 }
 
 float emptySceneDistance(const GridSpec& spec) { return float(glm::length(glm::dvec3(spec.dims)) * spec.voxelSize); }
@@ -113,18 +120,21 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
   dp.beta = out.beta;
   dp.emptyDistance = emptySceneDistance(spec);
 
+  const VoxelizePass::Params voxelize{vp, maxChunks};
   if (keepSeeds) {
     gpu::CommandBuffer cmd(mCtx);
-    mVoxelize.record(cmd.handle(), cornerBuf, vp, maxChunks, a, nullptr);
+    mVoxelize.execute(cmd.handle(), nullptr, {cornerBuf}, {a}, voxelize);
     cmd.submitAndWait();
     out.seeds.resize(voxels);
     download(mCtx, a, out.seeds.data(), voxels * 4);
   }
+  const JumpFloodPass::Params flood{dims, settings.variant};
+  const Buffer& nearest = JumpFloodPass::result({a}, {b}, flood);
   gpu::CommandBuffer cmd(mCtx);
   mProfiler.reset(cmd.handle());
-  mVoxelize.record(cmd.handle(), cornerBuf, vp, maxChunks, a, &mProfiler);
-  const Buffer& nearest = mJumpFlood.record(cmd.handle(), a, b, dims, settings.variant, &mProfiler);
-  mDistance.record(cmd.handle(), nearest, dist, dp, &mProfiler);
+  mVoxelize.execute(cmd.handle(), &mProfiler, {cornerBuf}, {a}, voxelize);
+  mJumpFlood.execute(cmd.handle(), &mProfiler, {a}, {b}, flood);
+  mDistance.execute(cmd.handle(), &mProfiler, {nearest}, {dist}, dp);
   cmd.submitAndWait();
   out.passMs = mProfiler.results();
   out.distance.resize(voxels);

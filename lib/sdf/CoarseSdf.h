@@ -9,6 +9,7 @@
 #include "grid/GridSpec.h"
 #include "scene/SceneGeometry.h"
 #include "sdf/JumpFloodSteps.h"
+#include "util/PassTimes.h"
 
 #include <memory>
 #include <string>
@@ -17,40 +18,72 @@
 
 namespace rtsdf {
 
-/// @brief VoxelizePass. Inputs: triangle corners (3 x vec4 each, world space), the grid. Output: seeds
-///        (kNoSeed, or the voxel's own packed coordinate where a triangle touches its box).
+// Every pass has one shape: execute(cmd, profiler, inputs, outputs, params) records its dispatches into @a cmd
+// inside a profiler scope named kName (null profiler: none); the caller submits. Buffers are bound at the
+// indices gpu/shared/CoarseSdf.h names.
+
+/// @brief VoxelizePass: conservative triangle/voxel overlap. Output: seeds (kNoSeed, or the voxel's own packed
+///        coordinate where a triangle touches its box).
 class VoxelizePass {
 public:
   static constexpr const char* kName = "VoxelizePass";
+  struct Inputs {
+    const gpu::Buffer& corners; ///< 3 x vec4 per triangle, world space
+  };
+  struct Outputs {
+    const gpu::Buffer& seeds;
+  };
+  struct Params {
+    gpu::shared::VoxelizeParams shader;
+    std::uint32_t maxChunks = 1; ///< the most chunks (shader.chunkSize voxels each) any triangle's range needs
+  };
   explicit VoxelizePass(const gpu::VulkanContext& ctx);
-  /// @param maxChunks the most chunks (params.chunkSize voxels each) any triangle's voxel range needs.
-  void record(VkCommandBuffer cmd, const gpu::Buffer& corners, const gpu::shared::VoxelizeParams& params,
-              std::uint32_t maxChunks, const gpu::Buffer& seeds, gpu::GpuProfiler* profiler) const;
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
 
 private:
   gpu::ComputePipeline mPipeline;
 };
 
-/// @brief JumpFloodPass. Input: seeds in @a a. Output: the nearest seed per voxel, in @a a or @a b (the
-///        returned one); the other is scratch.
+/// @brief JumpFloodPass: 3D jump flooding, ping-ponging between the seeds and a scratch buffer. The nearest
+///        seed per voxel ends in whichever of the two result() names; the other holds the last-but-one step.
 class JumpFloodPass {
 public:
   static constexpr const char* kName = "JumpFloodPass";
+  struct Inputs {
+    const gpu::Buffer& seeds; ///< overwritten by the even steps
+  };
+  struct Outputs {
+    const gpu::Buffer& scratch; ///< written by the odd steps
+  };
+  struct Params {
+    glm::ivec3 dims{0};
+    JfaVariant variant = JfaVariant::OnePlusJfa;
+  };
   explicit JumpFloodPass(const gpu::VulkanContext& ctx);
-  const gpu::Buffer& record(VkCommandBuffer cmd, const gpu::Buffer& a, const gpu::Buffer& b, const glm::ivec3& dims,
-                            JfaVariant variant, gpu::GpuProfiler* profiler) const;
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+  /// @brief The buffer that holds the nearest seeds after execute() with the same arguments.
+  static const gpu::Buffer& result(const Inputs& in, const Outputs& out, const Params& params);
 
 private:
   gpu::ComputePipeline mPipeline;
 };
 
-/// @brief CoarseDistancePass. Input: nearest seeds. Output: c = |p - seed| * h - beta per voxel.
+/// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel.
 class CoarseDistancePass {
 public:
   static constexpr const char* kName = "CoarseDistancePass";
+  struct Inputs {
+    const gpu::Buffer& nearest;
+  };
+  struct Outputs {
+    const gpu::Buffer& distance;
+  };
+  using Params = gpu::shared::CoarseDistanceParams;
   explicit CoarseDistancePass(const gpu::VulkanContext& ctx);
-  void record(VkCommandBuffer cmd, const gpu::Buffer& nearest, const gpu::Buffer& distance,
-              const gpu::shared::CoarseDistanceParams& params, gpu::GpuProfiler* profiler) const;
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
 
 private:
   gpu::ComputePipeline mPipeline;
@@ -72,8 +105,8 @@ struct CoarseSdf {
   std::vector<std::uint32_t> seeds;   ///< only when asked for (for tests)
   std::vector<std::uint32_t> nearest; ///< nearest seed per voxel (x fastest), if CoarseSdfSettings::readNearest
   std::vector<float> distance;        ///< c per voxel, scene units
-  std::vector<std::pair<std::string, double>> passMs; ///< GPU time per pass, in recording order
-  double passTotal(const std::string& pass) const;
+  PassTimes passMs;                   ///< GPU time per pass, in recording order
+  double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
 };
 
 /// @brief Runs the three passes for a scene on a grid and reads the result back.

@@ -29,8 +29,4 @@ void GpuSceneBvh::update(double time) {
   mHaveTop = true;
 }
 
-std::array<const gpu::Buffer*, 6> GpuSceneBvh::buffers() const {
-  return {&mBlasNodes, &mCorners, &mTriangleIds, &mTlasNodes, &mTlasSlots, &mInstances};
-}
-
 } // namespace rtsdf

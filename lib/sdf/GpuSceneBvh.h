@@ -1,9 +1,11 @@
 #pragma once
 /// @file GpuSceneBvh.h
 /// @brief The scene's two-level BVH in GPU buffers: bottom levels uploaded once, the top level re-uploaded
-///        whenever the instances move. Bound in this order by every shader that includes bvh_traverse.glsl.
+///        whenever the instances move. Every shader that includes bvh_traverse.glsl reads them at the bindings
+///        gpu/shared/Bvh.h names (kBvhBinding*).
 #include "bvh/Bvh.h"
 #include "gpu/Resources.h"
+#include "gpu/shared/Bvh.h"
 #include "scene/Scene.h"
 
 #include <array>
@@ -17,9 +19,17 @@ public:
   /// @brief Rebuild and upload the top level for the instance transforms at @a time seconds (no-op when the
   ///        time is the one last uploaded).
   void update(double time);
-  /// @brief The six buffers bvh_traverse.glsl reads, in binding order: BLAS nodes, triangle corners, triangle
-  ///        ids, TLAS nodes, TLAS slots, instances.
-  std::array<const gpu::Buffer*, 6> buffers() const;
+  /// @brief Put the six buffers bvh_traverse.glsl reads at their bindings (kBvhBinding*) of a pass's set.
+  template <std::size_t N> void bindTo(std::array<gpu::Binding, N>& set) const {
+    using namespace gpu::shared;
+    static_assert(N >= kBvhBindingCount, "a BVH pass binds the six BVH buffers first");
+    set[kBvhBindingBlasNodes] = &mBlasNodes;
+    set[kBvhBindingCorners] = &mCorners;
+    set[kBvhBindingTriangleIds] = &mTriangleIds;
+    set[kBvhBindingTlasNodes] = &mTlasNodes;
+    set[kBvhBindingTlasSlots] = &mTlasSlots;
+    set[kBvhBindingInstances] = &mInstances;
+  }
   const MeshBvhs& meshes() const { return mMeshes; }
   /// @brief The top level as last uploaded (for the CPU side of G-buffer normals and tests).
   const InstanceBvh& top() const { return mTop; }

@@ -1,7 +1,7 @@
 #pragma once
 /// @file JumpFloodSteps.h
 /// @brief The step sequences of the jump-flooding variants (shared by the GPU pass and the CPU reference).
-#include "util/Error.h"
+#include "util/EnumNames.h"
 
 #include <glm/glm.hpp>
 
@@ -17,21 +17,11 @@ enum class JfaVariant {
   JfaPlusTwo  ///< JFA, then steps of 2 and 1 again: fewer errors still
 };
 
-inline JfaVariant parseJfaVariant(const std::string& s) {
-  if (s == "jfa") return JfaVariant::Jfa;
-  if (s == "1+jfa") return JfaVariant::OnePlusJfa;
-  if (s == "jfa+2") return JfaVariant::JfaPlusTwo;
-  throw Error("unknown jump-flooding variant '" + s + "' (jfa, 1+jfa or jfa+2)");
-}
-
-inline const char* toString(JfaVariant v) {
-  switch (v) {
-  case JfaVariant::Jfa: return "jfa";
-  case JfaVariant::OnePlusJfa: return "1+jfa";
-  case JfaVariant::JfaPlusTwo: return "jfa+2";
-  }
-  return "?";
-}
+template <> struct EnumNames<JfaVariant> {
+  static constexpr const char* kSetting = "jump-flooding variant";
+  static constexpr std::pair<const char*, JfaVariant> kValues[] = {
+      {"jfa", JfaVariant::Jfa}, {"1+jfa", JfaVariant::OnePlusJfa}, {"jfa+2", JfaVariant::JfaPlusTwo}};
+};
 
 /// @brief The step lengths, in order, for a grid of @a dims voxels.
 inline std::vector<int> jumpFloodSteps(const glm::ivec3& dims, JfaVariant variant) {

@@ -2,15 +2,16 @@
 
 #include "grid/VdbIO.h"
 #include "gpu/shared/Refine.h"
+#include "sdf/RefinePasses.h"
 #include "scene/SceneGeometry.h"
 #include "util/Error.h"
+#include "util/Memory.h"
 
 #include <fmt/format.h>
 #include <openvdb/tree/LeafManager.h>
 #include <tbb/parallel_sort.h>
 
 #include <chrono>
-#include <fstream>
 #include <tuple>
 #include <cmath>
 #include <mutex>
@@ -19,21 +20,17 @@ namespace rtsdf {
 using gpu::Buffer;
 using gpu::shared::RefineParams;
 
-RefineMode parseRefineMode(const std::string& s) {
-  if (s == "rays") return RefineMode::Rays;
-  if (s == "closest") return RefineMode::Closest;
-  throw Error(fmt::format("unknown refinement mode '{}' (rays or closest)", s));
-}
-
-const char* toString(RefineMode m) { return m == RefineMode::Rays ? "rays" : "closest"; }
-
 void PipelineSettings::validate() const {
-  if (coarseRes < 1 || coarseRes > 1024) throw Error(fmt::format("--coarse {} is out of range [1, 1024]", coarseRes));
+  if (coarseRes < 1 || coarseRes > 1024)
+    throw SettingError("coarse resolution", fmt::format("coarse resolution {} is out of range [1, 1024]", coarseRes));
   if (fineRes < coarseRes || fineRes > 1024)
-    throw Error(fmt::format("--fine {} must be in [--coarse ({}), 1024]", fineRes, coarseRes));
-  if (!std::isfinite(band) || band < 0.0) throw Error(fmt::format("--band {} must be finite and >= 0", band));
-  if (!(alpha >= 0.0 && alpha <= 1.0)) throw Error(fmt::format("--alpha {} must be in [0, 1]", alpha));
-  if (rays < 0 || rays > 1024) throw Error(fmt::format("--rays {} is out of range [0, 1024]", rays));
+    throw SettingError("fine resolution", fmt::format("fine resolution {} must be in [the coarse resolution ({}), "
+                                                      "1024]", fineRes, coarseRes));
+  if (!std::isfinite(band) || band < 0.0)
+    throw SettingError("band", fmt::format("band {} must be finite and >= 0", band));
+  if (!(alpha >= 0.0 && alpha <= 1.0)) throw SettingError("alpha", fmt::format("alpha {} must be in [0, 1]", alpha));
+  if (rays < 0 || rays > 1024) throw SettingError("rays", fmt::format("rays {} is out of range [0, 1024]", rays));
+  if (std::isnan(beta) || std::isinf(beta)) throw SettingError("beta", fmt::format("beta {} must be finite", beta));
 }
 
 GridSpec fineGridUnder(const GridSpec& coarse, int coarseRes, int fineRes) {
@@ -52,8 +49,8 @@ std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const Pipeline
   const GridSpec fine = fineGridUnder(coarse, s.coarseRes, s.fineRes);
   for (int a = 0; a < 3; ++a)
     if (fine.dims[a] > gpu::shared::kMaxSeedAxis)
-      throw Error(fmt::format("fine grid {}: more than {} voxels along an axis (lower --fine)", fine.describe(),
-                              gpu::shared::kMaxSeedAxis));
+      throw SettingError("fine resolution", fmt::format("fine grid {}: more than {} voxels along an axis (lower the "
+                                                        "fine resolution)", fine.describe(), gpu::shared::kMaxSeedAxis));
   return {coarse, fine};
 }
 
@@ -84,18 +81,6 @@ PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettin
   return m;
 }
 
-std::uint64_t availableHostMemory() {
-  std::ifstream in("/proc/meminfo");
-  std::string key;
-  std::uint64_t value = 0;
-  std::string unit;
-  while (in >> key >> value) {
-    std::getline(in, unit);
-    if (key == "MemAvailable:") return value * 1024;
-  }
-  return physicalMemoryBytes();
-}
-
 MemoryLimits memoryLimits(const gpu::DeviceInfo& device) {
   MemoryLimits l;
   l.maxStorageBufferRange = device.maxStorageBufferRange;
@@ -110,20 +95,22 @@ void checkPipelineMemory(const PipelineMemory& need, const MemoryLimits& limits)
   const std::string grids = fmt::format("coarse grid {}x{}x{}, fine grid {}x{}x{}", need.coarse.dims.x,
                                         need.coarse.dims.y, need.coarse.dims.z, need.fine.dims.x, need.fine.dims.y,
                                         need.fine.dims.z);
-  const char* lower = need.largestBufferName == "fine SDF" ? "--fine" : "--coarse";
+  const char* lower = need.largestBufferName == "fine SDF" ? "fine resolution" : "coarse resolution";
   if (limits.maxStorageBufferRange && need.largestBuffer > limits.maxStorageBufferRange)
-    throw Error(fmt::format("SdfPipeline: {}: buffer '{}' needs {}, more than {}'s maxStorageBufferRange of {}: "
-                            "lower {}", grids, need.largestBufferName, mib(need.largestBuffer), limits.deviceName,
-                            mib(limits.maxStorageBufferRange), lower));
+    throw SettingError(lower, fmt::format("SdfPipeline: {}: buffer '{}' needs {}, more than {}'s "
+                                          "maxStorageBufferRange of {}: lower the {}", grids, need.largestBufferName,
+                                          mib(need.largestBuffer), limits.deviceName,
+                                          mib(limits.maxStorageBufferRange), lower));
   if (limits.deviceBytes && need.deviceBytes > limits.deviceBytes)
-    throw Error(fmt::format("SdfPipeline: {}: the device buffers need {}, more than {}'s {} heap: lower --fine "
-                            "(and --coarse)", grids, mib(need.deviceBytes), limits.deviceName,
-                            mib(limits.deviceBytes)));
+    throw SettingError("fine resolution", fmt::format("SdfPipeline: {}: the device buffers need {}, more than {}'s "
+                                                      "{} heap: lower the fine (and coarse) resolution", grids,
+                                                      mib(need.deviceBytes), limits.deviceName, mib(limits.deviceBytes)));
   const std::uint64_t host = need.hostBytes + (limits.unifiedMemory ? need.deviceBytes : 0);
   if (limits.hostBytes && host > limits.hostBytes)
-    throw Error(fmt::format("SdfPipeline: {}: needs {} of host memory{}, more than the {} available: lower --fine "
-                            "(and --coarse)", grids, mib(host), limits.unifiedMemory ? " (device buffers included)" : "",
-                            mib(limits.hostBytes)));
+    throw SettingError("fine resolution", fmt::format("SdfPipeline: {}: needs {} of host memory{}, more than the {} "
+                                                      "available: lower the fine (and coarse) resolution", grids,
+                                                      mib(host), limits.unifiedMemory ? " (device buffers included)"
+                                                                                      : "", mib(limits.hostBytes)));
 }
 
 RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& cs, const GridSpec& fs, double band) {
@@ -174,33 +161,27 @@ RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& cs, const
   return mask;
 }
 
-double FrameStats::passTotal(const std::string& pass) const {
-  double t = 0.0;
-  for (const auto& [name, ms] : passMs)
-    if (name == pass) t += ms;
-  return t;
+double FrameStats::refineMs() const {
+  return passTotal(RayRefinePass::kName) + passTotal(ClosestRefinePass::kName);
 }
 
 struct SdfPipeline::Gpu {
   CoarseSdfBuilder coarse;
-  gpu::ComputePipeline upsample, refine;
+  UpsamplePass upsample;
+  std::unique_ptr<RefinePass> refine; // RayRefinePass or ClosestRefinePass, by the mode
   gpu::GpuProfiler profiler;
   Buffer fine, history, votes, lastFrame;
   Buffer mask;
-  Buffer indirect{}; // VkDispatchIndirectCommand of RayRefinePass
-  explicit Gpu(const gpu::VulkanContext& ctx)
-      : coarse(ctx), upsample(ctx, "refine_upsample.comp", 2, sizeof(RefineParams)),
-        refine(ctx, "refine.comp", 11, sizeof(RefineParams)), profiler(ctx) {}
+  Buffer indirect{}; // VkDispatchIndirectCommand of the refinement
+  Gpu(const gpu::VulkanContext& ctx, RefineMode mode)
+      : coarse(ctx), upsample(ctx),
+        refine(mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
+                                        : std::make_unique<ClosestRefinePass>(ctx)),
+        profiler(ctx) {}
 };
 
 namespace {
 const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-
-/// Grow @a b to @a bytes if needed, then upload.
-void uploadGrow(const gpu::VulkanContext& ctx, Buffer& b, const void* data, std::size_t bytes, const char* name) {
-  gpu::reserve(ctx, b, bytes, kStorage, Buffer::Memory::Device, name);
-  upload(ctx, b, data, bytes);
-}
 } // namespace
 
 SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
@@ -214,7 +195,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   mCoarseSpec = need.coarse;
   mFineSpec = need.fine;
   mBvh = std::make_unique<GpuSceneBvh>(ctx, scene);
-  mGpu = std::make_unique<Gpu>(ctx);
+  mGpu = std::make_unique<Gpu>(ctx, s.mode);
   const std::size_t fineBytes = mFineSpec.voxelCount() * 4;
   mGpu->fine = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine SDF");
   mGpu->history = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine history");
@@ -230,39 +211,28 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
 
 SdfPipeline::~SdfPipeline() = default;
 
-FrameStats SdfPipeline::runFrame(double time) {
-  FrameStats stats;
-  stats.time = time;
-  ++mFrame;
-  const SceneGeometry geo = buildSceneGeometry(mScene, time);
-  CoarseSdfSettings cs;
-  cs.variant = mSettings.variant;
-  cs.beta = mSettings.beta;
-  cs.readNearest = false;
-  CoarseSdf coarse = mGpu->coarse.build(geo, mCoarseSpec, cs);
-  stats.passMs = coarse.passMs;
-  mCoarse = std::move(coarse.distance);
-
+RayMask SdfPipeline::updateMask(FrameStats& stats) {
   const auto t0 = std::chrono::steady_clock::now();
-  const RayMask mask = buildRayMask(mCoarse, mCoarseSpec, mFineSpec, mSettings.band);
+  RayMask mask = buildRayMask(mCoarse, mCoarseSpec, mFineSpec, mSettings.band);
   stats.mirrorMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   stats.maskCoarseVoxels = mask.coarseVoxels;
   stats.maskFineVoxels = mask.fineVoxels.size();
-
-  mBvh->update(time);
-  uploadGrow(mCtx, mGpu->mask, mask.fineVoxels.data(), mask.fineVoxels.size() * 4, "ray mask");
+  gpu::reserveAndUpload(mCtx, mGpu->mask, mask.fineVoxels.data(), mask.fineVoxels.size() * 4, kStorage, "ray mask");
   // The mask's size travels as an indirect dispatch, so a GPU-side compaction can later write it in place.
-  const std::uint32_t groups = gpu::groupsFor(mask.fineVoxels.size(), 64);
+  const std::uint32_t groups = gpu::groupsFor(mask.fineVoxels.size(), RTSDF_REFINE_GROUP);
   const std::uint32_t gx = std::min<std::uint32_t>(std::max(groups, 1u), 65535u), gy = gpu::groupsFor(groups, gx);
   const VkDispatchIndirectCommand dispatch{groups ? gx : 0u, groups ? gy : 0u, 1u};
   if (!mGpu->indirect)
     mGpu->indirect = Buffer(mCtx, sizeof(dispatch), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Host,
                             "refine dispatch");
   upload(mCtx, mGpu->indirect, &dispatch, sizeof(dispatch));
+  return mask;
+}
 
+RefineParams SdfPipeline::refineParams(std::size_t maskVoxels) const {
   RefineParams p{};
   p.fineOriginH = glm::vec4(glm::vec3(mFineSpec.origin), float(mFineSpec.voxelSize));
-  p.fineDims = glm::ivec4(mFineSpec.dims, int(mask.fineVoxels.size()));
+  p.fineDims = glm::ivec4(mFineSpec.dims, int(maskVoxels));
   p.coarseOriginInvH = glm::vec4(glm::vec3(mCoarseSpec.origin), float(1.0 / mCoarseSpec.voxelSize));
   p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
   p.alpha = float(mSettings.alpha);
@@ -271,29 +241,33 @@ FrameStats SdfPipeline::runFrame(double time) {
   p.frame = mFrame;
   p.seed = mSettings.seed;
   p.beta = float(mSettings.beta >= 0.0 ? mSettings.beta : 0.5 * mCoarseSpec.voxelSize);
-  p.mode = mSettings.mode == RefineMode::Rays ? gpu::shared::kRefineRays : gpu::shared::kRefineClosest;
+  return p;
+}
 
+FrameStats SdfPipeline::runFrame(double time) {
+  FrameStats stats;
+  stats.time = time;
+  ++mFrame;
+  CoarseSdfSettings cs;
+  cs.variant = mSettings.variant;
+  cs.beta = mSettings.beta;
+  cs.readNearest = false;
+  CoarseSdf coarse = mGpu->coarse.build(buildSceneGeometry(mScene, time), mCoarseSpec, cs);
+  stats.passMs = coarse.passMs;
+  mCoarse = std::move(coarse.distance);
+  const RayMask mask = updateMask(stats);
+  mBvh->update(time);
+
+  Gpu& g = *mGpu;
+  const RefineParams p = refineParams(mask.fineVoxels.size());
   gpu::CommandBuffer cmd(mCtx);
-  mGpu->profiler.reset(cmd.handle());
-  {
-    gpu::ProfileScope scope(&mGpu->profiler, cmd.handle(), kUpsampleName);
-    const glm::ivec3 d = mFineSpec.dims;
-    mGpu->upsample.dispatch(cmd.handle(), {&mGpu->coarse.distanceBuffer(), &mGpu->fine}, &p,
-                            {gpu::groupsFor(d.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(d.y, RTSDF_JFA_GROUP_Y),
-                             gpu::groupsFor(d.z, RTSDF_JFA_GROUP_Z)});
-    gpu::computeBarrier(cmd.handle());
-  }
-  if (!mask.fineVoxels.empty()) {
-    gpu::ProfileScope scope(&mGpu->profiler, cmd.handle(), kRefineName);
-    Gpu& g = *mGpu;
-    const auto b = mBvh->buffers();
-    g.refine.dispatchIndirect(cmd.handle(),
-                              {b[0], b[1], b[2], b[3], b[4], b[5], &g.mask, &g.fine, &g.history, &g.votes, &g.lastFrame},
-                              &p, g.indirect);
-    gpu::computeBarrier(cmd.handle());
-  }
+  g.profiler.reset(cmd.handle());
+  g.upsample.execute(cmd.handle(), &g.profiler, {g.coarse.distanceBuffer()}, {g.fine}, p);
+  if (!mask.fineVoxels.empty())
+    g.refine->execute(cmd.handle(), &g.profiler, {*mBvh, g.mask, g.indirect}, {g.fine, g.history, g.votes, g.lastFrame},
+                      p);
   cmd.submitAndWait();
-  for (const auto& r : mGpu->profiler.results()) stats.passMs.push_back(r);
+  for (const auto& r : g.profiler.results()) stats.passMs.push_back(r);
   return stats;
 }
 

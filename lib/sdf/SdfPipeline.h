@@ -6,10 +6,13 @@
 #include "bvh/Bvh.h"
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"
+#include "gpu/shared/Refine.h"
 #include "grid/GridSpec.h"
 #include "scene/Scene.h"
 #include "sdf/CoarseSdf.h"
 #include "sdf/GpuSceneBvh.h"
+#include "util/EnumNames.h"
+#include "util/PassTimes.h"
 
 #include <openvdb/openvdb.h>
 
@@ -25,8 +28,11 @@ enum class RefineMode {
   Rays,   ///< the paper: x random rays per masked voxel per frame, decayed history
   Closest ///< exact closest-point distance through the same BVH (deterministic)
 };
-RefineMode parseRefineMode(const std::string& s);
-const char* toString(RefineMode m);
+template <> struct EnumNames<RefineMode> {
+  static constexpr const char* kSetting = "refinement mode";
+  static constexpr std::pair<const char*, RefineMode> kValues[] = {{"rays", RefineMode::Rays},
+                                                                   {"closest", RefineMode::Closest}};
+};
 
 /// @brief Every knob of the pipeline (scene units for lengths).
 struct PipelineSettings {
@@ -39,7 +45,7 @@ struct PipelineSettings {
   JfaVariant variant = JfaVariant::OnePlusJfa;
   double beta = -1.0;    ///< coarse shell; < 0: half a coarse voxel
   std::uint32_t seed = 1;
-  /// @throw Error naming the setting when one is out of range.
+  /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
   void validate() const;
 };
 
@@ -86,13 +92,11 @@ struct MemoryLimits {
 ///        MemAvailable (0 where unknown).
 MemoryLimits memoryLimits(const gpu::DeviceInfo& device);
 
-/// @brief Host memory available now (MemAvailable of /proc/meminfo, else physical memory; 0 when unknown).
-std::uint64_t availableHostMemory();
-
 /// @brief Refuse an estimate that does not fit: the largest buffer against maxStorageBufferRange, the
 ///        device buffers against the device heap, host copies (plus device buffers on a unified-memory
 ///        device) against the host memory available.
-/// @throw Error stating the grid, the bytes needed, the limit, and the setting to lower (--fine, --coarse).
+/// @throw SettingError stating the grid, the bytes needed, the limit, and the setting to lower (the fine or
+///        the coarse resolution).
 void checkPipelineMemory(const PipelineMemory& need, const MemoryLimits& limits);
 
 /// @brief The ray mask: the coarse SDF mirrored into OpenVDB (active exactly where |c| <= d) and the fine
@@ -112,9 +116,11 @@ RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& coarseSpe
 struct FrameStats {
   double time = 0.0;
   std::uint64_t maskCoarseVoxels = 0, maskFineVoxels = 0;
-  double mirrorMs = 0.0;                               ///< CPU: OpenVDB mirror and mask list
-  std::vector<std::pair<std::string, double>> passMs;  ///< GPU time per pass
-  double passTotal(const std::string& pass) const;
+  double mirrorMs = 0.0; ///< CPU: OpenVDB mirror and mask list
+  PassTimes passMs;      ///< GPU time per pass
+  double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
+  /// @brief The refinement pass's time, whichever mode ran (RayRefinePass or ClosestRefinePass).
+  double refineMs() const;
 };
 
 /// @brief Runs frames of the pipeline for one scene on fixed grids (bounds given by the caller, e.g. the
@@ -142,11 +148,10 @@ public:
   /// @brief The scene's BVH on the GPU, its top level as of the last runFrame().
   const GpuSceneBvh& bvh() const { return *mBvh; }
 
-  static constexpr const char* kUpsampleName = "UpsamplePass";
-  static constexpr const char* kRefineName = "RayRefinePass";
-
 private:
   struct Gpu;
+  RayMask updateMask(FrameStats& stats);
+  gpu::shared::RefineParams refineParams(std::size_t maskVoxels) const;
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   PipelineSettings mSettings;

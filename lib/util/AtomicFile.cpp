@@ -44,4 +44,13 @@ void writeTextAtomically(const fs::path& target, const std::string& text) {
   });
 }
 
+void checkOutputPath(const std::filesystem::path& p) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec))
+    throw Error(fmt::format("{}: output folder '{}' does not exist", p.string(), dir.string()));
+  if (fs::is_directory(p, ec)) throw Error(fmt::format("{}: is a folder, not a file", p.string()));
+}
+
 } // namespace rtsdf

@@ -14,6 +14,10 @@ namespace rtsdf {
 void writeFileAtomically(const std::filesystem::path& target,
                          const std::function<void(const std::filesystem::path&)>& write);
 
+/// @brief Fail early (before any work) when @a path cannot be written: its folder is missing or it is a folder.
+/// @throw Error naming the path and the problem.
+void checkOutputPath(const std::filesystem::path& path);
+
 /// @brief Write @a text to @a target atomically. @throw Error naming the file on failure.
 void writeTextAtomically(const std::filesystem::path& target, const std::string& text);
 

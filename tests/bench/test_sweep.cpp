@@ -88,10 +88,10 @@ TEST(SweepPlan, EveryPresetCoversEveryKnobAndItsAnchors) {
 
 TEST(SweepPlan, StaticScenesHaveNoDynamicPointsAndNamesAreParsed) {
   EXPECT_EQ(count(makeSweepPlan(SweepPreset::Default, false, 2.0), SweepGroup::Dynamic), 0u);
-  EXPECT_EQ(parseSweepPreset("paper"), SweepPreset::Paper);
-  EXPECT_THROW(parseSweepPreset("fast"), Error);
+  EXPECT_EQ(parseEnum<SweepPreset>("paper"), SweepPreset::Paper);
+  EXPECT_THROW(parseEnum<SweepPreset>("fast"), Error);
   for (SweepGroup g : {SweepGroup::Sizes, SweepGroup::Band, SweepGroup::Storage})
-    EXPECT_EQ(parseSweepGroup(toString(g)), g);
+    EXPECT_EQ(parseEnum<SweepGroup>(toString(g)), g);
 }
 
 TEST(SweepCsv, RowsMatchTheHeaderAndKeepTextIntact) {

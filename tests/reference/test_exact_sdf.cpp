@@ -213,5 +213,5 @@ TEST(ExactSdf, RejectsBadSettings) {
     EXPECT_THROW(exactSignedDistance(geo, spec, opt), Error) << band;
   }
   EXPECT_THROW(ExactDistanceField(SceneGeometry{}), Error);
-  EXPECT_THROW(parseSignMethod("majority"), Error);
+  EXPECT_THROW(parseEnum<SignMethod>("majority"), Error);
 }

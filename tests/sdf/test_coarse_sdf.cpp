@@ -4,7 +4,7 @@
 #include "GpuFixture.h"
 #include "TestUtil.h"
 #include "gpu/VulkanContext.h"
-#include "reference/CoarseReference.h"
+#include "sdf/CoarseReference.h"
 #include "reference/ExactSdf.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"

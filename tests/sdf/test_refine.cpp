@@ -4,7 +4,7 @@
 #include "TestUtil.h"
 #include "grid/VdbIO.h"
 #include "reference/ExactSdf.h"
-#include "reference/RefineReference.h"
+#include "sdf/RefineReference.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "sdf/SdfPipeline.h"

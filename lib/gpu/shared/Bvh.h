@@ -6,6 +6,20 @@
 
 RTSDF_SHARED_BEGIN
 
+/// Bindings of the scene BVH in every shader that includes bvh_bindings.glsl (GpuSceneBvh::bind fills them).
+const uint kBvhBindingBlasNodes = 0u;   // bottom-level nodes of every mesh
+const uint kBvhBindingCorners = 1u;     // triangle corners in leaf order, object space
+const uint kBvhBindingTriangleIds = 2u; // leaf order -> the mesh's triangle index
+const uint kBvhBindingTlasNodes = 3u;   // top-level nodes over the instances
+const uint kBvhBindingTlasSlots = 4u;   // top-level leaf order -> instance
+const uint kBvhBindingInstances = 5u;   // BvhInstance per instance
+const uint kBvhBindingCount = 6u;
+
+/// Bindings of bvh_query.comp after the BVH's.
+const uint kBvhQueryBindingQueries = kBvhBindingCount + 0u;
+const uint kBvhQueryBindingHits = kBvhBindingCount + 1u;
+const uint kBvhQueryBindingCount = kBvhBindingCount + 2u;
+
 /// A BVH node, 32 bytes. Inner node (count == 0): children at 'first' and 'first + 1'. Leaf: 'count'
 /// primitives from 'first' (triangles for a bottom level, instance slots for the top level).
 struct BvhNode {

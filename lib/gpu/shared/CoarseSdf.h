@@ -11,6 +11,17 @@ RTSDF_SHARED_BEGIN
 #define RTSDF_JFA_GROUP_Y 8
 #define RTSDF_JFA_GROUP_Z 2
 
+/// Bindings of voxelize.comp, jump_flood.comp and coarse_distance.comp.
+const uint kVoxelizeBindingCorners = 0u;        // triangle corners, 3 per triangle, world space (read)
+const uint kVoxelizeBindingSeeds = 1u;          // seeds (written where a triangle touches a voxel)
+const uint kVoxelizeBindingCount = 2u;
+const uint kJumpFloodBindingSrc = 0u;           // nearest seeds after the previous step
+const uint kJumpFloodBindingDst = 1u;           // nearest seeds after this step
+const uint kJumpFloodBindingCount = 2u;
+const uint kCoarseDistanceBindingNearest = 0u;  // nearest seed per voxel
+const uint kCoarseDistanceBindingDistance = 1u; // c per voxel
+const uint kCoarseDistanceBindingCount = 2u;
+
 /// No seed (empty voxel) in a seed or nearest-seed buffer.
 const uint kNoSeed = 0xFFFFFFFFu;
 /// Seeds pack their voxel coordinates in 10 bits per axis: grids up to 1024 voxels per axis.

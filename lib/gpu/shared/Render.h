@@ -2,7 +2,7 @@
 // the shaders and their CPU references evaluate (camera rays, the SDF soft-shadow march).
 #ifndef RTSDF_GPU_SHARED_RENDER_H
 #define RTSDF_GPU_SHARED_RENDER_H
-#include "gpu/shared/Common.h"
+#include "gpu/shared/RenderBindings.h"
 
 RTSDF_SHARED_BEGIN
 

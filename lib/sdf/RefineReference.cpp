@@ -1,4 +1,4 @@
-#include "reference/RefineReference.h"
+#include "sdf/RefineReference.h"
 
 #include "gpu/shared/Refine.h"
 #include "reference/ExactSdf.h"

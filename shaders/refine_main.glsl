@@ -1,6 +1,5 @@
-#version 450
-#extension GL_GOOGLE_include_directive : require
-// RayRefinePass: for every fine voxel of the ray mask, refine the distance through the BVH.
+// The refinement shaders' body (refine_rays.comp, refine_closest.comp define RTSDF_REFINE_MODE first):
+// RayRefinePass / ClosestRefinePass, for every fine voxel of the ray mask, refine the distance through the BVH.
 //   rays mode (the paper): x rays uniform on the sphere, r_t = nearest hit, f_t = min(alpha f_{t-1} +
 //   (1 - alpha) c^_t, r_t) with c^_t = c_t + beta + sqrt(3)/2 h_coarse (an upper bound: see below);
 //   front/back-face hits, decayed by alpha, vote for the sign (more back-face hits: inside).
@@ -10,19 +9,14 @@
 #include "gpu/shared/Bvh.h"
 #include "gpu/shared/Refine.h"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = RTSDF_REFINE_GROUP) in;
 layout(push_constant) uniform Push { RefineParams params; };
-layout(std430, binding = 0) readonly buffer BlasNodes { BvhNode blasNodes[]; };
-layout(std430, binding = 1) readonly buffer Corners { vec4 corners[]; };
-layout(std430, binding = 2) readonly buffer TriangleIds { uint triangleIds[]; };
-layout(std430, binding = 3) readonly buffer TlasNodes { BvhNode tlasNodes[]; };
-layout(std430, binding = 4) readonly buffer TlasSlots { uint tlasSlots[]; };
-layout(std430, binding = 5) readonly buffer Instances { BvhInstance instances[]; };
-layout(std430, binding = 6) readonly buffer Mask { uint mask[]; };       // packed fine voxels
-layout(std430, binding = 7) buffer Fine { float fine[]; };              // in: c_t upsampled; out: f_t signed
-layout(std430, binding = 8) buffer History { float history[]; };        // unsigned f_{t-1}
-layout(std430, binding = 9) buffer Votes { uint votes[]; };             // decayed (front, back) hits, 2 halves
-layout(std430, binding = 10) buffer LastFrame { uint lastFrame[]; };    // frame of the voxel's last refinement
+#include "bvh_bindings.glsl"
+layout(std430, binding = kRefineBindingMask) readonly buffer Mask { uint mask[]; };
+layout(std430, binding = kRefineBindingFine) buffer Fine { float fine[]; };
+layout(std430, binding = kRefineBindingHistory) buffer History { float history[]; };
+layout(std430, binding = kRefineBindingVotes) buffer Votes { uint votes[]; };
+layout(std430, binding = kRefineBindingLastFrame) buffer LastFrame { uint lastFrame[]; };
 
 #include "bvh_traverse.glsl"
 
@@ -64,16 +58,18 @@ void main() {
 
   float f;
   bool inside;
-  if (params.mode == kRefineClosest) {
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+  {
     // Search up to the bound plus a coarse cell diagonal (trilinear upsampling of the bound may fall short).
     BvhHit hit;
     float radius = bound + 1.7320508 / params.coarseOriginInvH.w;
     f = closestPoint(p, radius, hit) ? hit.point.w : radius;
     inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
-  } else {
-    f = min(bound, nearest);
-    inside = vote.y > vote.x;
   }
+#else
+  f = min(bound, nearest);
+  inside = vote.y > vote.x;
+#endif
   fine[i] = inside ? -f : f;
   history[i] = f;
   votes[i] = packHalf2x16(min(vote, vec2(60000.0)));

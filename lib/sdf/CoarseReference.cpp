@@ -1,4 +1,4 @@
-#include "reference/CoarseReference.h"
+#include "sdf/CoarseReference.h"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>

@@ -1,4 +1,6 @@
-#include "util/PeakMemory.h"
+#include "util/Memory.h"
+
+#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
@@ -22,6 +24,23 @@ std::uint64_t statusField(const char* key) {
 }
 
 } // namespace
+
+std::uint64_t physicalMemoryBytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && size > 0 ? std::uint64_t(pages) * std::uint64_t(size) : 0;
+}
+
+std::uint64_t availableHostMemory() {
+  std::ifstream in("/proc/meminfo");
+  std::string key, unit;
+  std::uint64_t value = 0;
+  while (in >> key >> value) {
+    std::getline(in, unit);
+    if (key == "MemAvailable:") return value * 1024;
+  }
+  return physicalMemoryBytes();
+}
 
 std::uint64_t peakResidentMemory() { return statusField("VmHWM"); }
 

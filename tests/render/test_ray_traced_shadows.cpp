@@ -1,8 +1,8 @@
 // The shadow ground truth: the closed-form penumbra of a sphere (checked against Monte Carlo integration and
 // the planar limit) and the Embree ray tracer (checked against the closed form on data/scenes/analytic.json).
 #include "TestUtil.h"
-#include "reference/AnalyticPenumbra.h"
-#include "reference/RayTracedShadows.h"
+#include "render/AnalyticPenumbra.h"
+#include "render/RayTracedShadows.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "util/Error.h"

@@ -1,20 +1,25 @@
-// rtsdf bench: the exact reference against OpenVDB's meshToLevelSet, same voxels and band, one run.
-#include "Commands.h"
+// rtsdf bench's suites: the builders against their anchors, same voxels and band, one run.
+#include "bench/Suites.h"
 
 #include "grid/GridSpec.h"
-#include "metrics/FieldError.h"
-#include "reference/CoarseReference.h"
-#include "reference/OpenVdbLevelSet.h"
-#include "sdf/CoarseSdf.h"
-#include "sdf/SdfPipeline.h"
-#include "image/ImageIO.h"
-#include "render/Renderer.h"
 #include "grid/VdbIO.h"
+#include "image/ImageIO.h"
+#include "jobs/JobSupport.h"
+#include "jobs/RenderJob.h"
+#include "metrics/FieldError.h"
+#include "reference/ExactSdf.h"
+#include "reference/OpenVdbLevelSet.h"
+#include "render/Renderer.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
+#include "sdf/CoarseReference.h"
+#include "sdf/CoarseSdf.h"
+#include "sdf/RefinePasses.h"
+#include "sdf/SdfPipeline.h"
 #include "util/AtomicFile.h"
 #include "util/Error.h"
 #include "util/Progress.h"
+#include "util/Settings.h"
 
 #include <fmt/chrono.h>
 #include <fmt/format.h>
@@ -23,13 +28,12 @@
 #include <algorithm>
 #include <chrono>
 #include <ctime>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <thread>
 #include <tuple>
 
-namespace rtsdf::app {
+namespace rtsdf::bench {
 namespace fs = std::filesystem;
 
 namespace {
@@ -60,9 +64,8 @@ namespace {
 
 /// The coarse-SDF suite: GPU pass times per JFA variant beside the CPU jump flooding, the exact EDT of the
 /// same seeds and OpenVDB's full-domain meshToSignedDistanceField, at the same voxels.
-std::string coarseSuite(const BenchSettings& s) {
-  gpu::ContextOptions copt;
-  copt.device = s.device;
+std::string coarseSuite(const BenchOptions& s) {
+  gpu::ContextOptions copt = detail::contextOptions(s.device);
   copt.validation = false;
   gpu::VulkanContext ctx(copt);
   CoarseSdfBuilder builder(ctx);
@@ -128,7 +131,7 @@ RefinePoint runRefinePoint(const gpu::VulkanContext& ctx, const Scene& scene, co
   FrameStats st;
   for (int f = 0; f < frames; ++f) st = pipe.runFrame(0.0);
   RefinePoint r;
-  r.refineMs = st.passTotal(SdfPipeline::kRefineName);
+  r.refineMs = st.refineMs();
   for (const auto& [n, ms] : st.passMs) r.totalMs += ms;
   r.mirrorMs = st.mirrorMs;
   r.mask = st.maskFineVoxels;
@@ -144,9 +147,8 @@ RefinePoint runRefinePoint(const gpu::VulkanContext& ctx, const Scene& scene, co
 /// The refinement suite: the paper's tables (ray-trace pass time for x at sizes S and M; band d x rays)
 /// with the error against the exact field beside each time, and OpenVDB's meshToLevelSet at the fine
 /// resolution and band as the anchor.
-std::string refineSuite(const BenchSettings& s) {
-  gpu::ContextOptions copt;
-  copt.device = s.device;
+std::string refineSuite(const BenchOptions& s) {
+  gpu::ContextOptions copt = detail::contextOptions(s.device);
   copt.validation = false;
   gpu::VulkanContext ctx(copt);
   const int frames = 2;
@@ -167,7 +169,7 @@ std::string refineSuite(const BenchSettings& s) {
       ps.coarseRes = coarse;
       ps.fineRes = fine;
       // The anchor: OpenVDB's narrow band at the fine voxels and the same band.
-      const GridSpec fineSpec = fineGridUnder(GridSpec::fromBounds(geo.bounds, coarse, std::min(ps.band, 0.25 * geo.bounds.maxExtent())), coarse, fine);
+      const GridSpec fineSpec = pipelineGrids(geo.bounds, ps).second;
       const double tVdb = 1e3 * medianSeconds(1, [&] { openvdbLevelSet(geo, fineSpec, ps.band); });
       struct Mode { RefineMode mode; int rays; };
       for (const Mode m : {Mode{RefineMode::Rays, 0}, Mode{RefineMode::Rays, 1}, Mode{RefineMode::Rays, 5},
@@ -202,149 +204,130 @@ std::string refineSuite(const BenchSettings& s) {
   return md;
 }
 
+/// Per-pass GPU times (median over frames after two warm-up frames) of one technique, as table rows; the
+/// last frame is kept for its error.
+struct TechniqueTiming {
+  std::string rows;
+  double totalMs = 0.0;
+  RenderedFrame last;
+};
+
+TechniqueTiming timeTechnique(const gpu::VulkanContext& ctx, const Scene& scene, const RenderSettings& rs,
+                              const std::string& name, int frames) {
+  Renderer r(ctx, scene, buildSceneGeometry(scene, 0.0).bounds, rs);
+  std::map<std::string, std::vector<double>> ms;
+  std::vector<std::string> order;
+  std::vector<double> totals;
+  TechniqueTiming t;
+  Progress progress(fmt::format("render {} {}x{}", name, rs.width, rs.height), std::uint64_t(frames + 2));
+  for (int f = 0; f < frames + 2; ++f) {
+    t.last = r.renderFrame(0.0, f + 1 == frames + 2);
+    progress.add();
+    if (f < 2) continue;
+    std::map<std::string, double> sum;
+    for (const auto& [n, v] : t.last.passMs) {
+      if (!sum.count(n) && !ms.count(n)) order.push_back(n);
+      sum[n] += v;
+    }
+    for (const auto& [n, v] : sum) ms[n].push_back(v);
+    totals.push_back(passSum(t.last.passMs));
+  }
+  progress.finish();
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+  };
+  for (const auto& n : order) t.rows += fmt::format("| {} | {} | {:.2f} |\n", name, n, median(ms[n]));
+  t.totalMs = median(totals);
+  t.rows += fmt::format("| {} | **frame total** | **{:.2f}** ({:.1f} fps) |\n", name, t.totalMs, 1000.0 / t.totalMs);
+  return t;
+}
+
+using ErrorRows = std::vector<std::tuple<std::string, ShadowImageError, double>>;
+
+/// The ray tracer at fewer samples than the truth: its time and error against the truth.
+void timeRayTracer(const Scene& scene, RenderSettings rs, const RenderedFrame& truth, ErrorRows& errors) {
+  for (int samples : {1, 4, 16, 64}) {
+    rs.rayTraced.samples = samples;
+    rs.rayTraced.seed = 99; // independent of the truth's samples
+    const auto t0 = std::chrono::steady_clock::now();
+    const RenderedFrame f = renderRayTraced(scene, 0.0, rs);
+    const double ms = 1e3 * detail::secondsSince(t0);
+    errors.emplace_back(fmt::format("raytraced, {} spp (CPU, {} threads)", samples, std::thread::hardware_concurrency()),
+                        compareWithTruth(scene, f, truth), ms);
+  }
+}
+
+/// One scene at one image size: the techniques' pass tables, then their errors beside the ray tracer's.
+std::string renderSize(const gpu::VulkanContext& ctx, const BenchOptions& s, const std::string& path,
+                       const Scene& scene, glm::ivec2 size) {
+  const int truthSamples = 1024, frames = 4;
+  RenderSettings rs = RenderJobOptions::defaultRenderSettings();
+  rs.width = size.x;
+  rs.height = size.y;
+  rs.rayTraced.samples = truthSamples;
+  const auto tt0 = std::chrono::steady_clock::now();
+  const RenderedFrame truth = renderRayTraced(scene, 0.0, rs);
+  const double truthS = detail::secondsSince(tt0);
+  const std::string stem = fs::path(path).stem().string();
+  const bool pictures = !s.output.empty() && size.x == 640;
+  std::string md = fmt::format("### {} at {}x{}\n\n", fs::path(path).filename().string(), size.x, size.y);
+  md += "| technique | pass | GPU ms (median) |\n|---|---|---|\n";
+  ErrorRows errors;
+  // SDF shadows both ways of sampling the field (hardware-filtered 3D texture, shader-filtered buffer).
+  for (const auto& [t, sampling] : {std::pair{ShadowTechnique::Sdf, SdfSampling::Texture},
+                                    std::pair{ShadowTechnique::Sdf, SdfSampling::Buffer},
+                                    std::pair{ShadowTechnique::ShadowMap, SdfSampling::Texture}}) {
+    rs.technique = t;
+    rs.sdf.sampling = sampling;
+    const std::string name =
+        t == ShadowTechnique::Sdf ? fmt::format("sdf ({})", toString(sampling)) : std::string(toString(t));
+    const TechniqueTiming timing = timeTechnique(ctx, scene, rs, name, frames);
+    md += timing.rows;
+    errors.emplace_back(name, compareWithTruth(scene, timing.last, truth), timing.totalMs);
+    if (pictures && sampling == SdfSampling::Texture)
+      writePng(s.output.parent_path() / fmt::format("{}_{}.png", stem, toString(t)),
+               displayImage(composeImage(scene, timing.last)));
+  }
+  if (pictures)
+    writePng(s.output.parent_path() / fmt::format("{}_raytraced.png", stem), displayImage(composeImage(scene, truth)));
+  timeRayTracer(scene, rs, truth, errors);
+  md += fmt::format("\n| technique | frame ms | mean abs vis error | penumbra RMSE ({} px) | FLIP |\n|---|---|---|---|---|\n",
+                    std::get<1>(errors[0]).penumbraPixels);
+  for (const auto& [name, e, ms] : errors)
+    md += fmt::format("| {} | {:.1f} | {:.4f} | {:.4f} | {:.4f} |\n", name, ms, e.visibilityMeanAbs, e.penumbraRmse,
+                      e.flip);
+  md += fmt::format("| raytraced truth, {} spp (CPU) | {:.1f} | 0 | 0 | 0 |\n\n", truthSamples, 1e3 * truthS);
+  return md;
+}
+
 /// The renderer suite: per-pass GPU times of SDF shadows and shadow maps at 640x360 and 1280x720 (median
 /// over frames after warm-up), their image error against the ray-traced truth of the same frame, and the
 /// ray tracer's time per sample count, to find the samples at which it reaches the SDF's error.
-std::string renderSuite(const BenchSettings& s) {
-  gpu::ContextOptions copt;
-  copt.device = s.device;
-  gpu::VulkanContext ctx(copt);
-  const int truthSamples = 1024, frames = 4;
+std::string renderSuite(const BenchOptions& s) {
+  gpu::VulkanContext ctx(detail::contextOptions(s.device));
   std::string md = fmt::format(
       "GPU: {} ({}). GPU pass times: median over {} frames after {} warm-up frames (GPU timestamps). Error against "
       "the ray-traced truth ({} samples per pixel) of the same frame: visibility mean |diff| over lit surfaces, "
       "RMSE in the truth's penumbra (0.02 < V < 0.98), mean LDR-FLIP of the pictures.\n\n",
-      ctx.info().name, ctx.info().driver, frames, 2, truthSamples);
+      ctx.info().name, ctx.info().driver, 4, 2, 1024);
   for (const std::string& path : s.scenes) {
     const Scene scene = loadScene(path);
     if (!scene.hasCamera || scene.lights.empty()) continue;
-    for (const glm::ivec2 size : {glm::ivec2(640, 360), glm::ivec2(1280, 720)}) {
-      RenderSettings rs;
-      rs.width = size.x;
-      rs.height = size.y;
-      rs.pipeline.coarseRes = 64;
-      rs.pipeline.fineRes = 256; // what `rtsdf render` uses
-      rs.pipeline.mode = RefineMode::Closest;
-      rs.pipeline.rays = 0;
-      rs.rayTraced.samples = truthSamples;
-      const auto tt0 = std::chrono::steady_clock::now();
-      const RenderedFrame truth = renderRayTraced(scene, 0.0, rs);
-      const double truthS = std::chrono::duration<double>(std::chrono::steady_clock::now() - tt0).count();
-      md += fmt::format("### {} at {}x{}\n\n", fs::path(path).filename().string(), size.x, size.y);
-      md += "| technique | pass | GPU ms (median) |\n|---|---|---|\n";
-      std::vector<std::tuple<std::string, ShadowImageError, double>> errors;
-      // SDF shadows both ways of sampling the field (hardware-filtered 3D texture, shader-filtered buffer).
-      struct Variant {
-        ShadowTechnique technique;
-        SdfSampling sampling;
-      };
-      for (const Variant variant : {Variant{ShadowTechnique::Sdf, SdfSampling::Texture},
-                                    Variant{ShadowTechnique::Sdf, SdfSampling::Buffer},
-                                    Variant{ShadowTechnique::ShadowMap, SdfSampling::Texture}}) {
-        const ShadowTechnique t = variant.technique;
-        rs.technique = t;
-        rs.sdf.sampling = variant.sampling;
-        const std::string name = t == ShadowTechnique::Sdf
-                                     ? fmt::format("sdf ({})", toString(variant.sampling))
-                                     : std::string(toString(t));
-        Bounds bounds = buildSceneGeometry(scene, 0.0).bounds;
-        Renderer r(ctx, scene, bounds, rs);
-        std::map<std::string, std::vector<double>> ms;
-        std::vector<std::string> order;
-        std::vector<double> totals;
-        RenderedFrame last;
-        Progress progress(fmt::format("render {} {}x{}", name, size.x, size.y), std::uint64_t(frames + 2));
-        for (int f = 0; f < frames + 2; ++f) {
-          last = r.renderFrame(0.0, f + 1 == frames + 2);
-          progress.add();
-          if (f < 2) continue;
-          std::map<std::string, double> sum;
-          double total = 0.0;
-          for (const auto& [n, v] : last.passMs) {
-            if (!sum.count(n) && !ms.count(n)) order.push_back(n);
-            sum[n] += v;
-            total += v;
-          }
-          for (const auto& [n, v] : sum) ms[n].push_back(v);
-          totals.push_back(total);
-        }
-        progress.finish();
-        auto median = [](std::vector<double> v) {
-          std::sort(v.begin(), v.end());
-          return v.empty() ? 0.0 : v[v.size() / 2];
-        };
-        for (const auto& n : order) md += fmt::format("| {} | {} | {:.2f} |\n", name, n, median(ms[n]));
-        const double total = median(totals);
-        md += fmt::format("| {} | **frame total** | **{:.2f}** ({:.1f} fps) |\n", name, total, 1000.0 / total);
-        errors.emplace_back(name, compareWithTruth(scene, last, truth), total);
-        if (!s.output.empty() && size.x == 640 && variant.sampling == SdfSampling::Texture) {
-          const fs::path png = fs::path(s.output).parent_path() /
-                               fmt::format("{}_{}.png", fs::path(path).stem().string(), toString(t));
-          writePng(png, displayImage(composeImage(scene, last)));
-        }
-      }
-      if (!s.output.empty() && size.x == 640)
-        writePng(fs::path(s.output).parent_path() / fmt::format("{}_raytraced.png", fs::path(path).stem().string()),
-                 displayImage(composeImage(scene, truth)));
-      // The ray tracer at fewer samples: its time and error against the truth.
-      for (int samples : {1, 4, 16, 64}) {
-        rs.rayTraced.samples = samples;
-        rs.rayTraced.seed = 99; // independent of the truth's samples
-        const auto t0 = std::chrono::steady_clock::now();
-        const RenderedFrame f = renderRayTraced(scene, 0.0, rs);
-        const double ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        errors.emplace_back(fmt::format("raytraced, {} spp (CPU, {} threads)", samples, std::thread::hardware_concurrency()),
-                            compareWithTruth(scene, f, truth), ms);
-      }
-      md += fmt::format("\n| technique | frame ms | mean abs vis error | penumbra RMSE ({} px) | FLIP |\n|---|---|---|---|---|\n",
-                        std::get<1>(errors[0]).penumbraPixels);
-      for (const auto& [name, e, ms] : errors)
-        md += fmt::format("| {} | {:.1f} | {:.4f} | {:.4f} | {:.4f} |\n", name, ms, e.visibilityMeanAbs, e.penumbraRmse,
-                          e.flip);
-      md += fmt::format("| raytraced truth, {} spp (CPU) | {:.1f} | 0 | 0 | 0 |\n\n", truthSamples, 1e3 * truthS);
-    }
+    for (const glm::ivec2 size : {glm::ivec2(640, 360), glm::ivec2(1280, 720)})
+      md += renderSize(ctx, s, path, scene, size);
   }
   return md;
 }
 
-int finishReport(const BenchSettings& s, const std::string& md) {
-  fmt::print("{}", md);
-  if (!s.output.empty()) writeTextAtomically(s.output, md);
-  return 0;
-}
-
-} // namespace
-
-int runBench(const BenchSettings& settings) {
-  BenchSettings s = settings;
-  if (s.scenes.empty())
-    s.scenes = {std::string(RTSDF_DATA_DIR) + "/scenes/default.json", std::string(RTSDF_DATA_DIR) + "/scenes/bunny.json"};
-  if (!s.output.empty()) checkOutputPath(s.output);
-
-  std::string md;
-  const std::time_t now = std::time(nullptr);
-  md += fmt::format("Machine: {}, {} hardware threads. Date: {:%Y-%m-%d}.\n\n", cpuName(),
-                    std::thread::hardware_concurrency(), fmt::localtime(now));
-  if (s.suite == "coarse") {
-    md += coarseSuite(s);
-    return finishReport(s, md);
-  }
-  if (s.suite == "render") {
-    md += renderSuite(s);
-    return finishReport(s, md);
-  }
-  if (s.suite == "refine") {
-    md += refineSuite(s);
-    return finishReport(s, md);
-  }
-  md += fmt::format("Median of {} runs.\n\n", s.repeats);
+/// The reference suite: the exact SDF against OpenVDB's meshToLevelSet, same voxels and band.
+std::string referenceSuite(const BenchOptions& s) {
+  std::string md = fmt::format("Median of {} runs.\n\n", s.repeats);
   md += "| scene | res | grid | band (voxels) | active voxels | exact (s) | OpenVDB meshToLevelSet (s) | "
         "exact / OpenVDB | OpenVDB vs exact: mean / max abs (voxels) | wrong sign |\n";
   md += "|---|---|---|---|---|---|---|---|---|---|\n";
-
   for (const std::string& path : s.scenes) {
-    const Scene scene = loadScene(path);
-    const SceneGeometry geo = buildSceneGeometry(scene, 0.0);
+    const SceneGeometry geo = buildSceneGeometry(loadScene(path), 0.0);
     const double band = s.bandFraction * geo.bounds.maxExtent();
     for (int res : s.resolutions) {
       const GridSpec spec = GridSpec::fromBounds(geo.bounds, res, band);
@@ -356,15 +339,40 @@ int runBench(const BenchSettings& settings) {
       const double tExact = medianSeconds(s.repeats, [&] { exact = exactSignedDistance(geo, spec, opt); });
       const double tVdb = medianSeconds(s.repeats, [&] { vdb = openvdbLevelSet(geo, spec, band); });
       const FieldError err = compareFields(*vdb, *exact);
-      const std::string row = fmt::format(
-          "| {} | {} | {}x{}x{} | {:.1f} | {} | {:.3f} | {:.3f} | {:.2f} | {:.3f} / {:.2f} | {:.3f}% |\n",
-          fs::path(path).filename().string(), res, spec.dims.x, spec.dims.y, spec.dims.z, band / spec.voxelSize,
-          exact->activeVoxelCount(), tExact, tVdb, tExact / tVdb, err.meanAbs, err.maxAbs, 100.0 * err.signErrorRate());
-      md += row;
+      md += fmt::format("| {} | {} | {}x{}x{} | {:.1f} | {} | {:.3f} | {:.3f} | {:.2f} | {:.3f} / {:.2f} | {:.3f}% |\n",
+                        fs::path(path).filename().string(), res, spec.dims.x, spec.dims.y, spec.dims.z,
+                        band / spec.voxelSize, exact->activeVoxelCount(), tExact, tVdb, tExact / tVdb, err.meanAbs,
+                        err.maxAbs, 100.0 * err.signErrorRate());
       spdlog::info("exact {:.3f} s, OpenVDB {:.3f} s, ratio {:.2f}", tExact, tVdb, tExact / tVdb);
     }
   }
-  return finishReport(s, md);
+  return md;
 }
 
-} // namespace rtsdf::app
+} // namespace
+
+void BenchOptions::validate() const {
+  requireInRange("repeats", repeats, 1, 100);
+  requireInRange("band fraction", bandFraction, 1e-6, 10.0);
+  for (int r : resolutions) requireInRange("resolution", r, 1, GridSpec::kMaxResolution);
+}
+
+std::string runBenchSuite(const BenchOptions& options, const JobControl& control) {
+  options.validate();
+  BenchOptions s = options;
+  if (s.scenes.empty()) s.scenes = {detail::bundledScene("default.json"), detail::bundledScene("bunny.json")};
+  if (!s.output.empty()) checkOutputPath(s.output);
+  std::string md = fmt::format("Machine: {}, {} hardware threads. Date: {:%Y-%m-%d}.\n\n", cpuName(),
+                               std::thread::hardware_concurrency(), fmt::localtime(std::time(nullptr)));
+  control.checkStop();
+  switch (s.suite) {
+  case BenchSuite::Coarse: md += coarseSuite(s); break;
+  case BenchSuite::Refine: md += refineSuite(s); break;
+  case BenchSuite::Render: md += renderSuite(s); break;
+  case BenchSuite::Reference: md += referenceSuite(s); break;
+  }
+  if (!s.output.empty()) writeTextAtomically(s.output, md);
+  return md;
+}
+
+} // namespace rtsdf::bench

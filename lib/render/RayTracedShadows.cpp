@@ -1,4 +1,4 @@
-#include "reference/RayTracedShadows.h"
+#include "render/RayTracedShadows.h"
 
 #include "util/Error.h"
 

@@ -1,4 +1,4 @@
-#include "reference/AnalyticPenumbra.h"
+#include "render/AnalyticPenumbra.h"
 
 #include "util/Error.h"
 

@@ -1,0 +1,218 @@
+#include "Options.h"
+
+#include "util/EnumNames.h"
+
+#include <map>
+
+namespace rtsdf::app {
+namespace {
+
+/// An enum option: its choices come from the enum's name table, its default is printed by name.
+template <class E> CLI::Option* addEnum(CLI::App* cmd, const std::string& flag, E& value, const std::string& help) {
+  return cmd->add_option(flag, value, help)
+      ->transform(CLI::CheckedTransformer(enumMap<E>()))
+      ->default_str(toString(value));
+}
+
+/// The GPU pipeline's knobs, shared by bake, animate and render.
+void bindPipeline(CLI::App* cmd, PipelineSettings& p, std::string& device) {
+  cmd->add_option("--coarse", p.coarseRes, "Coarse SDF resolution: voxels across the scene (methods jfa, rtsdf)")
+      ->check(CLI::Range(1, 1024))->capture_default_str();
+  cmd->add_option("--fine", p.fineRes, "Fine SDF resolution (method rtsdf), at least --coarse")
+      ->check(CLI::Range(1, 1024))->capture_default_str();
+  cmd->add_option("--rays", p.rays, "Rays per masked fine voxel per frame (x)")->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  cmd->add_option("--alpha", p.alpha, "History decay: f = min(alpha f' + (1 - alpha) c, r)")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  addEnum(cmd, "--refine", p.mode, "rays: the paper's random rays; closest: exact closest-point distance");
+  cmd->add_option("--seed", p.seed, "Random seed of the ray directions")->capture_default_str();
+  addEnum(cmd, "--jfa", p.variant, "Jump-flooding variant: jfa, 1+jfa or jfa+2");
+  cmd->add_option("--beta", p.beta, "Coarse SDF shell: distance minus beta, in scene units (default: half a coarse "
+                                    "voxel)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--device", device, "Vulkan device by index or name (see 'rtsdf info')");
+}
+
+void bindBake(CLI::App& app, BakeCommand& c) {
+  BakeOptions& o = c.options;
+  CLI::App* cmd = app.add_subcommand("bake", "Build the signed distance field of a scene and write it as a .vdb");
+  cmd->add_option("scene", o.scene, "Scene (.json) or mesh file (.obj, .ply, .stl, .gltf, ...)")->required();
+  cmd->add_option("-o,--output", c.output, "Output .vdb file (written atomically)")->required();
+  addEnum(cmd, "-m,--method", o.method,
+          "exact: CPU exact reference; openvdb: OpenVDB's meshToLevelSet; jfa: GPU coarse SDF (voxelization + jump "
+          "flooding, distance minus beta); rtsdf: coarse SDF, OpenVDB ray mask and fine SDF refined through the GPU "
+          "BVH");
+  cmd->add_option("-r,--res", o.resolution, "Voxels along the scene's longest axis (other axes follow)")
+      ->check(CLI::Range(1, 8192))->capture_default_str();
+  cmd->add_option("-d,--band", o.pipeline.band, "Narrow-band half-width in scene units (active voxels: |d| <= band); "
+                                                "for rtsdf the ray-mask band d (0: no refinement)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_flag("--full", o.fullDomain, "Full-domain field: every voxel active (exact method only)");
+  cmd->add_option("--padding", o.padding, "Margin around the scene bounds in scene units (default: the band)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("-t,--time", o.time, "Animation time in seconds")->capture_default_str();
+  addEnum(cmd, "--sign", o.sign, "Sign rule of the exact method: auto (pseudo-normal for closed meshes, winding "
+                                 "number for open ones), pseudonormal, winding");
+  bindPipeline(cmd, o.pipeline, o.device);
+  cmd->add_option("--frames", o.frames, "Frames of refinement to accumulate (method rtsdf)")
+      ->check(CLI::Range(1, 100000))->capture_default_str();
+  cmd->add_flag("--fog", c.written.fog, "Also write a 'density' fog grid so Blender shows the volume");
+  cmd->add_flag("--half", c.written.vdb.halfFloat, "Store values as 16-bit halves");
+  addEnum(cmd, "--compression", c.written.vdb.compression, "blosc, zip or none");
+}
+
+void bindAnimate(CLI::App& app, AnimateCommand& c) {
+  AnimateOptions& o = c.options;
+  CLI::App* cmd = app.add_subcommand(
+      "animate", "Run the RTSDF pipeline over an animation: per-frame mask size, pass times and error against the "
+                 "exact field of the same moment (ghosting), optionally per-frame .vdb files");
+  cmd->add_option("scene", o.scene, "Scene (.json) or mesh file")->required();
+  cmd->add_option("--frames", o.frames, "Frames to run")->check(CLI::Range(1, 100000))->capture_default_str();
+  cmd->add_option("--fps", o.fps, "Frames per second of scene time")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--csv", c.csv, "Write per-frame statistics to this CSV file");
+  cmd->add_option("--vdb-dir", o.vdbDir, "Write frameNNNN.vdb files (fine SDF band) into this folder");
+  cmd->add_flag("!--no-error", o.measureError, "Skip the per-frame comparison with the exact field");
+  cmd->add_option("--focus", o.focus,
+                  "Measure the error only in the box this instance sweeps (e.g. teapot: ghosting behind it)");
+  cmd->add_option("-d,--band", o.pipeline.band, "Band d in scene units")->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  bindPipeline(cmd, o.pipeline, o.device);
+}
+
+void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
+  addEnum(cmd, "--penumbra", s.penumbra, "SDF penumbra estimate: classic (k h / t), improved (triangulated between "
+                                         "samples), centered (marches through occluders: penumbra centred on the "
+                                         "shadow boundary)");
+  addEnum(cmd, "--sdf-sampling", s.sampling, "How the SDF march reads the fine SDF: texture (a 3D texture, hardware "
+                                             "trilinear filtering, one fetch per step) or buffer (filtered in the "
+                                             "shader like the CPU reference, eight fetches)");
+  cmd->add_option("--epsilon", s.epsilonVoxels, "SDF hit threshold and march start in fine voxels (>= 1)")
+      ->check(CLI::Range(1.0, 64.0))->capture_default_str();
+  cmd->add_option("--bias", s.biasVoxels, "Subtracted from SDF samples, in fine voxels: against leaks through thin "
+                                          "surfaces and the filtered field's overestimate at convex edges")
+      ->check(CLI::Range(0.0, 64.0))->capture_default_str();
+  cmd->add_option("--min-step", s.minStepVoxels, "Shortest SDF march step in fine voxels: how densely the march "
+                                                 "samples near occluders")
+      ->check(CLI::Range(0.05, 64.0))->capture_default_str();
+  cmd->add_option("--max-step", s.maxStep, "Longest SDF march step, against banding (scene units)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--max-steps", s.maxSteps, "SDF march steps at most")->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  cmd->add_option("--normal-offset", s.normalOffset,
+                  "SDF march start off the surface along its normal (scene units; default: the bias)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("!--no-jitter", s.jitter, "Do not jitter the SDF march's start per pixel and frame");
+}
+
+void bindRender(CLI::App& app, RenderCommand& c) {
+  RenderJobOptions& o = c.options;
+  RenderSettings& r = o.render;
+  CLI::App* cmd = app.add_subcommand(
+      "render", "Render the scene camera's view with soft shadows (SDF sphere tracing, shadow maps or ray-traced "
+                "truth) to a linear EXR (R, G, B and each light's visibility) and an sRGB PNG");
+  cmd->add_option("scene", o.scene, "Scene (.json) with a camera and lights")->required();
+  cmd->add_option("-o,--output", c.output, "Output .exr (written atomically)")->required();
+  cmd->add_option("--png", c.png, "Output .png (default: the .exr's name with .png)");
+  addEnum(cmd, "--shadows", r.technique, "sdf: sphere tracing of the RTSDF fine SDF; shadowmap: depth maps with "
+                                         "PCF; raytraced: distributed ray tracing on the CPU (the truth)");
+  cmd->add_option("--width", r.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--height", r.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--frames", o.frames, "Frames rendered (SDF refinement and TAA accumulate); the last one is "
+                                        "written")->check(CLI::Range(1, 100000))->capture_default_str();
+  cmd->add_option("--fps", o.fps, "Frames per second of scene time")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("-t,--time", o.time, "Scene time of the written frame in seconds")->capture_default_str();
+  bindSdfShadows(cmd, r.sdf);
+  cmd->add_option("--shadow-map-res", r.shadowMap.resolution, "Shadow map texels per side (per cube face)")
+      ->check(CLI::Range(1, 8192))->capture_default_str();
+  cmd->add_option("--pcf-radius", r.shadowMap.pcfRadius, "PCF kernel radius in texels")->check(CLI::Range(0, 16))
+      ->capture_default_str();
+  cmd->add_option("--shadow-bias", r.shadowMap.depthBiasTexels, "Shadow map depth bias in texels")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_flag("!--no-taa", r.taa.enabled, "Turn temporal accumulation off");
+  cmd->add_option("--taa-blend", r.taa.blend, "TAA weight of the newest frame")->check(CLI::Range(1e-6, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--samples", r.rayTraced.samples, "Ray-traced shadows: samples per pixel and light")
+      ->check(CLI::Range(1, 65536))->capture_default_str();
+  cmd->add_flag("--compare", o.compare, "Also ray trace the truth and print the visibility RMSE and FLIP of the "
+                                        "picture");
+  cmd->add_option("-d,--band", r.pipeline.band, "SDF ray-mask band d in scene units")->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  bindPipeline(cmd, r.pipeline, o.device);
+  // The ray tracer's random seed follows the pipeline's.
+  cmd->callback([&r] { r.rayTraced.seed = r.pipeline.seed; });
+}
+
+void bindBench(CLI::App& app, BenchCommand& c) {
+  bench::BenchOptions& s = c.suite;
+  bench::SweepRunOptions& run = c.sweepOptions.run;
+  CLI::App* cmd = app.add_subcommand(
+      "bench", "Time rtsdf's builders against their anchors in one run and write a Markdown table with ratios");
+  cmd->add_option("scenes", s.scenes, "Scenes or meshes (default: data/scenes/default.json and the bunny)");
+  cmd->add_option("--res", s.resolutions, "Resolutions (voxels along the longest axis)")->check(CLI::Range(1, 8192))
+      ->capture_default_str();
+  cmd->add_option("--band-fraction", s.bandFraction, "Band half-width as a fraction of the scene's extent")
+      ->check(CLI::Range(1e-6, 10.0))->capture_default_str();
+  cmd->add_option("--repeats", s.repeats, "Timed runs per point, the median is reported (--sweep: timed frames after "
+                                          "a warm-up frame, and runs of each anchor)")
+      ->check(CLI::Range(1, 100))->capture_default_str();
+  cmd->add_option("-o,--output", s.output, "Also write the Markdown report to this file");
+  addEnum(cmd, "--suite", s.suite, "reference: exact SDF vs OpenVDB meshToLevelSet; coarse: GPU voxelize + jump "
+                                   "flooding per pass vs CPU jump flooding, exact EDT and OpenVDB "
+                                   "meshToSignedDistanceField; refine: the paper's ray-trace tables (sizes x rays, "
+                                   "band x rays) with errors, vs OpenVDB meshToLevelSet; render: per-pass times of SDF "
+                                   "shadows and shadow maps at 640x360 and 1280x720 with their image error against the "
+                                   "ray-traced truth, and the ray tracer's time per sample count (PNGs beside "
+                                   "--output)");
+  cmd->add_option("--device", s.device, "Vulkan device by index or name (GPU suites and --sweep)");
+  cmd->add_option("--sweep", c.sweep, "Run the speed/accuracy sweep on one scene instead of a suite: quick (tiny "
+                                      "grids, a minute), default (sizes S 64/128 and M 128/256, every knob at S), paper "
+                                      "(S, M, L 256/512, every knob at M: for a real GPU). Writes sweep.csv (row by "
+                                      "row), report.md and PNG plots into --out")
+      ->check(CLI::IsMember(enumMap<bench::SweepPreset>()));
+  cmd->add_option("--out", c.sweepOptions.outDir, "The sweep's output folder (created; default: sweep-<scene name>)");
+  cmd->add_option("--error-band", run.errorBand, "The sweep measures the field error where |exact| <= this (scene "
+                                                 "units)")->check(CLI::Range(1e-9, 1e9))->capture_default_str();
+  cmd->add_flag("!--no-shadows", run.shadows, "The sweep skips the shadow image error");
+  cmd->add_option("--truth-samples", run.truthSamples, "Samples per pixel of the sweep's ray-traced shadow truth")
+      ->check(CLI::Range(1, 65536))->capture_default_str();
+  cmd->callback([&c] {
+    c.sweepOptions.run.device = c.suite.device;
+    c.sweepOptions.run.repeats = c.suite.repeats;
+    if (c.sweep == "quick") c.sweepOptions.run.shadowWidth = 160, c.sweepOptions.run.shadowHeight = 90;
+  });
+}
+
+} // namespace
+
+void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet) {
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("rtsdf ") + RTSDF_VERSION);
+  app.add_flag("-v,--verbose", verbosity, "More log output (repeat for trace)");
+  app.add_flag("-q,--quiet", quiet, "Only warnings and errors; no progress bar");
+  bindBake(app, c.bake);
+  bindAnimate(app, c.animate);
+  bindRender(app, c.render);
+  app.add_subcommand("info", "Print versions, Vulkan devices with their limits, and embedded shaders");
+  CLI::App* cmp = app.add_subcommand("compare", "Compare two level-set .vdb files on the voxels active in both: "
+                                                "mean/RMS/max |difference| in voxels and the rate of sign disagreement");
+  cmp->add_option("a", c.compareA, "First .vdb")->required()->check(CLI::ExistingFile);
+  cmp->add_option("b", c.compareB, "Second .vdb")->required()->check(CLI::ExistingFile);
+  bindBench(app, c.bench);
+}
+
+std::string flagOf(const std::string& setting) {
+  static const std::map<std::string, std::string> flags = {
+      {"band", "--band"}, {"coarse resolution", "--coarse"}, {"fine resolution", "--fine"}, {"alpha", "--alpha"},
+      {"rays", "--rays"}, {"beta", "--beta"}, {"frames", "--frames"}, {"resolution", "--res"}, {"time", "--time"},
+      {"padding", "--padding"}, {"full domain", "--full"}, {"fps", "--fps"}, {"vdb folder", "--vdb-dir"},
+      {"focus", "--focus"}, {"image width", "--width"}, {"image height", "--height"}, {"epsilon", "--epsilon"},
+      {"bias", "--bias"}, {"min step", "--min-step"}, {"max step", "--max-step"}, {"max steps", "--max-steps"},
+      {"normal offset", "--normal-offset"}, {"shadow map resolution", "--shadow-map-res"},
+      {"PCF radius", "--pcf-radius"}, {"shadow bias", "--shadow-bias"}, {"TAA blend", "--taa-blend"},
+      {"samples", "--samples"}, {"error band", "--error-band"}, {"repeats", "--repeats"},
+      {"truth samples", "--truth-samples"}, {"band fraction", "--band-fraction"}, {"output folder", "--out"},
+      {"device", "--device"}};
+  const auto it = flags.find(setting);
+  return it == flags.end() ? setting : it->second;
+}
+
+} // namespace rtsdf::app

@@ -1,0 +1,56 @@
+#pragma once
+/// @file Options.h
+/// @brief The command line's flags, bound onto the library's options structs (CLI11), and the flag that
+///        spells each library setting in error messages.
+#include "bench/Suites.h"
+#include "bench/SweepJob.h"
+#include "jobs/Animate.h"
+#include "jobs/Bake.h"
+#include "jobs/RenderJob.h"
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <string>
+
+namespace rtsdf::app {
+
+struct BakeCommand {
+  BakeOptions options;
+  BakeOutputOptions written;
+  std::filesystem::path output;
+};
+
+struct AnimateCommand {
+  AnimateOptions options;
+  std::filesystem::path csv; ///< per-frame statistics; empty: stdout only
+};
+
+struct RenderCommand {
+  RenderJobOptions options;
+  std::filesystem::path output, png; ///< .exr; .png (empty: the .exr's name with .png)
+};
+
+struct BenchCommand {
+  bench::BenchOptions suite;
+  std::string sweep; ///< quick, default or paper: the sweep instead of a suite (empty: a suite)
+  bench::SweepJobOptions sweepOptions;
+};
+
+/// @brief Every subcommand's options; @a which names the one given.
+struct Commands {
+  std::string which;
+  BakeCommand bake;
+  AnimateCommand animate;
+  RenderCommand render;
+  BenchCommand bench;
+  std::filesystem::path compareA, compareB;
+};
+
+/// @brief Add the subcommands and global flags to @a app, bound onto @a c, @a verbosity and @a quiet.
+void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet);
+
+/// @brief The flag that sets the library setting @a setting (SettingError::setting()), e.g. "band" -> "--band".
+std::string flagOf(const std::string& setting);
+
+} // namespace rtsdf::app

@@ -1,0 +1,53 @@
+#pragma once
+/// @file Suites.h
+/// @brief The benchmark suites of `rtsdf bench`: each times rtsdf's builders against their anchors in one run
+///        (OpenVDB's meshToLevelSet, the CPU references, the ray-traced truth) and reports Markdown tables.
+#include "util/EnumNames.h"
+#include "util/JobControl.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace rtsdf::bench {
+
+/// @brief Which tables a benchmark run makes.
+enum class BenchSuite {
+  Reference, ///< exact SDF vs OpenVDB meshToLevelSet, same voxels and band
+  Coarse,    ///< GPU voxelize + jump flooding per pass and variant vs CPU jump flooding, exact EDT, OpenVDB SDF
+  Refine,    ///< the paper's ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet
+  Render     ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth
+};
+
+/// @brief Everything a benchmark run needs.
+struct BenchOptions {
+  std::vector<std::string> scenes;  ///< scenes or meshes; empty: the bundled default scene and the bunny
+  std::vector<int> resolutions{128, 256}; ///< voxels across the longest side (reference and coarse suites)
+  double bandFraction = 0.05;       ///< the band as a fraction of the scene's extent (reference suite)
+  int repeats = 3;                  ///< timed runs per point; the median is reported
+  BenchSuite suite = BenchSuite::Reference;
+  std::string device;               ///< Vulkan device by index or name (GPU suites); empty: the best one
+  /// Also write the report here (atomically); the render suite puts its PNGs beside it. Empty: neither.
+  std::filesystem::path output;
+  /// @throw SettingError naming the setting that is out of range.
+  void validate() const;
+};
+
+/// @brief Run the suite of @a options and return its Markdown report (machine and date first).
+/// @throw SettingError, Error (bad scenes, no Vulkan device for the GPU suites).
+std::string runBenchSuite(const BenchOptions& options, const JobControl& control = {});
+
+/// @brief The CPU's model name (from /proc/cpuinfo), for reports.
+std::string cpuName();
+
+} // namespace rtsdf::bench
+
+namespace rtsdf {
+template <> struct EnumNames<bench::BenchSuite> {
+  static constexpr const char* kSetting = "benchmark suite";
+  static constexpr std::pair<const char*, bench::BenchSuite> kValues[] = {{"reference", bench::BenchSuite::Reference},
+                                                                          {"coarse", bench::BenchSuite::Coarse},
+                                                                          {"refine", bench::BenchSuite::Refine},
+                                                                          {"render", bench::BenchSuite::Render}};
+};
+} // namespace rtsdf

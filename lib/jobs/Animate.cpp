@@ -1,0 +1,126 @@
+#include "jobs/Animate.h"
+
+#include "grid/VdbIO.h"
+#include "jobs/Bake.h"
+#include "jobs/JobSupport.h"
+#include "reference/ExactSdf.h"
+#include "scene/SceneGeometry.h"
+#include "scene/SceneLoader.h"
+#include "sdf/CoarseSdf.h"
+#include "sdf/RefinePasses.h"
+#include "util/Error.h"
+#include "util/Settings.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+
+namespace rtsdf {
+namespace fs = std::filesystem;
+
+PipelineSettings AnimateOptions::defaultPipeline() {
+  PipelineSettings p;
+  p.coarseRes = 64;
+  p.fineRes = 128;
+  return p;
+}
+
+void AnimateOptions::validate() const {
+  pipeline.validate();
+  requireInRange("frames", frames, 1, 100000);
+  if (!(fps > 0.0) || !std::isfinite(fps)) throw SettingError("fps", fmt::format("fps {} must be positive", fps));
+  std::error_code ec;
+  if (!vdbDir.empty() && !fs::is_directory(vdbDir, ec))
+    throw SettingError("vdb folder", fmt::format("{}: {}", vdbDir.string(),
+                                                 fs::exists(vdbDir, ec) ? "is not a folder" : "folder does not exist"));
+}
+
+namespace {
+
+std::size_t focusInstance(const Scene& scene, const AnimateOptions& a) {
+  for (std::size_t i = 0; i < scene.instances.size(); ++i)
+    if (scene.instances[i].name == a.focus) return i;
+  throw SettingError("focus", fmt::format("{} has no instance named '{}'", a.scene, a.focus));
+}
+
+/// The box instance @a idx sweeps over the animation, grown by the band, in fine index space.
+openvdb::CoordBBox focusBox(const Scene& scene, const AnimateOptions& a, std::size_t idx, const GridSpec& fine) {
+  Bounds swept;
+  for (int f = 0; f < a.frames; ++f) {
+    const SceneGeometry g = buildSceneGeometry(scene, f / a.fps);
+    for (const glm::vec3& p : g.meshes[idx].positions) swept.add(glm::dvec3(p));
+  }
+  const glm::dvec3 lo = fine.worldToIndex(swept.min - a.pipeline.band);
+  const glm::dvec3 hi = fine.worldToIndex(swept.max + a.pipeline.band);
+  return openvdb::CoordBBox(openvdb::Coord(int(std::floor(lo.x)), int(std::floor(lo.y)), int(std::floor(lo.z))),
+                            openvdb::Coord(int(std::ceil(hi.x)), int(std::ceil(hi.y)), int(std::ceil(hi.z))));
+}
+
+/// Against the exact field of the same moment, over the fine voxels in the band (|exact| <= d).
+FieldError frameError(const Scene& scene, const SdfPipeline& pipe, double t, const openvdb::CoordBBox* focus) {
+  const SceneGeometry geo = buildSceneGeometry(scene, t);
+  ExactSdfOptions eo;
+  eo.band = fineLevelSetBand(pipe.settings(), pipe.fineSpec());
+  eo.progress = false;
+  const auto exact = exactSignedDistance(geo, pipe.fineSpec(), eo);
+  if (focus) exact->clip(*focus);
+  const auto fine = denseToLevelSet(pipe.fineField(), pipe.fineSpec(), float(eo.band));
+  fine->setTransform(exact->transform().copy());
+  return compareFields(*exact, *fine);
+}
+
+} // namespace
+
+AnimateResult animate(const AnimateOptions& a, const JobControl& control,
+                      const std::function<void(const AnimateFrame&)>& onFrame) {
+  a.validate();
+  const Scene scene = loadScene(a.scene);
+  const std::size_t focus = a.focus.empty() ? 0 : focusInstance(scene, a);
+  // Grids fixed over the whole animation: the union of the scene's bounds at every frame.
+  Bounds bounds;
+  for (int f = 0; f < a.frames; ++f) bounds.add(buildSceneGeometry(scene, f / a.fps).bounds);
+  gpu::VulkanContext ctx(detail::contextOptions(a.device));
+  SdfPipeline pipe(ctx, scene, bounds, a.pipeline);
+  spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
+  openvdb::CoordBBox box;
+  if (!a.focus.empty()) box = focusBox(scene, a, focus, pipe.fineSpec());
+  BakeOptions stamp; // the per-frame files carry the pipeline's settings
+  stamp.scene = a.scene;
+  stamp.pipeline = a.pipeline;
+  AnimateResult result;
+  result.coarse = pipe.coarseSpec();
+  result.fine = pipe.fineSpec();
+  for (int f = 0; f < a.frames; ++f) {
+    control.checkStop();
+    AnimateFrame fr;
+    fr.frame = f;
+    fr.time = f / a.fps;
+    fr.stats = pipe.runFrame(fr.time);
+    if (a.measureError) fr.error = frameError(scene, pipe, fr.time, a.focus.empty() ? nullptr : &box);
+    if (!a.vdbDir.empty())
+      writeVdb(a.vdbDir / fmt::format("frame{:04d}.vdb", f), {fineLevelSet(pipe, stamp, fr.time)}, {});
+    result.frames.push_back(fr);
+    if (onFrame) onFrame(fr);
+    control.report("animate", std::uint64_t(f + 1), std::uint64_t(a.frames));
+  }
+  detail::throwOnValidationErrors(ctx);
+  return result;
+}
+
+std::string AnimateResult::csv() const {
+  std::string csv = "frame,time,mask_coarse,mask_fine,voxelize_ms,jump_flood_ms,distance_ms,upsample_ms,refine_ms,"
+                    "mirror_ms,band_voxels,mean_abs_error_voxels,max_abs_error_voxels,wrong_sign_rate\n";
+  for (const AnimateFrame& fr : frames) {
+    const FrameStats& st = fr.stats;
+    const FieldError& err = fr.error;
+    csv += fmt::format("{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{},{:.5f},{:.4f},{:.6f}\n", fr.frame,
+                       fr.time, st.maskCoarseVoxels, st.maskFineVoxels, st.passTotal(VoxelizePass::kName),
+                       st.passTotal(JumpFloodPass::kName), st.passTotal(CoarseDistancePass::kName),
+                       st.passTotal(UpsamplePass::kName), st.refineMs(), st.mirrorMs, err.voxels, err.meanAbs,
+                       err.maxAbs, err.signErrorRate());
+  }
+  return csv;
+}
+
+} // namespace rtsdf

@@ -1,0 +1,55 @@
+#pragma once
+/// @file Animate.h
+/// @brief The RTSDF pipeline over an animation: per frame the ray mask, the GPU pass times, the mirror's CPU
+///        cost and the error against the exact field of the same moment (ghosting), optionally a .vdb per frame.
+#include "metrics/FieldError.h"
+#include "sdf/SdfPipeline.h"
+#include "util/JobControl.h"
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief Everything an animation run needs.
+struct AnimateOptions {
+  std::string scene;          ///< scene (.json) or mesh file
+  int frames = 60;
+  double fps = 30.0;          ///< frames per second of scene time
+  bool measureError = true;   ///< each frame against the exact field of the same moment
+  std::string focus;          ///< measure only in the box this instance sweeps over the animation (ghosting)
+  std::filesystem::path vdbDir; ///< write frameNNNN.vdb (the fine SDF's band) into this folder; empty: none
+  std::string device;         ///< Vulkan device by index or name; empty: the best one
+  PipelineSettings pipeline = defaultPipeline();
+  /// @brief Animations run at coarse 64 / fine 128 by default: many frames, each measured.
+  static PipelineSettings defaultPipeline();
+  /// @throw SettingError naming the setting that is out of range (or a vdbDir that is not a folder).
+  void validate() const;
+};
+
+/// @brief One frame of an animation run.
+struct AnimateFrame {
+  int frame = 0;
+  double time = 0.0;
+  FrameStats stats;
+  FieldError error;           ///< zero when not measured
+  double gpuMs() const { return passSum(stats.passMs); }
+};
+
+/// @brief The whole run.
+struct AnimateResult {
+  GridSpec coarse, fine;
+  std::vector<AnimateFrame> frames;
+  /// @brief One CSV row per frame: frame, time, mask sizes, pass times, mirror time, error.
+  std::string csv() const;
+};
+
+/// @brief Run the pipeline over @a options.frames frames of @a options.scene.
+/// @param onFrame called after each frame (e.g. to print it), may be empty.
+/// @throw SettingError, Error as bake() does; Interrupted when @a control asks to stop between frames.
+AnimateResult animate(const AnimateOptions& options, const JobControl& control = {},
+                      const std::function<void(const AnimateFrame&)>& onFrame = {});
+
+} // namespace rtsdf

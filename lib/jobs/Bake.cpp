@@ -1,0 +1,211 @@
+#include "jobs/Bake.h"
+
+#include "jobs/JobSupport.h"
+#include "reference/OpenVdbLevelSet.h"
+#include "scene/SceneGeometry.h"
+#include "scene/SceneLoader.h"
+#include "sdf/CoarseSdf.h"
+#include "sdf/RefinePasses.h"
+#include "util/Error.h"
+#include "util/Memory.h"
+#include "util/Settings.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+
+namespace rtsdf {
+namespace fs = std::filesystem;
+using detail::secondsSince;
+
+void BakeOptions::validate() const {
+  pipeline.validate();
+  requireInRange("frames", frames, 1, 100000);
+  requireInRange("resolution", resolution, 1, GridSpec::kMaxResolution);
+  requireFinite("time", time);
+  requireFinite("padding", padding);
+  if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
+  if (!(pipeline.band > 0.0))
+    throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));
+  if (fullDomain && method != BakeMethod::Exact)
+    throw SettingError("full domain", "a full-domain field needs the exact method (OpenVDB's meshToLevelSet builds "
+                                      "a narrow band only)");
+}
+
+double fineLevelSetBand(const PipelineSettings& s, const GridSpec& fine) {
+  return s.band > 0.0 ? s.band : 3.0 * fine.voxelSize;
+}
+
+openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions& o, double time) {
+  const PipelineSettings& p = o.pipeline;
+  auto grid = denseToLevelSet(pipe.fineField(), pipe.fineSpec(), float(fineLevelSetBand(p, pipe.fineSpec())));
+  stampLevelSet(*grid, pipe.fineSpec(),
+                {{"method", "rtsdf"}, {"scene", o.scene}, {"coarse", std::to_string(p.coarseRes)},
+                 {"resolution", std::to_string(p.fineRes)}, {"band", fmt::format("{}", p.band)},
+                 {"alpha", fmt::format("{}", p.alpha)}, {"rays", std::to_string(p.rays)},
+                 {"frames", std::to_string(o.frames)}, {"refine", toString(p.mode)}, {"jfa", toString(p.variant)},
+                 {"seed", std::to_string(p.seed)}, {"time", fmt::format("{}", time)}, {"version", detail::version()}});
+  return grid;
+}
+
+namespace {
+
+BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const JobControl& control) {
+  gpu::VulkanContext ctx(detail::contextOptions(o.device));
+  SdfPipeline pipe(ctx, scene, buildSceneGeometry(scene, o.time).bounds, o.pipeline);
+  spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
+  BakeResult r;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int f = 0; f < o.frames; ++f) {
+    control.checkStop();
+    r.lastFrame = pipe.runFrame(o.time);
+    control.report("refining", std::uint64_t(f + 1), std::uint64_t(o.frames));
+  }
+  r.seconds = secondsSince(t0);
+  detail::throwOnValidationErrors(ctx);
+  r.grid = fineLevelSet(pipe, o, o.time);
+  r.spec = pipe.fineSpec();
+  r.coarseSpec = pipe.coarseSpec();
+  r.device = ctx.info().name;
+  return r;
+}
+
+openvdb::FloatGrid::Ptr bakeCoarse(const BakeOptions& o, const SceneGeometry& geo, const GridSpec& spec,
+                                   BakeResult& r) {
+  gpu::VulkanContext ctx(detail::contextOptions(o.device));
+  CoarseSdfSettings cs;
+  cs.variant = o.pipeline.variant;
+  cs.beta = o.pipeline.beta;
+  CoarseSdfBuilder builder(ctx);
+  const CoarseSdf coarse = builder.build(geo, spec, cs);
+  r.lastFrame.passMs = coarse.passMs;
+  r.device = ctx.info().name;
+  spdlog::info("GPU {}: {}", ctx.info().name, [&] {
+    std::string t;
+    for (const char* p : {VoxelizePass::kName, JumpFloodPass::kName, CoarseDistancePass::kName})
+      t += fmt::format("{} {:.2f} ms  ", p, coarse.passTotal(p));
+    return t;
+  }());
+  detail::throwOnValidationErrors(ctx);
+  return denseToLevelSet(coarse.distance, spec, float(o.pipeline.band));
+}
+
+const char* signDescription(const BakeOptions& o) {
+  switch (o.method) {
+  case BakeMethod::Exact: return toString(o.sign);
+  case BakeMethod::OpenVdb: return "openvdb flood fill";
+  default: return "coarse shell: distance minus beta";
+  }
+}
+
+/// The grid of exact, openvdb and jfa bakes: the scene's bounds at the method's resolution, checked against
+/// memory before anything is allocated (the full domain is dense; a band needs a pointer per 8^3 block).
+GridSpec bakeGrid(const BakeOptions& o, const SceneGeometry& geo, double padding) {
+  const GridSpec spec =
+      GridSpec::fromBounds(geo.bounds, o.method == BakeMethod::Jfa ? o.pipeline.coarseRes : o.resolution, padding);
+  const std::uint64_t mem = physicalMemoryBytes();
+  if (mem) checkDenseMemory(spec, o.fullDomain ? 8 : (o.method == BakeMethod::Jfa ? 24 : 1), mem / 2, "bake");
+  spdlog::info("grid: {}, band {} ({:.1f} voxels){}", spec.describe(), o.pipeline.band,
+               o.pipeline.band / spec.voxelSize, o.fullDomain ? ", full domain" : "");
+  return spec;
+}
+
+BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene) {
+  const double band = o.pipeline.band;
+  const SceneGeometry geo = buildSceneGeometry(scene, o.time);
+  const double padding = o.padding >= 0.0 ? o.padding : band;
+  BakeResult r;
+  r.spec = bakeGrid(o, geo, padding);
+  const auto t0 = std::chrono::steady_clock::now();
+  if (o.method == BakeMethod::Exact) {
+    ExactSdfOptions opt;
+    opt.band = o.fullDomain ? INFINITY : band;
+    opt.sign = o.sign;
+    r.grid = exactSignedDistance(geo, r.spec, opt, &r.exact);
+  } else if (o.method == BakeMethod::OpenVdb) {
+    r.grid = openvdbLevelSet(geo, r.spec, band);
+  } else {
+    r.grid = bakeCoarse(o, geo, r.spec, r);
+  }
+  r.seconds = secondsSince(t0);
+  const bool jfa = o.method == BakeMethod::Jfa;
+  stampLevelSet(*r.grid, r.spec,
+                {{"method", toString(o.method)},
+                 {"scene", o.scene},
+                 {"resolution", std::to_string(jfa ? o.pipeline.coarseRes : o.resolution)},
+                 {"band", fmt::format("{}", o.fullDomain ? INFINITY : band)},
+                 {"padding", fmt::format("{}", padding)},
+                 {"time", fmt::format("{}", o.time)},
+                 {"sign", signDescription(o)},
+                 {"jfa", jfa ? toString(o.pipeline.variant) : ""},
+                 {"version", detail::version()}});
+  return r;
+}
+
+} // namespace
+
+BakeResult bake(const BakeOptions& options, const JobControl& control) {
+  options.validate();
+  const Scene scene = loadScene(options.scene);
+  const std::string summary = detail::meshSummary(scene);
+  spdlog::info("{}: {}", options.scene, summary);
+  BakeResult r = options.method == BakeMethod::Rtsdf ? bakeRtsdf(options, scene, control) : bakeOnGrid(options, scene);
+  r.sceneSummary = summary;
+  return r;
+}
+
+void writeBake(const BakeResult& result, const fs::path& path, const BakeOutputOptions& output) {
+  openvdb::GridPtrVec grids{result.grid};
+  if (output.fog) grids.push_back(makeFogGrid(*result.grid));
+  writeVdb(path, grids, output.vdb);
+}
+
+namespace {
+
+std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::path& output) {
+  const PipelineSettings& p = o.pipeline;
+  const FrameStats& st = r.lastFrame;
+  std::string passes;
+  for (const char* n : {VoxelizePass::kName, JumpFloodPass::kName, CoarseDistancePass::kName, UpsamplePass::kName,
+                        p.mode == RefineMode::Rays ? RayRefinePass::kName : ClosestRefinePass::kName})
+    passes += fmt::format("{} {:.1f} ms, ", n, st.passTotal(n));
+  std::string t = fmt::format("scene      {}\n", o.scene);
+  t += fmt::format("method     rtsdf ({} refinement, x = {}, alpha = {}, {} frames, {})\n", toString(p.mode), p.rays,
+                   p.alpha, o.frames, toString(p.variant));
+  t += fmt::format("coarse     {}\n", r.coarseSpec.describe());
+  t += fmt::format("fine       {}\n", r.spec.describe());
+  t += fmt::format("ray mask   {} coarse voxels, {} fine voxels (band {})\n", st.maskCoarseVoxels, st.maskFineVoxels,
+                   p.band);
+  t += fmt::format("last frame {}mirror (CPU) {:.1f} ms\n", passes, st.mirrorMs);
+  t += fmt::format("time       {:.3f} s for {} frames on {}\n", r.seconds, o.frames, r.device);
+  t += fmt::format("output     {} ({} active voxels)\n", output.string(), r.grid->activeVoxelCount());
+  return t;
+}
+
+} // namespace
+
+std::string bakeReport(const BakeOptions& o, const BakeResult& r, const fs::path& output,
+                       const BakeOutputOptions& written) {
+  if (o.method == BakeMethod::Rtsdf) return rtsdfReport(o, r, output);
+  const double band = o.pipeline.band;
+  const std::uint64_t active = r.grid->activeVoxelCount();
+  std::error_code ec;
+  const auto bytes = fs::file_size(output, ec);
+  std::string t = fmt::format("scene      {}\n", o.scene);
+  t += fmt::format("method     {}{}\n", toString(o.method),
+                   o.method == BakeMethod::Exact ? fmt::format(" (sign: {})", toString(o.sign)) : "");
+  t += fmt::format("grid       {}\n", r.spec.describe());
+  t += fmt::format("band       {} scene units = {:.2f} voxels{}\n", band, band / r.spec.voxelSize,
+                   o.fullDomain ? " (full domain: all voxels active)" : "");
+  t += fmt::format("active     {} voxels of {} ({:.2f}%)\n", active, r.spec.voxelCount(),
+                   100.0 * double(active) / double(r.spec.voxelCount()));
+  if (o.method == BakeMethod::Exact && r.exact.windingQueries)
+    t += fmt::format("sign       {} voxels signed by winding number (nearest mesh open)\n", r.exact.windingQueries);
+  t += fmt::format("time       {:.3f} s\n", r.seconds);
+  t += fmt::format("output     {} ({:.2f} MiB, grids: {}{})\n", output.string(), double(ec ? 0 : bytes) / 1048576.0,
+                   r.grid->getName(), written.fog ? ", density" : "");
+  return t;
+}
+
+} // namespace rtsdf

@@ -1,0 +1,93 @@
+#pragma once
+/// @file Bake.h
+/// @brief rtsdf's main job: the signed distance field of a scene as a sparse OpenVDB level set, by any of the
+///        four methods (the exact reference, OpenVDB's meshToLevelSet, the GPU coarse SDF, the full RTSDF
+///        pipeline), and its .vdb file.
+#include "grid/VdbIO.h"
+#include "reference/ExactSdf.h"
+#include "sdf/SdfPipeline.h"
+#include "util/EnumNames.h"
+#include "util/JobControl.h"
+#include "util/PassTimes.h"
+
+#include <openvdb/openvdb.h>
+
+#include <filesystem>
+#include <string>
+
+namespace rtsdf {
+
+/// @brief The SDF builders a bake offers.
+enum class BakeMethod {
+  Exact,   ///< CPU exact reference (Embree closest points + robust sign)
+  OpenVdb, ///< OpenVDB's meshToLevelSet
+  Jfa,     ///< GPU coarse SDF: voxelization + 3D jump flooding (distance minus beta)
+  Rtsdf    ///< the full pipeline: coarse SDF, OpenVDB ray mask, fine SDF refined through the GPU BVH
+};
+template <> struct EnumNames<BakeMethod> {
+  static constexpr const char* kSetting = "bake method";
+  static constexpr std::pair<const char*, BakeMethod> kValues[] = {{"exact", BakeMethod::Exact},
+                                                                   {"openvdb", BakeMethod::OpenVdb},
+                                                                   {"jfa", BakeMethod::Jfa},
+                                                                   {"rtsdf", BakeMethod::Rtsdf}};
+};
+
+/// @brief Everything a bake needs. Lengths in scene units.
+struct BakeOptions {
+  std::string scene;                   ///< scene (.json) or mesh file; recorded in the file's metadata
+  BakeMethod method = BakeMethod::Exact;
+  int resolution = 128;                ///< voxels across the longest side (exact, openvdb)
+  bool fullDomain = false;             ///< every voxel active (exact only)
+  double padding = -1.0;               ///< margin around the bounds; < 0: the band (so the band fits)
+  double time = 0.0;                   ///< animation time in seconds
+  SignMethod sign = SignMethod::Auto;  ///< sign rule of the exact method
+  int frames = 16;                     ///< refinement frames to accumulate (rtsdf)
+  std::string device;                  ///< Vulkan device by index or name; empty: the best one (jfa, rtsdf)
+  /// The band d for every method (pipeline.band: active voxels |d| <= band; for rtsdf also the ray mask) and
+  /// the GPU pipeline's knobs: coarse resolution (jfa, rtsdf), fine resolution, rays, alpha, refinement mode,
+  /// jump-flooding variant, beta, seed (rtsdf).
+  PipelineSettings pipeline;
+  /// @throw SettingError naming the setting that is out of range.
+  void validate() const;
+};
+
+/// @brief A finished bake.
+struct BakeResult {
+  openvdb::FloatGrid::Ptr grid;   ///< the level set "surface", rtsdf:* metadata stamped
+  GridSpec spec;                  ///< its voxels (the fine grid for rtsdf)
+  GridSpec coarseSpec;            ///< the coarse grid (rtsdf)
+  double seconds = 0.0;           ///< the build's wall time (loading and writing excluded)
+  ExactSdfStats exact;            ///< counters of the exact method
+  FrameStats lastFrame;           ///< the last frame's mask and pass times (jfa: passes only; rtsdf)
+  std::string device;             ///< the Vulkan device that ran (jfa, rtsdf)
+  std::string sceneSummary;       ///< meshes, instances, triangles, dropped triangles
+};
+
+/// @brief Bake the SDF of @a options.scene.
+/// @throw SettingError on a setting out of range, Error on bad input (the file and the problem), a missing
+///        Vulkan device, a grid too large for memory or a Vulkan validation error; Interrupted when @a control
+///        asks to stop between refinement frames.
+BakeResult bake(const BakeOptions& options, const JobControl& control = {});
+
+/// @brief How a bake is written.
+struct BakeOutputOptions {
+  bool fog = false;      ///< also a "density" fog grid, which Blender displays directly
+  VdbWriteOptions vdb;   ///< compression, half floats
+};
+
+/// @brief Write @a result to @a path atomically (nothing is left behind on failure).
+void writeBake(const BakeResult& result, const std::filesystem::path& path, const BakeOutputOptions& output = {});
+
+/// @brief What a bake did, as the lines `rtsdf bake` prints (scene, method, grid, band, activity, time, output).
+std::string bakeReport(const BakeOptions& options, const BakeResult& result, const std::filesystem::path& output,
+                       const BakeOutputOptions& written = {});
+
+/// @brief The level-set band of the fine SDF the RTSDF pipeline writes: d, or three fine voxels when d = 0 (so
+///        the file is still a valid level set).
+double fineLevelSetBand(const PipelineSettings& settings, const GridSpec& fine);
+
+/// @brief The pipeline's fine SDF after its last frame as a level set stamped with @a options (rtsdf metadata)
+///        and the moment @a time.
+openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipeline, const BakeOptions& options, double time);
+
+} // namespace rtsdf

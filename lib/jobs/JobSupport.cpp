@@ -1,0 +1,36 @@
+#include "jobs/JobSupport.h"
+
+#include "util/Error.h"
+
+#include <fmt/format.h>
+
+namespace rtsdf::detail {
+
+std::string meshSummary(const Scene& scene) {
+  std::size_t tris = 0, dropped = 0, open = 0;
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+    tris += scene.meshReports[i].triangles;
+    dropped += scene.meshReports[i].degenerateDropped;
+    open += scene.meshReports[i].watertight() ? 0 : 1;
+  }
+  return fmt::format("{} meshes ({} open), {} instances, {} triangles, {} zero-area dropped", scene.meshes.size(), open,
+                     scene.instances.size(), tris, dropped);
+}
+
+gpu::ContextOptions contextOptions(const std::string& device) {
+  gpu::ContextOptions o;
+  o.device = device;
+  return o;
+}
+
+void throwOnValidationErrors(const gpu::VulkanContext& ctx) {
+  if (ctx.validationErrors())
+    throw Error(fmt::format("Vulkan validation reported {} error(s); last: {}", ctx.validationErrors(),
+                            ctx.lastValidationMessage()));
+}
+
+std::string bundledScene(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/scenes/" + name; }
+
+const char* version() { return RTSDF_VERSION; }
+
+} // namespace rtsdf::detail

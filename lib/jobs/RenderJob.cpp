@@ -1,0 +1,130 @@
+#include "jobs/RenderJob.h"
+
+#include "gpu/VulkanContext.h"
+#include "image/ImageIO.h"
+#include "jobs/JobSupport.h"
+#include "scene/SceneGeometry.h"
+#include "scene/SceneLoader.h"
+#include "util/AtomicFile.h"
+#include "util/Error.h"
+#include "util/Settings.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <map>
+
+namespace rtsdf {
+namespace fs = std::filesystem;
+
+RenderSettings RenderJobOptions::defaultRenderSettings() {
+  RenderSettings r;
+  r.pipeline.coarseRes = 64;
+  r.pipeline.fineRes = 256;
+  r.pipeline.band = 0.1;
+  r.pipeline.mode = RefineMode::Closest;
+  r.pipeline.rays = 0;
+  return r;
+}
+
+void RenderJobOptions::validate() const {
+  requireInRange("frames", frames, 1, 100000);
+  if (!(fps > 0.0) || !std::isfinite(fps)) throw SettingError("fps", fmt::format("fps {} must be positive", fps));
+  requireFinite("time", time);
+  render.validate();
+}
+
+std::string RenderJobResult::passTable() const {
+  std::map<std::string, double> ms;
+  std::vector<std::string> order;
+  for (const auto& [n, t] : frame.passMs) {
+    if (!ms.count(n)) order.push_back(n);
+    ms[n] += t;
+  }
+  std::string s;
+  for (const auto& n : order) s += fmt::format("  {:<28} {:9.2f} ms\n", n, ms[n]);
+  return s;
+}
+
+namespace {
+
+RenderedFrame renderOnGpu(const RenderJobOptions& o, const Scene& scene, RenderJobResult& result,
+                          const JobControl& control) {
+  const double t0 = o.time - double(o.frames - 1) / o.fps;
+  Bounds bounds;
+  for (int f = 0; f < o.frames; ++f) bounds.add(buildSceneGeometry(scene, t0 + f / o.fps).bounds);
+  gpu::VulkanContext ctx(detail::contextOptions(o.device));
+  Renderer renderer(ctx, scene, bounds, o.render);
+  if (const SdfPipeline* sdf = renderer.sdfPipeline())
+    result.sdfGrids = fmt::format("coarse {}, fine {}", sdf->coarseSpec().describe(), sdf->fineSpec().describe());
+  RenderedFrame frame;
+  for (int f = 0; f < o.frames; ++f) {
+    control.checkStop();
+    frame = renderer.renderFrame(t0 + f / o.fps, f + 1 == o.frames);
+    control.report("render", std::uint64_t(f + 1), std::uint64_t(o.frames));
+  }
+  return frame;
+}
+
+/// The visibility error as a picture: red where the frame is too dark, green where it is too bright.
+Image visibilityErrorImage(const Scene& scene, const RenderedFrame& frame, const RenderedFrame& truth) {
+  Image err(frame.gbuffer.width, frame.gbuffer.height);
+  std::vector<float> r(frame.gbuffer.pixelCount(), 0.0f), g(r.size(), 0.0f), b(r.size(), 0.0f);
+  for (std::size_t l = 0; l < scene.lights.size(); ++l)
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const float d = frame.visibility[l][i] - truth.visibility[l][i];
+      (d < 0.0f ? r[i] : g[i]) += std::fabs(d);
+    }
+  err.setChannel("R", std::move(r));
+  err.setChannel("G", std::move(g));
+  err.setChannel("B", std::move(b));
+  return err;
+}
+
+} // namespace
+
+RenderJobResult renderScene(const RenderJobOptions& o, const JobControl& control) {
+  o.validate();
+  const Scene scene = loadScene(o.scene);
+  if (!scene.hasCamera) throw Error(fmt::format("{}: the scene has no camera to render from", o.scene));
+  if (scene.lights.empty()) throw Error(fmt::format("{}: the scene has no light to cast shadows", o.scene));
+  RenderJobResult result;
+  if (o.render.technique == ShadowTechnique::RayTraced) {
+    spdlog::info("ray tracing {} sample(s) per pixel and light at {}x{} (CPU)", o.render.rayTraced.samples,
+                 o.render.width, o.render.height);
+    result.frame = renderRayTraced(scene, o.time, o.render);
+  } else {
+    result.frame = renderOnGpu(o, scene, result, control);
+  }
+  result.image = composeImage(scene, result.frame);
+  if (o.compare) {
+    spdlog::info("ray tracing the truth ({} samples per pixel and light)", o.render.rayTraced.samples);
+    const RenderedFrame truth = renderRayTraced(scene, o.time, o.render);
+    result.error = compareWithTruth(scene, result.frame, truth);
+    result.errorImage = visibilityErrorImage(scene, result.frame, truth);
+    result.compared = true;
+  }
+  return result;
+}
+
+RenderOutputs RenderOutputs::forExr(const fs::path& exr, const fs::path& png) {
+  RenderOutputs o;
+  o.exr = exr;
+  o.png = png.empty() ? fs::path(exr).replace_extension(".png") : png;
+  o.errorPng = fs::path(exr).replace_extension("").string() + "_error.png";
+  return o;
+}
+
+void RenderOutputs::check() const {
+  checkOutputPath(exr);
+  checkOutputPath(png);
+}
+
+void writeRender(const RenderJobResult& result, const RenderOutputs& outputs) {
+  if (result.compared) writePng(outputs.errorPng, result.errorImage);
+  writeExr(outputs.exr, result.image);
+  writePng(outputs.png, displayImage(result.image));
+}
+
+} // namespace rtsdf

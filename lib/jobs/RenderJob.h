@@ -1,0 +1,60 @@
+#pragma once
+/// @file RenderJob.h
+/// @brief The `render` job: a scene camera's view with soft shadows (SDF, shadow maps or the ray-traced truth)
+///        over several frames, the picture of the last one, and optionally its error against the truth.
+#include "image/Image.h"
+#include "render/Renderer.h"
+#include "util/JobControl.h"
+
+#include <filesystem>
+#include <string>
+
+namespace rtsdf {
+
+/// @brief Everything a render needs.
+struct RenderJobOptions {
+  std::string scene;          ///< scene (.json) with a camera and lights
+  int frames = 8;             ///< frames rendered (SDF refinement and TAA accumulate); the last is kept
+  double fps = 30.0;          ///< frames per second of scene time
+  double time = 0.0;          ///< scene time of the last frame
+  bool compare = false;       ///< also ray trace the truth and measure the image error
+  std::string device;         ///< Vulkan device by index or name; empty: the best one
+  RenderSettings render = defaultRenderSettings();
+  /// @brief The renderer's defaults, with the SDF pipeline at coarse 64 / fine 256 (the paper's size M: the
+  ///        default scene's sun penumbrae are only a few voxels wide at 128), closest-point refinement and no
+  ///        ray votes (signs from the closest triangle: decayed votes lag behind moving objects).
+  static RenderSettings defaultRenderSettings();
+  /// @throw SettingError naming the setting that is out of range.
+  void validate() const;
+};
+
+/// @brief A finished render.
+struct RenderJobResult {
+  RenderedFrame frame;        ///< the last frame
+  Image image;                ///< composeImage(frame): R, G, B and each light's visibility
+  bool compared = false;
+  ShadowImageError error;     ///< against the truth (when compared)
+  Image errorImage;           ///< visibility error: red where too dark, green where too bright (when compared)
+  std::string sdfGrids;       ///< the SDF pipeline's grids (Sdf technique), for the log
+  /// @brief Per-pass times of the last frame, one line each.
+  std::string passTable() const;
+};
+
+/// @brief Render @a options.scene.
+/// @throw SettingError, Error (no camera, no light, bad input, no Vulkan device); Interrupted when @a control
+///        asks to stop between frames.
+RenderJobResult renderScene(const RenderJobOptions& options, const JobControl& control = {});
+
+/// @brief The paths a render writes: the EXR, its PNG (default: the EXR's name with .png) and, after a
+///        comparison, the error picture (<exr stem>_error.png).
+struct RenderOutputs {
+  std::filesystem::path exr, png, errorPng;
+  static RenderOutputs forExr(const std::filesystem::path& exr, const std::filesystem::path& png = {});
+  /// @throw Error when a folder is missing or a path is a folder (before any work).
+  void check() const;
+};
+
+/// @brief Write the EXR (linear, every channel), the sRGB PNG and, after a comparison, the error picture.
+void writeRender(const RenderJobResult& result, const RenderOutputs& outputs);
+
+} // namespace rtsdf

@@ -1,0 +1,41 @@
+#include "sdf/RefinePasses.h"
+
+#include <array>
+
+namespace rtsdf {
+using namespace gpu::shared;
+
+UpsamplePass::UpsamplePass(const gpu::VulkanContext& ctx)
+    : mPipeline(ctx, "refine_upsample.comp", kUpsampleBindingCount, sizeof(RefineParams)) {}
+
+void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                           const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kUpsampleBindingCount> b;
+  b[kUpsampleBindingCoarse] = &in.coarse;
+  b[kUpsampleBindingFine] = &out.fine;
+  const glm::ivec3 d = params.fineDims;
+  mPipeline.dispatch(cmd, b, &params,
+                     {gpu::groupsFor(d.x, RTSDF_UPSAMPLE_GROUP_X), gpu::groupsFor(d.y, RTSDF_UPSAMPLE_GROUP_Y),
+                      gpu::groupsFor(d.z, RTSDF_UPSAMPLE_GROUP_Z)});
+  gpu::computeBarrier(cmd);
+}
+
+RefinePass::RefinePass(const gpu::VulkanContext& ctx, const char* shader, const char* name)
+    : mPipeline(ctx, shader, kRefineBindingCount, sizeof(RefineParams)), mName(name) {}
+
+void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                         const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, mName);
+  std::array<gpu::Binding, kRefineBindingCount> b;
+  in.bvh.bindTo(b);
+  b[kRefineBindingMask] = &in.mask;
+  b[kRefineBindingFine] = &out.fine;
+  b[kRefineBindingHistory] = &out.history;
+  b[kRefineBindingVotes] = &out.votes;
+  b[kRefineBindingLastFrame] = &out.lastFrame;
+  mPipeline.dispatchIndirect(cmd, b, &params, in.dispatch);
+  gpu::computeBarrier(cmd);
+}
+
+} // namespace rtsdf

@@ -1,0 +1,77 @@
+#pragma once
+/// @file RefinePasses.h
+/// @brief The fine SDF's passes: UpsamplePass (the coarse SDF trilinearly upsampled into every fine voxel: the
+///        value outside the ray mask) and the refinement of the masked voxels through the scene BVH, by the
+///        paper's random rays (RayRefinePass) or exact closest points (ClosestRefinePass). Same shape as every
+///        pass: execute(cmd, profiler, inputs, outputs, params), bindings named in gpu/shared/Refine.h.
+#include "gpu/Profiler.h"
+#include "gpu/Resources.h"
+#include "gpu/shared/Refine.h"
+#include "sdf/GpuSceneBvh.h"
+
+namespace rtsdf {
+
+/// @brief UpsamplePass: fine[v] = the coarse SDF trilinearly interpolated at fine voxel v's centre.
+class UpsamplePass {
+public:
+  static constexpr const char* kName = "UpsamplePass";
+  struct Inputs {
+    const gpu::Buffer& coarse; ///< c_t, dense, x fastest
+  };
+  struct Outputs {
+    const gpu::Buffer& fine; ///< every fine voxel written
+  };
+  using Params = gpu::shared::RefineParams; ///< grids of both levels
+  explicit UpsamplePass(const gpu::VulkanContext& ctx);
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+
+private:
+  gpu::ComputePipeline mPipeline;
+};
+
+/// @brief The refinement of the masked fine voxels (refine_main.glsl): the shared shape of RayRefinePass and
+///        ClosestRefinePass, which differ in the shader variant and their profiler name.
+class RefinePass {
+public:
+  struct Inputs {
+    const GpuSceneBvh& bvh;       ///< top level as of this frame
+    const gpu::Buffer& mask;      ///< packed fine voxels (10 bits per axis)
+    const gpu::Buffer& dispatch;  ///< VkDispatchIndirectCommand: the mask's size, in groups of RTSDF_REFINE_GROUP
+  };
+  /// Per fine voxel: the SDF (in: c_t upsampled, out: f_t), its unsigned history, decayed sign votes, and the
+  /// frame it was last refined in.
+  struct Outputs {
+    const gpu::Buffer& fine;
+    const gpu::Buffer& history;
+    const gpu::Buffer& votes;
+    const gpu::Buffer& lastFrame;
+  };
+  using Params = gpu::shared::RefineParams;
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+  const char* name() const { return mName; }
+
+protected:
+  RefinePass(const gpu::VulkanContext& ctx, const char* shader, const char* name);
+
+private:
+  gpu::ComputePipeline mPipeline;
+  const char* mName;
+};
+
+/// @brief The paper's refinement: x random rays per masked voxel, f_t = min(alpha f_{t-1} + (1 - alpha) c^_t, r_t).
+class RayRefinePass : public RefinePass {
+public:
+  static constexpr const char* kName = "RayRefinePass";
+  explicit RayRefinePass(const gpu::VulkanContext& ctx) : RefinePass(ctx, "refine_rays.comp", kName) {}
+};
+
+/// @brief Exact refinement: the closest point through the BVH (sign from ray votes when x > 0).
+class ClosestRefinePass : public RefinePass {
+public:
+  static constexpr const char* kName = "ClosestRefinePass";
+  explicit ClosestRefinePass(const gpu::VulkanContext& ctx) : RefinePass(ctx, "refine_closest.comp", kName) {}
+};
+
+} // namespace rtsdf

@@ -16,7 +16,7 @@ namespace rtsdf::bench {
 struct SweepJobOptions {
   std::string scene;                ///< scene or mesh; empty: the bundled default scene
   SweepPreset preset = SweepPreset::Default;
-  std::filesystem::path outDir;     ///< created; empty: sweep-<scene name>
+  std::filesystem::path outDir;     ///< created; empty: "sweep-" + the scene's name
   SweepRunOptions run;              ///< device, error band, repeats, shadows, truth samples
   std::string command;              ///< the command line that asked, for the report
   /// @throw SettingError / Error when a setting is out of range or the folder cannot be made.

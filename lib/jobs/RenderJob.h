@@ -46,7 +46,7 @@ struct RenderJobResult {
 RenderJobResult renderScene(const RenderJobOptions& options, const JobControl& control = {});
 
 /// @brief The paths a render writes: the EXR, its PNG (default: the EXR's name with .png) and, after a
-///        comparison, the error picture (<exr stem>_error.png).
+///        comparison, the error picture (the EXR's stem + "_error.png").
 struct RenderOutputs {
   std::filesystem::path exr, png, errorPng;
   static RenderOutputs forExr(const std::filesystem::path& exr, const std::filesystem::path& png = {});

@@ -176,31 +176,82 @@ GBuffer traceGBuffer(const SceneGeometry& geometry, const gpu::shared::CameraPar
   return g;
 }
 
-LightVisibility rayTracedVisibility(const SceneGeometry& geometry, const std::vector<Light>& lights,
-                                    const GBuffer& gbuffer, const RayTracedShadowSettings& settings) {
-  if (settings.samples < 1)
-    throw Error(fmt::format("ray-traced shadows: samples must be at least 1 (got {})", settings.samples));
-  if (!std::isfinite(settings.normalOffset))
-    throw Error("ray-traced shadows: the normal offset must be finite");
+namespace {
+
+/// A light's cone as seen from a point: axis w with frame (t, b), 1 - cos(half-angle) = omc; for sphere lights
+/// also the sphere to clip rays at.
+struct Cone {
+  glm::dvec3 w, t, b;
+  double omc = 0.0;
+};
+
+void checkTraceInputs(const std::vector<Light>& lights, const GBuffer& gbuffer, const RayTracedShadowSettings& s) {
+  if (s.samples < 1) throw Error(fmt::format("ray-traced shadows: samples must be at least 1 (got {})", s.samples));
+  if (!std::isfinite(s.normalOffset)) throw Error("ray-traced shadows: the normal offset must be finite");
   if (gbuffer.width < 0 || gbuffer.height < 0 || gbuffer.position.size() != gbuffer.pixelCount() ||
       gbuffer.normal.size() != gbuffer.pixelCount())
     throw Error(fmt::format("ray-traced shadows: the G-buffer is {}x{} but holds {} positions and {} normals",
                             gbuffer.width, gbuffer.height, gbuffer.position.size(), gbuffer.normal.size()));
   for (std::size_t l = 0; l < lights.size(); ++l) validateLight(lights[l], l);
+}
 
+/// The visibility of light @a l at pixel @a i from @a origin (offset off the surface point @a p); -1 when the
+/// point is inside a sphere light (the visibility stays 1).
+float pixelVisibility(RTCScene scene, const Light& light, const Cone& sun, std::size_t l, std::size_t i,
+                      const glm::vec3& p, const glm::vec3& origin, const RayTracedShadowSettings& settings) {
+  const float inf = std::numeric_limits<float>::infinity();
+  Cone cone;
+  glm::dvec3 toCenter(0.0);
+  double radius = 0.0;
+  if (light.type == Light::Type::Directional) {
+    cone = sun;
+  } else {
+    toCenter = light.position - glm::dvec3(origin);
+    const double d = glm::length(toCenter);
+    if (glm::length(light.position - glm::dvec3(p)) <= light.radius || !(d > light.radius)) return -1.0f; // inside
+    radius = light.radius;
+    cone.w = toCenter / d;
+    frame(cone.w, cone.t, cone.b);
+    const double sinBeta = radius / d;
+    cone.omc = sinBeta * sinBeta / (1.0 + std::sqrt(std::max(0.0, 1.0 - sinBeta * sinBeta)));
+  }
+  // The distance along unit @a dir to the light (infinite for the sun, the sphere's near side otherwise).
+  auto lightDistance = [&](const glm::dvec3& dir) {
+    if (light.type == Light::Type::Directional) return inf;
+    const double b = glm::dot(dir, toCenter);
+    const glm::dvec3 perp = toCenter - b * dir;
+    return float(b - std::sqrt(std::max(0.0, radius * radius - glm::dot(perp, perp))));
+  };
+  if (cone.omc == 0.0) // a point of light: one exact ray
+    return occluded(scene, origin, glm::vec3(cone.w), lightDistance(cone.w)) ? 0.0f : 1.0f;
+  // Per-pixel stream: a randomised sunflower over the cone (equal-area rings, golden-ratio azimuths).
+  const int n = settings.samples;
+  const double goldenFraction = 0.5 * (std::sqrt(5.0) - 1.0);
+  const std::uint32_t key = pcgHash(pcgHash(pcgHash(settings.seed) ^ std::uint32_t(l)) ^ std::uint32_t(i));
+  const double rotation = unit(pcgHash(key ^ 0x68E31DA4u));
+  int visible = 0;
+  for (int s = 0; s < n; ++s) {
+    const double u = (double(s) + unit(pcgHash(key + pcgHash(std::uint32_t(s))))) / double(n);
+    double v = rotation + double(s) * goldenFraction;
+    v -= std::floor(v);
+    const glm::dvec3 dir = coneDirection(cone.t, cone.b, cone.w, u * cone.omc, glm::two_pi<double>() * v);
+    if (!occluded(scene, origin, glm::vec3(dir), lightDistance(dir))) ++visible;
+  }
+  return float(double(visible) / double(n));
+}
+
+} // namespace
+
+LightVisibility rayTracedVisibility(const SceneGeometry& geometry, const std::vector<Light>& lights,
+                                    const GBuffer& gbuffer, const RayTracedShadowSettings& settings) {
+  checkTraceInputs(lights, gbuffer, settings);
   LightVisibility vis(lights.size(), std::vector<float>(gbuffer.pixelCount(), 1.0f));
   if (lights.empty() || gbuffer.pixelCount() == 0) return vis;
 
   const EmbreeScene embree(geometry);
   const float offset =
       float(settings.normalOffset >= 0.0 ? settings.normalOffset : 1e-4 * geometry.bounds.maxExtent());
-  const int n = settings.samples;
-  const double goldenFraction = 0.5 * (std::sqrt(5.0) - 1.0);
-  const double twoPi = glm::two_pi<double>();
-  const float inf = std::numeric_limits<float>::infinity();
-
   // Per light: the direction towards it and its cone (directional lights; sphere lights vary per pixel).
-  struct Cone { glm::dvec3 w, t, b; double omc; };
   std::vector<Cone> suns(lights.size());
   for (std::size_t l = 0; l < lights.size(); ++l)
     if (lights[l].type == Light::Type::Directional) {
@@ -209,7 +260,6 @@ LightVisibility rayTracedVisibility(const SceneGeometry& geometry, const std::ve
       frame(c.w, c.t, c.b);
       c.omc = oneMinusCos(lights[l].angularRadius);
     }
-
   tbb::parallel_for(tbb::blocked_range<int>(0, gbuffer.height), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y)
       for (int x = 0; x < gbuffer.width; ++x) {
@@ -218,46 +268,8 @@ LightVisibility rayTracedVisibility(const SceneGeometry& geometry, const std::ve
         const glm::vec3 p(gbuffer.position[i]);
         const glm::vec3 origin = p + offset * glm::vec3(gbuffer.normal[i]);
         for (std::size_t l = 0; l < lights.size(); ++l) {
-          const Light& light = lights[l];
-          // Cone around w with 1 - cos(half-angle) = omc; for sphere lights also the sphere to clip rays at.
-          Cone cone;
-          glm::dvec3 toCenter(0.0);
-          double radius = 0.0;
-          if (light.type == Light::Type::Directional) {
-            cone = suns[l];
-          } else {
-            toCenter = light.position - glm::dvec3(origin);
-            const double d = glm::length(toCenter);
-            if (glm::length(light.position - glm::dvec3(p)) <= light.radius || !(d > light.radius)) continue; // inside
-            radius = light.radius;
-            cone.w = toCenter / d;
-            frame(cone.w, cone.t, cone.b);
-            const double sinBeta = radius / d;
-            cone.omc = sinBeta * sinBeta / (1.0 + std::sqrt(std::max(0.0, 1.0 - sinBeta * sinBeta)));
-          }
-          // The distance along unit @a dir to the light (infinite for the sun, the sphere's near side otherwise).
-          auto lightDistance = [&](const glm::dvec3& dir) {
-            if (light.type == Light::Type::Directional) return inf;
-            const double b = glm::dot(dir, toCenter);
-            const glm::dvec3 perp = toCenter - b * dir;
-            return float(b - std::sqrt(std::max(0.0, radius * radius - glm::dot(perp, perp))));
-          };
-          if (cone.omc == 0.0) { // a point of light: one exact ray
-            vis[l][i] = occluded(embree.scene(), origin, glm::vec3(cone.w), lightDistance(cone.w)) ? 0.0f : 1.0f;
-            continue;
-          }
-          // Per-pixel stream: a randomised sunflower over the cone (equal-area rings, golden-ratio azimuths).
-          const std::uint32_t key = pcgHash(pcgHash(pcgHash(settings.seed) ^ std::uint32_t(l)) ^ std::uint32_t(i));
-          const double rotation = unit(pcgHash(key ^ 0x68E31DA4u));
-          int visible = 0;
-          for (int s = 0; s < n; ++s) {
-            const double u = (double(s) + unit(pcgHash(key + pcgHash(std::uint32_t(s))))) / double(n);
-            double v = rotation + double(s) * goldenFraction;
-            v -= std::floor(v);
-            const glm::dvec3 dir = coneDirection(cone.t, cone.b, cone.w, u * cone.omc, twoPi * v);
-            if (!occluded(embree.scene(), origin, glm::vec3(dir), lightDistance(dir))) ++visible;
-          }
-          vis[l][i] = float(double(visible) / double(n));
+          const float v = pixelVisibility(embree.scene(), lights[l], suns[l], l, i, p, origin, settings);
+          if (v >= 0.0f) vis[l][i] = v;
         }
       }
   });

@@ -236,7 +236,6 @@ RefineParams SdfPipeline::refineParams(std::size_t maskVoxels) const {
   p.coarseOriginInvH = glm::vec4(glm::vec3(mCoarseSpec.origin), float(1.0 / mCoarseSpec.voxelSize));
   p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
   p.alpha = float(mSettings.alpha);
-  p.band = float(mSettings.band);
   p.rays = std::uint32_t(mSettings.rays);
   p.frame = mFrame;
   p.seed = mSettings.seed;

@@ -187,7 +187,7 @@ TEST(Cli, BadInputIsRefusedClearlyWithNoOutputFile) {
       {ok + " --band nan", "--band"},
       {ok + " --band 0", "--band"},
       {ok + " --method magic", "--method"},
-      {ok + " --method openvdb --full", "--full needs --method exact"},
+      {ok + " --method openvdb --full", "--full: a full-domain field needs the exact method"},
       {ok + " --res 8192", "GiB"}, // too large for memory: refused before allocating
   };
   for (const Case& c : cases) {

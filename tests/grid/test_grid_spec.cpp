@@ -1,4 +1,5 @@
 #include "grid/GridSpec.h"
+#include "util/Memory.h"
 #include "util/Error.h"
 
 #include <gtest/gtest.h>

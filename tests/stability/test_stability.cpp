@@ -275,7 +275,7 @@ TEST_F(Stability, ResolutionLargestThatFitsAndAClearErrorBeyond) {
               atMax.describe().c_str(), why.c_str());
   EXPECT_GE(lo, 64);
   EXPECT_LE(atMax.largestBuffer, limits.maxStorageBufferRange);
-  EXPECT_NE(why.find("--fine"), std::string::npos) << why;
+  EXPECT_NE(why.find("fine resolution"), std::string::npos) << why;
   if (lo < 1024) {
     EXPECT_NE(why.find("MiB"), std::string::npos) << why;
     // The constructor refuses before allocating anything.
@@ -283,8 +283,9 @@ TEST_F(Stability, ResolutionLargestThatFitsAndAClearErrorBeyond) {
     try {
       SdfPipeline pipe(*sCtx, scene, bounds, settingsFor(lo + 1));
       ADD_FAILURE() << "a pipeline beyond the memory estimate was created";
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("--fine"), std::string::npos) << e.what();
+    } catch (const SettingError& e) {
+      EXPECT_EQ(e.setting(), "fine resolution") << e.what();
+      EXPECT_NE(std::string(e.what()).find("lower the fine resolution"), std::string::npos) << e.what();
     }
     EXPECT_EQ(sCtx->liveObjects(), live);
   }

@@ -38,12 +38,11 @@ struct RefineParams {
   vec4 coarseOriginInvH; // xyz: world corner of coarse voxel (0,0,0), w: 1 / coarse voxel size
   ivec4 coarseDims;      // xyz: coarse voxels per axis
   float alpha;           // history decay
-  float band;            // d
   uint rays;             // x, rays per masked voxel per frame
   uint frame;            // frame number (1, 2, ...): history older than frame - 1 is restarted
   uint seed;             // per-run random seed
   float beta;            // the coarse shell (closest mode widens its search by it)
-  uint pad0, pad1;
+  uint pad0, pad1, pad2;
 };
 
 /// PCG hash (O'Neill's PCG-RXS-M-XS, as in Jarzynski and Olano 2020): a well-mixed 32-bit hash.

@@ -20,9 +20,6 @@ void GpuGBuffer::reserve(const gpu::VulkanContext& ctx, int w, int h) {
   height = h;
 }
 
-GBufferPass::GBufferPass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "gbuffer.comp", kGBufferBindingCount, sizeof(CameraParams)) {}
-
 void GBufferPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                           const Params& camera) const {
   const GpuGBuffer& g = out.gbuffer;
@@ -108,8 +105,6 @@ void ShadowMapPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
   mLookup.dispatch(cmd, b, &maps[0], imageGroups(in.gbuffer.width, in.gbuffer.height));
   gpu::computeBarrier(cmd);
 }
-
-TaaPass::TaaPass(const gpu::VulkanContext& ctx) : mPipeline(ctx, "taa.comp", kTaaBindingCount, sizeof(TaaParams)) {}
 
 void TaaPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                       const Params& params) const {

@@ -3,6 +3,7 @@
 /// @brief The renderer's GPU passes, each a small named unit (inputs, outputs, execute): GBufferPass,
 ///        SdfShadowPass, ShadowMapPass, TaaPass.
 ///        Their CPU references are in RenderReference.h.
+#include "gpu/ComputePass.h"
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"
 #include "gpu/shared/Render.h"
@@ -18,28 +19,21 @@ struct GpuGBuffer {
   void reserve(const gpu::VulkanContext& ctx, int width, int height);
 };
 
-// Every pass has one shape: execute(cmd, profiler, inputs, outputs, params) records its dispatches into @a cmd
-// inside profiler scopes of its own names (null profiler: none); the caller submits. Buffers are bound at the
-// indices gpu/shared/RenderBindings.h names.
+// The passes have the shape of gpu/ComputePass.h; buffers are bound at the indices gpu/shared/RenderBindings.h
+// names.
 
 /// @brief Primary visibility: one camera ray per pixel through the scene's BVH.
-class GBufferPass {
+class GBufferPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "GBufferPass";
-  struct Inputs {
-    const GpuSceneBvh& bvh;
-  };
-  struct Outputs {
-    const GpuGBuffer& gbuffer; ///< reserved for the camera's image size
-  };
+  struct Inputs { const GpuSceneBvh& bvh; };
+  struct Outputs { const GpuGBuffer& gbuffer; }; ///< reserved for the camera's image size
   using Params = gpu::shared::CameraParams;
-  explicit GBufferPass(const gpu::VulkanContext& ctx);
+  explicit GBufferPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "gbuffer.comp", gpu::shared::kGBufferBindingCount, sizeof(Params)) {}
   /// @throw Error when the G-buffer is not reserved for the camera's image size.
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& camera) const;
-
-private:
-  gpu::ComputePipeline mPipeline;
 };
 
 /// @brief SDF soft shadows: per pixel and light, sphere tracing of the fine SDF towards the light.
@@ -57,9 +51,7 @@ public:
     const gpu::SampledVolume* texture;
     const gpu::Buffer& lights;
   };
-  struct Outputs {
-    const gpu::Buffer& visibility; ///< params.gridDims.w * width * height floats, light-major
-  };
+  struct Outputs { const gpu::Buffer& visibility; }; ///< params.gridDims.w * width * height floats, light-major
   using Params = gpu::shared::SdfShadowParams;
   /// @note The texture variant is built only where the device filters R32_SFLOAT 3D textures linearly.
   explicit SdfShadowPass(const gpu::VulkanContext& ctx);
@@ -83,10 +75,8 @@ public:
     const gpu::Buffer& lights;
     const gpu::Buffer& maps; ///< the ShadowMapParams of every light, on the GPU
   };
-  struct Outputs {
-    const gpu::Buffer& depth;      ///< 6 * N^2 floats per light
-    const gpu::Buffer& visibility; ///< light-major
-  };
+  /// Depth maps (6 N^2 floats per light) and the visibility (light-major).
+  struct Outputs { const gpu::Buffer &depth, &visibility; };
   using Params = std::vector<gpu::shared::ShadowMapParams>; ///< one per light (host copy of Inputs::maps)
   explicit ShadowMapPass(const gpu::VulkanContext& ctx);
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
@@ -97,22 +87,16 @@ private:
 };
 
 /// @brief Temporal accumulation of the visibility with neighbourhood clamping.
-class TaaPass {
+class TaaPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "TaaPass";
-  struct Inputs {
-    const gpu::Buffer& current;
-  };
-  struct Outputs {
-    const gpu::Buffer& history; ///< in: the last output; out: this frame's
-  };
+  struct Inputs { const gpu::Buffer& current; };
+  struct Outputs { const gpu::Buffer& history; }; ///< in: the last output; out: this frame's
   using Params = gpu::shared::TaaParams;
-  explicit TaaPass(const gpu::VulkanContext& ctx);
+  explicit TaaPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "taa.comp", gpu::shared::kTaaBindingCount, sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
-
-private:
-  gpu::ComputePipeline mPipeline;
 };
 
 } // namespace rtsdf

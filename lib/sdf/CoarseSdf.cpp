@@ -11,9 +11,6 @@
 namespace rtsdf {
 using namespace gpu::shared;
 
-VoxelizePass::VoxelizePass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "voxelize.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)) {}
-
 void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
@@ -25,9 +22,6 @@ void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   if (params.shader.triangleCount)
     mPipeline.dispatch(cmd, b, &params.shader, {gpu::groupsFor(params.shader.triangleCount, 64), params.maxChunks, 1});
 }
-
-JumpFloodPass::JumpFloodPass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "jump_flood.comp", kJumpFloodBindingCount, sizeof(JumpFloodParams)) {}
 
 void JumpFloodPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                             const Params& params) const {
@@ -54,9 +48,6 @@ void JumpFloodPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
 const gpu::Buffer& JumpFloodPass::result(const Inputs& in, const Outputs& out, const Params& params) {
   return jumpFloodSteps(params.dims, params.variant).size() % 2 ? out.scratch : in.seeds;
 }
-
-CoarseDistancePass::CoarseDistancePass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "coarse_distance.comp", kCoarseDistanceBindingCount, sizeof(CoarseDistanceParams)) {}
 
 void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in,
                                  const Outputs& out, const Params& params) const {

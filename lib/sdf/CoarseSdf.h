@@ -3,6 +3,7 @@
 /// @brief The coarse SDF of the RTSDF pipeline, made on the GPU every frame: VoxelizePass (conservative
 ///        triangle/voxel overlap -> seed voxels), JumpFloodPass (3D jump flooding -> nearest seed per voxel)
 ///        and CoarseDistancePass (c = distance - beta).
+#include "gpu/ComputePass.h"
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"
 #include "gpu/shared/CoarseSdf.h"
@@ -18,75 +19,55 @@
 
 namespace rtsdf {
 
-// Every pass has one shape: execute(cmd, profiler, inputs, outputs, params) records its dispatches into @a cmd
-// inside a profiler scope named kName (null profiler: none); the caller submits. Buffers are bound at the
-// indices gpu/shared/CoarseSdf.h names.
+// The passes have the shape of gpu/ComputePass.h; buffers are bound at the indices gpu/shared/CoarseSdf.h names.
 
 /// @brief VoxelizePass: conservative triangle/voxel overlap. Output: seeds (kNoSeed, or the voxel's own packed
 ///        coordinate where a triangle touches its box).
-class VoxelizePass {
+class VoxelizePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "VoxelizePass";
-  struct Inputs {
-    const gpu::Buffer& corners; ///< 3 x vec4 per triangle, world space
-  };
-  struct Outputs {
-    const gpu::Buffer& seeds;
-  };
+  struct Inputs { const gpu::Buffer& corners; }; ///< 3 x vec4 per triangle, world space
+  struct Outputs { const gpu::Buffer& seeds; };
   struct Params {
     gpu::shared::VoxelizeParams shader;
     std::uint32_t maxChunks = 1; ///< the most chunks (shader.chunkSize voxels each) any triangle's range needs
   };
-  explicit VoxelizePass(const gpu::VulkanContext& ctx);
+  explicit VoxelizePass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "voxelize.comp", gpu::shared::kVoxelizeBindingCount, sizeof(gpu::shared::VoxelizeParams)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
-
-private:
-  gpu::ComputePipeline mPipeline;
 };
 
 /// @brief JumpFloodPass: 3D jump flooding, ping-ponging between the seeds and a scratch buffer. The nearest
 ///        seed per voxel ends in whichever of the two result() names; the other holds the last-but-one step.
-class JumpFloodPass {
+class JumpFloodPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "JumpFloodPass";
-  struct Inputs {
-    const gpu::Buffer& seeds; ///< overwritten by the even steps
-  };
-  struct Outputs {
-    const gpu::Buffer& scratch; ///< written by the odd steps
-  };
+  struct Inputs { const gpu::Buffer& seeds; };     ///< overwritten by the even steps
+  struct Outputs { const gpu::Buffer& scratch; };  ///< written by the odd steps
   struct Params {
     glm::ivec3 dims{0};
     JfaVariant variant = JfaVariant::OnePlusJfa;
   };
-  explicit JumpFloodPass(const gpu::VulkanContext& ctx);
+  explicit JumpFloodPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "jump_flood.comp", gpu::shared::kJumpFloodBindingCount, sizeof(gpu::shared::JumpFloodParams)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
   /// @brief The buffer that holds the nearest seeds after execute() with the same arguments.
   static const gpu::Buffer& result(const Inputs& in, const Outputs& out, const Params& params);
-
-private:
-  gpu::ComputePipeline mPipeline;
 };
 
 /// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel.
-class CoarseDistancePass {
+class CoarseDistancePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "CoarseDistancePass";
-  struct Inputs {
-    const gpu::Buffer& nearest;
-  };
-  struct Outputs {
-    const gpu::Buffer& distance;
-  };
+  struct Inputs { const gpu::Buffer& nearest; };
+  struct Outputs { const gpu::Buffer& distance; };
   using Params = gpu::shared::CoarseDistanceParams;
-  explicit CoarseDistancePass(const gpu::VulkanContext& ctx);
+  explicit CoarseDistancePass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "coarse_distance.comp", gpu::shared::kCoarseDistanceBindingCount, sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
-
-private:
-  gpu::ComputePipeline mPipeline;
 };
 
 /// @brief Settings of the coarse SDF.

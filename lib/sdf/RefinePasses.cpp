@@ -5,9 +5,6 @@
 namespace rtsdf {
 using namespace gpu::shared;
 
-UpsamplePass::UpsamplePass(const gpu::VulkanContext& ctx)
-    : mPipeline(ctx, "refine_upsample.comp", kUpsampleBindingCount, sizeof(RefineParams)) {}
-
 void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
@@ -20,9 +17,6 @@ void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
                       gpu::groupsFor(d.z, RTSDF_UPSAMPLE_GROUP_Z)});
   gpu::computeBarrier(cmd);
 }
-
-RefinePass::RefinePass(const gpu::VulkanContext& ctx, const char* shader, const char* name)
-    : mPipeline(ctx, shader, kRefineBindingCount, sizeof(RefineParams)), mName(name) {}
 
 void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                          const Params& params) const {

@@ -4,6 +4,7 @@
 ///        value outside the ray mask) and the refinement of the masked voxels through the scene BVH, by the
 ///        paper's random rays (RayRefinePass) or exact closest points (ClosestRefinePass). Same shape as every
 ///        pass: execute(cmd, profiler, inputs, outputs, params), bindings named in gpu/shared/Refine.h.
+#include "gpu/ComputePass.h"
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"
 #include "gpu/shared/Refine.h"
@@ -12,27 +13,21 @@
 namespace rtsdf {
 
 /// @brief UpsamplePass: fine[v] = the coarse SDF trilinearly interpolated at fine voxel v's centre.
-class UpsamplePass {
+class UpsamplePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "UpsamplePass";
-  struct Inputs {
-    const gpu::Buffer& coarse; ///< c_t, dense, x fastest
-  };
-  struct Outputs {
-    const gpu::Buffer& fine; ///< every fine voxel written
-  };
-  using Params = gpu::shared::RefineParams; ///< grids of both levels
-  explicit UpsamplePass(const gpu::VulkanContext& ctx);
+  struct Inputs { const gpu::Buffer& coarse; }; ///< c_t, dense, x fastest
+  struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel written
+  using Params = gpu::shared::RefineParams;     ///< grids of both levels
+  explicit UpsamplePass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "refine_upsample.comp", gpu::shared::kUpsampleBindingCount, sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
-
-private:
-  gpu::ComputePipeline mPipeline;
 };
 
 /// @brief The refinement of the masked fine voxels (refine_main.glsl): the shared shape of RayRefinePass and
 ///        ClosestRefinePass, which differ in the shader variant and their profiler name.
-class RefinePass {
+class RefinePass : gpu::ComputePass {
 public:
   struct Inputs {
     const GpuSceneBvh& bvh;       ///< top level as of this frame
@@ -41,22 +36,17 @@ public:
   };
   /// Per fine voxel: the SDF (in: c_t upsampled, out: f_t), its unsigned history, decayed sign votes, and the
   /// frame it was last refined in.
-  struct Outputs {
-    const gpu::Buffer& fine;
-    const gpu::Buffer& history;
-    const gpu::Buffer& votes;
-    const gpu::Buffer& lastFrame;
-  };
+  struct Outputs { const gpu::Buffer &fine, &history, &votes, &lastFrame; };
   using Params = gpu::shared::RefineParams;
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
   const char* name() const { return mName; }
 
 protected:
-  RefinePass(const gpu::VulkanContext& ctx, const char* shader, const char* name);
+  RefinePass(const gpu::VulkanContext& ctx, const char* shader, const char* name)
+      : ComputePass(ctx, shader, gpu::shared::kRefineBindingCount, sizeof(Params)), mName(name) {}
 
 private:
-  gpu::ComputePipeline mPipeline;
   const char* mName;
 };
 

@@ -10,6 +10,31 @@
 uint nodeFirst(BvhNode n) { return floatBitsToUint(n.lo.w); }
 uint nodeCount(BvhNode n) { return floatBitsToUint(n.hi.w); }
 
+// The top-level walk that traceNearest and closestPoint share: depth first from the root of tlasNodes, a
+// popped node NODE skipped when the expression CULLED (of NODE and the caller's locals) is true, so a nearer
+// hit found meanwhile prunes it; an inner node pushes its children (the first on top); a leaf runs the code
+// between the two macros once per instance, declared as 'BvhInstance INST'. Macros, not a function: GLSL has
+// no callbacks, the body updates the caller's locals, and the loops stay exactly the hand-written ones (no
+// extra iterations; lavapipe cuts long loops). Use: RTSDF_TLAS_WALK_BEGIN(tn, cull, inst) ... RTSDF_TLAS_WALK_END
+#define RTSDF_TLAS_WALK_BEGIN(NODE, CULLED, INST)                                                                      \
+  uint tstack[RTSDF_BVH_STACK];                                                                                        \
+  int tsp = 0;                                                                                                         \
+  tstack[tsp++] = 0u;                                                                                                  \
+  while (tsp > 0) {                                                                                                    \
+    BvhNode NODE = tlasNodes[tstack[--tsp]];                                                                           \
+    if (CULLED) continue;                                                                                              \
+    uint tc = nodeCount(NODE);                                                                                         \
+    if (tc == 0u) {                                                                                                    \
+      tstack[tsp++] = nodeFirst(NODE) + 1u;                                                                            \
+      tstack[tsp++] = nodeFirst(NODE);                                                                                 \
+      continue;                                                                                                        \
+    }                                                                                                                  \
+    for (uint s = 0u; s < tc; ++s) {                                                                                   \
+      BvhInstance INST = instances[tlasSlots[nodeFirst(NODE) + s]];
+#define RTSDF_TLAS_WALK_END                                                                                            \
+    }                                                                                                                  \
+  }
+
 vec3 xformPoint(vec4 m[3], vec3 p) { return vec3(dot(m[0].xyz, p) + m[0].w, dot(m[1].xyz, p) + m[1].w, dot(m[2].xyz, p) + m[2].w); }
 vec3 xformVector(vec4 m[3], vec3 v) { return vec3(dot(m[0].xyz, v), dot(m[1].xyz, v), dot(m[2].xyz, v)); }
 
@@ -50,55 +75,40 @@ bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
   float best = tmax;
   bool found = false;
   vec3 invD = 1.0 / d;
-  uint tstack[RTSDF_BVH_STACK];
-  int tsp = 0;
-  tstack[tsp++] = 0u;
-  while (tsp > 0) {
-    BvhNode tn = tlasNodes[tstack[--tsp]];
-    if (isinf(rayBox(o, invD, tn.lo.xyz, tn.hi.xyz, tmin, best))) continue;
-    uint tc = nodeCount(tn);
-    if (tc == 0u) {
-      tstack[tsp++] = nodeFirst(tn) + 1u;
-      tstack[tsp++] = nodeFirst(tn);
-      continue;
-    }
-    for (uint s = 0u; s < tc; ++s) {
-      uint ii = tlasSlots[nodeFirst(tn) + s];
-      BvhInstance inst = instances[ii];
-      vec3 oo = xformPoint(inst.worldToObject, o);
-      vec3 dd = xformVector(inst.worldToObject, d);
-      vec3 invDD = 1.0 / dd;
-      uint stack[RTSDF_BVH_STACK];
-      int sp = 0;
-      stack[sp++] = inst.blasRoot;
-      while (sp > 0) {
-        BvhNode n = blasNodes[stack[--sp]];
-        if (isinf(rayBox(oo, invDD, n.lo.xyz, n.hi.xyz, tmin, best))) continue;
-        uint cnt = nodeCount(n);
-        if (cnt == 0u) {
-          // Visit the nearer child first.
-          BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
-          float tl = rayBox(oo, invDD, l.lo.xyz, l.hi.xyz, tmin, best);
-          float tr = rayBox(oo, invDD, r.lo.xyz, r.hi.xyz, tmin, best);
-          if (tl <= tr) { if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; if (!isinf(tl)) stack[sp++] = nodeFirst(n); }
-          else { if (!isinf(tl)) stack[sp++] = nodeFirst(n); if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; }
-          continue;
-        }
-        for (uint k = 0u; k < cnt; ++k) {
-          uint tri = nodeFirst(n) + k;
-          bool front;
-          if (rayTriangle(oo, dd, corners[3u * tri].xyz, corners[3u * tri + 1u].xyz, corners[3u * tri + 2u].xyz, tmin,
-                          best, front)) {
-            found = true;
-            hit.instance = inst.instanceId;
-            hit.triangle = triangleIds[tri];
-            hit.leaf = tri;
-            hit.frontFace = (front != (inst.mirrored != 0u)) ? 1u : 0u;
-          }
+  RTSDF_TLAS_WALK_BEGIN(tn, isinf(rayBox(o, invD, tn.lo.xyz, tn.hi.xyz, tmin, best)), inst)
+    vec3 oo = xformPoint(inst.worldToObject, o);
+    vec3 dd = xformVector(inst.worldToObject, d);
+    vec3 invDD = 1.0 / dd;
+    uint stack[RTSDF_BVH_STACK];
+    int sp = 0;
+    stack[sp++] = inst.blasRoot;
+    while (sp > 0) {
+      BvhNode n = blasNodes[stack[--sp]];
+      if (isinf(rayBox(oo, invDD, n.lo.xyz, n.hi.xyz, tmin, best))) continue;
+      uint cnt = nodeCount(n);
+      if (cnt == 0u) {
+        // Visit the nearer child first.
+        BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
+        float tl = rayBox(oo, invDD, l.lo.xyz, l.hi.xyz, tmin, best);
+        float tr = rayBox(oo, invDD, r.lo.xyz, r.hi.xyz, tmin, best);
+        if (tl <= tr) { if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; if (!isinf(tl)) stack[sp++] = nodeFirst(n); }
+        else { if (!isinf(tl)) stack[sp++] = nodeFirst(n); if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; }
+        continue;
+      }
+      for (uint k = 0u; k < cnt; ++k) {
+        uint tri = nodeFirst(n) + k;
+        bool front;
+        if (rayTriangle(oo, dd, corners[3u * tri].xyz, corners[3u * tri + 1u].xyz, corners[3u * tri + 2u].xyz, tmin,
+                        best, front)) {
+          found = true;
+          hit.instance = inst.instanceId;
+          hit.triangle = triangleIds[tri];
+          hit.leaf = tri;
+          hit.frontFace = (front != (inst.mirrored != 0u)) ? 1u : 0u;
         }
       }
     }
-  }
+  RTSDF_TLAS_WALK_END
   if (found) hit.point = vec4(o + best * d, best);
   return found;
 }
@@ -154,82 +164,68 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
   float bestFacing = -1.0; // |cos| between p - q and the best triangle's normal
   // Ties (below) must be seen: culling keeps boxes within rounding of the best distance.
   float ulp4 = 4.8e-7 * max(abs(p.x), max(abs(p.y), abs(p.z))); // 4 float ulps at p's coordinates
-  uint tstack[RTSDF_BVH_STACK];
-  int tsp = 0;
-  tstack[tsp++] = 0u;
-  while (tsp > 0) {
-    BvhNode tn = tlasNodes[tstack[--tsp]];
-    if (boxDistance(p, tn.lo.xyz, tn.hi.xyz) > best * (1.0 + 1.0e-5) + ulp4) continue;
-    uint tc = nodeCount(tn);
-    if (tc == 0u) {
-      tstack[tsp++] = nodeFirst(tn) + 1u;
-      tstack[tsp++] = nodeFirst(tn);
-      continue;
-    }
-    for (uint s = 0u; s < tc; ++s) {
-      BvhInstance inst = instances[tlasSlots[nodeFirst(tn) + s]];
-      vec3 po = xformPoint(inst.worldToObject, p);
-      uint stack[RTSDF_BVH_STACK];
-      int sp = 0;
-      stack[sp++] = inst.blasRoot;
-      while (sp > 0) {
-        BvhNode n = blasNodes[stack[--sp]];
-        // World distance >= minScale * object distance: a conservative cull.
-        float reach = best * (1.0 + 1.0e-5) + ulp4;
-        if (inst.minScale * boxDistance(po, n.lo.xyz, n.hi.xyz) > reach) continue;
-        uint cnt = nodeCount(n);
-        if (cnt == 0u) {
-          // Push only children that can hold a nearer point, the nearer one last (visited first).
-          BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
-          float dl = inst.minScale * boxDistance(po, l.lo.xyz, l.hi.xyz);
-          float dr = inst.minScale * boxDistance(po, r.lo.xyz, r.hi.xyz);
-          uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;
-          uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);
-          if (max(dl, dr) <= reach) stack[sp++] = farC;
-          if (min(dl, dr) <= reach) stack[sp++] = nearC;
-          continue;
+  RTSDF_TLAS_WALK_BEGIN(tn, boxDistance(p, tn.lo.xyz, tn.hi.xyz) > best * (1.0 + 1.0e-5) + ulp4, inst)
+    vec3 po = xformPoint(inst.worldToObject, p);
+    uint stack[RTSDF_BVH_STACK];
+    int sp = 0;
+    stack[sp++] = inst.blasRoot;
+    while (sp > 0) {
+      BvhNode n = blasNodes[stack[--sp]];
+      // World distance >= minScale * object distance: a conservative cull.
+      float reach = best * (1.0 + 1.0e-5) + ulp4;
+      if (inst.minScale * boxDistance(po, n.lo.xyz, n.hi.xyz) > reach) continue;
+      uint cnt = nodeCount(n);
+      if (cnt == 0u) {
+        // Push only children that can hold a nearer point, the nearer one last (visited first).
+        BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
+        float dl = inst.minScale * boxDistance(po, l.lo.xyz, l.hi.xyz);
+        float dr = inst.minScale * boxDistance(po, r.lo.xyz, r.hi.xyz);
+        uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;
+        uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);
+        if (max(dl, dr) <= reach) stack[sp++] = farC;
+        if (min(dl, dr) <= reach) stack[sp++] = nearC;
+        continue;
+      }
+      for (uint k = 0u; k < cnt; ++k) {
+        uint tri = nodeFirst(n) + k;
+        vec3 a = xformPoint(inst.objectToWorld, corners[3u * tri].xyz);
+        vec3 b = xformPoint(inst.objectToWorld, corners[3u * tri + 1u].xyz);
+        vec3 c = xformPoint(inst.objectToWorld, corners[3u * tri + 2u].xyz);
+        vec3 q = closestOnTriangle(p, a, b, c);
+        float dist = length(p - q);
+        if (dist > best * (1.0 + 1.0e-5) + ulp4) continue; // neither nearer nor a tie: the common case
+        // Triangles sharing the closest edge or vertex are equally near (to rounding); the sign comes from
+        // the one whose plane p lies most squarely off: near a sharp edge the other face's plane can pass
+        // within rounding of p, and its side test would be a coin toss.
+        vec3 nrm = cross(b - a, c - a);
+        float nl = length(nrm);
+        float facing = (dist > 0.0 && nl > 0.0) ? abs(dot(p - q, nrm)) / (dist * nl) : 0.0;
+        // A tie is the same distance and closest point (a shared edge or vertex) to rounding. The point
+        // slides along a shared edge by more than the distance changes (1e-3 of the distance covers it).
+        bool tie = found && abs(dist - best) <= 1.0e-5 * best + ulp4 &&
+                   length(q - bestPoint) <= 1.0e-3 * best + 2.0 * ulp4;
+        // Outside when p lies on the side the triangle's counter-clockwise normal points to.
+        uint front = dot(p - q, nrm) * (inst.mirrored != 0u ? -1.0 : 1.0) >= 0.0 ? 1u : 0u;
+        // The point and distance are the nearest's; in a tie only the side may come from another triangle.
+        if (tie && facing > bestFacing) {
+          bestFacing = facing;
+          bestFront = front;
         }
-        for (uint k = 0u; k < cnt; ++k) {
-          uint tri = nodeFirst(n) + k;
-          vec3 a = xformPoint(inst.objectToWorld, corners[3u * tri].xyz);
-          vec3 b = xformPoint(inst.objectToWorld, corners[3u * tri + 1u].xyz);
-          vec3 c = xformPoint(inst.objectToWorld, corners[3u * tri + 2u].xyz);
-          vec3 q = closestOnTriangle(p, a, b, c);
-          float dist = length(p - q);
-          if (dist > best * (1.0 + 1.0e-5) + ulp4) continue; // neither nearer nor a tie: the common case
-          // Triangles sharing the closest edge or vertex are equally near (to rounding); the sign comes from
-          // the one whose plane p lies most squarely off: near a sharp edge the other face's plane can pass
-          // within rounding of p, and its side test would be a coin toss.
-          vec3 nrm = cross(b - a, c - a);
-          float nl = length(nrm);
-          float facing = (dist > 0.0 && nl > 0.0) ? abs(dot(p - q, nrm)) / (dist * nl) : 0.0;
-          // A tie is the same distance and closest point (a shared edge or vertex) to rounding. The point
-          // slides along a shared edge by more than the distance changes (1e-3 of the distance covers it).
-          bool tie = found && abs(dist - best) <= 1.0e-5 * best + ulp4 &&
-                     length(q - bestPoint) <= 1.0e-3 * best + 2.0 * ulp4;
-          // Outside when p lies on the side the triangle's counter-clockwise normal points to.
-          uint front = dot(p - q, nrm) * (inst.mirrored != 0u ? -1.0 : 1.0) >= 0.0 ? 1u : 0u;
-          // The point and distance are the nearest's; in a tie only the side may come from another triangle.
-          if (tie && facing > bestFacing) {
+        if (dist < best) {
+          best = dist;
+          found = true;
+          bestPoint = q;
+          bestInstance = inst.instanceId;
+          bestTriangle = triangleIds[tri];
+          bestLeaf = tri;
+          if (!tie) {
             bestFacing = facing;
             bestFront = front;
-          }
-          if (dist < best) {
-            best = dist;
-            found = true;
-            bestPoint = q;
-            bestInstance = inst.instanceId;
-            bestTriangle = triangleIds[tri];
-            bestLeaf = tri;
-            if (!tie) {
-              bestFacing = facing;
-              bestFront = front;
-            }
           }
         }
       }
     }
-  }
+  RTSDF_TLAS_WALK_END
   hit.point = found ? vec4(bestPoint, best) : vec4(0.0, 0.0, 0.0, -1.0);
   hit.instance = bestInstance;
   hit.triangle = bestTriangle;

@@ -1,6 +1,7 @@
 #pragma once
 /// @file Profiler.h
 /// @brief GPU timestamps per named pass: the numbers the benchmarks read.
+#include "gpu/UniqueHandle.h"
 #include "gpu/VulkanContext.h"
 
 #include <string>
@@ -13,8 +14,7 @@ namespace rtsdf::gpu {
 class GpuProfiler {
 public:
   explicit GpuProfiler(const VulkanContext& ctx, std::uint32_t maxScopes = 256);
-  ~GpuProfiler();
-  GpuProfiler(const GpuProfiler&) = delete;
+  GpuProfiler(const GpuProfiler&) = delete; // ProfileScopes point at it: neither copied nor moved
   GpuProfiler& operator=(const GpuProfiler&) = delete;
 
   /// @brief Record the reset of all queries; call once per command buffer before the first scope.
@@ -31,7 +31,7 @@ public:
 
 private:
   const VulkanContext* mCtx;
-  VkQueryPool mPool = VK_NULL_HANDLE;
+  UniqueHandle<vkDestroyQueryPool> mPool; // none when the device has no compute timestamps
   std::uint32_t mMax;
   std::vector<std::string> mNames;
   std::vector<std::uint32_t> mOpen;

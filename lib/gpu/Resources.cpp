@@ -5,14 +5,32 @@
 #include <fmt/format.h>
 
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 namespace rtsdf::gpu {
 
+namespace {
+// The wrappers are move-only through their UniqueHandle members alone (no hand-written copy, move or destructor).
+template <class W>
+constexpr bool kMoveOnly = !std::is_copy_constructible_v<W> && !std::is_copy_assignable_v<W> &&
+                           std::is_nothrow_move_constructible_v<W> && std::is_nothrow_move_assignable_v<W>;
+static_assert(kMoveOnly<Buffer> && kMoveOnly<SampledVolume> && kMoveOnly<CommandBuffer> && kMoveOnly<ComputePipeline>);
+
+/// Allocate @a memory of a type with @a props for an object with requirements @a req (@a what names it in errors).
+void allocate(const VulkanContext& ctx, UniqueHandle<vkFreeMemory>& memory, const VkMemoryRequirements& req,
+              VkMemoryPropertyFlags props, const std::string& what) {
+  VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  ai.allocationSize = req.size;
+  ai.memoryTypeIndex = ctx.memoryType(req.memoryTypeBits, props);
+  memory.create(ctx, vkAllocateMemory, ai, fmt::format("allocating {} MiB for {}", req.size >> 20, what));
+}
+} // namespace
+
 // ---------------------------------------------------------------------------------------------- Buffer
 
 Buffer::Buffer(const VulkanContext& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, Memory memory, std::string name)
-    : mCtx(&ctx), mSize(bytes), mName(std::move(name)) {
+    : mSize(bytes), mName(std::move(name)) {
   if (bytes == 0) throw Error(fmt::format("buffer '{}': size must be positive", mName));
   if ((usage & VK_BUFFER_USAGE_STORAGE_BUFFER_BIT) && bytes > ctx.info().maxStorageBufferRange)
     throw Error(fmt::format("buffer '{}': {} MiB exceeds {}'s maxStorageBufferRange of {} MiB", mName, bytes >> 20,
@@ -21,55 +39,19 @@ Buffer::Buffer(const VulkanContext& ctx, VkDeviceSize bytes, VkBufferUsageFlags 
   ci.size = bytes;
   ci.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  check(vkCreateBuffer(ctx.device(), &ci, nullptr, &mBuffer), fmt::format("creating buffer '{}'", mName).c_str());
-  ctx.trackObject(+1);
-  try {
-    VkMemoryRequirements req;
-    vkGetBufferMemoryRequirements(ctx.device(), mBuffer, &req);
-    const VkMemoryPropertyFlags props = memory == Memory::Host
-                                            ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
-                                            : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = ctx.memoryType(req.memoryTypeBits, props);
-    check(vkAllocateMemory(ctx.device(), &ai, nullptr, &mMemory),
-          fmt::format("allocating {} MiB for buffer '{}'", req.size >> 20, mName).c_str());
-    check(vkBindBufferMemory(ctx.device(), mBuffer, mMemory, 0), fmt::format("binding buffer '{}'", mName).c_str());
-    if (memory == Memory::Host)
-      check(vkMapMemory(ctx.device(), mMemory, 0, VK_WHOLE_SIZE, 0, &mMapped),
-            fmt::format("mapping buffer '{}'", mName).c_str());
-  } catch (...) {
-    reset();
-    throw;
-  }
-}
-
-void Buffer::reset() {
-  if (!mCtx) return;
-  if (mMapped) vkUnmapMemory(mCtx->device(), mMemory);
-  if (mBuffer) {
-    vkDestroyBuffer(mCtx->device(), mBuffer, nullptr);
-    mCtx->trackObject(-1);
-  }
-  if (mMemory) vkFreeMemory(mCtx->device(), mMemory, nullptr);
-  mBuffer = VK_NULL_HANDLE;
-  mMemory = VK_NULL_HANDLE;
-  mMapped = nullptr;
-  mCtx = nullptr;
-}
-
-Buffer::~Buffer() { reset(); }
-
-Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
-
-Buffer& Buffer::operator=(Buffer&& o) noexcept {
-  if (this != &o) {
-    reset();
-    mCtx = o.mCtx; mBuffer = o.mBuffer; mMemory = o.mMemory; mSize = o.mSize; mMapped = o.mMapped;
-    mName = std::move(o.mName);
-    o.mCtx = nullptr; o.mBuffer = VK_NULL_HANDLE; o.mMemory = VK_NULL_HANDLE; o.mMapped = nullptr; o.mSize = 0;
-  }
-  return *this;
+  // On a throw below, the members already made are destroyed (and uncounted) by their UniqueHandles.
+  mBuffer.create(ctx, vkCreateBuffer, ci, fmt::format("creating buffer '{}'", mName));
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(ctx.device(), mBuffer.get(), &req);
+  const VkMemoryPropertyFlags props = memory == Memory::Host
+                                          ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                          : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  allocate(ctx, mMemory, req, props, fmt::format("buffer '{}'", mName));
+  check(vkBindBufferMemory(ctx.device(), mBuffer.get(), mMemory.get(), 0),
+        fmt::format("binding buffer '{}'", mName).c_str());
+  if (memory == Memory::Host)
+    check(vkMapMemory(ctx.device(), mMemory.get(), 0, VK_WHOLE_SIZE, 0, &mMapped),
+          fmt::format("mapping buffer '{}'", mName).c_str());
 }
 
 // --------------------------------------------------------------------------------------- CommandBuffer
@@ -78,46 +60,18 @@ CommandBuffer::CommandBuffer(const VulkanContext& ctx) : mCtx(&ctx) {
   VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pci.queueFamilyIndex = ctx.queueFamily();
   pci.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
-  check(vkCreateCommandPool(ctx.device(), &pci, nullptr, &mPool), "creating a command pool");
-  ctx.trackObject(+1);
+  mPool.create(ctx, vkCreateCommandPool, pci, "creating a command pool");
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  ai.commandPool = mPool;
+  ai.commandPool = mPool.get();
   ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   ai.commandBufferCount = 1;
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  try {
-    check(vkAllocateCommandBuffers(ctx.device(), &ai, &mCmd), "allocating a command buffer");
-    check(vkCreateFence(ctx.device(), &fci, nullptr, &mFence), "creating a fence");
-    ctx.trackObject(+1);
-    check(vkBeginCommandBuffer(mCmd, &bi), "beginning a command buffer");
-    mRecording = true;
-  } catch (...) {
-    destroy();
-    throw;
-  }
-}
-
-CommandBuffer::~CommandBuffer() { destroy(); }
-
-void CommandBuffer::destroy() {
-  if (!mCtx) return;
-  if (mRecording) vkEndCommandBuffer(mCmd);
-  if (mFence) {
-    vkDestroyFence(mCtx->device(), mFence, nullptr);
-    mCtx->trackObject(-1);
-  }
-  if (mPool) {
-    vkDestroyCommandPool(mCtx->device(), mPool, nullptr); // frees mCmd
-    mCtx->trackObject(-1);
-  }
-  mCtx = nullptr;
-}
-
-CommandBuffer::CommandBuffer(CommandBuffer&& o) noexcept
-    : mCtx(o.mCtx), mPool(o.mPool), mCmd(o.mCmd), mFence(o.mFence), mRecording(o.mRecording) {
-  o.mCtx = nullptr;
+  check(vkAllocateCommandBuffers(ctx.device(), &ai, &mCmd), "allocating a command buffer");
+  mFence.create(ctx, vkCreateFence, fci, "creating a fence");
+  check(vkBeginCommandBuffer(mCmd, &bi), "beginning a command buffer");
+  mRecording = true;
 }
 
 void CommandBuffer::submitAndWait(double timeoutSeconds) {
@@ -127,8 +81,9 @@ void CommandBuffer::submitAndWait(double timeoutSeconds) {
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &mCmd;
-  check(vkQueueSubmit(mCtx->queue(), 1, &si, mFence), "submitting to the compute queue");
-  const VkResult r = vkWaitForFences(mCtx->device(), 1, &mFence, VK_TRUE, std::uint64_t(timeoutSeconds * 1e9));
+  check(vkQueueSubmit(mCtx->queue(), 1, &si, mFence.get()), "submitting to the compute queue");
+  const VkResult r =
+      vkWaitForFences(mCtx->device(), 1, mFence.address(), VK_TRUE, std::uint64_t(timeoutSeconds * 1e9));
   if (r == VK_TIMEOUT)
     throw VulkanError(r, fmt::format("waiting for the GPU ({} s without completion)", timeoutSeconds));
   check(r, "waiting for the GPU");
@@ -147,70 +102,33 @@ ComputePipeline::ComputePipeline(const VulkanContext& ctx, const std::string& sh
   for (VkDescriptorType t : mTypes)
     if (t != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER && t != VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)
       throw Error(fmt::format("{}: unsupported descriptor type {}", shader, int(t)));
-  try {
-    mModule = ctx.createShaderModule(shader);
-    ctx.trackObject(+1);
-    const std::uint32_t n = std::uint32_t(mTypes.size());
-    std::vector<VkDescriptorSetLayoutBinding> bindings(n);
-    for (std::uint32_t i = 0; i < n; ++i) bindings[i] = {i, mTypes[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-    VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    lci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
-    lci.bindingCount = n;
-    lci.pBindings = bindings.data();
-    check(vkCreateDescriptorSetLayout(ctx.device(), &lci, nullptr, &mSetLayout),
-          fmt::format("creating the descriptor set layout of {}", shader).c_str());
-    ctx.trackObject(+1);
-    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
-    VkPipelineLayoutCreateInfo pci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    pci.setLayoutCount = 1;
-    pci.pSetLayouts = &mSetLayout;
-    pci.pushConstantRangeCount = pushConstantBytes ? 1 : 0;
-    pci.pPushConstantRanges = &range;
-    check(vkCreatePipelineLayout(ctx.device(), &pci, nullptr, &mLayout),
-          fmt::format("creating the pipeline layout of {}", shader).c_str());
-    ctx.trackObject(+1);
-    VkComputePipelineCreateInfo cci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    cci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-    cci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    cci.stage.module = mModule;
-    cci.stage.pName = "main";
-    cci.layout = mLayout;
-    check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &cci, nullptr, &mPipeline),
-          fmt::format("creating the compute pipeline {}", shader).c_str());
-    ctx.trackObject(+1);
-  } catch (...) {
-    reset();
-    throw;
-  }
-}
-
-void ComputePipeline::reset() {
-  if (!mCtx) return;
-  const VkDevice d = mCtx->device();
-  if (mPipeline) { vkDestroyPipeline(d, mPipeline, nullptr); mCtx->trackObject(-1); }
-  if (mLayout) { vkDestroyPipelineLayout(d, mLayout, nullptr); mCtx->trackObject(-1); }
-  if (mSetLayout) { vkDestroyDescriptorSetLayout(d, mSetLayout, nullptr); mCtx->trackObject(-1); }
-  if (mModule) { vkDestroyShaderModule(d, mModule, nullptr); mCtx->trackObject(-1); }
-  mPipeline = VK_NULL_HANDLE;
-  mLayout = VK_NULL_HANDLE;
-  mSetLayout = VK_NULL_HANDLE;
-  mModule = VK_NULL_HANDLE;
-  mCtx = nullptr;
-}
-
-ComputePipeline::~ComputePipeline() { reset(); }
-
-ComputePipeline::ComputePipeline(ComputePipeline&& o) noexcept { *this = std::move(o); }
-
-ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
-  if (this != &o) {
-    reset();
-    mCtx = o.mCtx; mName = std::move(o.mName); mTypes = std::move(o.mTypes); mPushBytes = o.mPushBytes;
-    mModule = o.mModule; mSetLayout = o.mSetLayout; mLayout = o.mLayout; mPipeline = o.mPipeline;
-    o.mCtx = nullptr; o.mModule = VK_NULL_HANDLE; o.mSetLayout = VK_NULL_HANDLE; o.mLayout = VK_NULL_HANDLE;
-    o.mPipeline = VK_NULL_HANDLE;
-  }
-  return *this;
+  mModule.reset(ctx, ctx.createShaderModule(shader));
+  const std::uint32_t n = std::uint32_t(mTypes.size());
+  std::vector<VkDescriptorSetLayoutBinding> bindings(n);
+  for (std::uint32_t i = 0; i < n; ++i) bindings[i] = {i, mTypes[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  lci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+  lci.bindingCount = n;
+  lci.pBindings = bindings.data();
+  mSetLayout.create(ctx, vkCreateDescriptorSetLayout, lci,
+                    fmt::format("creating the descriptor set layout of {}", shader));
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
+  VkPipelineLayoutCreateInfo pci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  pci.setLayoutCount = 1;
+  pci.pSetLayouts = mSetLayout.address();
+  pci.pushConstantRangeCount = pushConstantBytes ? 1 : 0;
+  pci.pPushConstantRanges = &range;
+  mLayout.create(ctx, vkCreatePipelineLayout, pci, fmt::format("creating the pipeline layout of {}", shader));
+  VkComputePipelineCreateInfo cci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  cci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  cci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  cci.stage.module = mModule.get();
+  cci.stage.pName = "main";
+  cci.layout = mLayout.get();
+  VkPipeline pipeline = VK_NULL_HANDLE; // vkCreateComputePipelines makes arrays: not create()'s shape
+  check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &cci, nullptr, &pipeline),
+        fmt::format("creating the compute pipeline {}", shader).c_str());
+  mPipeline.reset(ctx, pipeline);
 }
 
 void ComputePipeline::dispatch(VkCommandBuffer cmd, BindingList bindings, const void* push,
@@ -233,7 +151,7 @@ void ComputePipeline::bind(VkCommandBuffer cmd, BindingList bindings, const void
   const std::uint32_t n = std::uint32_t(mTypes.size());
   if (bindings.size() != n)
     throw Error(fmt::format("{}: {} resources given for {} bindings", mName, bindings.size(), n));
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mPipeline);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mPipeline.get());
   std::vector<VkDescriptorBufferInfo> buffers(n);
   std::vector<VkDescriptorImageInfo> images(n);
   std::vector<VkWriteDescriptorSet> writes;
@@ -255,8 +173,8 @@ void ComputePipeline::bind(VkCommandBuffer cmd, BindingList bindings, const void
     writes.push_back(w);
     ++i;
   }
-  if (n) mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mLayout, 0, n, writes.data());
-  if (mPushBytes) vkCmdPushConstants(cmd, mLayout, VK_SHADER_STAGE_COMPUTE_BIT, 0, mPushBytes, push);
+  if (n) mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mLayout.get(), 0, n, writes.data());
+  if (mPushBytes) vkCmdPushConstants(cmd, mLayout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, mPushBytes, push);
 }
 
 // ---------------------------------------------------------------------------------------------- SampledVolume
@@ -271,7 +189,7 @@ bool SampledVolume::supported(const VulkanContext& ctx) {
 }
 
 SampledVolume::SampledVolume(const VulkanContext& ctx, glm::uvec3 dims, std::string name)
-    : mCtx(&ctx), mDims(dims), mName(std::move(name)) {
+    : mDims(dims), mName(std::move(name)) {
   const std::uint32_t limit = ctx.info().maxImageDimension3D;
   if (dims.x == 0 || dims.y == 0 || dims.z == 0 || dims.x > limit || dims.y > limit || dims.z > limit)
     throw Error(fmt::format("volume '{}': {}x{}x{} voxels is empty or beyond {}'s maxImageDimension3D of {}", mName,
@@ -279,79 +197,39 @@ SampledVolume::SampledVolume(const VulkanContext& ctx, glm::uvec3 dims, std::str
   if (!supported(ctx))
     throw Error(fmt::format("volume '{}': {} cannot filter R32_SFLOAT 3D textures linearly (use buffer sampling)",
                             mName, ctx.info().name));
-  try {
-    VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    ci.imageType = VK_IMAGE_TYPE_3D;
-    ci.format = VK_FORMAT_R32_SFLOAT;
-    ci.extent = {dims.x, dims.y, dims.z};
-    ci.mipLevels = 1;
-    ci.arrayLayers = 1;
-    ci.samples = VK_SAMPLE_COUNT_1_BIT;
-    ci.tiling = VK_IMAGE_TILING_OPTIMAL;
-    ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-    ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    check(vkCreateImage(ctx.device(), &ci, nullptr, &mImage), fmt::format("creating volume '{}'", mName).c_str());
-    ctx.trackObject(+1);
-    VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(ctx.device(), mImage, &req);
-    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    ai.allocationSize = req.size;
-    ai.memoryTypeIndex = ctx.memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    check(vkAllocateMemory(ctx.device(), &ai, nullptr, &mMemory),
-          fmt::format("allocating {} MiB for volume '{}'", req.size >> 20, mName).c_str());
-    ctx.trackObject(+1);
-    check(vkBindImageMemory(ctx.device(), mImage, mMemory, 0), fmt::format("binding volume '{}'", mName).c_str());
-    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    vi.image = mImage;
-    vi.viewType = VK_IMAGE_VIEW_TYPE_3D;
-    vi.format = VK_FORMAT_R32_SFLOAT;
-    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    check(vkCreateImageView(ctx.device(), &vi, nullptr, &mView), fmt::format("creating the view of '{}'", mName).c_str());
-    ctx.trackObject(+1);
-    // Texel centres at (i + 0.5) / dims, clamped to the edge texels: the same trilinear field as the buffer
-    // path's sampleSdf (which clamps the continuous index to [0, dims - 1]).
-    VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-    si.magFilter = VK_FILTER_LINEAR;
-    si.minFilter = VK_FILTER_LINEAR;
-    si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-    si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    si.maxLod = 0.0f;
-    check(vkCreateSampler(ctx.device(), &si, nullptr, &mSampler), fmt::format("creating the sampler of '{}'", mName).c_str());
-    ctx.trackObject(+1);
-  } catch (...) {
-    reset();
-    throw;
-  }
-}
-
-void SampledVolume::reset() {
-  if (!mCtx) return;
-  const VkDevice d = mCtx->device();
-  if (mSampler) { vkDestroySampler(d, mSampler, nullptr); mCtx->trackObject(-1); }
-  if (mView) { vkDestroyImageView(d, mView, nullptr); mCtx->trackObject(-1); }
-  if (mImage) { vkDestroyImage(d, mImage, nullptr); mCtx->trackObject(-1); }
-  if (mMemory) { vkFreeMemory(d, mMemory, nullptr); mCtx->trackObject(-1); }
-  mSampler = VK_NULL_HANDLE;
-  mView = VK_NULL_HANDLE;
-  mImage = VK_NULL_HANDLE;
-  mMemory = VK_NULL_HANDLE;
-  mCtx = nullptr;
-}
-
-SampledVolume::~SampledVolume() { reset(); }
-
-SampledVolume::SampledVolume(SampledVolume&& o) noexcept { *this = std::move(o); }
-
-SampledVolume& SampledVolume::operator=(SampledVolume&& o) noexcept {
-  if (this != &o) {
-    reset();
-    mCtx = o.mCtx; mImage = o.mImage; mMemory = o.mMemory; mView = o.mView; mSampler = o.mSampler;
-    mDims = o.mDims; mName = std::move(o.mName);
-    o.mCtx = nullptr; o.mImage = VK_NULL_HANDLE; o.mMemory = VK_NULL_HANDLE; o.mView = VK_NULL_HANDLE;
-    o.mSampler = VK_NULL_HANDLE;
-  }
-  return *this;
+  VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  ci.imageType = VK_IMAGE_TYPE_3D;
+  ci.format = VK_FORMAT_R32_SFLOAT;
+  ci.extent = {dims.x, dims.y, dims.z};
+  ci.mipLevels = 1;
+  ci.arrayLayers = 1;
+  ci.samples = VK_SAMPLE_COUNT_1_BIT;
+  ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  // On a throw below, the members already made are destroyed (and uncounted) by their UniqueHandles.
+  mImage.create(ctx, vkCreateImage, ci, fmt::format("creating volume '{}'", mName));
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(ctx.device(), mImage.get(), &req);
+  allocate(ctx, mMemory, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, fmt::format("volume '{}'", mName));
+  check(vkBindImageMemory(ctx.device(), mImage.get(), mMemory.get(), 0),
+        fmt::format("binding volume '{}'", mName).c_str());
+  VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vi.image = mImage.get();
+  vi.viewType = VK_IMAGE_VIEW_TYPE_3D;
+  vi.format = VK_FORMAT_R32_SFLOAT;
+  vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  mView.create(ctx, vkCreateImageView, vi, fmt::format("creating the view of '{}'", mName));
+  // Texel centres at (i + 0.5) / dims, clamped to the edge texels: the same trilinear field as the buffer
+  // path's sampleSdf (which clamps the continuous index to [0, dims - 1]).
+  VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  si.magFilter = VK_FILTER_LINEAR;
+  si.minFilter = VK_FILTER_LINEAR;
+  si.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  si.maxLod = 0.0f;
+  mSampler.create(ctx, vkCreateSampler, si, fmt::format("creating the sampler of '{}'", mName));
 }
 
 void SampledVolume::copyFrom(VkCommandBuffer cmd, const Buffer& src) const {
@@ -373,14 +251,14 @@ void SampledVolume::copyFrom(VkCommandBuffer cmd, const Buffer& src) const {
   ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   ib.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
   ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  ib.image = mImage;
+  ib.image = mImage.get();
   ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 1, &bb, 1, &ib);
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {mDims.x, mDims.y, mDims.z};
-  vkCmdCopyBufferToImage(cmd, src.handle(), mImage, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+  vkCmdCopyBufferToImage(cmd, src.handle(), mImage.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
   ib.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
   ib.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;

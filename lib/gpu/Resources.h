@@ -2,6 +2,12 @@
 /// @file Resources.h
 /// @brief Move-only RAII owners of the Vulkan objects rtsdf's compute passes use: buffers, one-shot
 ///        command buffers, compute pipelines (push descriptors, push constants) and barriers.
+/// @note Each wrapper holds its Vulkan objects in UniqueHandle members (gpu/UniqueHandle.h), which destroy
+///       them, keep the context's live-object count and make the wrapper move-only with no hand-written
+///       destructor or move operations. Members are declared so that destruction goes dependents first; a move
+///       assignment replaces them in declaration order (e.g. old memory freed before its old buffer), which
+///       Vulkan allows as the old objects are never used again.
+#include "gpu/UniqueHandle.h"
 #include "gpu/VulkanContext.h"
 
 #include <glm/glm.hpp>
@@ -14,7 +20,8 @@
 
 namespace rtsdf::gpu {
 
-/// @brief A VkBuffer with its own memory. Every live Buffer is counted by its context (leak report).
+/// @brief A VkBuffer with its own memory. Move-only; its buffer and memory are counted by its context (leak
+///        report).
 class Buffer {
 public:
   /// @brief Where the buffer's memory lives.
@@ -26,24 +33,18 @@ public:
   /// @throw VulkanError (with the VkResult) when creation or allocation fails, Error on a zero size or a
   ///        size beyond the device's maxStorageBufferRange for storage buffers.
   Buffer(const VulkanContext& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, Memory memory, std::string name);
-  ~Buffer();
-  Buffer(Buffer&& other) noexcept;
-  Buffer& operator=(Buffer&& other) noexcept;
-  Buffer(const Buffer&) = delete;
-  Buffer& operator=(const Buffer&) = delete;
 
-  VkBuffer handle() const { return mBuffer; }
-  VkDeviceSize size() const { return mSize; }
+  VkBuffer handle() const { return mBuffer.get(); }
+  /// @brief Bytes (0 when empty or moved from).
+  VkDeviceSize size() const { return mBuffer ? mSize : 0; }
   const std::string& name() const { return mName; }
-  /// @brief Host pointer of a Memory::Host buffer (nullptr for device memory).
-  void* mapped() const { return mMapped; }
-  explicit operator bool() const { return mBuffer != VK_NULL_HANDLE; }
+  /// @brief Host pointer of a Memory::Host buffer (nullptr for device memory, or when empty or moved from).
+  void* mapped() const { return mBuffer ? mMapped : nullptr; }
+  explicit operator bool() const { return bool(mBuffer); }
 
 private:
-  void reset();
-  const VulkanContext* mCtx = nullptr;
-  VkBuffer mBuffer = VK_NULL_HANDLE;
-  VkDeviceMemory mMemory = VK_NULL_HANDLE;
+  UniqueHandle<vkFreeMemory> mMemory; // freed after the buffer (and implicitly unmapped)
+  UniqueHandle<vkDestroyBuffer> mBuffer;
   VkDeviceSize mSize = 0;
   void* mMapped = nullptr;
   std::string mName;
@@ -51,7 +52,8 @@ private:
 
 /// @brief A 3D single-channel float texture (R32_SFLOAT, optimal tiling) with its view, its own memory and a
 ///        sampler (trilinear filtering, clamp to edge, normalized coordinates), for fields the shaders sample
-///        with hardware filtering. Filled from a dense buffer by copyFrom(); counted by its context (leaks).
+///        with hardware filtering. Filled from a dense buffer by copyFrom(); move-only; its objects are counted
+///        by its context (leaks).
 class SampledVolume {
 public:
   SampledVolume() = default;
@@ -59,11 +61,6 @@ public:
   /// @throw Error when a dimension is 0 or beyond maxImageDimension3D, or when the device cannot filter
   ///        R32_SFLOAT linearly (an optional feature); VulkanError (with the VkResult) when creation fails.
   SampledVolume(const VulkanContext& ctx, glm::uvec3 dims, std::string name);
-  ~SampledVolume();
-  SampledVolume(SampledVolume&& other) noexcept;
-  SampledVolume& operator=(SampledVolume&& other) noexcept;
-  SampledVolume(const SampledVolume&) = delete;
-  SampledVolume& operator=(const SampledVolume&) = delete;
 
   /// @brief Record: copy @a src (dims.x * dims.y * dims.z floats, x fastest, written by earlier shaders or
   ///        transfers) into the texture and make it ready for sampling by later compute shaders.
@@ -73,19 +70,18 @@ public:
   /// @brief Whether @a ctx's device filters R32_SFLOAT 3D textures linearly.
   static bool supported(const VulkanContext& ctx);
 
-  VkImageView view() const { return mView; }
-  VkSampler sampler() const { return mSampler; }
+  VkImageView view() const { return mView.get(); }
+  VkSampler sampler() const { return mSampler.get(); }
   glm::uvec3 dims() const { return mDims; }
   const std::string& name() const { return mName; }
-  explicit operator bool() const { return mImage != VK_NULL_HANDLE; }
+  explicit operator bool() const { return bool(mImage); }
 
 private:
-  void reset();
-  const VulkanContext* mCtx = nullptr;
-  VkImage mImage = VK_NULL_HANDLE;
-  VkDeviceMemory mMemory = VK_NULL_HANDLE;
-  VkImageView mView = VK_NULL_HANDLE;
-  VkSampler mSampler = VK_NULL_HANDLE;
+  // Destroyed in reverse order: sampler, view, image, memory.
+  UniqueHandle<vkFreeMemory> mMemory;
+  UniqueHandle<vkDestroyImage> mImage;
+  UniqueHandle<vkDestroyImageView> mView;
+  UniqueHandle<vkDestroySampler> mSampler;
   glm::uvec3 mDims{0};
   std::string mName;
 };
@@ -116,15 +112,10 @@ private:
   std::size_t mSize;
 };
 
-/// @brief A primary command buffer from its own pool, begun on construction; submit() waits for it.
+/// @brief A primary command buffer from its own pool, begun on construction; submit() waits for it. Move-only.
 class CommandBuffer {
 public:
   explicit CommandBuffer(const VulkanContext& ctx);
-  ~CommandBuffer();
-  CommandBuffer(CommandBuffer&& other) noexcept;
-  CommandBuffer& operator=(CommandBuffer&&) = delete;
-  CommandBuffer(const CommandBuffer&) = delete;
-  CommandBuffer& operator=(const CommandBuffer&) = delete;
 
   VkCommandBuffer handle() const { return mCmd; }
   /// @brief End recording, submit to the context's queue and wait (with a timeout, never forever).
@@ -132,16 +123,16 @@ public:
   void submitAndWait(double timeoutSeconds = 600.0);
 
 private:
-  void destroy();
   const VulkanContext* mCtx = nullptr;
-  VkCommandPool mPool = VK_NULL_HANDLE;
-  VkCommandBuffer mCmd = VK_NULL_HANDLE;
-  VkFence mFence = VK_NULL_HANDLE;
+  UniqueHandle<vkDestroyCommandPool> mPool; // destroyed last; frees mCmd (recording or not)
+  VkCommandBuffer mCmd = VK_NULL_HANDLE;    // owned by mPool
+  UniqueHandle<vkDestroyFence> mFence;
   bool mRecording = false;
 };
 
 /// @brief A compute pipeline from an embedded shader whose bindings 0..n-1 are storage buffers (or, where
 ///        given, combined image samplers), bound by push descriptors, with an optional push-constant block.
+///        Move-only.
 class ComputePipeline {
 public:
   ComputePipeline() = default;
@@ -152,17 +143,11 @@ public:
   ///        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER (a SampledVolume).
   ComputePipeline(const VulkanContext& ctx, const std::string& shader, std::vector<VkDescriptorType> bindings,
                   std::uint32_t pushConstantBytes);
-  ~ComputePipeline();
-  ComputePipeline(ComputePipeline&& other) noexcept;
-  ComputePipeline& operator=(ComputePipeline&& other) noexcept;
-  ComputePipeline(const ComputePipeline&) = delete;
-  ComputePipeline& operator=(const ComputePipeline&) = delete;
 
   /// @brief Record: bind, push @a buffers to bindings 0.. in order and @a push constants, dispatch @a groups.
   /// @note @a push must point at exactly the pushConstantBytes given at creation (or be null when 0).
   /// @throw Error when a binding's kind differs from the pipeline's layout.
-  void dispatch(VkCommandBuffer cmd, BindingList bindings, const void* push,
-                glm::uvec3 groups) const;
+  void dispatch(VkCommandBuffer cmd, BindingList bindings, const void* push, glm::uvec3 groups) const;
   /// @brief The same with the group counts read on the GPU from @a indirect (a VkDispatchIndirectCommand at
   ///        offset 0; the buffer needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT).
   void dispatchIndirect(VkCommandBuffer cmd, BindingList bindings, const void* push,
@@ -171,15 +156,15 @@ public:
 
 private:
   void bind(VkCommandBuffer cmd, BindingList bindings, const void* push) const;
-  void reset();
   const VulkanContext* mCtx = nullptr;
   std::string mName;
   std::vector<VkDescriptorType> mTypes;
   std::uint32_t mPushBytes = 0;
-  VkShaderModule mModule = VK_NULL_HANDLE;
-  VkDescriptorSetLayout mSetLayout = VK_NULL_HANDLE;
-  VkPipelineLayout mLayout = VK_NULL_HANDLE;
-  VkPipeline mPipeline = VK_NULL_HANDLE;
+  // Destroyed in reverse order: pipeline, pipeline layout, set layout, shader module.
+  UniqueHandle<vkDestroyShaderModule> mModule;
+  UniqueHandle<vkDestroyDescriptorSetLayout> mSetLayout;
+  UniqueHandle<vkDestroyPipelineLayout> mLayout;
+  UniqueHandle<vkDestroyPipeline> mPipeline;
 };
 
 /// @brief Make every earlier shader and transfer write visible to every later shader and transfer access.
@@ -192,12 +177,12 @@ void computeBarrier(VkCommandBuffer cmd);
 void reserve(const VulkanContext& ctx, Buffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage, Buffer::Memory memory,
              const std::string& name);
 
-/// @brief reserve() device memory for @a bytes in @a b, then upload() them: a per-frame buffer allocated once.
-void reserveAndUpload(const VulkanContext& ctx, Buffer& b, const void* data, std::size_t bytes,
-                      VkBufferUsageFlags usage, const std::string& name);
-
 /// @brief Copy @a bytes from host memory into @a dst (through a staging buffer when it is device memory).
 void upload(const VulkanContext& ctx, const Buffer& dst, const void* data, std::size_t bytes);
+/// @brief reserve() device memory of at least @a bytes in @a b (grown, never shrunk), then upload() @a data.
+/// @note For inputs re-sent whenever they change (BVHs, masks): the buffer is reallocated only when it grows.
+void reserveAndUpload(const VulkanContext& ctx, Buffer& b, const void* data, std::size_t bytes,
+                      VkBufferUsageFlags usage, const std::string& name);
 /// @brief Copy @a bytes of @a src into host memory (through a staging buffer when it is device memory).
 void download(const VulkanContext& ctx, const Buffer& src, void* data, std::size_t bytes);
 

@@ -23,4 +23,18 @@
 #define RTSDF_SHARED_END
 #endif
 
+RTSDF_SHARED_BEGIN
+
+/// PCG hash (O'Neill's PCG-RXS-M-XS, as in Jarzynski and Olano 2020): a well-mixed 32-bit hash.
+RTSDF_FN uint pcgHash(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+
+/// A uniform number in [0, 1) from the top 24 bits of a hash.
+RTSDF_FN float unitFloat(uint h) { return float(h >> 8) * (1.0 / 16777216.0); }
+
+RTSDF_SHARED_END
+
 #endif

@@ -45,18 +45,10 @@ struct RefineParams {
   uint pad0, pad1, pad2;
 };
 
-/// PCG hash (O'Neill's PCG-RXS-M-XS, as in Jarzynski and Olano 2020): a well-mixed 32-bit hash.
-RTSDF_FN uint pcgHash(uint v) {
-  uint state = v * 747796405u + 2891336453u;
-  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-  return (word >> 22u) ^ word;
-}
-
 /// The two uniform numbers in [0, 1) of ray @a ray of voxel @a voxel in frame @a frame.
 RTSDF_FN uint rayHash(uint voxel, uint frame, uint ray, uint seed) {
   return pcgHash(voxel ^ pcgHash(frame * 0x9E3779B9u + pcgHash(ray + seed * 0x85EBCA6Bu)));
 }
-RTSDF_FN float unitFloat(uint h) { return float(h >> 8) * (1.0 / 16777216.0); }
 
 RTSDF_SHARED_END
 

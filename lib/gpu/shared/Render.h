@@ -187,12 +187,10 @@ RTSDF_FN bool lightGeometry(GpuLight l, vec3 p, vec3 gridLo, vec3 gridHi, RTSDF_
 }
 #endif // RTSDF_SDF_TEXTURE || RTSDF_SDF_FETCH
 
-/// The pixel's jitter in [0, 1) for frame @a frame (a PCG hash; the same on both sides).
+/// The pixel's jitter in [0, 1) for frame @a frame: the shared PCG hash's top 24 bits (exact in a float, so the
+/// same on both sides).
 RTSDF_FN float pixelJitter(uint pixel, uint frame, uint seed) {
-  uint v = pixel * 1664525u + frame * 22695477u + seed * 2654435769u;
-  uint state = v * 747796405u + 2891336453u;
-  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-  return float(((word >> 22u) ^ word) >> 8) * (1.0f / 16777216.0f);
+  return unitFloat(pcgHash(pixel * 1664525u + frame * 22695477u + seed * 2654435769u));
 }
 
 /// Cube-map face f (0..5: +x, -x, +y, -y, +z, -z) of direction d and its face coordinates in [-1, 1]:

@@ -32,6 +32,50 @@ SweepPoint point(SweepGroup g, const Size& size, RefineMode mode, int rays, doub
   return p;
 }
 
+/// The values a preset sweeps per knob, and the size and rays the knob tables (band, alpha, frames, JFA, dynamic)
+/// run at.
+struct PresetKnobs {
+  std::vector<int> xs, bandXs;
+  std::vector<double> bands, alphas;
+  std::vector<int> frameCounts, storageFine{128, 256, 512};
+  Size knobSize = kS;
+  int dynamicFrames = 16, knobX = 5;
+};
+
+/// Quick: tiny grids, a few values per knob; Default: the full knobs at size S; Paper: more rays, knobs at M.
+PresetKnobs presetKnobs(SweepPreset preset) {
+  PresetKnobs k;
+  switch (preset) {
+  case SweepPreset::Quick:
+    k.xs = {0, 1, 4};
+    k.bands = {0.02, 0.1};
+    k.bandXs = {1};
+    k.alphas = {0.0, 1.0};
+    k.frameCounts = {1, 4};
+    k.knobSize = kXS;
+    k.knobX = 1;
+    k.dynamicFrames = 4;
+    k.storageFine = {32, 64};
+    break;
+  case SweepPreset::Default:
+    k.xs = {0, 1, 5, 10};
+    k.bands = {0.01, 0.05, 0.1, 0.5};
+    k.bandXs = {1, 5};
+    k.alphas = {0.0, 0.5, 0.9, 0.95, 1.0};
+    k.frameCounts = {1, 2, 4, 8, 16};
+    break;
+  case SweepPreset::Paper:
+    k.xs = {0, 1, 5, 10};
+    k.bands = {0.01, 0.05, 0.1, 0.5};
+    k.bandXs = {1, 5, 10, 15};
+    k.alphas = {0.0, 0.5, 0.9, 0.95, 1.0};
+    k.frameCounts = {1, 2, 4, 8, 16};
+    k.knobSize = kM;
+    break;
+  }
+  return k;
+}
+
 /// Numbers for tables: empty when not measured.
 std::string num(double v, int digits) { return std::isfinite(v) ? fmt::format("{:.{}f}", v, digits) : ""; }
 std::string pct(double v) { return std::isfinite(v) ? fmt::format("{:.3f}%", 100.0 * v) : ""; }
@@ -92,68 +136,37 @@ std::vector<SweepPoint> makeSweepPlan(SweepPreset preset, bool animated, double 
   const std::vector<Size> sizes = preset == SweepPreset::Quick     ? std::vector<Size>{kXS}
                                   : preset == SweepPreset::Default ? std::vector<Size>{kS, kM}
                                                                    : std::vector<Size>{kS, kM, kL};
-  std::vector<int> xs, bandXs;
-  std::vector<double> bands, alphas;
-  std::vector<int> frameCounts, storageFine{128, 256, 512};
-  Size knobSize = kS;
-  int dynamicFrames = 16, knobX = 5;
-  switch (preset) {
-  case SweepPreset::Quick:
-    xs = {0, 1, 4};
-    bands = {0.02, 0.1};
-    bandXs = {1};
-    alphas = {0.0, 1.0};
-    frameCounts = {1, 4};
-    knobSize = kXS;
-    knobX = 1;
-    dynamicFrames = 4;
-    storageFine = {32, 64};
-    break;
-  case SweepPreset::Default:
-    xs = {0, 1, 5, 10};
-    bands = {0.01, 0.05, 0.1, 0.5};
-    bandXs = {1, 5};
-    alphas = {0.0, 0.5, 0.9, 0.95, 1.0};
-    frameCounts = {1, 2, 4, 8, 16};
-    break;
-  case SweepPreset::Paper:
-    xs = {0, 1, 5, 10};
-    bands = {0.01, 0.05, 0.1, 0.5};
-    bandXs = {1, 5, 10, 15};
-    alphas = {0.0, 0.5, 0.9, 0.95, 1.0};
-    frameCounts = {1, 2, 4, 8, 16};
-    knobSize = kM;
-    break;
-  }
+  const PresetKnobs k = presetKnobs(preset);
   for (const Size& s : sizes) {
-    for (int x : xs) plan.push_back(point(SweepGroup::Sizes, s, R, x, d, a, 2));
+    for (int x : k.xs) plan.push_back(point(SweepGroup::Sizes, s, R, x, d, a, 2));
     plan.push_back(point(SweepGroup::Sizes, s, C, 0, d, a, 2));
   }
   for (const Size& s : sizes)
-    for (AnchorKind k : {AnchorKind::OpenVdb, AnchorKind::Exact}) {
+    for (AnchorKind kind : {AnchorKind::OpenVdb, AnchorKind::Exact}) {
       SweepPoint p = point(SweepGroup::Anchor, s, C, 0, d, a, 1);
-      p.anchor = k;
+      p.anchor = kind;
       plan.push_back(p);
     }
-  for (int x : bandXs) {
-    for (double b : bands) plan.push_back(point(SweepGroup::Band, knobSize, R, x, b, a, 2));
-    SweepPoint p = point(SweepGroup::Band, knobSize, R, x, bruteForceBand(sceneExtent), a, 2);
+  for (int x : k.bandXs) {
+    for (double b : k.bands) plan.push_back(point(SweepGroup::Band, k.knobSize, R, x, b, a, 2));
+    SweepPoint p = point(SweepGroup::Band, k.knobSize, R, x, bruteForceBand(sceneExtent), a, 2);
     p.bruteForce = true;
     plan.push_back(p);
   }
-  for (double al : alphas) plan.push_back(point(SweepGroup::Alpha, knobSize, R, 1, d, al, 8));
-  for (int f : frameCounts) plan.push_back(point(SweepGroup::Frames, knobSize, R, 1, d, a, f));
+  for (double al : k.alphas) plan.push_back(point(SweepGroup::Alpha, k.knobSize, R, 1, d, al, 8));
+  for (int f : k.frameCounts) plan.push_back(point(SweepGroup::Frames, k.knobSize, R, 1, d, a, f));
   for (JfaVariant v : {JfaVariant::Jfa, JfaVariant::OnePlusJfa, JfaVariant::JfaPlusTwo}) {
-    SweepPoint p = point(SweepGroup::Jfa, knobSize, R, knobX, d, a, 2);
+    SweepPoint p = point(SweepGroup::Jfa, k.knobSize, R, k.knobX, d, a, 2);
     p.pipeline.variant = v;
     plan.push_back(p);
   }
   if (animated) {
-    for (double al : {0.5, 0.95}) plan.push_back(point(SweepGroup::Dynamic, knobSize, R, knobX, d, al, dynamicFrames));
-    plan.push_back(point(SweepGroup::Dynamic, knobSize, C, 0, d, a, dynamicFrames));
+    for (double al : {0.5, 0.95})
+      plan.push_back(point(SweepGroup::Dynamic, k.knobSize, R, k.knobX, d, al, k.dynamicFrames));
+    plan.push_back(point(SweepGroup::Dynamic, k.knobSize, C, 0, d, a, k.dynamicFrames));
   }
   for (double voxels : {0.0, 3.0})
-    for (int fine : storageFine) {
+    for (int fine : k.storageFine) {
       SweepPoint p = point(SweepGroup::Storage, Size{"", fine / 2, fine}, C, 0, d, a, 1);
       p.size = fmt::format("{}", fine);
       p.storageBandVoxels = voxels;
@@ -212,7 +225,20 @@ std::vector<std::size_t> paretoFront(const std::vector<SweepRecord>& records, do
   return front;
 }
 
-std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>& rs) {
+namespace {
+
+using RecordList = std::vector<const SweepRecord*>;
+
+/// The records of group @a g, in the order they ran.
+RecordList ofGroup(const std::vector<SweepRecord>& rs, SweepGroup g) {
+  RecordList v;
+  for (const SweepRecord& r : rs)
+    if (r.point.group == g) v.push_back(&r);
+  return v;
+}
+
+/// The title, what ran where, how each column is measured, and the plots.
+std::string reportHeader(const SweepContext& c, const std::vector<SweepRecord>& rs) {
   std::string md;
   md += fmt::format("# rtsdf bench sweep: {}\n\n", c.scene);
   md += fmt::format("- Command: `{}`\n- Machine: {}\n- Vulkan device: {}\n- Date: {}\n- Sweep: {} ({} of {} points "
@@ -236,154 +262,176 @@ std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>
     md += fmt::format("- Shadow error: SDF soft shadows of the scene camera at {}x{} against the ray-traced truth "
                       "({} samples per pixel): visibility RMSE over lit surfaces / mean LDR-FLIP.\n",
                       c.shadowWidth, c.shadowHeight, c.truthSamples);
-  md += "- Peak MiB: the process's peak resident memory while the point ran (host and, on a CPU Vulkan driver, device), and in brackets how far it rose above the resident memory at the point's start (freed memory is returned to the system first, and the exact field a point is measured against is built before it starts).\n\n";
+  md += "- Peak MiB: the process's peak resident memory while the point ran (host and, on a CPU Vulkan driver, "
+        "device), and in brackets how far it rose above the resident memory at the point's start (freed memory is "
+        "returned to the system first, and the exact field a point is measured against is built before it "
+        "starts).\n\n";
   for (const std::string& p : c.plots) md += fmt::format("![{}]({})\n", p, p);
   if (!c.plots.empty()) md += "\n";
+  return md;
+}
 
-  auto ofGroup = [&](SweepGroup g) {
-    std::vector<const SweepRecord*> v;
-    for (const SweepRecord& r : rs)
-      if (r.point.group == g) v.push_back(&r);
-    return v;
-  };
+/// The paper's pass durations and sizes x rays in one table.
+std::string sizesTable(const RecordList& v) {
+  std::string md = "## Pass durations and sizes x rays (d = 0.1, alpha = 0.95, 1+JFA, 2 frames)\n\n";
+  md += "| size | coarse/fine | mode | x | mask voxels | voxelize | jump flood | distance | mirror (CPU) | upsample | "
+        "refine | frame (ms) | mean / RMS / max error | wrong sign | shadow RMSE / FLIP | peak MiB |\n";
+  md += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const SweepRecord* r : v)
+    md += fmt::format("| {} | {}/{} | {} | {} | {} | {} | {} | {} | {} | {} | {} | **{}** | {} | {} | {} | {} |\n",
+                      r->point.size, r->point.pipeline.coarseRes, r->point.pipeline.fineRes,
+                      toString(r->point.pipeline.mode),
+                      r->point.pipeline.mode == RefineMode::Rays ? fmt::format("{}", r->point.pipeline.rays) : "-",
+                      r->maskVoxels, num(r->voxelizeMs, 2), num(r->jumpFloodMs, 2), num(r->distanceMs, 2),
+                      num(r->mirrorMs, 2), num(r->upsampleMs, 2), num(r->refineMs, 2), num(r->frameMs, 1), err(*r),
+                      pct(r->signErrorRate), shadow(*r), peak(*r));
+  return md + "\n";
+}
 
-  // The paper's pass durations and sizes x rays in one table.
-  if (const auto v = ofGroup(SweepGroup::Sizes); !v.empty()) {
-    md += "## Pass durations and sizes x rays (d = 0.1, alpha = 0.95, 1+JFA, 2 frames)\n\n";
-    md += "| size | coarse/fine | mode | x | mask voxels | voxelize | jump flood | distance | mirror (CPU) | upsample | "
-          "refine | frame (ms) | mean / RMS / max error | wrong sign | shadow RMSE / FLIP | peak MiB |\n";
-    md += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const SweepRecord* r : v)
-      md += fmt::format("| {} | {}/{} | {} | {} | {} | {} | {} | {} | {} | {} | {} | **{}** | {} | {} | {} | {} |\n",
-                        r->point.size, r->point.pipeline.coarseRes, r->point.pipeline.fineRes,
-                        toString(r->point.pipeline.mode),
-                        r->point.pipeline.mode == RefineMode::Rays ? fmt::format("{}", r->point.pipeline.rays) : "-",
-                        r->maskVoxels, num(r->voxelizeMs, 2), num(r->jumpFloodMs, 2), num(r->distanceMs, 2),
-                        num(r->mirrorMs, 2), num(r->upsampleMs, 2), num(r->refineMs, 2), num(r->frameMs, 1), err(*r),
-                        pct(r->signErrorRate), shadow(*r), peak(*r));
-    md += "\n";
+/// The frame time of the first Sizes point of anchor @a a's size with refinement @a m (and x = @a x rays) over
+/// the anchor's time; empty when there is none or either failed.
+std::string anchorRatio(const std::vector<SweepRecord>& rs, const SweepRecord& a, RefineMode m, int x) {
+  for (const SweepRecord& r : rs)
+    if (r.point.group == SweepGroup::Sizes && r.ok() && r.point.size == a.point.size && r.point.pipeline.mode == m &&
+        (m == RefineMode::Closest || r.point.pipeline.rays == x) && a.ok() && a.frameMs > 0.0)
+      return fmt::format("{:.3f}", r.frameMs / a.frameMs);
+  return "";
+}
+
+/// Anchors, with the pipeline's closest-point and x = 1 frames at the same fine resolution beside them.
+std::string anchorsTable(const RecordList& v, const std::vector<SweepRecord>& rs) {
+  std::string md =
+      fmt::format("## Anchors at the same fine voxels and band (d = {:g})\n\n", v.front()->point.pipeline.band);
+  md += "| fine | anchor | time (ms) | mean / RMS / max error | wrong sign | peak MiB | rtsdf closest frame / anchor "
+        "| rtsdf rays x=1 frame / anchor |\n|---|---|---|---|---|---|---|---|\n";
+  for (const SweepRecord* a : v)
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", a->point.pipeline.fineRes,
+                      toString(a->point.anchor), num(a->frameMs, 1), err(*a), pct(a->signErrorRate), peak(*a),
+                      anchorRatio(rs, *a, RefineMode::Closest, 0), anchorRatio(rs, *a, RefineMode::Rays, 1));
+  return md + "\n";
+}
+
+/// Band d x rays at the knob size, d = inf (brute force) included.
+std::string bandTable(const RecordList& v) {
+  std::string md = fmt::format("## Band d x rays at size {} (alpha = 0.95, 2 frames; d = inf is brute-force ray "
+                               "sampling of every voxel)\n\n",
+                               v.front()->point.size);
+  md += "The grid is padded by min(d, extent / 4) to keep the band inside it: d changes the grid's size, not its "
+        "voxel h (the unit of the error).\n\n";
+  md += "| d | x | fine voxel h | mask voxels | refine (ms) | frame (ms) | mean / RMS / max error | wrong sign | "
+        "shadow RMSE / FLIP | peak MiB |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const SweepRecord* r : v)
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", band(r->point), r->point.pipeline.rays,
+                      r->voxelSize > 0.0 ? fmt::format("{:.4g}", r->voxelSize) : "",
+                      r->maskVoxels, num(r->refineMs, 1), num(r->frameMs, 1), err(*r), pct(r->signErrorRate),
+                      shadow(*r), peak(*r));
+  return md + "\n";
+}
+
+/// One knob's table (alpha, frames or JFA variant): @a value gives the knob's cell of a record.
+template <class Value>
+std::string knobTable(const RecordList& v, const std::string& title, const std::string& column, Value value) {
+  std::string md = fmt::format("## {} at size {}\n\n", title, v.front()->point.size);
+  md += fmt::format("| {} | mode | x | frames | jump flood (ms) | frame (ms) | mean / RMS / max error | wrong sign | "
+                    "shadow RMSE / FLIP | peak MiB |\n|---|---|---|---|---|---|---|---|---|---|\n",
+                    column);
+  for (const SweepRecord* r : v)
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", value(*r),
+                      toString(r->point.pipeline.mode), r->point.pipeline.rays, r->point.frames,
+                      num(r->jumpFloodMs, 2), num(r->frameMs, 1), err(*r), pct(r->signErrorRate), shadow(*r),
+                      peak(*r));
+  return md + "\n";
+}
+
+/// One row of the dynamic table: series @a k's frames @a s summed up (or why its last frame failed).
+std::string dynamicSeriesRow(const std::string& k, const RecordList& s) {
+  if (!s.back()->ok())
+    return fmt::format("| {} | {} | failed: {} | | | | |\n", k, s.back()->point.frames, s.back()->note);
+  double sum = 0.0, worst = 0.0;
+  int n = 0;
+  for (const SweepRecord* r : s)
+    if (std::isfinite(r->meanAbs)) sum += r->meanAbs, worst = std::max(worst, r->meanAbs), ++n;
+  const SweepRecord* last = s.back();
+  return fmt::format("| {} | {} | {} | {} | {} / {} | {} | {} |\n", k, s.size(), num(last->frameMs, 1),
+                     n ? num(sum / n, 3) : "", num(last->meanAbs, 3), num(last->maxAbs, 2), n ? num(worst, 3) : "",
+                     pct(last->signErrorRate));
+}
+
+/// The dynamic scene: one row per series (a point's label), in the order the series first ran.
+std::string dynamicTable(const RecordList& v) {
+  std::string md = fmt::format(
+      "## Dynamic scene at size {}: error against the exact field of the same moment, per frame\n\n",
+      v.front()->point.size);
+  md += "| series | frames | frame (ms, median) | mean error over frames | last frame mean / max | worst frame mean | "
+        "wrong sign (last) |\n|---|---|---|---|---|---|---|\n";
+  std::map<std::string, RecordList> series;
+  std::vector<std::string> order;
+  for (const SweepRecord* r : v) {
+    const std::string k = r->point.label();
+    if (!series.count(k)) order.push_back(k);
+    series[k].push_back(r);
   }
+  for (const std::string& k : order) md += dynamicSeriesRow(k, series[k]);
+  return md + "\n";
+}
 
-  // Anchors, with the pipeline's closest-point and x = 1 frames at the same fine resolution beside them.
-  if (const auto v = ofGroup(SweepGroup::Anchor); !v.empty()) {
-    md += fmt::format("## Anchors at the same fine voxels and band (d = {:g})\n\n", v.front()->point.pipeline.band);
-    md += "| fine | anchor | time (ms) | mean / RMS / max error | wrong sign | peak MiB | rtsdf closest frame / anchor "
-          "| rtsdf rays x=1 frame / anchor |\n|---|---|---|---|---|---|---|---|\n";
-    for (const SweepRecord* a : v) {
-      auto ratio = [&](RefineMode m, int x) -> std::string {
-        for (const SweepRecord& r : rs)
-          if (r.point.group == SweepGroup::Sizes && r.ok() && r.point.size == a->point.size &&
-              r.point.pipeline.mode == m && (m == RefineMode::Closest || r.point.pipeline.rays == x) && a->ok() &&
-              a->frameMs > 0.0)
-            return fmt::format("{:.3f}", r.frameMs / a->frameMs);
-        return "";
-      };
-      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", a->point.pipeline.fineRes,
-                        toString(a->point.anchor), num(a->frameMs, 1), err(*a), pct(a->signErrorRate),
-                        peak(*a), ratio(RefineMode::Closest, 0), ratio(RefineMode::Rays, 1));
-    }
-    md += "\n";
+/// Storage of the band as a sparse .vdb against a dense grid, with each resolution's growth over the previous one.
+std::string storageTable(const RecordList& v, double errorBand) {
+  std::string md = "## Storage: the band as a sparse .vdb vs a dense grid (exact field, float, blosc)\n\n";
+  md += "A band of fixed width in voxels (3, OpenVDB's default) grows with the surface's area: x4 per doubling of "
+        "the resolution, where a dense grid grows x8. The ray-mask band d is fixed in scene units, so it gets "
+        "thicker in voxels as they shrink; it stays the same share of the box.\n\n";
+  md += "| fine | band | grid | active voxels | growth vs previous | .vdb size (MiB) | dense float grid (MiB) | .vdb / "
+        "dense | peak MiB |\n|---|---|---|---|---|---|---|---|---|\n";
+  const SweepRecord* prev = nullptr;
+  for (const SweepRecord* r : v) {
+    const bool sameSeries = prev && prev->point.storageBandVoxels == r->point.storageBandVoxels && prev->ok();
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r->point.pipeline.fineRes,
+                      r->point.storageBandVoxels > 0 ? fmt::format("{:g} voxels", r->point.storageBandVoxels)
+                                                     : fmt::format("d = {:g}", errorBand),
+                      r->ok() ? r->grid : "failed: " + r->note, r->maskVoxels,
+                      sameSeries && prev->maskVoxels ? fmt::format("x{:.2f}", double(r->maskVoxels) / prev->maskVoxels)
+                                                     : "",
+                      num(r->vdbBytes / 1048576.0, 2), num(r->denseBytes / 1048576.0, 1),
+                      r->denseBytes ? fmt::format("{:.2f}%", 100.0 * r->vdbBytes / r->denseBytes) : "", peak(*r));
+    prev = r;
   }
+  return md + "\n";
+}
 
-  if (const auto v = ofGroup(SweepGroup::Band); !v.empty()) {
-    md += fmt::format("## Band d x rays at size {} (alpha = 0.95, 2 frames; d = inf is brute-force ray sampling of "
-                      "every voxel)\n\n",
-                      v.front()->point.size);
-    md += "The grid is padded by min(d, extent / 4) to keep the band inside it: d changes the grid's size, not its "
-          "voxel h (the unit of the error).\n\n";
-    md += "| d | x | fine voxel h | mask voxels | refine (ms) | frame (ms) | mean / RMS / max error | wrong sign | "
-          "shadow RMSE / FLIP | peak MiB |\n|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const SweepRecord* r : v)
-      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", band(r->point), r->point.pipeline.rays,
-                        r->voxelSize > 0.0 ? fmt::format("{:.4g}", r->voxelSize) : "",
-                        r->maskVoxels, num(r->refineMs, 1), num(r->frameMs, 1), err(*r), pct(r->signErrorRate),
-                        shadow(*r), peak(*r));
-    md += "\n";
-  }
+/// The Pareto front's points, fastest first.
+std::string paretoTable(const std::vector<SweepRecord>& rs, const std::vector<std::size_t>& front) {
+  std::string md = fmt::format("## Pareto front (frame time vs mean error): no other point is both faster and more "
+                               "accurate\n\nPoints with more than {:g}% wrong signs are not eligible: their fields "
+                               "have holes.\n\n",
+                               100.0 * kParetoMaxSignErrorRate);
+  md += "| point | frame (ms) | mean error (voxels) | wrong sign |\n|---|---|---|---|\n";
+  for (std::size_t i : front)
+    md += fmt::format("| {} | {} | {} | {} |\n", rs[i].point.label(), num(rs[i].frameMs, 1), num(rs[i].meanAbs, 3),
+                      pct(rs[i].signErrorRate));
+  return md + "\n";
+}
 
-  auto knobTable = [&](SweepGroup g, const std::string& title, const std::string& column, auto value) {
-    const auto v = ofGroup(g);
-    if (v.empty()) return;
-    md += fmt::format("## {} at size {}\n\n", title, v.front()->point.size);
-    md += fmt::format("| {} | mode | x | frames | jump flood (ms) | frame (ms) | mean / RMS / max error | wrong sign | "
-                      "shadow RMSE / FLIP | peak MiB |\n|---|---|---|---|---|---|---|---|---|---|\n",
-                      column);
-    for (const SweepRecord* r : v)
-      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", value(*r),
-                        toString(r->point.pipeline.mode), r->point.pipeline.rays, r->point.frames,
-                        num(r->jumpFloodMs, 2), num(r->frameMs, 1), err(*r), pct(r->signErrorRate), shadow(*r),
-                        peak(*r));
-    md += "\n";
-  };
-  knobTable(SweepGroup::Alpha, "History decay alpha (static scene)", "alpha",
-            [](const SweepRecord& r) { return fmt::format("{:g}", r.point.pipeline.alpha); });
-  knobTable(SweepGroup::Frames, "Frames accumulated (static scene, alpha = 0.95)", "frames",
-            [](const SweepRecord& r) { return fmt::format("{}", r.point.frames); });
-  knobTable(SweepGroup::Jfa, "Jump-flooding variant", "variant",
-            [](const SweepRecord& r) { return std::string(toString(r.point.pipeline.variant)); });
+} // namespace
 
-  if (const auto v = ofGroup(SweepGroup::Dynamic); !v.empty()) {
-    md += fmt::format("## Dynamic scene at size {}: error against the exact field of the same moment, per frame\n\n",
-                      v.front()->point.size);
-    md += "| series | frames | frame (ms, median) | mean error over frames | last frame mean / max | worst frame mean | "
-          "wrong sign (last) |\n|---|---|---|---|---|---|---|\n";
-    std::map<std::string, std::vector<const SweepRecord*>> series;
-    std::vector<std::string> order;
-    for (const SweepRecord* r : v) {
-      const std::string k = r->point.label();
-      if (!series.count(k)) order.push_back(k);
-      series[k].push_back(r);
-    }
-    for (const std::string& k : order) {
-      const auto& s = series[k];
-      if (!s.back()->ok()) {
-        md += fmt::format("| {} | {} | failed: {} | | | | |\n", k, s.back()->point.frames, s.back()->note);
-        continue;
-      }
-      double sum = 0.0, worst = 0.0;
-      int n = 0;
-      for (const SweepRecord* r : s)
-        if (std::isfinite(r->meanAbs)) sum += r->meanAbs, worst = std::max(worst, r->meanAbs), ++n;
-      const SweepRecord* last = s.back();
-      md += fmt::format("| {} | {} | {} | {} | {} / {} | {} | {} |\n", k, s.size(), num(last->frameMs, 1),
-                        n ? num(sum / n, 3) : "", num(last->meanAbs, 3), num(last->maxAbs, 2), n ? num(worst, 3) : "",
-                        pct(last->signErrorRate));
-    }
-    md += "\n";
-  }
-
-  if (const auto v = ofGroup(SweepGroup::Storage); !v.empty()) {
-    md += "## Storage: the band as a sparse .vdb vs a dense grid (exact field, float, blosc)\n\n";
-    md += "A band of fixed width in voxels (3, OpenVDB's default) grows with the surface's area: x4 per doubling of "
-          "the resolution, where a dense grid grows x8. The ray-mask band d is fixed in scene units, so it gets "
-          "thicker in voxels as they shrink; it stays the same share of the box.\n\n";
-    md += "| fine | band | grid | active voxels | growth vs previous | .vdb size (MiB) | dense float grid (MiB) | .vdb / "
-          "dense | peak MiB |\n|---|---|---|---|---|---|---|---|---|\n";
-    const SweepRecord* prev = nullptr;
-    for (const SweepRecord* r : v) {
-      const bool sameSeries = prev && prev->point.storageBandVoxels == r->point.storageBandVoxels && prev->ok();
-      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r->point.pipeline.fineRes,
-                        r->point.storageBandVoxels > 0 ? fmt::format("{:g} voxels", r->point.storageBandVoxels)
-                                                       : fmt::format("d = {:g}", c.errorBand),
-                        r->ok() ? r->grid : "failed: " + r->note, r->maskVoxels,
-                        sameSeries && prev->maskVoxels ? fmt::format("x{:.2f}", double(r->maskVoxels) / prev->maskVoxels) : "",
-                        num(r->vdbBytes / 1048576.0, 2), num(r->denseBytes / 1048576.0, 1),
-                        r->denseBytes ? fmt::format("{:.2f}%", 100.0 * r->vdbBytes / r->denseBytes) : "", peak(*r));
-      prev = r;
-    }
-    md += "\n";
-  }
-
-  if (const auto front = paretoFront(rs); !front.empty()) {
-    md += fmt::format("## Pareto front (frame time vs mean error): no other point is both faster and more "
-                      "accurate\n\nPoints with more than {:g}% wrong signs are not eligible: their fields have holes.\n\n",
-                      100.0 * kParetoMaxSignErrorRate);
-    md += "| point | frame (ms) | mean error (voxels) | wrong sign |\n|---|---|---|---|\n";
-    for (std::size_t i : front)
-      md += fmt::format("| {} | {} | {} | {} |\n", rs[i].point.label(), num(rs[i].frameMs, 1), num(rs[i].meanAbs, 3),
-                        pct(rs[i].signErrorRate));
-    md += "\n";
-  }
+std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>& rs) {
+  std::string md = reportHeader(c, rs);
+  // A group without records (a smaller preset, a static scene, an interrupted sweep) has no table.
+  if (const auto v = ofGroup(rs, SweepGroup::Sizes); !v.empty()) md += sizesTable(v);
+  if (const auto v = ofGroup(rs, SweepGroup::Anchor); !v.empty()) md += anchorsTable(v, rs);
+  if (const auto v = ofGroup(rs, SweepGroup::Band); !v.empty()) md += bandTable(v);
+  if (const auto v = ofGroup(rs, SweepGroup::Alpha); !v.empty())
+    md += knobTable(v, "History decay alpha (static scene)", "alpha",
+                    [](const SweepRecord& r) { return fmt::format("{:g}", r.point.pipeline.alpha); });
+  if (const auto v = ofGroup(rs, SweepGroup::Frames); !v.empty())
+    md += knobTable(v, "Frames accumulated (static scene, alpha = 0.95)", "frames",
+                    [](const SweepRecord& r) { return fmt::format("{}", r.point.frames); });
+  if (const auto v = ofGroup(rs, SweepGroup::Jfa); !v.empty())
+    md += knobTable(v, "Jump-flooding variant", "variant",
+                    [](const SweepRecord& r) { return std::string(toString(r.point.pipeline.variant)); });
+  if (const auto v = ofGroup(rs, SweepGroup::Dynamic); !v.empty()) md += dynamicTable(v);
+  if (const auto v = ofGroup(rs, SweepGroup::Storage); !v.empty()) md += storageTable(v, c.errorBand);
+  if (const auto front = paretoFront(rs); !front.empty()) md += paretoTable(rs, front);
   return md;
 }
 

@@ -44,6 +44,22 @@ FieldError finish(const Accum& acc) {
 
 using LeafRange = openvdb::tree::LeafManager<const openvdb::FloatTree>::LeafRange;
 
+/// Calls visit(coord, value, acc) on every active voxel of @a tree in parallel and joins the tasks' sums. Each task
+/// visits with its own copy of @a visit, so value accessors it captures by value are never shared between threads.
+template <class Visit>
+Accum accumulateActiveVoxels(const openvdb::FloatTree& tree, const Visit& visit) {
+  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(tree);
+  return tbb::parallel_reduce(
+      leaves.leafRange(), Accum{},
+      [&](const LeafRange& r, Accum acc) {
+        Visit taskVisit = visit;
+        for (auto leaf = r.begin(); leaf; ++leaf)
+          for (auto it = leaf->cbeginValueOn(); it; ++it) taskVisit(it.getCoord(), *it, acc);
+        return acc;
+      },
+      [](Accum x, const Accum& y) { x.join(y); return x; });
+}
+
 } // namespace
 
 std::string FieldError::summary() const {
@@ -56,20 +72,12 @@ FieldError compareFields(const openvdb::FloatGrid& a, const openvdb::FloatGrid& 
     throw Error(fmt::format("cannot compare grids '{}' and '{}': their transforms differ (voxel size {} vs {})",
                             a.getName(), b.getName(), a.voxelSize()[0], b.voxelSize()[0]));
   const double h = a.voxelSize()[0];
-  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(a.tree());
-  const Accum acc = tbb::parallel_reduce(
-      leaves.leafRange(), Accum{},
-      [&](const LeafRange& r, Accum acc) {
-        auto bAcc = b.getConstAccessor();
-        for (auto leaf = r.begin(); leaf; ++leaf)
-          for (auto it = leaf->cbeginValueOn(); it; ++it) {
-            float bv;
-            if (bAcc.probeValue(it.getCoord(), bv)) acc.add(*it, bv, h);
-            else ++acc.onlyA;
-          }
-        return acc;
-      },
-      [](Accum x, const Accum& y) { x.join(y); return x; });
+  const Accum acc = accumulateActiveVoxels(
+      a.tree(), [h, bAcc = b.getConstAccessor()](const openvdb::Coord& c, float av, Accum& acc) {
+        float bv;
+        if (bAcc.probeValue(c, bv)) acc.add(av, bv, h);
+        else ++acc.onlyA;
+      });
   FieldError e = finish(acc);
   e.onlyInB = b.activeVoxelCount() - e.voxels;
   return e;
@@ -79,19 +87,11 @@ FieldError compareWithFunction(const openvdb::FloatGrid& field,
                                const std::function<double(const openvdb::Vec3d&)>& reference, double ignoreWithin) {
   const double h = field.voxelSize()[0];
   const auto& xf = field.transform();
-  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(field.tree());
-  const Accum acc = tbb::parallel_reduce(
-      leaves.leafRange(), Accum{},
-      [&](const LeafRange& r, Accum acc) {
-        for (auto leaf = r.begin(); leaf; ++leaf)
-          for (auto it = leaf->cbeginValueOn(); it; ++it) {
-            const double ref = reference(xf.indexToWorld(it.getCoord()));
-            if (std::fabs(ref) < ignoreWithin) continue;
-            acc.add(*it, ref, h);
-          }
-        return acc;
-      },
-      [](Accum x, const Accum& y) { x.join(y); return x; });
+  const Accum acc = accumulateActiveVoxels(field.tree(), [&](const openvdb::Coord& c, float v, Accum& acc) {
+    const double ref = reference(xf.indexToWorld(c));
+    if (std::fabs(ref) < ignoreWithin) return;
+    acc.add(v, ref, h);
+  });
   return finish(acc);
 }
 
@@ -101,23 +101,13 @@ FieldError compareDenseWithReference(const std::vector<float>& dense, const Grid
     throw Error(fmt::format("cannot compare a dense field of {} values with grid '{}': {} needs {}", dense.size(),
                             reference.getName(), spec.describe(), spec.voxelCount()));
   const double h = spec.voxelSize;
-  openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(reference.tree());
-  const Accum acc = tbb::parallel_reduce(
-      leaves.leafRange(), Accum{},
-      [&](const LeafRange& r, Accum acc) {
-        for (auto leaf = r.begin(); leaf; ++leaf)
-          for (auto it = leaf->cbeginValueOn(); it; ++it) {
-            const openvdb::Coord c = it.getCoord();
-            if (c.x() < 0 || c.y() < 0 || c.z() < 0 || c.x() >= spec.dims.x || c.y() >= spec.dims.y ||
-                c.z() >= spec.dims.z) {
-              ++acc.onlyA; // counted as "only in the reference" below
-              continue;
-            }
-            acc.add(dense[spec.linear(c.x(), c.y(), c.z())], *it, h);
-          }
-        return acc;
-      },
-      [](Accum x, const Accum& y) { x.join(y); return x; });
+  const Accum acc = accumulateActiveVoxels(reference.tree(), [&](const openvdb::Coord& c, float v, Accum& acc) {
+    if (c.x() < 0 || c.y() < 0 || c.z() < 0 || c.x() >= spec.dims.x || c.y() >= spec.dims.y || c.z() >= spec.dims.z) {
+      ++acc.onlyA; // counted as "only in the reference" below
+      return;
+    }
+    acc.add(dense[spec.linear(c.x(), c.y(), c.z())], v, h);
+  });
   FieldError e = finish(acc);
   e.onlyInB = e.onlyInA;
   e.onlyInA = 0;

@@ -246,6 +246,91 @@ struct BlockScratch {
   std::vector<int> sub;
 };
 
+constexpr float kSlack = 1.0f + 1e-5f; // float rounding in the distance bounds
+
+/// What filling any block of the band needs: the field, the voxels, the band and the culling radii.
+struct BandFill {
+  const ExactDistanceField& field;
+  const GridSpec& spec;
+  float band, h;
+  float r8; ///< block centre to its farthest voxel centre
+  float r4; ///< sub-block centre to its farthest voxel centre
+};
+
+/// Voxels of one block, added to the shared totals once per block rather than once per voxel.
+struct BlockCounts {
+  std::uint64_t active = 0, evaluated = 0, winding = 0;
+};
+
+/// Gathers into s.cand the triangles that can be nearest to a voxel of the 8^3 block centred at @a bc.
+/// @return false when there are none: no voxel of the block is within the band.
+bool gatherCandidates(const BandFill& f, const glm::vec3& bc, BlockScratch& s) {
+  const ExactDistanceField::Impl& im = f.field.impl();
+  ExactDistanceField::Hit hit;
+  if (!f.field.closest(bc, f.band + f.r8, hit)) return false; // no voxel of this block is within the band
+  // Any voxel's nearest triangle lies within D + 2 r8 of the block centre; only band + r8 matters.
+  const float gather = std::min(hit.distance + 2.0f * f.r8, f.band + f.r8) * kSlack + 1e-6f * f.h;
+  s.ids.clear();
+  f.field.collect(bc, gather, s.ids);
+  s.cand.clear();
+  for (std::uint64_t id : s.ids) {
+    const unsigned mi = unsigned(id >> 32), ti = unsigned(id & 0xffffffffu);
+    const WorldMesh& m = *im.meshes[mi].mesh;
+    const glm::uvec3 t = m.triangles[ti];
+    s.cand.push_back({m.positions[t.x], m.positions[t.y], m.positions[t.z], mi, ti});
+  }
+  return !s.cand.empty();
+}
+
+/// Voxel @a v of the block at @a o: its distance to the nearest of the sub-block's candidates s.sub and, within the
+/// band, its sign.
+void fillVoxel(const BandFill& f, const glm::ivec3& o, const glm::ivec3& v, const BlockScratch& s, float* values,
+               bool* act, BlockCounts& n) {
+  const glm::vec3 p(f.spec.indexToWorld(glm::dvec3(v)));
+  float best = INFINITY;
+  int bi = -1;
+  for (int i : s.sub) {
+    const float d2 = distanceSquaredToTriangle(p, s.cand[i].a, s.cand[i].b, s.cand[i].c);
+    if (d2 < best) { best = d2; bi = i; }
+  }
+  ++n.evaluated;
+  const float d = std::sqrt(best);
+  if (!(d <= f.band)) return; // inactive; its sign comes from signed flood fill
+  const Candidate& c = s.cand[bi];
+  TriangleFeature feature;
+  const glm::vec3 q = closestPointOnTriangle(p, c.a, c.b, c.c, feature);
+  const ExactDistanceField::Hit h2{d, q, c.mesh, c.triangle, int(feature)};
+  if (f.field.impl().meshes[c.mesh].useWinding) ++n.winding;
+  const bool in = f.field.inside(p, h2);
+  const int li = ((v.x - o.x) * 8 + (v.y - o.y)) * 8 + (v.z - o.z);
+  values[li] = in ? -d : d;
+  act[li] = true;
+  ++n.active;
+}
+
+/// Sub-block @a sb (4^3; bits 0, 1, 2 of @a sb step x, y, z) of the block at @a o: skipped when wholly outside the
+/// band, else its voxels are filled from the block's candidates that can be nearest to one of them.
+void fillSubBlock(const BandFill& f, const glm::ivec3& o, int sb, BlockScratch& s, float* values, bool* act,
+                  BlockCounts& n) {
+  const glm::ivec3 so = o + 4 * glm::ivec3(sb & 1, (sb >> 1) & 1, (sb >> 2) & 1);
+  if (so.x >= f.spec.dims.x || so.y >= f.spec.dims.y || so.z >= f.spec.dims.z) return;
+  const glm::vec3 sc(f.spec.indexToWorld(glm::dvec3(so) + 1.5));
+  float ds = INFINITY;
+  for (std::size_t i = 0; i < s.cand.size(); ++i) {
+    s.dist[i] = std::sqrt(distanceSquaredToTriangle(sc, s.cand[i].a, s.cand[i].b, s.cand[i].c));
+    ds = std::min(ds, s.dist[i]);
+  }
+  if (ds > f.band + f.r4) return; // the whole sub-block is outside the band
+  const float keep = std::min(ds + 2.0f * f.r4, f.band + f.r4) * kSlack + 1e-6f * f.h;
+  s.sub.clear();
+  for (std::size_t i = 0; i < s.cand.size(); ++i)
+    if (s.dist[i] <= keep) s.sub.push_back(int(i));
+  const glm::ivec3 hi = glm::min(so + 4, f.spec.dims);
+  for (int x = so.x; x < hi.x; ++x)
+    for (int y = so.y; y < hi.y; ++y)
+      for (int z = so.z; z < hi.z; ++z) fillVoxel(f, o, glm::ivec3(x, y, z), s, values, act, n);
+}
+
 } // namespace
 
 openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const GridSpec& spec,
@@ -254,7 +339,6 @@ openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const
   if (std::isnan(options.band) || options.band <= 0.0)
     throw Error(fmt::format("exact SDF: band {} must be positive (or inf for the full domain)", options.band));
   ExactDistanceField field(geometry, options.sign);
-  const ExactDistanceField::Impl& im = field.impl();
 
   // Full domain: a band no voxel can lie outside of.
   const double domain = glm::length(spec.bounds().extent()) + glm::length(geometry.bounds.extent()) +
@@ -264,7 +348,7 @@ openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const
   const float h = float(spec.voxelSize);
   const float r8 = 3.5f * std::sqrt(3.0f) * h; // block centre to its farthest voxel centre
   const float r4 = 1.5f * std::sqrt(3.0f) * h; // sub-block centre to its farthest voxel centre
-  constexpr float kSlack = 1.0f + 1e-5f;       // float rounding in the distance bounds
+  const BandFill bandFill{field, spec, band, h, r8, r4};
 
   tbb::enumerable_thread_specific<BlockScratch> scratch;
   std::atomic<std::uint64_t> active{0}, evaluated{0}, winding{0};
@@ -275,68 +359,14 @@ openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const
     BlockScratch& s = scratch.local();
     progress.add();
     const glm::vec3 bc(spec.indexToWorld(glm::dvec3(o) + 3.5));
-    ExactDistanceField::Hit hit;
-    if (!field.closest(bc, band + r8, hit)) return false; // no voxel of this block is within the band
-    // Any voxel's nearest triangle lies within D + 2 r8 of the block centre; only band + r8 matters.
-    const float gather = std::min(hit.distance + 2.0f * r8, band + r8) * kSlack + 1e-6f * h;
-    s.ids.clear();
-    field.collect(bc, gather, s.ids);
-    s.cand.clear();
-    for (std::uint64_t id : s.ids) {
-      const unsigned mi = unsigned(id >> 32), ti = unsigned(id & 0xffffffffu);
-      const WorldMesh& m = *im.meshes[mi].mesh;
-      const glm::uvec3 t = m.triangles[ti];
-      s.cand.push_back({m.positions[t.x], m.positions[t.y], m.positions[t.z], mi, ti});
-    }
-    if (s.cand.empty()) return false;
+    if (!gatherCandidates(bandFill, bc, s)) return false;
     s.dist.resize(s.cand.size());
-    bool any = false;
-    std::uint64_t nActive = 0, nEval = 0, nWinding = 0;
-    for (int sb = 0; sb < 8; ++sb) {
-      const glm::ivec3 so = o + 4 * glm::ivec3(sb & 1, (sb >> 1) & 1, (sb >> 2) & 1);
-      if (so.x >= spec.dims.x || so.y >= spec.dims.y || so.z >= spec.dims.z) continue;
-      const glm::vec3 sc(spec.indexToWorld(glm::dvec3(so) + 1.5));
-      float ds = INFINITY;
-      for (std::size_t i = 0; i < s.cand.size(); ++i) {
-        s.dist[i] = std::sqrt(distanceSquaredToTriangle(sc, s.cand[i].a, s.cand[i].b, s.cand[i].c));
-        ds = std::min(ds, s.dist[i]);
-      }
-      if (ds > band + r4) continue; // the whole sub-block is outside the band
-      const float keep = std::min(ds + 2.0f * r4, band + r4) * kSlack + 1e-6f * h;
-      s.sub.clear();
-      for (std::size_t i = 0; i < s.cand.size(); ++i)
-        if (s.dist[i] <= keep) s.sub.push_back(int(i));
-      const glm::ivec3 hi = glm::min(so + 4, spec.dims);
-      for (int x = so.x; x < hi.x; ++x)
-        for (int y = so.y; y < hi.y; ++y)
-          for (int z = so.z; z < hi.z; ++z) {
-            const glm::vec3 p(spec.indexToWorld(glm::dvec3(x, y, z)));
-            float best = INFINITY;
-            int bi = -1;
-            for (int i : s.sub) {
-              const float d2 = distanceSquaredToTriangle(p, s.cand[i].a, s.cand[i].b, s.cand[i].c);
-              if (d2 < best) { best = d2; bi = i; }
-            }
-            ++nEval;
-            const float d = std::sqrt(best);
-            if (!(d <= band)) continue; // inactive; its sign comes from signed flood fill
-            const Candidate& c = s.cand[bi];
-            TriangleFeature f;
-            const glm::vec3 q = closestPointOnTriangle(p, c.a, c.b, c.c, f);
-            const ExactDistanceField::Hit h2{d, q, c.mesh, c.triangle, int(f)};
-            if (im.meshes[c.mesh].useWinding) ++nWinding;
-            const bool in = field.inside(p, h2);
-            const int li = ((x - o.x) * 8 + (y - o.y)) * 8 + (z - o.z);
-            values[li] = in ? -d : d;
-            act[li] = true;
-            ++nActive;
-            any = true;
-          }
-    }
-    active += nActive;
-    evaluated += nEval;
-    winding += nWinding;
-    return any;
+    BlockCounts n;
+    for (int sb = 0; sb < 8; ++sb) fillSubBlock(bandFill, o, sb, s, values, act, n);
+    active += n.active;
+    evaluated += n.evaluated;
+    winding += n.winding;
+    return n.active > 0;
   };
 
   openvdb::FloatGrid::Ptr grid = buildLevelSet(spec, band, fill);

@@ -1,6 +1,30 @@
 #include "reference/TriangleDistance.h"
 
 namespace rtsdf {
+namespace {
+
+/// Ericson's two regions next to corner B, and the same two next to corner C: the corner itself, then its edge from
+/// A. own / other: dots of p - corner with the corner's edge from A and with the other edge from A; ownA: the dot of
+/// p - a with the corner's edge; v: the barycentric weight that is zero on that edge.
+/// @return whether p's closest point is there (then @a feature and @a closest are set).
+bool nearCornerOrItsEdgeFromA(const glm::vec3& a, const glm::vec3& corner, const glm::vec3& edge, float ownA,
+                              float own, float other, float v, TriangleFeature cornerFeature,
+                              TriangleFeature edgeFeature, TriangleFeature& feature, glm::vec3& closest) {
+  if (own >= 0.0f && other <= own) {
+    feature = cornerFeature;
+    closest = corner;
+    return true;
+  }
+  if (v <= 0.0f && ownA >= 0.0f && own <= 0.0f) {
+    const float denom = ownA - own;
+    feature = edgeFeature;
+    closest = denom > 0.0f ? a + (ownA / denom) * edge : a;
+    return true;
+  }
+  return false;
+}
+
+} // namespace
 
 glm::vec3 closestPointOnTriangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
                                  TriangleFeature& feature) {
@@ -8,27 +32,18 @@ glm::vec3 closestPointOnTriangle(const glm::vec3& p, const glm::vec3& a, const g
   const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
   if (d1 <= 0.0f && d2 <= 0.0f) { feature = TriangleFeature::VertexA; return a; }
 
+  glm::vec3 q;
   const glm::vec3 bp = p - b;
   const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0.0f && d4 <= d3) { feature = TriangleFeature::VertexB; return b; }
-
   const float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {
-    const float denom = d1 - d3;
-    feature = TriangleFeature::EdgeAB;
-    return denom > 0.0f ? a + (d1 / denom) * ab : a;
-  }
+  if (nearCornerOrItsEdgeFromA(a, b, ab, d1, d3, d4, vc, TriangleFeature::VertexB, TriangleFeature::EdgeAB, feature, q))
+    return q;
 
   const glm::vec3 cp = p - c;
   const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0.0f && d5 <= d6) { feature = TriangleFeature::VertexC; return c; }
-
   const float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {
-    const float denom = d2 - d6;
-    feature = TriangleFeature::EdgeCA;
-    return denom > 0.0f ? a + (d2 / denom) * ac : a;
-  }
+  if (nearCornerOrItsEdgeFromA(a, c, ac, d2, d6, d5, vb, TriangleFeature::VertexC, TriangleFeature::EdgeCA, feature, q))
+    return q;
 
   const float va = d3 * d6 - d5 * d4;
   if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {

@@ -25,6 +25,9 @@ class Reader {
 public:
   Reader(std::string file) : mFile(std::move(file)) {}
 
+  /// The scene file every error names.
+  const std::string& file() const { return mFile; }
+
   [[noreturn]] void fail(const std::string& where, const std::string& what) const {
     throw Error(fmt::format("{}: {}: {}", mFile, where, what));
   }
@@ -139,66 +142,74 @@ Animation parseAnimation(const Reader& rd, const json& a, const std::string& whe
   return anim;
 }
 
-} // namespace
-
-Scene parseScene(const std::string& text, const fs::path& origin) {
-  const std::string file = origin.string();
-  const Reader rd(file);
+/// The scene file's top-level object, with its keys and format version checked.
+json parseDocument(const Reader& rd, const std::string& text) {
   json doc;
   try {
     doc = json::parse(text);
   } catch (const json::parse_error& e) {
-    throw Error(fmt::format("{}: malformed JSON: {}", file, e.what()));
+    throw Error(fmt::format("{}: malformed JSON: {}", rd.file(), e.what()));
   }
   rd.allowOnly(doc, "scene", {"rtsdf_scene", "meshes", "instances", "lights", "camera", "comment"});
   if (doc.contains("rtsdf_scene") && (!doc["rtsdf_scene"].is_number_integer() || doc["rtsdf_scene"].get<int>() != 1))
     rd.fail("rtsdf_scene", "unsupported scene format version (this build reads version 1)");
+  return doc;
+}
 
-  Scene scene;
-  scene.path = file;
-  const fs::path base = origin.has_parent_path() ? origin.parent_path() : fs::path(".");
+/// A "sphere" mesh: {"radius": r, "subdivisions": n}, the radius finite as a float, n in [0, 7] (default 4).
+Mesh sphereMesh(const Reader& rd, const json& sp, const std::string& where, const std::string& name) {
+  rd.allowOnly(sp, where, {"radius", "subdivisions"});
+  if (!sp.contains("radius")) rd.fail(where, "needs 'radius'");
+  const double radius = rd.positive(sp["radius"], where + ".radius");
+  if (!std::isfinite(float(radius))) rd.fail(where + ".radius", "must be finite as a 32-bit float");
+  int subdivisions = 4;
+  if (sp.contains("subdivisions")) {
+    const json& n = sp["subdivisions"];
+    if (!n.is_number_integer() || n.get<long long>() < 0 || n.get<long long>() > 7)
+      rd.fail(where + ".subdivisions", fmt::format("must be an integer in [0, 7] (got {})", n.dump()));
+    subdivisions = n.get<int>();
+  }
+  return makeSphereMesh(float(radius), subdivisions, name);
+}
 
+/// One entry of "meshes": read from its file (relative to @a base) or generated, then validated into @a report.
+/// Errors from the mesh reader and validation get the scene file and the mesh's key in front.
+Mesh sceneMesh(const Reader& rd, const fs::path& base, const std::string& name, const json& m, MeshReport& report) {
+  const std::string w = "meshes." + name;
+  rd.allowOnly(m, w, {"path", "box", "sphere"});
+  Mesh mesh;
+  if (int(m.contains("path")) + int(m.contains("box")) + int(m.contains("sphere")) != 1)
+    rd.fail(w, "needs exactly one of 'path', 'box' or 'sphere'");
+  try {
+    if (m.contains("path")) {
+      fs::path p = rd.string(m["path"], w + ".path");
+      if (p.is_relative()) p = base / p;
+      mesh = loadMeshFile(p);
+    } else if (m.contains("box")) {
+      mesh = makeBoxMesh(glm::vec3(rd.vec3(m["box"], w + ".box")), name);
+    } else {
+      mesh = sphereMesh(rd, m["sphere"], w + ".sphere", name);
+    }
+    mesh.name = name;
+    report = validateMesh(mesh);
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    if (msg.rfind(rd.file(), 0) == 0) throw; // already names the scene file
+    rd.fail(w, msg);
+  }
+  return mesh;
+}
+
+/// "meshes" into scene.meshes and scene.meshReports.
+/// @return each mesh's index by its name, for the instances.
+std::map<std::string, std::size_t> parseMeshes(const Reader& rd, const json& doc, const fs::path& base, Scene& scene) {
   std::map<std::string, std::size_t> meshIndex;
   if (!doc.contains("meshes") || !doc["meshes"].is_object() || doc["meshes"].empty())
     rd.fail("meshes", "a scene needs a non-empty 'meshes' object (name -> {\"path\": ...}, {\"box\": [x, y, z]} "
                       "or {\"sphere\": {\"radius\": r}})");
   for (const auto& [name, m] : doc["meshes"].items()) {
-    const std::string w = "meshes." + name;
-    rd.allowOnly(m, w, {"path", "box", "sphere"});
-    Mesh mesh;
     MeshReport report;
-    if (int(m.contains("path")) + int(m.contains("box")) + int(m.contains("sphere")) != 1)
-      rd.fail(w, "needs exactly one of 'path', 'box' or 'sphere'");
-    try {
-      if (m.contains("path")) {
-        fs::path p = rd.string(m["path"], w + ".path");
-        if (p.is_relative()) p = base / p;
-        mesh = loadMeshFile(p);
-      } else if (m.contains("box")) {
-        mesh = makeBoxMesh(glm::vec3(rd.vec3(m["box"], w + ".box")), name);
-      } else {
-        const json& sp = m["sphere"];
-        const std::string ws = w + ".sphere";
-        rd.allowOnly(sp, ws, {"radius", "subdivisions"});
-        if (!sp.contains("radius")) rd.fail(ws, "needs 'radius'");
-        const double radius = rd.positive(sp["radius"], ws + ".radius");
-        if (!std::isfinite(float(radius))) rd.fail(ws + ".radius", "must be finite as a 32-bit float");
-        int subdivisions = 4;
-        if (sp.contains("subdivisions")) {
-          const json& n = sp["subdivisions"];
-          if (!n.is_number_integer() || n.get<long long>() < 0 || n.get<long long>() > 7)
-            rd.fail(ws + ".subdivisions", fmt::format("must be an integer in [0, 7] (got {})", n.dump()));
-          subdivisions = n.get<int>();
-        }
-        mesh = makeSphereMesh(float(radius), subdivisions, name);
-      }
-      mesh.name = name;
-      report = validateMesh(mesh);
-    } catch (const Error& e) {
-      const std::string msg = e.what();
-      if (msg.rfind(file, 0) == 0) throw; // already names the scene file
-      rd.fail(w, msg);
-    }
+    Mesh mesh = sceneMesh(rd, base, name, m, report);
     if (report.degenerateDropped)
       spdlog::warn("{} (mesh '{}'): dropped {} zero-area triangle(s) of {}", mesh.source, name,
                    report.degenerateDropped, report.inputTriangles);
@@ -206,7 +217,12 @@ Scene parseScene(const std::string& text, const fs::path& origin) {
     scene.meshes.push_back(std::move(mesh));
     scene.meshReports.push_back(report);
   }
+  return meshIndex;
+}
 
+/// "instances" into scene.instances: each names a mesh of @a meshIndex and has a unique name.
+void parseInstances(const Reader& rd, const json& doc, const std::map<std::string, std::size_t>& meshIndex,
+                    Scene& scene) {
   if (!doc.contains("instances") || !doc["instances"].is_array() || doc["instances"].empty())
     rd.fail("instances", "a scene needs a non-empty 'instances' array");
   std::set<std::string> names;
@@ -226,57 +242,76 @@ Scene parseScene(const std::string& text, const fs::path& origin) {
     if (in.contains("animation")) inst.animation = parseAnimation(rd, in["animation"], w + ".animation");
     scene.instances.push_back(std::move(inst));
   }
+}
 
+/// Light @a i of "lights": a directional light (a sun) or a sphere light.
+Light parseLight(const Reader& rd, const json& l, std::size_t i) {
+  const std::string w = fmt::format("lights[{}]", i);
+  rd.allowOnly(l, w, {"name", "type", "direction", "angular_radius_deg", "position", "radius", "color",
+                      "intensity"});
+  Light light;
+  light.name = l.contains("name") ? rd.string(l["name"], w + ".name") : fmt::format("light{}", i);
+  const std::string type = l.contains("type") ? rd.string(l["type"], w + ".type") : "";
+  if (type == "directional") {
+    light.type = Light::Type::Directional;
+    if (!l.contains("direction")) rd.fail(w, "a directional light needs 'direction'");
+    light.direction = rd.unit(l["direction"], w + ".direction");
+    if (l.contains("angular_radius_deg")) {
+      const double deg = rd.number(l["angular_radius_deg"], w + ".angular_radius_deg");
+      if (deg < 0.0 || deg >= 90.0) rd.fail(w + ".angular_radius_deg", "must be in [0, 90)");
+      light.angularRadius = glm::radians(deg);
+    }
+  } else if (type == "sphere") {
+    light.type = Light::Type::Sphere;
+    if (!l.contains("position")) rd.fail(w, "a sphere light needs 'position'");
+    light.position = rd.vec3(l["position"], w + ".position");
+    if (l.contains("radius")) {
+      light.radius = rd.number(l["radius"], w + ".radius");
+      if (light.radius < 0.0) rd.fail(w + ".radius", "must not be negative");
+    }
+  } else {
+    rd.fail(w + ".type", "must be \"directional\" or \"sphere\"");
+  }
+  if (l.contains("color")) light.color = rd.vec3(l["color"], w + ".color");
+  if (l.contains("intensity")) light.intensity = rd.number(l["intensity"], w + ".intensity");
+  return light;
+}
+
+/// "camera": a position and a point to look at (they must differ), optionally up and the vertical field of view.
+Camera parseCamera(const Reader& rd, const json& c) {
+  Camera camera;
+  rd.allowOnly(c, "camera", {"position", "look_at", "up", "fov_deg"});
+  if (!c.contains("position") || !c.contains("look_at")) rd.fail("camera", "needs 'position' and 'look_at'");
+  camera.position = rd.vec3(c["position"], "camera.position");
+  camera.target = rd.vec3(c["look_at"], "camera.look_at");
+  if (c.contains("up")) camera.up = rd.unit(c["up"], "camera.up");
+  if (c.contains("fov_deg")) {
+    const double f = rd.number(c["fov_deg"], "camera.fov_deg");
+    if (!(f > 0.0 && f < 180.0)) rd.fail("camera.fov_deg", "must be in (0, 180)");
+    camera.verticalFov = glm::radians(f);
+  }
+  if (glm::length(camera.target - camera.position) < 1e-12) rd.fail("camera", "position and look_at must differ");
+  return camera;
+}
+
+} // namespace
+
+Scene parseScene(const std::string& text, const fs::path& origin) {
+  const std::string file = origin.string();
+  const Reader rd(file);
+  const json doc = parseDocument(rd, text);
+
+  Scene scene;
+  scene.path = file;
+  const fs::path base = origin.has_parent_path() ? origin.parent_path() : fs::path(".");
+  const std::map<std::string, std::size_t> meshIndex = parseMeshes(rd, doc, base, scene);
+  parseInstances(rd, doc, meshIndex, scene);
   if (doc.contains("lights")) {
     if (!doc["lights"].is_array()) rd.fail("lights", "must be an array");
-    for (std::size_t i = 0; i < doc["lights"].size(); ++i) {
-      const json& l = doc["lights"][i];
-      const std::string w = fmt::format("lights[{}]", i);
-      rd.allowOnly(l, w, {"name", "type", "direction", "angular_radius_deg", "position", "radius", "color",
-                          "intensity"});
-      Light light;
-      light.name = l.contains("name") ? rd.string(l["name"], w + ".name") : fmt::format("light{}", i);
-      const std::string type = l.contains("type") ? rd.string(l["type"], w + ".type") : "";
-      if (type == "directional") {
-        light.type = Light::Type::Directional;
-        if (!l.contains("direction")) rd.fail(w, "a directional light needs 'direction'");
-        light.direction = rd.unit(l["direction"], w + ".direction");
-        if (l.contains("angular_radius_deg")) {
-          const double deg = rd.number(l["angular_radius_deg"], w + ".angular_radius_deg");
-          if (deg < 0.0 || deg >= 90.0) rd.fail(w + ".angular_radius_deg", "must be in [0, 90)");
-          light.angularRadius = glm::radians(deg);
-        }
-      } else if (type == "sphere") {
-        light.type = Light::Type::Sphere;
-        if (!l.contains("position")) rd.fail(w, "a sphere light needs 'position'");
-        light.position = rd.vec3(l["position"], w + ".position");
-        if (l.contains("radius")) {
-          light.radius = rd.number(l["radius"], w + ".radius");
-          if (light.radius < 0.0) rd.fail(w + ".radius", "must not be negative");
-        }
-      } else {
-        rd.fail(w + ".type", "must be \"directional\" or \"sphere\"");
-      }
-      if (l.contains("color")) light.color = rd.vec3(l["color"], w + ".color");
-      if (l.contains("intensity")) light.intensity = rd.number(l["intensity"], w + ".intensity");
-      scene.lights.push_back(light);
-    }
+    for (std::size_t i = 0; i < doc["lights"].size(); ++i) scene.lights.push_back(parseLight(rd, doc["lights"][i], i));
   }
-
   if (doc.contains("camera")) {
-    const json& c = doc["camera"];
-    rd.allowOnly(c, "camera", {"position", "look_at", "up", "fov_deg"});
-    if (!c.contains("position") || !c.contains("look_at")) rd.fail("camera", "needs 'position' and 'look_at'");
-    scene.camera.position = rd.vec3(c["position"], "camera.position");
-    scene.camera.target = rd.vec3(c["look_at"], "camera.look_at");
-    if (c.contains("up")) scene.camera.up = rd.unit(c["up"], "camera.up");
-    if (c.contains("fov_deg")) {
-      const double f = rd.number(c["fov_deg"], "camera.fov_deg");
-      if (!(f > 0.0 && f < 180.0)) rd.fail("camera.fov_deg", "must be in (0, 180)");
-      scene.camera.verticalFov = glm::radians(f);
-    }
-    if (glm::length(scene.camera.target - scene.camera.position) < 1e-12)
-      rd.fail("camera", "position and look_at must differ");
+    scene.camera = parseCamera(rd, doc["camera"]);
     scene.hasCamera = true;
   }
   return scene;

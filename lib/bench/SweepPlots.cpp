@@ -202,7 +202,7 @@ void runGnuplot(const fs::path& dir, const PlotScript& script) {
 std::vector<std::string> writeSweepPlots(const fs::path& dir, const std::vector<SweepRecord>& rs,
                                          const std::string& title) {
   PlotScript script{dir / "plots",
-                    "# gnuplot script written by rtsdf bench --sweep; rerun with: gnuplot sweep.gp (in this folder)\n"
+                    "# gnuplot script written by the rtsdf sweep; rerun with: gnuplot sweep.gp (in this folder)\n"
                     "set terminal pngcairo size 1100,700 noenhanced font 'sans,11'\n"
                     "set datafile separator '\\t'\n"
                     "set grid\nset key outside right top\n",

@@ -179,15 +179,15 @@ std::uint32_t chooseDevice(const std::vector<DeviceInfo>& devices, const std::st
     return best->index;
   }
   if (std::all_of(request.begin(), request.end(), [](unsigned char c) { return std::isdigit(c); })) {
-    const unsigned long i = std::stoul(request);
+    const unsigned long i = request.size() > 9 ? devices.size() : std::stoul(request);
     if (i >= devices.size())
-      throw Error(fmt::format("--device {}: there are only {} Vulkan device(s) (see 'rtsdf info')", request,
-                              devices.size()));
+      throw SettingError("device", fmt::format("device {}: there are only {} Vulkan device(s) (see 'rtsdf info')",
+                                               request, devices.size()));
     return std::uint32_t(i);
   }
   for (const auto& d : devices)
     if (lower(d.name).find(lower(request)) != std::string::npos) return d.index;
-  throw Error(fmt::format("--device '{}': no Vulkan device has that name (see 'rtsdf info')", request));
+  throw SettingError("device", fmt::format("device '{}': no Vulkan device has that name (see 'rtsdf info')", request));
 }
 
 VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Messages) {

@@ -7,11 +7,21 @@
 namespace rtsdf::app {
 namespace {
 
-/// An enum option: its choices come from the enum's name table, its default is printed by name.
+/// An enum option: its choices come from the enum's name table (names only), its default is printed by name.
 template <class E> CLI::Option* addEnum(CLI::App* cmd, const std::string& flag, E& value, const std::string& help) {
-  return cmd->add_option(flag, value, help)
-      ->transform(CLI::CheckedTransformer(enumMap<E>()))
-      ->default_str(toString(value));
+  const CLI::Validator byName(
+      [](std::string& text) -> std::string {
+        for (const auto& [name, v] : EnumNames<E>::kValues)
+          if (text == name) {
+            text = std::to_string(static_cast<int>(v));
+            return {};
+          }
+        return "'" + text + "' is not one of " + enumChoices<E>();
+      },
+      "", "enum name");
+  std::string names;
+  for (const auto& entry : EnumNames<E>::kValues) names += std::string(names.empty() ? "" : "|") + entry.first;
+  return cmd->add_option(flag, value, help)->transform(byName)->type_name("{" + names + "}")->default_str(toString(value));
 }
 
 /// The GPU pipeline's knobs, shared by bake, animate and render.

@@ -131,32 +131,20 @@ ComputePipeline::ComputePipeline(const VulkanContext& ctx, const std::string& sh
   mPipeline.reset(ctx, pipeline);
 }
 
-void ComputePipeline::dispatch(VkCommandBuffer cmd, BindingList bindings, const void* push,
-                               glm::uvec3 groups) const {
+void ComputePipeline::record(VkCommandBuffer cmd, const Binding* bindings, std::size_t count, const void* push,
+                             const glm::uvec3* groups, const Buffer* indirect) const {
   const glm::uvec3 limit = mCtx->info().maxWorkGroupCount;
-  if (groups.x > limit.x || groups.y > limit.y || groups.z > limit.z)
-    throw Error(fmt::format("{}: dispatch of {}x{}x{} work groups exceeds {}'s limit of {}x{}x{}", mName, groups.x,
-                            groups.y, groups.z, mCtx->info().name, limit.x, limit.y, limit.z));
-  bind(cmd, bindings, push);
-  if (groups.x && groups.y && groups.z) vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
-}
-
-void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, BindingList bindings,
-                                       const void* push, const Buffer& indirect) const {
-  bind(cmd, bindings, push);
-  vkCmdDispatchIndirect(cmd, indirect.handle(), 0);
-}
-
-void ComputePipeline::bind(VkCommandBuffer cmd, BindingList bindings, const void* push) const {
+  if (groups && (groups->x > limit.x || groups->y > limit.y || groups->z > limit.z))
+    throw Error(fmt::format("{}: dispatch of {}x{}x{} work groups exceeds {}'s limit of {}x{}x{}", mName, groups->x,
+                            groups->y, groups->z, mCtx->info().name, limit.x, limit.y, limit.z));
   const std::uint32_t n = std::uint32_t(mTypes.size());
-  if (bindings.size() != n)
-    throw Error(fmt::format("{}: {} resources given for {} bindings", mName, bindings.size(), n));
+  if (count != n) throw Error(fmt::format("{}: {} resources given for {} bindings", mName, count, n));
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mPipeline.get());
   std::vector<VkDescriptorBufferInfo> buffers(n);
   std::vector<VkDescriptorImageInfo> images(n);
   std::vector<VkWriteDescriptorSet> writes;
-  std::uint32_t i = 0;
-  for (const Binding& b : bindings) {
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Binding& b = bindings[i];
     VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     w.dstBinding = i;
     w.descriptorCount = 1;
@@ -171,10 +159,13 @@ void ComputePipeline::bind(VkCommandBuffer cmd, BindingList bindings, const void
       w.pImageInfo = &images[i];
     }
     writes.push_back(w);
-    ++i;
   }
   if (n) mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mLayout.get(), 0, n, writes.data());
   if (mPushBytes) vkCmdPushConstants(cmd, mLayout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, mPushBytes, push);
+  if (indirect)
+    vkCmdDispatchIndirect(cmd, indirect->handle(), 0);
+  else if (groups->x && groups->y && groups->z)
+    vkCmdDispatch(cmd, groups->x, groups->y, groups->z);
 }
 
 // ---------------------------------------------------------------------------------------------- SampledVolume

@@ -95,23 +95,6 @@ struct Binding {
   const SampledVolume* volume = nullptr;
 };
 
-/// @brief The bindings of one dispatch in binding order: a braced list {&a, &b}, or a std::array a pass fills
-///        by the named binding indices of its shared header (gpu/shared/*.h), so no call binds by position.
-/// @note A view: the list or array must outlive the call it is passed to (a braced list in the call does).
-class BindingList {
-public:
-  BindingList(std::initializer_list<Binding> list) : mData(list.begin()), mSize(list.size()) {} // NOLINT
-  template <std::size_t N>
-  BindingList(const std::array<Binding, N>& array) : mData(array.data()), mSize(N) {} // NOLINT
-  const Binding* begin() const { return mData; }
-  const Binding* end() const { return mData + mSize; }
-  std::size_t size() const { return mSize; }
-
-private:
-  const Binding* mData;
-  std::size_t mSize;
-};
-
 /// @brief A primary command buffer from its own pool, begun on construction; submit() waits for it. Move-only.
 class CommandBuffer {
 public:
@@ -144,18 +127,32 @@ public:
   ComputePipeline(const VulkanContext& ctx, const std::string& shader, std::vector<VkDescriptorType> bindings,
                   std::uint32_t pushConstantBytes);
 
-  /// @brief Record: bind, push @a buffers to bindings 0.. in order and @a push constants, dispatch @a groups.
+  /// @brief Record: bind @a bindings (in binding order: a braced list {&a, &b}, or a std::array a pass fills by
+  ///        the named binding indices of its shared header, gpu/shared/*.h), push @a push, dispatch @a groups.
   /// @note @a push must point at exactly the pushConstantBytes given at creation (or be null when 0).
-  /// @throw Error when a binding's kind differs from the pipeline's layout.
-  void dispatch(VkCommandBuffer cmd, BindingList bindings, const void* push, glm::uvec3 groups) const;
+  /// @throw Error when a binding is unset or its kind differs from the pipeline's layout.
+  void dispatch(VkCommandBuffer cmd, std::initializer_list<Binding> bindings, const void* push,
+                glm::uvec3 groups) const {
+    record(cmd, bindings.begin(), bindings.size(), push, &groups, nullptr);
+  }
+  template <std::size_t N>
+  void dispatch(VkCommandBuffer cmd, const std::array<Binding, N>& bindings, const void* push,
+                glm::uvec3 groups) const {
+    record(cmd, bindings.data(), N, push, &groups, nullptr);
+  }
   /// @brief The same with the group counts read on the GPU from @a indirect (a VkDispatchIndirectCommand at
   ///        offset 0; the buffer needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT).
-  void dispatchIndirect(VkCommandBuffer cmd, BindingList bindings, const void* push,
-                        const Buffer& indirect) const;
+  template <std::size_t N>
+  void dispatchIndirect(VkCommandBuffer cmd, const std::array<Binding, N>& bindings, const void* push,
+                        const Buffer& indirect) const {
+    record(cmd, bindings.data(), N, push, nullptr, &indirect);
+  }
   const std::string& name() const { return mName; }
 
 private:
-  void bind(VkCommandBuffer cmd, BindingList bindings, const void* push) const;
+  /// Bind, push, then dispatch @a groups or, where given, indirectly from @a indirect.
+  void record(VkCommandBuffer cmd, const Binding* bindings, std::size_t count, const void* push,
+              const glm::uvec3* groups, const Buffer* indirect) const;
   const VulkanContext* mCtx = nullptr;
   std::string mName;
   std::vector<VkDescriptorType> mTypes;

@@ -143,16 +143,24 @@ BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene) {
   return r;
 }
 
-} // namespace
-
-BakeResult bake(const BakeOptions& options, const JobControl& control) {
-  options.validate();
-  const Scene scene = loadScene(options.scene);
+BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const JobControl& control) {
   const std::string summary = detail::meshSummary(scene);
   spdlog::info("{}: {}", options.scene, summary);
   BakeResult r = options.method == BakeMethod::Rtsdf ? bakeRtsdf(options, scene, control) : bakeOnGrid(options, scene);
   r.sceneSummary = summary;
   return r;
+}
+
+} // namespace
+
+BakeResult bake(const BakeOptions& options, const JobControl& control) {
+  options.validate(); // before reading the scene: bad settings are refused before any work
+  return bakeValidated(loadScene(options.scene), options, control);
+}
+
+BakeResult bake(const Scene& scene, const BakeOptions& options, const JobControl& control) {
+  options.validate();
+  return bakeValidated(scene, options, control);
 }
 
 void writeBake(const BakeResult& result, const fs::path& path, const BakeOutputOptions& output) {

@@ -5,6 +5,7 @@
 ///        pipeline), and its .vdb file.
 #include "grid/VdbIO.h"
 #include "reference/ExactSdf.h"
+#include "scene/Scene.h"
 #include "sdf/SdfPipeline.h"
 #include "util/EnumNames.h"
 #include "util/JobControl.h"
@@ -68,6 +69,10 @@ struct BakeResult {
 ///        Vulkan device, a grid too large for memory or a Vulkan validation error; Interrupted when @a control
 ///        asks to stop between refinement frames.
 BakeResult bake(const BakeOptions& options, const JobControl& control = {});
+
+/// @brief Bake a scene already in memory (options.scene only names it in the file's metadata).
+/// @throw As bake(options, control), but for the scene's own file.
+BakeResult bake(const Scene& scene, const BakeOptions& options, const JobControl& control = {});
 
 /// @brief How a bake is written.
 struct BakeOutputOptions {

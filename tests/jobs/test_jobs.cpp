@@ -1,0 +1,203 @@
+// The jobs as library calls: what the command line runs, called with options structs, progress and
+// cancellation; errors that name settings, never flags; the enums' one name table.
+#include "TestUtil.h"
+#include "bench/Suites.h"
+#include "bench/Sweep.h"
+#include "grid/VdbIO.h"
+#include "jobs/Animate.h"
+#include "jobs/Bake.h"
+#include "jobs/Compare.h"
+#include "jobs/RenderJob.h"
+#include "scene/SceneLoader.h"
+#include "sdf/CoarseSdf.h"
+#include "sdf/RefinePasses.h"
+
+#include <gtest/gtest.h>
+
+using namespace rtsdf;
+using rtsdf::test::TempDir;
+
+namespace {
+
+BakeOptions smallBake(BakeMethod method) {
+  BakeOptions o;
+  o.scene = test::dataPath("scenes/default.json");
+  o.method = method;
+  o.resolution = 40;
+  o.pipeline.coarseRes = 24;
+  o.pipeline.fineRes = 48;
+  o.pipeline.rays = 2;
+  o.frames = 2;
+  return o;
+}
+
+/// Every value of E survives toString -> parseEnum, and an unknown name is refused with the choices.
+template <class E> void expectNamesRoundTrip() {
+  for (const auto& [name, value] : EnumNames<E>::kValues) {
+    EXPECT_EQ(parseEnum<E>(name), value) << name;
+    EXPECT_STREQ(toString(value), name);
+  }
+  try {
+    parseEnum<E>("no-such-value");
+    ADD_FAILURE() << "an unknown name was accepted";
+  } catch (const SettingError& e) {
+    EXPECT_EQ(e.setting(), EnumNames<E>::kSetting);
+    EXPECT_NE(std::string(e.what()).find(EnumNames<E>::kValues[0].first), std::string::npos) << e.what();
+  }
+}
+
+} // namespace
+
+TEST(Jobs, EveryEnumHasOneNameTable) {
+  expectNamesRoundTrip<BakeMethod>();
+  expectNamesRoundTrip<SignMethod>();
+  expectNamesRoundTrip<RefineMode>();
+  expectNamesRoundTrip<JfaVariant>();
+  expectNamesRoundTrip<ShadowTechnique>();
+  expectNamesRoundTrip<PenumbraEstimate>();
+  expectNamesRoundTrip<SdfSampling>();
+  expectNamesRoundTrip<VdbCompression>();
+  expectNamesRoundTrip<bench::BenchSuite>();
+  expectNamesRoundTrip<bench::SweepPreset>();
+  expectNamesRoundTrip<bench::SweepGroup>();
+}
+
+TEST(Jobs, BadSettingsNameTheSettingAndNoFlag) {
+  struct Case {
+    std::function<void(BakeOptions&)> set;
+    std::string setting;
+  };
+  const std::vector<Case> cases = {
+      {[](BakeOptions& o) { o.pipeline.band = -1.0; }, "band"},
+      {[](BakeOptions& o) { o.pipeline.band = std::nan(""); }, "band"},
+      {[](BakeOptions& o) { o.pipeline.coarseRes = 0; }, "coarse resolution"},
+      {[](BakeOptions& o) { o.pipeline.fineRes = 8; }, "fine resolution"},
+      {[](BakeOptions& o) { o.pipeline.alpha = 1.5; }, "alpha"},
+      {[](BakeOptions& o) { o.frames = 0; }, "frames"},
+      {[](BakeOptions& o) { o.resolution = 0; }, "resolution"},
+      {[](BakeOptions& o) { o.time = INFINITY; }, "time"},
+      {[](BakeOptions& o) { o.method = BakeMethod::OpenVdb, o.fullDomain = true; }, "full domain"},
+  };
+  for (const Case& c : cases) {
+    BakeOptions o = smallBake(BakeMethod::Exact);
+    o.scene = "/no/such/scene.json"; // settings are refused before the scene is read
+    c.set(o);
+    try {
+      bake(o);
+      ADD_FAILURE() << c.setting << " was accepted";
+    } catch (const SettingError& e) {
+      EXPECT_EQ(e.setting(), c.setting) << e.what();
+      EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << "names a flag: " << e.what();
+    }
+  }
+}
+
+TEST(Jobs, BakeFromAPathEqualsBakeOfTheLoadedSceneAndWrites) {
+  const BakeOptions o = smallBake(BakeMethod::Exact);
+  const BakeResult a = bake(o);
+  const BakeResult b = bake(loadScene(o.scene), o);
+  ASSERT_TRUE(a.grid && b.grid);
+  EXPECT_GT(a.grid->activeVoxelCount(), 1000u);
+  EXPECT_EQ(a.grid->activeVoxelCount(), b.grid->activeVoxelCount());
+  auto acc = b.grid->getConstAccessor();
+  for (auto it = a.grid->cbeginValueOn(); it; ++it) ASSERT_EQ(*it, acc.getValue(it.getCoord()));
+  EXPECT_EQ(a.grid->metaValue<std::string>("rtsdf:method"), "exact");
+  EXPECT_EQ(a.grid->metaValue<std::string>("rtsdf:resolution"), "40");
+  TempDir dir;
+  BakeOutputOptions out;
+  out.fog = true;
+  writeBake(a, dir / "a.vdb", out);
+  EXPECT_EQ(readVdb(dir / "a.vdb").size(), 2u);
+  const FileComparison same = compareFiles(dir / "a.vdb", dir / "a.vdb");
+  EXPECT_EQ(same.error.voxels, a.grid->activeVoxelCount());
+  EXPECT_EQ(same.error.maxAbs, 0.0);
+  const std::string report = bakeReport(o, a, dir / "a.vdb", out);
+  EXPECT_NE(report.find("grids: surface, density"), std::string::npos) << report;
+}
+
+TEST(Jobs, RtsdfBakeReportsProgressPerFrameAndStopsWhenAsked) {
+  BakeOptions o = smallBake(BakeMethod::Rtsdf);
+  o.frames = 3;
+  std::vector<std::uint64_t> done;
+  JobControl control;
+  control.progress = [&](const std::string& stage, std::uint64_t d, std::uint64_t total) {
+    EXPECT_EQ(stage, "refining");
+    EXPECT_EQ(total, 3u);
+    done.push_back(d);
+  };
+  const BakeResult r = bake(o, control);
+  EXPECT_EQ(done, (std::vector<std::uint64_t>{1, 2, 3}));
+  EXPECT_GT(r.lastFrame.passTotal(RayRefinePass::kName), 0.0);
+  EXPECT_EQ(r.lastFrame.passTotal(ClosestRefinePass::kName), 0.0) << "rays mode runs the ray shader alone";
+  EXPECT_EQ(r.lastFrame.refineMs(), r.lastFrame.passTotal(RayRefinePass::kName));
+  EXPECT_EQ(r.grid->metaValue<std::string>("rtsdf:frames"), "3");
+
+  int polls = 0;
+  control.progress = {};
+  control.stopRequested = [&] { return ++polls > 1; }; // stop before the second frame
+  EXPECT_THROW(bake(o, control), Interrupted);
+  EXPECT_EQ(polls, 2);
+}
+
+TEST(Jobs, ClosestModeRunsTheClosestRefinePass) {
+  BakeOptions o = smallBake(BakeMethod::Rtsdf);
+  o.pipeline.mode = RefineMode::Closest;
+  o.pipeline.rays = 0;
+  o.frames = 1;
+  const BakeResult r = bake(o);
+  EXPECT_GT(r.lastFrame.passTotal(ClosestRefinePass::kName), 0.0);
+  EXPECT_EQ(r.lastFrame.passTotal(RayRefinePass::kName), 0.0);
+  EXPECT_GT(r.lastFrame.passTotal(UpsamplePass::kName), 0.0);
+  EXPECT_NE(bakeReport(o, r, "x.vdb").find("ClosestRefinePass"), std::string::npos);
+}
+
+TEST(Jobs, AnimateGivesOneFramePerStepWithItsErrorAndCsv) {
+  AnimateOptions o;
+  o.scene = test::dataPath("scenes/default.json");
+  o.frames = 2;
+  o.pipeline.coarseRes = 24;
+  o.pipeline.fineRes = 48;
+  o.pipeline.rays = 2;
+  int calls = 0;
+  const AnimateResult r = animate(o, {}, [&](const AnimateFrame& f) { EXPECT_EQ(f.frame, calls++); });
+  ASSERT_EQ(r.frames.size(), 2u);
+  EXPECT_EQ(calls, 2);
+  for (const AnimateFrame& f : r.frames) {
+    EXPECT_GT(f.error.voxels, 0u);
+    EXPECT_LT(f.error.meanAbs, 2.0);
+    EXPECT_GT(f.gpuMs(), 0.0);
+  }
+  const std::string csv = r.csv();
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
+  o.focus = "no-such-instance";
+  try {
+    animate(o);
+    ADD_FAILURE();
+  } catch (const SettingError& e) {
+    EXPECT_EQ(e.setting(), "focus");
+  }
+}
+
+TEST(Jobs, RenderJobComparesWithTheTruthAndWritesEveryFile) {
+  RenderJobOptions o;
+  o.scene = test::dataPath("scenes/analytic.json");
+  o.frames = 1;
+  o.compare = true;
+  o.render.width = 48;
+  o.render.height = 27;
+  o.render.pipeline.coarseRes = 24;
+  o.render.pipeline.fineRes = 48;
+  o.render.rayTraced.samples = 16;
+  EXPECT_EQ(o.render.pipeline.mode, RefineMode::Closest) << "the renderer's own defaults";
+  const RenderJobResult r = renderScene(o);
+  ASSERT_TRUE(r.compared);
+  EXPECT_GT(r.error.pixels, 0u);
+  EXPECT_LT(r.error.visibilityMeanAbs, 0.1);
+  EXPECT_NE(r.passTable().find("SdfShadowPass"), std::string::npos);
+  TempDir dir;
+  const RenderOutputs out = RenderOutputs::forExr(dir / "r.exr");
+  out.check();
+  writeRender(r, out);
+  for (const auto& p : {out.exr, out.png, out.errorPng}) EXPECT_TRUE(std::filesystem::exists(p)) << p;
+  EXPECT_EQ(out.errorPng.filename(), "r_error.png");
+}

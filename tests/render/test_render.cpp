@@ -260,6 +260,67 @@ TEST_F(Render, TaaPassEqualsTheCpuAccumulation) {
   EXPECT_EQ(countAbove(f.visibility[0], history[0], 1e-6f), 0u);
 }
 
+// TaaPass against its closed form, independent of the shared taaResolve: with history h and a constant current
+// frame c, the result is c on the first frame, h + (c - h) max(blend, 1 / frame) later, and c again when the
+// history is clamped into the (constant) neighbourhood of the current frame.
+TEST_F(Render, TaaPassFollowsTheClosedFormBlendAndClamp) {
+  const int w = 8, h = 4;
+  const std::size_t n = std::size_t(w) * h, bytes = n * sizeof(float);
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  const gpu::Buffer current(*sCtx, bytes, usage, gpu::Buffer::Memory::Device, "current");
+  const gpu::Buffer history(*sCtx, bytes, usage, gpu::Buffer::Memory::Device, "history");
+  gpu::upload(*sCtx, current, std::vector<float>(n, 0.8f).data(), bytes);
+  const TaaPass pass(*sCtx);
+  struct Case { int frame; bool clamp; float blend; float expected; };
+  for (const Case& c : {Case{1, false, 0.1f, 0.8f}, Case{5, false, 0.1f, 0.2f + 0.6f * 0.2f},
+                        Case{20, false, 0.1f, 0.2f + 0.6f * 0.1f}, Case{20, false, 0.5f, 0.5f},
+                        Case{5, true, 0.1f, 0.8f}}) {
+    gpu::upload(*sCtx, history, std::vector<float>(n, 0.2f).data(), bytes);
+    sh::TaaParams p{};
+    p.image = glm::ivec4(w, h, 1, c.frame);
+    p.blend = c.blend;
+    p.clampHistory = c.clamp ? 1u : 0u;
+    gpu::CommandBuffer cmd(*sCtx);
+    pass.execute(cmd.handle(), nullptr, {current}, {history}, p);
+    cmd.submitAndWait();
+    std::vector<float> out(n);
+    gpu::download(*sCtx, history, out.data(), bytes);
+    for (float v : out) ASSERT_NEAR(v, c.expected, 1e-6f) << "frame " << c.frame << " clamp " << c.clamp;
+  }
+  EXPECT_EQ(sCtx->validationErrors(), 0u);
+}
+
+// Shadow maps with PCF against the geometric truth, independent of the shared lookup code: a sun straight
+// down over a floor half covered by a plate, seen from below the plate's height. Away from the plate's edge
+// (more than the PCF kernel and the bias), the floor is exactly shadowed under the plate and exactly lit
+// beside it.
+TEST_F(Render, ShadowMapsAreExactAwayFromShadowEdges) {
+  const Scene scene = parseScene(R"({"meshes": {"floor": {"box": [2, 0.02, 2]}, "plate": {"box": [1, 0.02, 2]}},
+      "instances": [{"mesh": "floor", "translate": [0, -0.01, 0]}, {"mesh": "plate", "translate": [-0.5, 0.5, 0]}],
+      "lights": [{"type": "directional", "direction": [0, -1, 0]}],
+      "camera": {"position": [0, 0.3, 2.6], "look_at": [0, 0.05, 0], "fov_deg": 60}})",
+                                 "plate.json");
+  RenderSettings s = small(ShadowTechnique::ShadowMap, 120, 120);
+  s.shadowMap.resolution = 512;
+  Renderer r(*sCtx, scene, boundsOf(scene), s);
+  const RenderedFrame f = r.renderFrame(0.0);
+  std::size_t shadowed = 0, lit = 0;
+  for (std::size_t i = 0; i < f.gbuffer.pixelCount(); ++i) {
+    const glm::vec4 q = f.gbuffer.position[i];
+    if (!f.gbuffer.hit(i) || std::fabs(q.y) > 0.05f) continue; // the floor only
+    const float v = f.visibility[0][i];
+    if (q.x < -0.08f && q.x > -0.92f && std::fabs(q.z) < 0.92f) {
+      ASSERT_EQ(v, 0.0f) << "under the plate at " << q.x << ", " << q.z;
+      ++shadowed;
+    } else if (q.x > 0.08f) {
+      ASSERT_EQ(v, 1.0f) << "beside the plate at " << q.x << ", " << q.z;
+      ++lit;
+    }
+  }
+  EXPECT_GT(shadowed, 300u);
+  EXPECT_GT(lit, 300u);
+}
+
 namespace {
 RenderedFrame truthOf(const Scene& scene, double t, int w, int h, int samples = 256) {
   RenderSettings s = small(ShadowTechnique::RayTraced, w, h);

@@ -187,7 +187,6 @@ void bindBench(CLI::App& app, BenchCommand& c) {
   cmd->callback([&c] {
     c.sweepOptions.run.device = c.suite.device;
     c.sweepOptions.run.repeats = c.suite.repeats;
-    if (c.sweep == "quick") c.sweepOptions.run.shadowWidth = 160, c.sweepOptions.run.shadowHeight = 90;
   });
 }
 

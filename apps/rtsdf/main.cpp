@@ -60,7 +60,6 @@ int runRender(const RenderCommand& c) {
   const RenderOutputs out = RenderOutputs::forExr(c.output, c.png);
   out.check();
   const RenderJobResult r = renderScene(c.options, terminalJobControl());
-  if (!r.sdfGrids.empty()) spdlog::info("SDF: {}", r.sdfGrids);
   const RenderSettings& rs = c.options.render;
   fmt::print("{} shadows, {}x{}, frame at t = {} s:\n{}", toString(rs.technique), rs.width, rs.height, c.options.time,
              r.passTable());

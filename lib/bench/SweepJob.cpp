@@ -35,7 +35,8 @@ std::string seconds(double s) {
   return fmt::format("{:.0f} min {:02.0f} s", std::floor(s / 60), std::fmod(s, 60));
 }
 
-SweepContext reportContext(const SweepJobOptions& o, const SweepRunner& runner, std::size_t planned) {
+SweepContext reportContext(const SweepJobOptions& o, const SweepRunOptions& ro, const SweepRunner& runner,
+                           std::size_t planned) {
   SweepContext ctx;
   ctx.scene = fs::path(scenePathOf(o)).filename().string();
   ctx.command = o.command;
@@ -47,9 +48,9 @@ SweepContext reportContext(const SweepJobOptions& o, const SweepRunner& runner, 
   ctx.planned = planned;
   ctx.repeats = o.run.repeats;
   if (runner.measuresShadows()) {
-    ctx.shadowWidth = o.run.shadowWidth;
-    ctx.shadowHeight = o.run.shadowHeight;
-    ctx.truthSamples = o.run.truthSamples;
+    ctx.shadowWidth = ro.shadowWidth;
+    ctx.shadowHeight = ro.shadowHeight;
+    ctx.truthSamples = ro.truthSamples;
   }
   return ctx;
 }
@@ -112,10 +113,14 @@ SweepJobResult runSweep(const SweepJobOptions& o, const JobControl& control) {
   result.dir = outDirOf(o);
   SweepRunOptions ro = o.run;
   ro.stopRequested = [&control] { return control.stopping(); };
+  if (o.preset == SweepPreset::Quick) { // a smoke run: small shadow pictures too
+    ro.shadowWidth = 160;
+    ro.shadowHeight = 90;
+  }
   SweepRunner runner(scene, ro);
   const std::vector<SweepPoint> plan = makeSweepPlan(o.preset, runner.animated(), runner.sceneExtent());
   result.planned = plan.size();
-  SweepContext ctx = reportContext(o, runner, plan.size());
+  SweepContext ctx = reportContext(o, ro, runner, plan.size());
 
   fs::create_directories(result.dir);
   const fs::path csvPath = result.dir / "sweep.csv";

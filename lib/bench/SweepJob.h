@@ -17,7 +17,8 @@ struct SweepJobOptions {
   std::string scene;                ///< scene or mesh; empty: the bundled default scene
   SweepPreset preset = SweepPreset::Default;
   std::filesystem::path outDir;     ///< created; empty: "sweep-" + the scene's name
-  SweepRunOptions run;              ///< device, error band, repeats, shadows, truth samples
+  SweepRunOptions run;              ///< device, error band, repeats, shadows, truth samples (the quick preset
+                                    ///< renders its shadow pictures at 160x90)
   std::string command;              ///< the command line that asked, for the report
   /// @throw SettingError / Error when a setting is out of range or the folder cannot be made.
   void validate() const;

@@ -56,8 +56,10 @@ RenderedFrame renderOnGpu(const RenderJobOptions& o, const Scene& scene, RenderJ
   for (int f = 0; f < o.frames; ++f) bounds.add(buildSceneGeometry(scene, t0 + f / o.fps).bounds);
   gpu::VulkanContext ctx(detail::contextOptions(o.device));
   Renderer renderer(ctx, scene, bounds, o.render);
-  if (const SdfPipeline* sdf = renderer.sdfPipeline())
+  if (const SdfPipeline* sdf = renderer.sdfPipeline()) {
     result.sdfGrids = fmt::format("coarse {}, fine {}", sdf->coarseSpec().describe(), sdf->fineSpec().describe());
+    spdlog::info("SDF: {}", result.sdfGrids);
+  }
   RenderedFrame frame;
   for (int f = 0; f < o.frames; ++f) {
     control.checkStop();

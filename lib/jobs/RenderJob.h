@@ -35,7 +35,7 @@ struct RenderJobResult {
   bool compared = false;
   ShadowImageError error;     ///< against the truth (when compared)
   Image errorImage;           ///< visibility error: red where too dark, green where too bright (when compared)
-  std::string sdfGrids;       ///< the SDF pipeline's grids (Sdf technique), for the log
+  std::string sdfGrids;       ///< the SDF pipeline's grids (Sdf technique; also logged when the render starts)
   /// @brief Per-pass times of the last frame, one line each.
   std::string passTable() const;
 };

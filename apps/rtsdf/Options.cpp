@@ -21,7 +21,10 @@ template <class E> CLI::Option* addEnum(CLI::App* cmd, const std::string& flag, 
       "", "enum name");
   std::string names;
   for (const auto& entry : EnumNames<E>::kValues) names += std::string(names.empty() ? "" : "|") + entry.first;
-  return cmd->add_option(flag, value, help)->transform(byName)->type_name("{" + names + "}")->default_str(toString(value));
+  return cmd->add_option(flag, value, help)
+      ->transform(byName)
+      ->type_name("{" + names + "}")
+      ->default_str(toString(value));
 }
 
 /// The GPU pipeline's knobs, shared by bake, animate and render.
@@ -173,10 +176,10 @@ void bindBench(CLI::App& app, BenchCommand& c) {
                                    "ray-traced truth, and the ray tracer's time per sample count (PNGs beside "
                                    "--output)");
   cmd->add_option("--device", s.device, "Vulkan device by index or name (GPU suites and --sweep)");
-  cmd->add_option("--sweep", c.sweep, "Run the speed/accuracy sweep on one scene instead of a suite: quick (tiny "
-                                      "grids, a minute), default (sizes S 64/128 and M 128/256, every knob at S), paper "
-                                      "(S, M, L 256/512, every knob at M: for a real GPU). Writes sweep.csv (row by "
-                                      "row), report.md and PNG plots into --out")
+  cmd->add_option("--sweep", c.sweep,
+                  "Run the speed/accuracy sweep on one scene instead of a suite: quick (tiny grids, a minute), "
+                  "default (sizes S 64/128 and M 128/256, every knob at S), paper (S, M, L 256/512, every knob at M: "
+                  "for a real GPU). Writes sweep.csv (row by row), report.md and PNG plots into --out")
       ->check(CLI::IsMember(enumMap<bench::SweepPreset>()));
   cmd->add_option("--out", c.sweepOptions.outDir, "The sweep's output folder (created; default: sweep-<scene name>)");
   cmd->add_option("--error-band", run.errorBand, "The sweep measures the field error where |exact| <= this (scene "
@@ -202,7 +205,8 @@ void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet) {
   bindRender(app, c.render);
   app.add_subcommand("info", "Print versions, Vulkan devices with their limits, and embedded shaders");
   CLI::App* cmp = app.add_subcommand("compare", "Compare two level-set .vdb files on the voxels active in both: "
-                                                "mean/RMS/max |difference| in voxels and the rate of sign disagreement");
+                                                "mean/RMS/max |difference| in voxels and the rate of sign "
+                                                "disagreement");
   cmp->add_option("a", c.compareA, "First .vdb")->required()->check(CLI::ExistingFile);
   cmp->add_option("b", c.compareB, "Second .vdb")->required()->check(CLI::ExistingFile);
   bindBench(app, c.bench);

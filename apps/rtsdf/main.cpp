@@ -129,7 +129,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   commands.which = app.get_subcommands().front()->get_name();
-  for (int i = 0; i < argc; ++i) commands.bench.sweepOptions.command += (i ? " " : "") + std::string(i ? argv[i] : "rtsdf");
+  std::string& command = commands.bench.sweepOptions.command; // for the sweep's report
+  for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(i ? argv[i] : "rtsdf");
   rtsdf::initLogging(quiet ? -1 : verbosity);
   rtsdf::Progress::setEnabled(!quiet);
   try {

@@ -38,14 +38,16 @@ enum class AnchorKind { None, OpenVdb, Exact };
 namespace rtsdf {
 template <> struct EnumNames<bench::SweepPreset> {
   static constexpr const char* kSetting = "sweep preset";
-  static constexpr std::pair<const char*, bench::SweepPreset> kValues[] = {
-      {"quick", bench::SweepPreset::Quick}, {"default", bench::SweepPreset::Default}, {"paper", bench::SweepPreset::Paper}};
+  static constexpr std::pair<const char*, bench::SweepPreset> kValues[] = {{"quick", bench::SweepPreset::Quick},
+                                                                           {"default", bench::SweepPreset::Default},
+                                                                           {"paper", bench::SweepPreset::Paper}};
 };
 template <> struct EnumNames<bench::SweepGroup> {
   static constexpr const char* kSetting = "sweep group";
   static constexpr std::pair<const char*, bench::SweepGroup> kValues[] = {
-      {"sizes", bench::SweepGroup::Sizes},     {"band", bench::SweepGroup::Band},      {"alpha", bench::SweepGroup::Alpha},
-      {"frames", bench::SweepGroup::Frames},   {"jfa", bench::SweepGroup::Jfa},        {"dynamic", bench::SweepGroup::Dynamic},
+      {"sizes", bench::SweepGroup::Sizes},     {"band", bench::SweepGroup::Band},
+      {"alpha", bench::SweepGroup::Alpha},     {"frames", bench::SweepGroup::Frames},
+      {"jfa", bench::SweepGroup::Jfa},         {"dynamic", bench::SweepGroup::Dynamic},
       {"anchor", bench::SweepGroup::Anchor},   {"storage", bench::SweepGroup::Storage}};
 };
 /// The anchors' names as the report prints them ("" for none).

@@ -27,7 +27,8 @@ std::string FileComparison::report(const std::filesystem::path& a, const std::fi
   std::string t = fmt::format("A          {} ({} active voxels)\n", a.string(), activeA);
   t += fmt::format("B          {} ({} active voxels)\n", b.string(), activeB);
   t += fmt::format("voxel size {}\n", voxelSize);
-  t += fmt::format("compared   {} voxels active in both ({} only in A, {} only in B)\n", e.voxels, e.onlyInA, e.onlyInB);
+  t += fmt::format("compared   {} voxels active in both ({} only in A, {} only in B)\n", e.voxels, e.onlyInA,
+                   e.onlyInB);
   t += fmt::format("|A - B|    mean {:.4f}, RMS {:.4f}, max {:.4f} voxels\n", e.meanAbs, e.rms, e.maxAbs);
   t += fmt::format("sign       {} voxels disagree ({:.4f}%)\n", e.signMismatches, 100.0 * e.signErrorRate());
   return t;

@@ -24,7 +24,9 @@ enum class ShadowTechnique {
 template <> struct EnumNames<ShadowTechnique> {
   static constexpr const char* kSetting = "shadow technique";
   static constexpr std::pair<const char*, ShadowTechnique> kValues[] = {
-      {"sdf", ShadowTechnique::Sdf}, {"shadowmap", ShadowTechnique::ShadowMap}, {"raytraced", ShadowTechnique::RayTraced}};
+      {"sdf", ShadowTechnique::Sdf},
+      {"shadowmap", ShadowTechnique::ShadowMap},
+      {"raytraced", ShadowTechnique::RayTraced}};
 };
 
 /// @brief How the SDF march turns distances into visibility (gpu/shared/Render.h has the formulas).

@@ -50,7 +50,8 @@ public:
     JfaVariant variant = JfaVariant::OnePlusJfa;
   };
   explicit JumpFloodPass(const gpu::VulkanContext& ctx)
-      : ComputePass(ctx, "jump_flood.comp", gpu::shared::kJumpFloodBindingCount, sizeof(gpu::shared::JumpFloodParams)) {}
+      : ComputePass(ctx, "jump_flood.comp", gpu::shared::kJumpFloodBindingCount,
+                    sizeof(gpu::shared::JumpFloodParams)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
   /// @brief The buffer that holds the nearest seeds after execute() with the same arguments.

@@ -104,7 +104,8 @@ void checkPipelineMemory(const PipelineMemory& need, const MemoryLimits& limits)
   if (limits.deviceBytes && need.deviceBytes > limits.deviceBytes)
     throw SettingError("fine resolution", fmt::format("SdfPipeline: {}: the device buffers need {}, more than {}'s "
                                                       "{} heap: lower the fine (and coarse) resolution", grids,
-                                                      mib(need.deviceBytes), limits.deviceName, mib(limits.deviceBytes)));
+                                                      mib(need.deviceBytes), limits.deviceName,
+                                                      mib(limits.deviceBytes)));
   const std::uint64_t host = need.hostBytes + (limits.unifiedMemory ? need.deviceBytes : 0);
   if (limits.hostBytes && host > limits.hostBytes)
     throw SettingError("fine resolution", fmt::format("SdfPipeline: {}: needs {} of host memory{}, more than the {} "

@@ -125,7 +125,9 @@ vec3 closestOnSegment(vec3 p, vec3 a, vec3 b) {
 // Slivers: rounding can skip every vertex and edge region yet leave a barycentric weight negative (or their
 // sum zero), which put the "face" point off the triangle, nearer than the true distance. The face point is
 // taken only when all three weights are positive and their sum is a normal number; otherwise the nearest of
-// the three edges, which for such a thin triangle is the answer to within rounding.
+// the three edges, which for such a thin triangle is the answer to within rounding. The face point is the
+// projection onto the plane: the vertex tests (well-conditioned dot products) have already refused points
+// beyond the corners, so when the weights are noise the projection lies within rounding of the triangle.
 vec3 closestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
   vec3 ab = b - a, ac = c - a, ap = p - a;
   float d1 = dot(ab, ap), d2 = dot(ac, ap);
@@ -143,10 +145,12 @@ vec3 closestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
   float va = d3 * d6 - d5 * d4;
   if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
   float sum = va + vb + vc;
-  if (va > 0.0 && vb > 0.0 && vc > 0.0 && sum >= 1.17549435e-38 && !isinf(sum)) {
-    float denom = 1.0 / sum;
-    return a + ab * (vb * denom) + ac * (vc * denom);
-  }
+  vec3 n = cross(ab, ac);
+  float nn = dot(n, n);
+  if (va > 0.0 && vb > 0.0 && vc > 0.0 && sum >= 1.17549435e-38 && !isinf(sum) && nn >= 1.17549435e-38 && !isinf(nn))
+    // p projected onto the plane, not a + ab vb/sum + ac vc/sum: on a sliver the weights are differences of
+    // nearly equal products (noise when p projects onto an edge), the projection is not.
+    return p - n * (dot(ap, n) / nn);
   vec3 qab = closestOnSegment(p, a, b), qbc = closestOnSegment(p, b, c), qca = closestOnSegment(p, c, a);
   float dab = dot(p - qab, p - qab), dbc = dot(p - qbc, p - qbc), dca = dot(p - qca, p - qca);
   return dab <= dbc ? (dab <= dca ? qab : qca) : (dbc <= dca ? qbc : qca);

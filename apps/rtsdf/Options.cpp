@@ -60,7 +60,8 @@ void bindBake(CLI::App& app, BakeCommand& c) {
                                                 "for rtsdf the ray-mask band d (0: no refinement)")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_flag("--full", o.fullDomain, "Full-domain field: every voxel active (exact method only)");
-  cmd->add_option("--padding", o.padding, "Margin around the scene bounds in scene units (default: the band)")
+  cmd->add_option("--padding", o.pipeline.padding, "Margin around the scene bounds in scene units (default: the "
+                                                   "band, at most a quarter of the scene's longest side)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("-t,--time", o.time, "Animation time in seconds")->capture_default_str();
   addEnum(cmd, "--sign", o.sign, "Sign rule of the exact method: auto (pseudo-normal for closed meshes, winding "
@@ -193,6 +194,21 @@ void bindBench(CLI::App& app, BenchCommand& c) {
   });
 }
 
+void bindCompare(CLI::App& app, CompareCommand& c) {
+  CLI::App* cmd = app.add_subcommand("compare", "Compare two level sets of the same space in A's voxels: mean/RMS/"
+                                                "max |difference| in voxels and the rate of sign disagreement (B is "
+                                                "resampled when its voxels differ); or A against the exact field or "
+                                                "OpenVDB's, baked on A's voxels and band");
+  cmd->add_option("a", c.options.a, "The level set measured (.vdb)")->required()->check(CLI::ExistingFile);
+  CLI::Option* b = cmd->add_option("b", c.options.b, "The level set it is compared with (.vdb)")
+                       ->check(CLI::ExistingFile);
+  c.againstFlag = addEnum(cmd, "--against", c.anchor, "Instead of B, bake this anchor on A's voxels, band and time "
+                                                      "from A's scene and compare with it");
+  c.againstFlag->default_str("")->excludes(b);
+  cmd->add_option("--scene", c.options.scene, "The anchor's scene (default: the one A records)")
+      ->needs(c.againstFlag);
+}
+
 } // namespace
 
 void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet) {
@@ -204,11 +220,7 @@ void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet) {
   bindAnimate(app, c.animate);
   bindRender(app, c.render);
   app.add_subcommand("info", "Print versions, Vulkan devices with their limits, and embedded shaders");
-  CLI::App* cmp = app.add_subcommand("compare", "Compare two level-set .vdb files on the voxels active in both: "
-                                                "mean/RMS/max |difference| in voxels and the rate of sign "
-                                                "disagreement");
-  cmp->add_option("a", c.compareA, "First .vdb")->required()->check(CLI::ExistingFile);
-  cmp->add_option("b", c.compareB, "Second .vdb")->required()->check(CLI::ExistingFile);
+  bindCompare(app, c.compare);
   bindBench(app, c.bench);
 }
 
@@ -223,7 +235,7 @@ std::string flagOf(const std::string& setting) {
       {"PCF radius", "--pcf-radius"}, {"shadow bias", "--shadow-bias"}, {"TAA blend", "--taa-blend"},
       {"samples", "--samples"}, {"error band", "--error-band"}, {"repeats", "--repeats"},
       {"truth samples", "--truth-samples"}, {"band fraction", "--band-fraction"}, {"output folder", "--out"},
-      {"device", "--device"}};
+      {"device", "--device"}, {"anchor", "--against"}, {"scene", "--scene"}};
   const auto it = flags.find(setting);
   return it == flags.end() ? setting : it->second;
 }

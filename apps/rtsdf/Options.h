@@ -6,6 +6,7 @@
 #include "bench/SweepJob.h"
 #include "jobs/Animate.h"
 #include "jobs/Bake.h"
+#include "jobs/Compare.h"
 #include "jobs/RenderJob.h"
 
 #include <CLI/CLI.hpp>
@@ -37,6 +38,12 @@ struct BenchCommand {
   bench::SweepJobOptions sweepOptions;
 };
 
+struct CompareCommand {
+  CompareOptions options;
+  CompareAnchor anchor = CompareAnchor::Exact;
+  CLI::Option* againstFlag = nullptr; ///< given: options.against = anchor
+};
+
 /// @brief Every subcommand's options; @a which names the one given.
 struct Commands {
   std::string which;
@@ -44,7 +51,7 @@ struct Commands {
   AnimateCommand animate;
   RenderCommand render;
   BenchCommand bench;
-  std::filesystem::path compareA, compareB;
+  CompareCommand compare;
 };
 
 /// @brief Add the subcommands and global flags to @a app, bound onto @a c, @a verbosity and @a quiet.

@@ -43,6 +43,12 @@ int runBake(const BakeCommand& c) {
   return 0;
 }
 
+int runCompare(CompareCommand c) {
+  if (c.againstFlag->count()) c.options.against = c.anchor;
+  fmt::print("{}", compare(c.options, terminalJobControl()).report());
+  return 0;
+}
+
 int runAnimate(const AnimateCommand& c) {
   if (!c.csv.empty()) checkOutputPath(c.csv);
   const AnimateResult r = animate(c.options, {}, [](const AnimateFrame& f) {
@@ -103,10 +109,7 @@ int run(const Commands& c) {
   if (c.which == "animate") return runAnimate(c.animate);
   if (c.which == "render") return runRender(c.render);
   if (c.which == "bench") return runBench(c.bench);
-  if (c.which == "compare") {
-    fmt::print("{}", compareFiles(c.compareA, c.compareB).report(c.compareA, c.compareB));
-    return 0;
-  }
+  if (c.which == "compare") return runCompare(c.compare);
   const SystemInfo info = systemInfo();
   fmt::print("{}", info.text);
   return info.vulkanOk ? 0 : 1;

@@ -24,10 +24,11 @@ void BakeOptions::validate() const {
   requireInRange("frames", frames, 1, 100000);
   requireInRange("resolution", resolution, 1, GridSpec::kMaxResolution);
   requireFinite("time", time);
-  requireFinite("padding", padding);
   if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
   if (!(pipeline.band > 0.0))
     throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));
+  if (grid && method == BakeMethod::Rtsdf)
+    throw SettingError("grid", "the rtsdf method builds its own coarse and fine grids (set the fine resolution)");
   if (fullDomain && method != BakeMethod::Exact)
     throw SettingError("full domain", "a full-domain field needs the exact method (OpenVDB's meshToLevelSet builds "
                                       "a narrow band only)");
@@ -99,11 +100,13 @@ const char* signDescription(const BakeOptions& o) {
   }
 }
 
-/// The grid of exact, openvdb and jfa bakes: the scene's bounds at the method's resolution, checked against
-/// memory before anything is allocated (the full domain is dense; a band needs a pointer per 8^3 block).
+/// The grid of exact, openvdb and jfa bakes: the one given, or the scene's bounds at the method's resolution;
+/// checked against memory before anything is allocated (the full domain is dense; a band needs a pointer per 8^3
+/// block).
 GridSpec bakeGrid(const BakeOptions& o, const SceneGeometry& geo, double padding) {
-  const GridSpec spec =
-      GridSpec::fromBounds(geo.bounds, o.method == BakeMethod::Jfa ? o.pipeline.coarseRes : o.resolution, padding);
+  const GridSpec spec = o.grid ? *o.grid
+                               : GridSpec::fromBounds(geo.bounds, o.method == BakeMethod::Jfa ? o.pipeline.coarseRes
+                                                                                              : o.resolution, padding);
   const std::uint64_t mem = physicalMemoryBytes();
   if (mem) checkDenseMemory(spec, o.fullDomain ? 8 : (o.method == BakeMethod::Jfa ? 24 : 1), mem / 2, "bake");
   spdlog::info("grid: {}, band {} ({:.1f} voxels){}", spec.describe(), o.pipeline.band,
@@ -114,7 +117,7 @@ GridSpec bakeGrid(const BakeOptions& o, const SceneGeometry& geo, double padding
 BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene) {
   const double band = o.pipeline.band;
   const SceneGeometry geo = buildSceneGeometry(scene, o.time);
-  const double padding = o.padding >= 0.0 ? o.padding : band;
+  const double padding = pipelinePadding(geo.bounds, o.pipeline);
   BakeResult r;
   r.spec = bakeGrid(o, geo, padding);
   const auto t0 = std::chrono::steady_clock::now();

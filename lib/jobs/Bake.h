@@ -14,6 +14,7 @@
 #include <openvdb/openvdb.h>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace rtsdf {
@@ -39,15 +40,18 @@ struct BakeOptions {
   BakeMethod method = BakeMethod::Exact;
   int resolution = 128;                ///< voxels across the longest side (exact, openvdb)
   bool fullDomain = false;             ///< every voxel active (exact only)
-  double padding = -1.0;               ///< margin around the bounds; < 0: the band (so the band fits)
   double time = 0.0;                   ///< animation time in seconds
   SignMethod sign = SignMethod::Auto;  ///< sign rule of the exact method
   int frames = 16;                     ///< refinement frames to accumulate (rtsdf)
   std::string device;                  ///< Vulkan device by index or name; empty: the best one (jfa, rtsdf)
-  /// The band d for every method (pipeline.band: active voxels |d| <= band; for rtsdf also the ray mask) and
-  /// the GPU pipeline's knobs: coarse resolution (jfa, rtsdf), fine resolution, rays, alpha, refinement mode,
-  /// jump-flooding variant, beta, seed (rtsdf).
+  /// The band d and the padding for every method (pipeline.band: active voxels |d| <= band; for rtsdf also the
+  /// ray mask) and the GPU pipeline's knobs: coarse resolution (jfa, rtsdf), fine resolution, rays, alpha,
+  /// refinement mode, jump-flooding variant, beta, seed (rtsdf). An exact or openvdb bake at resolution N and an
+  /// rtsdf bake at fine resolution N with the same band and padding have the same voxels (pipelineGrids).
   PipelineSettings pipeline;
+  /// exact, openvdb, jfa: bake on these voxels instead of the scene's padded bounds at the resolution (e.g. the
+  /// voxels of another file, to compare with it voxel for voxel).
+  std::optional<GridSpec> grid;
   /// @throw SettingError naming the setting that is out of range.
   void validate() const;
 };

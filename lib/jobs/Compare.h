@@ -1,25 +1,61 @@
 #pragma once
 /// @file Compare.h
-/// @brief Two level-set .vdb files compared on the voxels active in both.
+/// @brief Two level sets of the same space compared in the first one's voxels: read from two .vdb files (any
+///        transforms: B is resampled when its voxels differ), or one file against an anchor (the exact field or
+///        OpenVDB's meshToLevelSet) baked on its own voxels and band.
 #include "metrics/FieldError.h"
+#include "util/EnumNames.h"
+#include "util/JobControl.h"
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace rtsdf {
 
-/// @brief The comparison of two files.
-struct FileComparison {
-  FieldError error;                 ///< |A - B| in voxels and sign disagreement
-  std::uint64_t activeA = 0, activeB = 0;
-  double voxelSize = 0.0;
-  /// @brief The lines `rtsdf compare` prints.
-  std::string report(const std::filesystem::path& a, const std::filesystem::path& b) const;
+/// @brief The anchors a level set can be measured against.
+enum class CompareAnchor {
+  Exact,  ///< the exact field (Embree closest points, the exact bake's sign rule)
+  OpenVdb ///< OpenVDB's meshToLevelSet
+};
+template <> struct EnumNames<CompareAnchor> {
+  static constexpr const char* kSetting = "anchor";
+  static constexpr std::pair<const char*, CompareAnchor> kValues[] = {{"exact", CompareAnchor::Exact},
+                                                                      {"openvdb", CompareAnchor::OpenVdb}};
 };
 
-/// @brief Read the level sets of @a a and @a b and compare them (metrics/FieldError.h).
-/// @throw Error naming the files when either cannot be read or the grids cannot be compared.
+/// @brief What to compare.
+struct CompareOptions {
+  std::filesystem::path a;              ///< the level set measured (its voxels are the unit)
+  std::filesystem::path b;              ///< the level set it is compared with; empty when @a against is set
+  std::optional<CompareAnchor> against; ///< bake this anchor on A's voxels and band instead of reading B
+  /// The anchor's scene (.json or mesh); empty: the one A's rtsdf:scene metadata records, looked up as written
+  /// and then beside A. The anchor is baked at A's rtsdf:time (0 when absent).
+  std::string scene;
+  /// @throw SettingError unless exactly one of @a b and @a against is given, or when @a scene is given without
+  ///        @a against.
+  void validate() const;
+};
+
+/// @brief The comparison of two level sets.
+struct FileComparison {
+  FieldError error;                 ///< |A - B| in A's voxels and sign disagreement
+  std::uint64_t activeA = 0, activeB = 0;
+  double voxelSize = 0.0;           ///< A's voxel size, the unit of the error
+  std::string alignment;            ///< how B was read at A's voxels ("" for the same voxels)
+  std::string nameA, nameB;         ///< the files, or what was baked for B
+  /// @brief The lines `rtsdf compare` prints.
+  std::string report() const;
+};
+
+/// @brief Compare as @a options say (metrics/FieldError.h's compareFields on the two level sets).
+/// @throw SettingError on contradictory options; Error naming the file when one cannot be read or holds no level
+///        set, when either level set has no active voxel, when they do not overlap or share no defined voxel,
+///        and as bake() does for the anchor (its scene missing or bad); Interrupted when @a control asks to stop.
+FileComparison compare(const CompareOptions& options, const JobControl& control = {});
+
+/// @brief compare() of two files.
 FileComparison compareFiles(const std::filesystem::path& a, const std::filesystem::path& b);
 
 } // namespace rtsdf

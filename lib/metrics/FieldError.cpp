@@ -3,6 +3,7 @@
 #include "util/Error.h"
 
 #include <fmt/format.h>
+#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tree/LeafManager.h>
 #include <tbb/parallel_reduce.h>
 
@@ -67,19 +68,91 @@ std::string FieldError::summary() const {
                      rms, maxAbs, signMismatches, 100.0 * signErrorRate());
 }
 
+namespace {
+
+std::string vec3(const openvdb::Vec3d& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x(), v.y(), v.z()); }
+
+/// B's voxels that A does not cover: those whose centre lies in no active voxel of A.
+std::uint64_t resampledOnlyInB(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) {
+  const auto& xa = a.transform();
+  const auto& xb = b.transform();
+  return accumulateActiveVoxels(b.tree(), [&xa, &xb, aAcc = a.getConstAccessor()](const openvdb::Coord& c, float,
+                                                                                    Accum& acc) {
+           const openvdb::Coord ca = openvdb::Coord::round(xa.worldToIndex(xb.indexToWorld(c)));
+           if (!aAcc.isValueOn(ca)) ++acc.onlyA;
+         }).onlyA;
+}
+
+/// B sampled trilinearly at A's voxel centres, where all 8 voxels of the stencil are active in B.
+Accum accumulateResampled(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, double h) {
+  const auto& xa = a.transform();
+  const auto& xb = b.transform();
+  return accumulateActiveVoxels(a.tree(), [&xa, &xb, h, bAcc = b.getConstAccessor()](const openvdb::Coord& c,
+                                                                                      float av, Accum& acc) {
+    const openvdb::Vec3d p = xb.worldToIndex(xa.indexToWorld(c));
+    const openvdb::Coord lo = openvdb::Coord::floor(p);
+    for (int n = 0; n < 8; ++n)
+      if (!bAcc.isValueOn(lo.offsetBy(n & 1, (n >> 1) & 1, (n >> 2) & 1))) {
+        ++acc.onlyA;
+        return;
+      }
+    acc.add(av, openvdb::tools::BoxSampler::sample(bAcc, p), h);
+  });
+}
+
+} // namespace
+
+double voxelUnit(const openvdb::FloatGrid& g) {
+  return g.hasUniformVoxels() ? g.voxelSize()[0] : std::cbrt(g.transform().voxelVolume(openvdb::Vec3d(0.0)));
+}
+
+GridMatch matchGrids(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) {
+  GridMatch m;
+  const auto& xa = a.transform();
+  const auto& xb = b.transform();
+  if (xa == xb) return m;
+  const openvdb::Vec3d s = xb.worldToIndex(xa.indexToWorld(openvdb::Vec3d(0.0)));
+  // The same lattice: every unit step in A is the same unit step in B, and the offset is whole voxels.
+  constexpr double kTolerance = 1e-6;
+  bool lattice = xa.isLinear() && xb.isLinear();
+  for (int axis = 0; axis < 3 && lattice; ++axis) {
+    openvdb::Vec3d e(0.0);
+    e[axis] = 1.0;
+    lattice = (xb.worldToIndex(xa.indexToWorld(e)) - s - e).length() < kTolerance;
+  }
+  const openvdb::Coord shift = openvdb::Coord::round(s);
+  if (lattice && (s - shift.asVec3d()).length() < kTolerance) {
+    m.alignment = GridAlignment::Shifted;
+    m.shift = shift;
+    m.description = fmt::format("B's voxels are A's shifted by ({}, {}, {}) voxels: compared without resampling",
+                                shift.x(), shift.y(), shift.z());
+    return m;
+  }
+  m.alignment = GridAlignment::Resampled;
+  m.description = fmt::format("B resampled at A's voxel centres by trilinear interpolation (OpenVDB BoxSampler, where "
+                              "all 8 neighbours are active in B): voxel size {:.6g} vs {:.6g}, A's voxel (0,0,0) at "
+                              "B's index {}", voxelUnit(a), voxelUnit(b), vec3(s));
+  return m;
+}
+
 FieldError compareFields(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) {
-  if (a.transform() != b.transform())
-    throw Error(fmt::format("cannot compare grids '{}' and '{}': their transforms differ (voxel size {} vs {})",
-                            a.getName(), b.getName(), a.voxelSize()[0], b.voxelSize()[0]));
-  const double h = a.voxelSize()[0];
+  const double h = voxelUnit(a);
+  const GridMatch match = matchGrids(a, b);
+  if (match.alignment == GridAlignment::Resampled) {
+    FieldError e = finish(accumulateResampled(a, b, h));
+    e.onlyInB = resampledOnlyInB(a, b);
+    e.alignment = match.alignment;
+    return e;
+  }
   const Accum acc = accumulateActiveVoxels(
-      a.tree(), [h, bAcc = b.getConstAccessor()](const openvdb::Coord& c, float av, Accum& acc) {
+      a.tree(), [h, shift = match.shift, bAcc = b.getConstAccessor()](const openvdb::Coord& c, float av, Accum& acc) {
         float bv;
-        if (bAcc.probeValue(c, bv)) acc.add(av, bv, h);
+        if (bAcc.probeValue(c + shift, bv)) acc.add(av, bv, h);
         else ++acc.onlyA;
       });
   FieldError e = finish(acc);
   e.onlyInB = b.activeVoxelCount() - e.voxels;
+  e.alignment = match.alignment;
   return e;
 }
 

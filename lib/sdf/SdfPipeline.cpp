@@ -31,22 +31,30 @@ void PipelineSettings::validate() const {
   if (!(alpha >= 0.0 && alpha <= 1.0)) throw SettingError("alpha", fmt::format("alpha {} must be in [0, 1]", alpha));
   if (rays < 0 || rays > 1024) throw SettingError("rays", fmt::format("rays {} is out of range [0, 1024]", rays));
   if (std::isnan(beta) || std::isinf(beta)) throw SettingError("beta", fmt::format("beta {} must be finite", beta));
+  if (!std::isfinite(padding)) throw SettingError("padding", fmt::format("padding {} must be finite", padding));
 }
 
-GridSpec fineGridUnder(const GridSpec& coarse, int coarseRes, int fineRes) {
-  GridSpec f;
-  f.origin = coarse.origin;
-  f.voxelSize = coarse.voxelSize * double(coarseRes) / double(fineRes);
-  const glm::dvec3 ext = glm::dvec3(coarse.dims) * coarse.voxelSize;
-  for (int a = 0; a < 3; ++a) f.dims[a] = std::max(1, int(std::ceil(ext[a] / f.voxelSize - 1e-9)));
-  return f;
+double defaultPadding(const Bounds& bounds, double band) { return std::min(band, 0.25 * bounds.maxExtent()); }
+
+double pipelinePadding(const Bounds& bounds, const PipelineSettings& s) {
+  return s.padding >= 0.0 ? s.padding : defaultPadding(bounds, s.band);
+}
+
+GridSpec coarseGridOver(const GridSpec& fine, const Bounds& bounds, int coarseRes, double padding) {
+  GridSpec c;
+  // The fine and coarse voxel (0,0,0) share their corner: the ray mask maps coarse to fine voxels by index.
+  c.origin = fine.origin;
+  c.voxelSize = GridSpec::fromBounds(bounds, coarseRes, padding).voxelSize;
+  const glm::dvec3 ext = glm::dvec3(fine.dims) * fine.voxelSize;
+  for (int a = 0; a < 3; ++a) c.dims[a] = std::max(1, int(std::ceil(ext[a] / c.voxelSize - 1e-9)));
+  return c;
 }
 
 std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& s) {
   s.validate();
-  // Padding keeps the band inside the grid, but a band wider than the scene must not blow the grid up.
-  const GridSpec coarse = GridSpec::fromBounds(bounds, s.coarseRes, std::min(s.band, 0.25 * bounds.maxExtent()));
-  const GridSpec fine = fineGridUnder(coarse, s.coarseRes, s.fineRes);
+  const double padding = pipelinePadding(bounds, s);
+  const GridSpec fine = GridSpec::fromBounds(bounds, s.fineRes, padding);
+  const GridSpec coarse = coarseGridOver(fine, bounds, s.coarseRes, padding);
   for (int a = 0; a < 3; ++a)
     if (fine.dims[a] > gpu::shared::kMaxSeedAxis)
       throw SettingError("fine resolution", fmt::format("fine grid {}: more than {} voxels along an axis (lower the "

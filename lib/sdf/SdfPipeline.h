@@ -39,6 +39,7 @@ struct PipelineSettings {
   int coarseRes = 128;   ///< voxels across the scene for the coarse SDF
   int fineRes = 256;     ///< voxels across the scene for the fine SDF (>= coarseRes)
   double band = 0.1;     ///< d: refine where |c| <= d
+  double padding = -1.0; ///< margin around the scene bounds; < 0: defaultPadding (the band, at most a quarter)
   double alpha = 0.95;   ///< history decay
   int rays = 10;         ///< x: rays per masked voxel per frame
   RefineMode mode = RefineMode::Rays;
@@ -49,12 +50,21 @@ struct PipelineSettings {
   void validate() const;
 };
 
-/// @brief The fine grid under a coarse grid: same origin, voxel size h_coarse * coarseRes / fineRes, and
-///        enough voxels to cover the coarse grid.
-GridSpec fineGridUnder(const GridSpec& coarse, int coarseRes, int fineRes);
+/// @brief The margin a grid keeps around @a bounds for a band of half-width @a band when none is given: the band,
+///        so that it fits, but at most a quarter of the longest side, so that a band wider than the scene does not
+///        blow the grid up.
+double defaultPadding(const Bounds& bounds, double band);
 
-/// @brief The coarse and fine grids SdfPipeline builds for @a bounds and @a s: the coarse grid covers the
-///        bounds padded by min(d, a quarter of the longest side), the fine one lies under it.
+/// @brief The padding @a s asks for: s.padding when >= 0, else defaultPadding(bounds, s.band).
+double pipelinePadding(const Bounds& bounds, const PipelineSettings& s);
+
+/// @brief The coarse grid over a fine grid: the same corner, the voxel size of GridSpec::fromBounds(@a bounds,
+///        @a coarseRes, @a padding), and enough voxels to cover the fine grid.
+GridSpec coarseGridOver(const GridSpec& fine, const Bounds& bounds, int coarseRes, double padding);
+
+/// @brief The coarse and fine grids SdfPipeline builds for @a bounds and @a s. The fine grid is
+///        GridSpec::fromBounds(bounds, fineRes, pipelinePadding), the very voxels an exact or OpenVDB bake at
+///        resolution fineRes uses, so their files compare voxel for voxel; the coarse grid lies over it.
 /// @throw Error when the settings are out of range (PipelineSettings::validate) or the fine grid needs more
 ///        than 1024 voxels along an axis.
 std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& s);

@@ -1,10 +1,12 @@
 #pragma once
 // Helpers shared by the test binaries: temporary folders, small files, analytic meshes.
+#include "grid/GridSpec.h"
 #include "scene/Mesh.h"
 
 #include <glm/gtc/constants.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -37,6 +39,27 @@ inline void writeText(const std::filesystem::path& p, const std::string& text) {
 }
 
 inline std::string dataPath(const std::string& rel) { return std::string(RTSDF_DATA_DIR) + "/" + rel; }
+
+/// Run a shell command; its standard output, and its wait status in @a status.
+inline std::string runCommand(const std::string& cmd, int& status) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) { status = -1; return out; }
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  status = pclose(p);
+  return out;
+}
+
+/// A sphere's signed distance (centre @a c, radius @a r) at every voxel of @a g, GridSpec::linear order.
+inline std::vector<float> sphereField(const GridSpec& g, const glm::dvec3& c, double r) {
+  std::vector<float> v(g.voxelCount());
+  for (int z = 0; z < g.dims.z; ++z)
+    for (int y = 0; y < g.dims.y; ++y)
+      for (int x = 0; x < g.dims.x; ++x)
+        v[g.linear(x, y, z)] = float(glm::length(g.indexToWorld(glm::dvec3(x, y, z)) - c) - r);
+  return v;
+}
 
 /// Icosphere of radius r, subdivided n times (20 * 4^n triangles), outward facing.
 inline Mesh makeSphere(float r, int n) { return makeSphereMesh(r, n, "sphere"); }

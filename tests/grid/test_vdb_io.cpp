@@ -9,30 +9,8 @@
 
 using namespace rtsdf;
 using rtsdf::test::TempDir;
-
-namespace {
-
-/// A sphere's signed distance sampled on a non-cubic grid.
-std::vector<float> sphereField(const GridSpec& g, const glm::dvec3& c, double r) {
-  std::vector<float> v(g.voxelCount());
-  for (int z = 0; z < g.dims.z; ++z)
-    for (int y = 0; y < g.dims.y; ++y)
-      for (int x = 0; x < g.dims.x; ++x)
-        v[g.linear(x, y, z)] = float(glm::length(g.indexToWorld(glm::dvec3(x, y, z)) - c) - r);
-  return v;
-}
-
-std::string run(const std::string& cmd, int& status) {
-  std::string out;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) { status = -1; return out; }
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  status = pclose(p);
-  return out;
-}
-
-} // namespace
+using rtsdf::test::runCommand;
+using rtsdf::test::sphereField;
 
 TEST(VdbIO, DenseToLevelSetKeepsTheBandAndSigns) {
   const GridSpec g = GridSpec::fromBounds({{-1, -0.6, -0.8}, {1, 0.6, 0.8}}, 37, 0.1);
@@ -142,7 +120,7 @@ TEST(VdbIO, ReadErrorsNameTheFile) {
 
 TEST(VdbIO, PythonOpenVdbReadsTheLevelSet) {
   int status = 0;
-  run("/usr/bin/python3 -c 'import pyopenvdb' 2>/dev/null", status);
+  runCommand("/usr/bin/python3 -c 'import pyopenvdb' 2>/dev/null", status);
   if (status != 0) GTEST_SKIP() << "python3-openvdb (pyopenvdb) is not installed";
   TempDir dir;
   const GridSpec g = GridSpec::fromBounds({{-1, -1, -1}, {1, 1, 1}}, 20, 0.2);
@@ -150,7 +128,7 @@ TEST(VdbIO, PythonOpenVdbReadsTheLevelSet) {
   stampLevelSet(*grid, g, {{"method", "test"}});
   const auto path = dir / "py.vdb";
   writeVdb(path, {grid});
-  const std::string out = run("/usr/bin/python3 -c \"import pyopenvdb as vdb; g = vdb.read('" + path.string() +
+  const std::string out = runCommand("/usr/bin/python3 -c \"import pyopenvdb as vdb; g = vdb.read('" + path.string() +
                                   "', 'surface'); print(g.gridClass, g.transform.voxelSize()[0], g.activeVoxelCount(), "
                                   "g.background, g['rtsdf:method'], sep='|')\"",
                               status);

@@ -31,6 +31,15 @@ BakeOptions smallBake(BakeMethod method) {
   return o;
 }
 
+/// One frame of closest-point refinement without ray votes (exact inside the ray mask).
+BakeOptions closestBake() {
+  BakeOptions o = smallBake(BakeMethod::Rtsdf);
+  o.pipeline.mode = RefineMode::Closest;
+  o.pipeline.rays = 0;
+  o.frames = 1;
+  return o;
+}
+
 /// Every value of E survives toString -> parseEnum, and an unknown name is refused with the choices.
 template <class E> void expectNamesRoundTrip() {
   for (const auto& [name, value] : EnumNames<E>::kValues) {
@@ -60,6 +69,7 @@ TEST(Jobs, EveryEnumHasOneNameTable) {
   expectNamesRoundTrip<bench::BenchSuite>();
   expectNamesRoundTrip<bench::SweepPreset>();
   expectNamesRoundTrip<bench::SweepGroup>();
+  expectNamesRoundTrip<CompareAnchor>();
 }
 
 TEST(Jobs, BadSettingsNameTheSettingAndNoFlag) {
@@ -140,15 +150,26 @@ TEST(Jobs, RtsdfBakeReportsProgressPerFrameAndStopsWhenAsked) {
 }
 
 TEST(Jobs, ClosestModeRunsTheClosestRefinePass) {
-  BakeOptions o = smallBake(BakeMethod::Rtsdf);
-  o.pipeline.mode = RefineMode::Closest;
-  o.pipeline.rays = 0;
-  o.frames = 1;
+  const BakeOptions o = closestBake();
   const BakeResult r = bake(o);
   EXPECT_GT(r.lastFrame.passTotal(ClosestRefinePass::kName), 0.0);
   EXPECT_EQ(r.lastFrame.passTotal(RayRefinePass::kName), 0.0);
   EXPECT_GT(r.lastFrame.passTotal(UpsamplePass::kName), 0.0);
   EXPECT_NE(bakeReport(o, r, "x.vdb").find("ClosestRefinePass"), std::string::npos);
+}
+
+TEST(Jobs, RtsdfAndExactBakesAtTheSameResolutionCompareVoxelForVoxel) {
+  BakeOptions o = closestBake();
+  const BakeResult fine = bake(o);
+  o.method = BakeMethod::Exact;
+  o.resolution = o.pipeline.fineRes;
+  const BakeResult exact = bake(o);
+  EXPECT_EQ(fine.grid->transform(), exact.grid->transform());
+  EXPECT_EQ(gridSpecOf(*fine.grid).dims, gridSpecOf(*exact.grid).dims);
+  const FieldError e = compareFields(*fine.grid, *exact.grid);
+  EXPECT_EQ(e.alignment, GridAlignment::Same);
+  EXPECT_GT(e.voxels, 9 * exact.grid->activeVoxelCount() / 10);
+  EXPECT_LT(e.meanAbs, 0.05); // closest refinement is exact inside the ray mask
 }
 
 TEST(Jobs, AnimateGivesOneFramePerStepWithItsErrorAndCsv) {

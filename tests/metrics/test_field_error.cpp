@@ -34,10 +34,61 @@ TEST(FieldError, StatisticsInVoxelsAndSignRules) {
   EXPECT_DOUBLE_EQ(e.signErrorRate(), 0.25);
 }
 
-TEST(FieldError, RefusesGridsOnDifferentVoxels) {
-  const auto a = gridWith({{{0, 0, 0}, 1.0f}}, 0.5);
-  const auto b = gridWith({{{0, 0, 0}, 1.0f}}, 0.25);
-  EXPECT_THROW(compareFields(*a, *b), Error);
+/// A level set of f on every voxel of [lo, hi]^3 with voxel size h, voxel (0,0,0)'s centre at @a offset.
+template <class F>
+openvdb::FloatGrid::Ptr fieldGrid(const F& f, double h, const openvdb::Vec3d& offset, int lo, int hi) {
+  openvdb::initialize();
+  auto g = openvdb::FloatGrid::create(1.0f);
+  g->setTransform(openvdb::math::Transform::createLinearTransform(h));
+  g->transform().postTranslate(offset);
+  auto acc = g->getAccessor();
+  for (int x = lo; x <= hi; ++x)
+    for (int y = lo; y <= hi; ++y)
+      for (int z = lo; z <= hi; ++z) acc.setValueOn({x, y, z}, float(f(g->indexToWorld(openvdb::Coord(x, y, z)))));
+  return g;
+}
+
+double plane(const openvdb::Vec3d& p) { return 0.3 * p.x() - 0.5 * p.y() + 0.2 * p.z() - 0.05; }
+
+TEST(FieldError, ALatticeShiftedByWholeVoxelsIsReadWithoutResampling) {
+  const auto a = fieldGrid(plane, 0.1, {0, 0, 0}, 0, 9);
+  const auto b = fieldGrid(plane, 0.1, {0.3, -0.2, 0.0}, -5, 5); // B's (i,j,k) is A's (i+3, j-2, k)
+  const GridMatch m = matchGrids(*a, *b);
+  ASSERT_EQ(m.alignment, GridAlignment::Shifted) << m.description;
+  EXPECT_EQ(m.shift, openvdb::Coord(-3, 2, 0));
+  const FieldError e = compareFields(*a, *b);
+  EXPECT_EQ(e.alignment, GridAlignment::Shifted);
+  // A's x in [0, 9] meets B's [-5, 5] + 3 = [-2, 8]; y: [0, 9] meets [-5, 5] - 2 = [-7, 3]; z: [0, 5].
+  EXPECT_EQ(e.voxels, 9u * 4u * 6u);
+  EXPECT_EQ(e.onlyInA, 1000u - e.voxels);
+  EXPECT_EQ(e.onlyInB, 1331u - e.voxels);
+  EXPECT_LT(e.maxAbs, 1e-5); // the same points, up to the float rounding of the two world positions
+}
+
+TEST(FieldError, AnotherVoxelSizeOrAFractionalOffsetIsResampledTrilinearly) {
+  const auto a = fieldGrid(plane, 0.1, {0, 0, 0}, 0, 9);
+  for (const auto& [h, offset] : {std::pair{0.1, openvdb::Vec3d(0.037, -0.011, 0.052)},
+                                  std::pair{0.07, openvdb::Vec3d(0.0, 0.0, 0.0)}}) {
+    // Trilinear interpolation reproduces a linear field: the only differences are float rounding and the offset.
+    const auto b = fieldGrid([](const openvdb::Vec3d& p) { return plane(p) + 0.02; }, h, offset, -3, 16);
+    ASSERT_EQ(matchGrids(*a, *b).alignment, GridAlignment::Resampled);
+    const FieldError e = compareFields(*a, *b);
+    EXPECT_EQ(e.alignment, GridAlignment::Resampled);
+    EXPECT_EQ(e.voxels, 1000u); // B's stencil covers all of A
+    EXPECT_NEAR(e.meanAbs, 0.2, 1e-4) << h; // 0.02 world = 0.2 of A's voxels
+    EXPECT_NEAR(e.maxAbs, 0.2, 1e-4) << h;
+  }
+}
+
+TEST(FieldError, ResamplingUsesOnlyStencilsWhoseEightVoxelsAreActive) {
+  const auto a = fieldGrid(plane, 0.1, {0, 0, 0}, 0, 3);
+  const auto b = fieldGrid(plane, 0.1, {0.03, 0.03, 0.03}, -1, 3); // A's voxel c samples between B's c-1 and c
+  b->tree().setValueOff(openvdb::Coord(1, 1, 1), 100.0f); // an inactive value that must not leak in
+  const FieldError e = compareFields(*a, *b);
+  EXPECT_EQ(e.onlyInA, 8u); // the 8 A voxels whose stencil holds B's (1,1,1)
+  EXPECT_EQ(e.voxels, 56u);
+  EXPECT_LT(e.maxAbs, 1e-5);
+  EXPECT_EQ(e.onlyInB, 124u - 63u); // B's active voxels whose centre is in no A voxel: those outside [0, 3]^3
 }
 
 TEST(FieldError, AgainstAFunction) {

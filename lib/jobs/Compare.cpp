@@ -114,6 +114,8 @@ FileComparison compare(const CompareOptions& o, const JobControl& control) {
   o.validate();
   const FloatGrid::Ptr a = readLevelSet(o.a);
   if (!o.against) return compareGrids(*a, *readLevelSet(o.b), o.a.string(), o.b.string());
+  // Before baking: an empty level set has no voxels to bake the anchor on.
+  if (a->activeVoxelCount() == 0) throw Error(fmt::format("{}: the level set has no active voxels", o.a.string()));
   const BakeOptions bo = anchorBake(*a, o);
   spdlog::info("baking the {} anchor of {} on {}, band {:.6g}", toString(bo.method), bo.scene, bo.grid->describe(),
                bo.pipeline.band);

@@ -123,6 +123,11 @@ TEST(Compare, RefusesEmptyLevelSetsAndLevelSetsThatDoNotOverlap) {
 
   o.b.clear();
   EXPECT_THROW(compare(o), SettingError); // neither B nor an anchor
+  o.a = dir / "empty.vdb";
+  o.against = CompareAnchor::Exact;
+  o.scene = test::dataPath("meshes/bunny.obj");
+  e = errorOf(o);
+  EXPECT_NE(e.find("empty.vdb: the level set has no active voxels"), std::string::npos) << e;
 }
 
 TEST(Compare, AgainstAnAnchorBakedOnTheFilesOwnVoxels) {

@@ -31,6 +31,8 @@ void throwOnValidationErrors(const gpu::VulkanContext& ctx) {
 
 std::string bundledScene(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/scenes/" + name; }
 
+std::string bundledMesh(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/meshes/" + name; }
+
 const char* version() { return RTSDF_VERSION; }
 
 } // namespace rtsdf::detail

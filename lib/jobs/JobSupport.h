@@ -27,6 +27,9 @@ inline double secondsSince(std::chrono::steady_clock::time_point t0) {
 /// @brief The path of a bundled scene in the source tree's data/scenes (e.g. "default.json").
 std::string bundledScene(const std::string& name);
 
+/// @brief The path of a bundled mesh in the source tree's data/meshes (e.g. "bunny.obj").
+std::string bundledMesh(const std::string& name);
+
 /// @brief rtsdf's version, for file metadata and reports.
 const char* version();
 

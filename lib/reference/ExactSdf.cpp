@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <numeric>
 #include <unordered_map>
 
 namespace rtsdf {
@@ -29,17 +30,24 @@ struct MeshData {
   std::vector<glm::vec3> vertexNormal; // per vertex: angle-weighted sum of face normals
   std::unique_ptr<WindingNumberTree> winding;
   bool useWinding = false;
+  /// Open meshes under SignMethod::Auto: the winding number only where the closest feature touches the rim
+  /// (boundaryEdge / boundaryVertex), the pseudo-normal elsewhere. Set when every edge has one or two faces
+  /// and every shared edge is consistently oriented.
+  bool windingOnRimOnly = false;
+  std::vector<char> boundaryEdge;   // per triangle, 3 (AB, BC, CA): the edge has one face
+  std::vector<char> boundaryVertex; // per vertex: on a boundary edge
 };
 
-void computePseudoNormals(MeshData& md) {
+using EdgeKey = std::uint64_t;
+EdgeKey edgeKey(unsigned a, unsigned b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
+
+void computePseudoNormals(MeshData& md, std::unordered_map<EdgeKey, glm::dvec3>& edgeSum) {
   const WorldMesh& m = *md.mesh;
   const std::size_t nt = m.triangles.size();
   md.faceNormal.resize(nt);
   md.edgeNormal.assign(3 * nt, glm::vec3(0.0f));
   std::vector<glm::dvec3> vn(m.positions.size(), glm::dvec3(0.0));
-  std::unordered_map<std::uint64_t, glm::dvec3> edgeSum;
   edgeSum.reserve(nt * 2);
-  auto key = [](unsigned a, unsigned b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); };
   for (std::size_t t = 0; t < nt; ++t) {
     const glm::uvec3 tri = m.triangles[t];
     const glm::dvec3 p[3] = {glm::dvec3(m.positions[tri.x]), glm::dvec3(m.positions[tri.y]),
@@ -55,15 +63,77 @@ void computePseudoNormals(MeshData& md) {
         const double angle = std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0));
         vn[tri[k]] += angle * n;
       }
-      edgeSum[key(tri[k], tri[(k + 1) % 3])] += n;
+      edgeSum[edgeKey(tri[k], tri[(k + 1) % 3])] += n;
     }
   }
   for (std::size_t t = 0; t < nt; ++t) {
     const glm::uvec3 tri = m.triangles[t];
-    for (int k = 0; k < 3; ++k) md.edgeNormal[3 * t + k] = glm::vec3(edgeSum[key(tri[k], tri[(k + 1) % 3])]);
+    for (int k = 0; k < 3; ++k) md.edgeNormal[3 * t + k] = glm::vec3(edgeSum[edgeKey(tri[k], tri[(k + 1) % 3])]);
   }
   md.vertexNormal.resize(vn.size());
   for (std::size_t v = 0; v < vn.size(); ++v) md.vertexNormal[v] = glm::vec3(vn[v]);
+}
+
+/// Whether the triangles of @a m form one connected piece (sharing vertices).
+bool connected(const WorldMesh& m) {
+  std::vector<unsigned> parent(m.positions.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&](unsigned v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const glm::uvec3& t : m.triangles) {
+    parent[root(t.y)] = root(t.x);
+    parent[root(t.z)] = root(t.x);
+  }
+  const unsigned first = m.triangles.empty() ? 0u : root(m.triangles[0].x);
+  for (const glm::uvec3& t : m.triangles)
+    if (root(t.x) != first) return false;
+  return true;
+}
+
+/// The rim of an open mesh: its boundary edges and vertices. Returns false unless the mesh is one connected,
+/// oriented manifold with boundary, a scan with holes: with an edge of three or more faces, or two faces that run
+/// it the same way, the pseudo-normal is not the local side near it; with several pieces (a teapot's spout and
+/// handle stuck into its body) the local side of a buried piece is not the global one. There the winding number
+/// signs everything. (One piece that passes through itself is not detected.)
+bool findRim(MeshData& md) {
+  const WorldMesh& m = *md.mesh;
+  const std::size_t nt = m.triangles.size();
+  if (!connected(m)) return false;
+  // Per undirected edge: +1 for each face running it from the lower index to the higher, +16 the other way.
+  std::unordered_map<EdgeKey, unsigned> runs;
+  runs.reserve(nt * 2);
+  for (const glm::uvec3& tri : m.triangles)
+    for (int k = 0; k < 3; ++k) runs[edgeKey(tri[k], tri[(k + 1) % 3])] += tri[k] < tri[(k + 1) % 3] ? 1u : 16u;
+  md.boundaryEdge.assign(3 * nt, 0);
+  md.boundaryVertex.assign(m.positions.size(), 0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const glm::uvec3 tri = m.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const unsigned r = runs[edgeKey(tri[k], tri[(k + 1) % 3])];
+      if (r == 17u) continue; // two faces, opposite ways: an interior edge
+      if (r != 1u && r != 16u) return false;
+      md.boundaryEdge[3 * t + k] = 1;
+      md.boundaryVertex[tri[k]] = md.boundaryVertex[tri[(k + 1) % 3]] = 1;
+    }
+  }
+  return true;
+}
+
+/// Whether the closest feature of @a hit touches the rim (winding number) or lies inside the surface, where
+/// the pseudo-normal gives the side exactly (Baerentzen and Aanaes: its one-ring is a closed, oriented patch).
+bool onRim(const MeshData& md, const ExactDistanceField::Hit& hit) {
+  const glm::uvec3 tri = md.mesh->triangles[hit.triangle];
+  switch (TriangleFeature(hit.feature)) {
+  case TriangleFeature::VertexA: return md.boundaryVertex[tri.x] != 0;
+  case TriangleFeature::VertexB: return md.boundaryVertex[tri.y] != 0;
+  case TriangleFeature::VertexC: return md.boundaryVertex[tri.z] != 0;
+  case TriangleFeature::EdgeAB: return md.boundaryEdge[3 * hit.triangle + 0] != 0;
+  case TriangleFeature::EdgeBC: return md.boundaryEdge[3 * hit.triangle + 1] != 0;
+  case TriangleFeature::EdgeCA: return md.boundaryEdge[3 * hit.triangle + 2] != 0;
+  default: return false;
+  }
 }
 
 [[noreturn]] void embreeFail(RTCDevice device, const char* what) {
@@ -140,8 +210,10 @@ ExactDistanceField::ExactDistanceField(const SceneGeometry& geometry, SignMethod
     const WorldMesh& wm = geometry.meshes[i];
     MeshData& md = im.meshes[i];
     md.mesh = &wm;
-    computePseudoNormals(md);
+    std::unordered_map<EdgeKey, glm::dvec3> edgeSum;
+    computePseudoNormals(md, edgeSum);
     md.useWinding = sign == SignMethod::WindingNumber || (sign == SignMethod::Auto && !wm.watertight);
+    md.windingOnRimOnly = sign == SignMethod::Auto && !wm.watertight && findRim(md);
     if (md.useWinding) md.winding = std::make_unique<WindingNumberTree>(wm.positions, wm.triangles);
 
     RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -208,9 +280,14 @@ void ExactDistanceField::collect(const glm::vec3& p, float radius, std::vector<s
   rtcPointQuery(mImpl->scene, &query, &context, collectCallback, &q);
 }
 
+bool ExactDistanceField::usesWinding(const Hit& hit) const {
+  const MeshData& md = mImpl->meshes[hit.mesh];
+  return md.useWinding && (!md.windingOnRimOnly || onRim(md, hit));
+}
+
 bool ExactDistanceField::inside(const glm::vec3& p, const Hit& hit) const {
   const MeshData& md = mImpl->meshes[hit.mesh];
-  if (md.useWinding) return md.winding->evaluate(glm::dvec3(p)) >= 0.5;
+  if (usesWinding(hit)) return md.winding->evaluate(glm::dvec3(p)) >= 0.5;
   const glm::uvec3 tri = md.mesh->triangles[hit.triangle];
   glm::vec3 n;
   switch (TriangleFeature(hit.feature)) {
@@ -237,13 +314,25 @@ namespace {
 struct Candidate {
   glm::vec3 a, b, c;
   unsigned mesh, triangle;
+  glm::vec3 centre; ///< of the corners' bounding sphere: |p - centre| - radius bounds the distance from below
+  float radius;
 };
+
+Candidate makeCandidate(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, unsigned mesh, unsigned tri) {
+  const glm::vec3 centre = (a + b + c) / 3.0f;
+  const float radius = std::sqrt(std::max({glm::dot(a - centre, a - centre), glm::dot(b - centre, b - centre),
+                                           glm::dot(c - centre, c - centre)}));
+  return {a, b, c, mesh, tri, centre, radius};
+}
 
 struct BlockScratch {
   std::vector<std::uint64_t> ids;
   std::vector<Candidate> cand;
-  std::vector<float> dist;
-  std::vector<int> sub;
+  std::vector<float> dist, lower; // per candidate: distance and its lower bound from the last region's centre
+  std::vector<int> all;  // every candidate's index
+  std::vector<int> near; // candidates whose lower bound is within reach of the last region
+  std::vector<int> sub;  // candidates of the current 4^3 sub-block
+  std::vector<int> cell; // candidates of the current 2^3 cell
 };
 
 constexpr float kSlack = 1.0f + 1e-5f; // float rounding in the distance bounds
@@ -255,6 +344,7 @@ struct BandFill {
   float band, h;
   float r8; ///< block centre to its farthest voxel centre
   float r4; ///< sub-block centre to its farthest voxel centre
+  float r2; ///< 2^3 cell centre to its farthest voxel centre
 };
 
 /// Voxels of one block, added to the shared totals once per block rather than once per voxel.
@@ -277,19 +367,23 @@ bool gatherCandidates(const BandFill& f, const glm::vec3& bc, BlockScratch& s) {
     const unsigned mi = unsigned(id >> 32), ti = unsigned(id & 0xffffffffu);
     const WorldMesh& m = *im.meshes[mi].mesh;
     const glm::uvec3 t = m.triangles[ti];
-    s.cand.push_back({m.positions[t.x], m.positions[t.y], m.positions[t.z], mi, ti});
+    s.cand.push_back(makeCandidate(m.positions[t.x], m.positions[t.y], m.positions[t.z], mi, ti));
   }
   return !s.cand.empty();
 }
 
-/// Voxel @a v of the block at @a o: its distance to the nearest of the sub-block's candidates s.sub and, within the
-/// band, its sign.
+/// Voxel @a v of the block at @a o: its distance to the nearest of the cell's candidates s.cell and, within the band,
+/// its sign.
 void fillVoxel(const BandFill& f, const glm::ivec3& o, const glm::ivec3& v, const BlockScratch& s, float* values,
                bool* act, BlockCounts& n) {
   const glm::vec3 p(f.spec.indexToWorld(glm::dvec3(v)));
   float best = INFINITY;
   int bi = -1;
-  for (int i : s.sub) {
+  for (int i : s.cell) {
+    // A triangle whose bounding sphere is farther than the best so far cannot be nearer (the margin covers the
+    // rounding of both sides, so the nearest found is the same as without the test).
+    const float lower = glm::length(p - s.cand[i].centre) - s.cand[i].radius;
+    if (lower > 0.0f && lower * lower * 0.9999f > best) continue;
     const float d2 = distanceSquaredToTriangle(p, s.cand[i].a, s.cand[i].b, s.cand[i].c);
     if (d2 < best) { best = d2; bi = i; }
   }
@@ -300,12 +394,52 @@ void fillVoxel(const BandFill& f, const glm::ivec3& o, const glm::ivec3& v, cons
   TriangleFeature feature;
   const glm::vec3 q = closestPointOnTriangle(p, c.a, c.b, c.c, feature);
   const ExactDistanceField::Hit h2{d, q, c.mesh, c.triangle, int(feature)};
-  if (f.field.impl().meshes[c.mesh].useWinding) ++n.winding;
+  if (f.field.usesWinding(h2)) ++n.winding;
   const bool in = f.field.inside(p, h2);
   const int li = ((v.x - o.x) * 8 + (v.y - o.y)) * 8 + (v.z - o.z);
   values[li] = in ? -d : d;
   act[li] = true;
   ++n.active;
+}
+
+/// Into @a out, the candidates of @a from that can be nearest to a voxel within @a r of @a c: those within
+/// min(D + 2r, band + r) of @a c, D being the distance from @a c to the nearest (which this returns). A voxel's
+/// nearest triangle is within D + r of the voxel, so within D + 2r of c; only voxels in the band matter. The
+/// candidates' bounding spheres cull first: exact distances only for those whose lower bound is within reach.
+float keepNearest(const BandFill& f, const glm::vec3& c, float r, const std::vector<int>& from, BlockScratch& s,
+                  std::vector<int>& out) {
+  float upper = INFINITY;
+  for (int i : from) {
+    s.lower[i] = glm::length(c - s.cand[i].centre) - s.cand[i].radius;
+    upper = std::min(upper, s.lower[i] + 2.0f * s.cand[i].radius);
+  }
+  const float reach = std::min(upper + 2.0f * r, f.band + r) * kSlack + 1e-6f * f.h;
+  float d = INFINITY;
+  s.near.clear();
+  for (int i : from) {
+    if (s.lower[i] > reach) continue;
+    s.dist[i] = std::sqrt(distanceSquaredToTriangle(c, s.cand[i].a, s.cand[i].b, s.cand[i].c));
+    d = std::min(d, s.dist[i]);
+    s.near.push_back(i);
+  }
+  const float keep = std::min(d + 2.0f * r, f.band + r) * kSlack + 1e-6f * f.h;
+  out.clear();
+  for (int i : s.near)
+    if (s.dist[i] <= keep) out.push_back(i);
+  return d;
+}
+
+/// The 2^3 cell at @a co of the block at @a o: its voxels are filled from the sub-block's candidates that can be
+/// nearest to one of them (with many small triangles, a 4^3 sub-block still holds hundreds: a finer cut pays).
+void fillCell(const BandFill& f, const glm::ivec3& o, const glm::ivec3& co, BlockScratch& s, float* values, bool* act,
+              BlockCounts& n) {
+  if (co.x >= f.spec.dims.x || co.y >= f.spec.dims.y || co.z >= f.spec.dims.z) return;
+  const glm::vec3 cc(f.spec.indexToWorld(glm::dvec3(co) + 0.5));
+  if (keepNearest(f, cc, f.r2, s.sub, s, s.cell) > f.band + f.r2) return; // the whole cell is outside the band
+  const glm::ivec3 hi = glm::min(co + 2, f.spec.dims);
+  for (int x = co.x; x < hi.x; ++x)
+    for (int y = co.y; y < hi.y; ++y)
+      for (int z = co.z; z < hi.z; ++z) fillVoxel(f, o, glm::ivec3(x, y, z), s, values, act, n);
 }
 
 /// Sub-block @a sb (4^3; bits 0, 1, 2 of @a sb step x, y, z) of the block at @a o: skipped when wholly outside the
@@ -315,20 +449,8 @@ void fillSubBlock(const BandFill& f, const glm::ivec3& o, int sb, BlockScratch& 
   const glm::ivec3 so = o + 4 * glm::ivec3(sb & 1, (sb >> 1) & 1, (sb >> 2) & 1);
   if (so.x >= f.spec.dims.x || so.y >= f.spec.dims.y || so.z >= f.spec.dims.z) return;
   const glm::vec3 sc(f.spec.indexToWorld(glm::dvec3(so) + 1.5));
-  float ds = INFINITY;
-  for (std::size_t i = 0; i < s.cand.size(); ++i) {
-    s.dist[i] = std::sqrt(distanceSquaredToTriangle(sc, s.cand[i].a, s.cand[i].b, s.cand[i].c));
-    ds = std::min(ds, s.dist[i]);
-  }
-  if (ds > f.band + f.r4) return; // the whole sub-block is outside the band
-  const float keep = std::min(ds + 2.0f * f.r4, f.band + f.r4) * kSlack + 1e-6f * f.h;
-  s.sub.clear();
-  for (std::size_t i = 0; i < s.cand.size(); ++i)
-    if (s.dist[i] <= keep) s.sub.push_back(int(i));
-  const glm::ivec3 hi = glm::min(so + 4, f.spec.dims);
-  for (int x = so.x; x < hi.x; ++x)
-    for (int y = so.y; y < hi.y; ++y)
-      for (int z = so.z; z < hi.z; ++z) fillVoxel(f, o, glm::ivec3(x, y, z), s, values, act, n);
+  if (keepNearest(f, sc, f.r4, s.all, s, s.sub) > f.band + f.r4) return; // the whole sub-block is outside the band
+  for (int c = 0; c < 8; ++c) fillCell(f, o, so + 2 * glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1), s, values, act, n);
 }
 
 } // namespace
@@ -348,7 +470,8 @@ openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const
   const float h = float(spec.voxelSize);
   const float r8 = 3.5f * std::sqrt(3.0f) * h; // block centre to its farthest voxel centre
   const float r4 = 1.5f * std::sqrt(3.0f) * h; // sub-block centre to its farthest voxel centre
-  const BandFill bandFill{field, spec, band, h, r8, r4};
+  const float r2 = 0.5f * std::sqrt(3.0f) * h; // cell centre to its farthest voxel centre
+  const BandFill bandFill{field, spec, band, h, r8, r4, r2};
 
   tbb::enumerable_thread_specific<BlockScratch> scratch;
   std::atomic<std::uint64_t> active{0}, evaluated{0}, winding{0};
@@ -361,6 +484,9 @@ openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const
     const glm::vec3 bc(spec.indexToWorld(glm::dvec3(o) + 3.5));
     if (!gatherCandidates(bandFill, bc, s)) return false;
     s.dist.resize(s.cand.size());
+    s.lower.resize(s.cand.size());
+    s.all.resize(s.cand.size());
+    std::iota(s.all.begin(), s.all.end(), 0);
     BlockCounts n;
     for (int sb = 0; sb < 8; ++sb) fillSubBlock(bandFill, o, sb, s, values, act, n);
     active += n.active;

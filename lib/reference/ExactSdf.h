@@ -14,8 +14,11 @@ namespace rtsdf {
 
 /// @brief How the inside/outside sign of a point is decided.
 enum class SignMethod {
-  /// Pseudo-normal for points nearest to a watertight mesh, winding number for points nearest to an
-  /// open or non-manifold one. Exact for closed meshes, robust for open ones, and fast (the default).
+  /// Pseudo-normal for points nearest to a watertight mesh. For an open mesh that is an oriented manifold with
+  /// boundary (a scan with holes), the winding number where the closest feature touches the rim (a boundary
+  /// edge or vertex) and the pseudo-normal elsewhere, where it is the exact local side; for any other open or
+  /// non-manifold mesh, the winding number everywhere. Exact for closed meshes, robust for open ones, and
+  /// fast (the default).
   Auto,
   /// Angle-weighted pseudo-normal at the closest feature (Baerentzen and Aanaes 2005): exact for closed,
   /// consistently oriented meshes; arbitrary near the holes of open ones.
@@ -56,6 +59,9 @@ public:
 
   /// @brief True when @a p is inside, given the closest-point query @a hit for it.
   bool inside(const glm::vec3& p, const Hit& hit) const;
+
+  /// @brief Whether inside() decides @a hit by the winding number (the rest by the pseudo-normal).
+  bool usesWinding(const Hit& hit) const;
 
   /// @brief The signed distance at @a p (negative inside); +inf for an empty scene.
   float signedDistance(const glm::vec3& p) const;

@@ -138,6 +138,56 @@ Mesh makeBoxMesh(const glm::vec3& size, std::string name) {
   return m;
 }
 
+namespace {
+
+/// Split every triangle of (v, f) in four at its edge points midpointOf(a, b), one new vertex per edge.
+template <class Midpoint> void splitInFour(std::vector<glm::dvec3>& v, std::vector<glm::uvec3>& f, Midpoint midpointOf) {
+  std::unordered_map<std::uint64_t, unsigned> mid;
+  mid.reserve(f.size() * 2);
+  auto midpoint = [&](unsigned a, unsigned b) {
+    const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+    const auto [it, inserted] = mid.emplace(key, unsigned(v.size()));
+    if (inserted) v.push_back(midpointOf(v[a], v[b]));
+    return it->second;
+  };
+  std::vector<glm::uvec3> g;
+  g.reserve(4 * f.size());
+  for (const glm::uvec3& tri : f) {
+    const unsigned ab = midpoint(tri.x, tri.y), bc = midpoint(tri.y, tri.z), ca = midpoint(tri.z, tri.x);
+    g.insert(g.end(), {{tri.x, ab, ca}, {tri.y, bc, ab}, {tri.z, ca, bc}, {ab, bc, ca}});
+  }
+  f.swap(g);
+}
+
+} // namespace
+
+Mesh subdivideMesh(const Mesh& mesh, int levels) {
+  if (levels < 0 || levels > 6) throw Error(fmt::format("mesh '{}': subdivision levels {} must be in [0, 6]", mesh.name,
+                                                        levels));
+  std::vector<glm::dvec3> v(mesh.positions.begin(), mesh.positions.end());
+  std::vector<glm::uvec3> f = mesh.triangles;
+  for (int l = 0; l < levels; ++l) splitInFour(v, f, [](const glm::dvec3& a, const glm::dvec3& b) { return 0.5 * (a + b); });
+  Mesh m{mesh.name, mesh.source, {}, std::move(f)};
+  m.positions.reserve(v.size());
+  for (const glm::dvec3& p : v) m.positions.push_back(glm::vec3(p));
+  return m;
+}
+
+Mesh cutHoles(const Mesh& mesh, int holes, float radius) {
+  Mesh m{mesh.name, mesh.source, mesh.positions, {}};
+  if (holes < 1 || mesh.positions.empty()) { m.triangles = mesh.triangles; return m; }
+  std::vector<glm::vec3> centres;
+  for (int h = 0; h < holes; ++h) centres.push_back(mesh.positions[(2 * h + 1) * mesh.positions.size() / (2 * holes)]);
+  auto nearAHole = [&](unsigned v) {
+    for (const glm::vec3& c : centres)
+      if (glm::distance(mesh.positions[v], c) < radius) return true;
+    return false;
+  };
+  for (const glm::uvec3& t : mesh.triangles)
+    if (!nearAHole(t.x) && !nearAHole(t.y) && !nearAHole(t.z)) m.triangles.push_back(t);
+  return m;
+}
+
 Mesh makeSphereMesh(float radius, int subdivisions, std::string name) {
   if (!(radius > 0.0f) || !std::isfinite(radius))
     throw Error(fmt::format("sphere '{}': radius {} must be positive and finite", name, radius));
@@ -154,23 +204,8 @@ Mesh makeSphereMesh(float radius, int subdivisions, std::string name) {
   std::vector<glm::uvec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                                {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
                                {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int s = 0; s < subdivisions; ++s) {
-    std::unordered_map<std::uint64_t, unsigned> mid;
-    mid.reserve(f.size() * 2);
-    auto midpoint = [&](unsigned a, unsigned b) {
-      const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-      const auto [it, inserted] = mid.emplace(key, unsigned(v.size()));
-      if (inserted) v.push_back(glm::normalize(v[a] + v[b]));
-      return it->second;
-    };
-    std::vector<glm::uvec3> g;
-    g.reserve(4 * f.size());
-    for (const glm::uvec3& tri : f) {
-      const unsigned ab = midpoint(tri.x, tri.y), bc = midpoint(tri.y, tri.z), ca = midpoint(tri.z, tri.x);
-      g.insert(g.end(), {{tri.x, ab, ca}, {tri.y, bc, ab}, {tri.z, ca, bc}, {ab, bc, ca}});
-    }
-    f.swap(g);
-  }
+  for (int s = 0; s < subdivisions; ++s)
+    splitInFour(v, f, [](const glm::dvec3& a, const glm::dvec3& b) { return glm::normalize(a + b); });
   m.positions.reserve(v.size());
   for (const glm::dvec3& p : v) m.positions.push_back(glm::vec3(p * double(radius)));
   m.triangles = std::move(f);

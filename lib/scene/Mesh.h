@@ -64,4 +64,14 @@ Mesh makeBoxMesh(const glm::vec3& size, std::string name = "box");
 /// @throw Error when the radius is not positive and finite or the subdivisions are out of range.
 Mesh makeSphereMesh(float radius, int subdivisions, std::string name = "sphere");
 
+/// @brief @a mesh with every triangle split in four at its edge midpoints, @a levels times: the same surface
+///        with 4^levels times the triangles (how the benchmarks make a large mesh from a bundled one).
+/// @throw Error when @a levels is outside [0, 6].
+Mesh subdivideMesh(const Mesh& mesh, int levels);
+
+/// @brief @a mesh with @a holes holes cut in it, reproducibly: the triangles with a vertex within @a radius of
+///        a hole centre are dropped; the centres are @a holes vertices evenly spaced through the vertex list.
+///        Unused vertices are kept.
+Mesh cutHoles(const Mesh& mesh, int holes, float radius);
+
 } // namespace rtsdf

@@ -4,6 +4,7 @@
 #include "reference/ExactSdf.h"
 #include "reference/TriangleDistance.h"
 #include "reference/WindingNumber.h"
+#include "scene/MeshIO.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "util/Error.h"
@@ -201,6 +202,36 @@ TEST(ExactSdf, OpenTeapotSignsFollowTheExactWindingNumber) {
   EXPECT_GT(e.signMismatches, 0u);
   std::printf("teapot at 64: pseudo-normal vs winding number sign disagreement %.3f%% of %llu band voxels\n",
               100.0 * e.signErrorRate(), (unsigned long long)e.voxels);
+}
+
+TEST(ExactSdf, AScanWithHolesIsSignedByTheWindingNumberOnlyOnItsRim) {
+  // One connected, oriented surface with holes: the pseudo-normal gives the side wherever the closest feature
+  // is off the rim, so the winding number is needed only there, and the signs stay those of the winding number
+  // everywhere.
+  Mesh bunny = loadMeshFile(test::dataPath("meshes/bunny.obj"));
+  validateMesh(bunny);
+  const SceneGeometry geo = geometryOf(cutHoles(subdivideMesh(bunny, 1), 8, 0.4f));
+  ASSERT_FALSE(geo.meshes[0].watertight);
+  for (double bandVoxels : {3.0, 10.0}) {
+    const GridSpec spec = GridSpec::fromBounds(geo.bounds, 64, 0.0);
+    ExactSdfOptions opt;
+    opt.band = bandVoxels * spec.voxelSize;
+    opt.progress = false;
+    ExactSdfStats rim, all;
+    const auto fast = exactSignedDistance(geo, spec, opt, &rim);
+    opt.sign = SignMethod::WindingNumber;
+    const auto winding = exactSignedDistance(geo, spec, opt, &all);
+    EXPECT_EQ(all.windingQueries, all.activeVoxels);
+    EXPECT_LT(rim.windingQueries, rim.activeVoxels / 10) << bandVoxels;
+    EXPECT_GT(rim.windingQueries, 0u) << bandVoxels; // the rims are there
+    const FieldError e = compareFields(*fast, *winding);
+    EXPECT_EQ(e.voxels, all.activeVoxels);
+    EXPECT_EQ(e.maxAbs, 0.0); // the same distances
+    EXPECT_LE(e.signMismatches, e.voxels / 10000) << bandVoxels; // at most 0.01% of the signs differ
+    std::printf("holey bunny, band %.0f voxels: winding number on %llu of %llu voxels, %llu signs differ\n",
+                bandVoxels, (unsigned long long)rim.windingQueries, (unsigned long long)rim.activeVoxels,
+                (unsigned long long)e.signMismatches);
+  }
 }
 
 TEST(ExactSdf, RejectsBadSettings) {

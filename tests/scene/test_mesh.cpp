@@ -210,3 +210,25 @@ TEST(MeshIO, ObjWithOutOfRangeIndexOrNanIsRejected) {
   });
   EXPECT_NE(b.find("nan.obj"), std::string::npos) << b;
 }
+
+TEST(Mesh, SubdivisionKeepsTheSurfaceAndCuttingHolesOpensIt) {
+  Mesh bunny = loadMeshFile(test::dataPath("meshes/bunny.obj"));
+  validateMesh(bunny);
+  Mesh fine = subdivideMesh(bunny, 2);
+  const MeshReport f = validateMesh(fine);
+  EXPECT_EQ(f.triangles, 16u * 3674u);
+  EXPECT_EQ(f.weldedVertices, 0u); // one new vertex per edge, shared by both of its faces
+  EXPECT_TRUE(f.watertight());
+  EXPECT_NEAR(test::signedVolume(fine.positions, fine.triangles), test::signedVolume(bunny.positions, bunny.triangles),
+              1e-4 * test::signedVolume(bunny.positions, bunny.triangles));
+  EXPECT_THROW(subdivideMesh(bunny, 7), Error);
+
+  Mesh holes = cutHoles(fine, 5, 0.3f);
+  EXPECT_EQ(cutHoles(fine, 5, 0.3f).triangles, holes.triangles); // reproducible
+  const MeshReport h = validateMesh(holes);
+  EXPECT_LT(h.triangles, f.triangles);
+  EXPECT_GT(h.triangles, f.triangles * 9 / 10); // small holes
+  EXPECT_GT(h.boundaryEdges, 5u * 6u);         // five rims
+  EXPECT_EQ(h.nonManifoldEdges, 0u);
+  EXPECT_EQ(h.misorientedEdges, 0u);
+}

@@ -170,7 +170,8 @@ void bindBench(CLI::App& app, BenchCommand& c) {
       ->check(CLI::Range(1, 100))->capture_default_str();
   cmd->add_option("-o,--output", s.output, "Also write the Markdown report to this file");
   addEnum(cmd, "--suite", s.suite, "reference: exact SDF vs OpenVDB meshToLevelSet (with the default scenes "
-                                   "also a 230k-triangle scan with holes); coarse: GPU voxelize + jump flooding per pass vs CPU jump flooding, exact EDT and OpenVDB "
+                                   "also a 230k-triangle scan with holes); coarse: GPU voxelize + jump flooding per "
+                                   "pass vs CPU jump flooding, exact EDT and OpenVDB "
                                    "meshToSignedDistanceField; refine: the paper's ray-trace tables (sizes x rays, "
                                    "band x rays) with errors, vs OpenVDB meshToLevelSet; render: per-pass times of SDF "
                                    "shadows and shadow maps at 640x360 and 1280x720 with their image error against the "

@@ -1,4 +1,5 @@
 // The sweep's plans, CSV rows, Pareto front and report (no GPU).
+#include "bench/Suites.h"
 #include "bench/Sweep.h"
 #include "util/Error.h"
 
@@ -172,4 +173,22 @@ TEST(SweepReport, HoldsThePaperTablesAnchorsRatiosAndInterruptions) {
   md = markdownReport(ctx, rs);
   EXPECT_NE(md.find("INTERRUPTED"), std::string::npos);
   EXPECT_NE(md.find("3 of 10 points"), std::string::npos);
+}
+
+TEST(BenchSuites, ReferenceSuiteMeasuresTheOpenScanAgainstTheWindingNumberEverywhere) {
+  BenchOptions o;
+  o.suite = BenchSuite::Reference;
+  o.resolutions = {24};
+  o.repeats = 1;
+  const std::string md = runBenchSuite(o);
+  const std::size_t open = md.find("Open mesh: the bunny split in four 3 times with 12 holes cut (230415 triangles");
+  ASSERT_NE(open, std::string::npos) << md;
+  // Two rows (3 voxels and the band fraction), each with no sign differing from the winding number everywhere.
+  std::size_t rows = 0;
+  for (std::size_t at = md.find("\n| 24 |", open); at != std::string::npos; at = md.find("\n| 24 |", at + 1)) {
+    ++rows;
+    const std::string row = md.substr(at + 1, md.find('\n', at + 1) - at - 1);
+    EXPECT_NE(row.find("| 0.0000% |"), std::string::npos) << row;
+  }
+  EXPECT_EQ(rows, 2u) << md;
 }

@@ -320,6 +320,23 @@ std::string renderSuite(const BenchOptions& s) {
   return md;
 }
 
+/// The exact SDF and OpenVDB's meshToLevelSet of @a geo on the same voxels and band, each timed (median of the
+/// suite's repeats).
+struct ExactAndOpenVdb {
+  openvdb::FloatGrid::Ptr exact, openVdb;
+  double exactSeconds = 0.0, openVdbSeconds = 0.0;
+};
+ExactAndOpenVdb timeExactAndOpenVdb(const BenchOptions& s, const SceneGeometry& geo, const GridSpec& spec,
+                                    double band) {
+  ExactSdfOptions opt;
+  opt.band = band;
+  opt.progress = false;
+  ExactAndOpenVdb r;
+  r.exactSeconds = medianSeconds(s.repeats, [&] { r.exact = exactSignedDistance(geo, spec, opt); });
+  r.openVdbSeconds = medianSeconds(s.repeats, [&] { r.openVdb = openvdbLevelSet(geo, spec, band); });
+  return r;
+}
+
 /// The reference suite: the exact SDF against OpenVDB's meshToLevelSet, same voxels and band.
 std::string referenceSuite(const BenchOptions& s) {
   std::string md = fmt::format("Median of {} runs.\n\n", s.repeats);
@@ -332,16 +349,12 @@ std::string referenceSuite(const BenchOptions& s) {
     for (int res : s.resolutions) {
       const GridSpec spec = GridSpec::fromBounds(geo.bounds, res, band);
       spdlog::info("bench {} at {}: {}", path, res, spec.describe());
-      ExactSdfOptions opt;
-      opt.band = band;
-      opt.progress = false;
-      openvdb::FloatGrid::Ptr exact, vdb;
-      const double tExact = medianSeconds(s.repeats, [&] { exact = exactSignedDistance(geo, spec, opt); });
-      const double tVdb = medianSeconds(s.repeats, [&] { vdb = openvdbLevelSet(geo, spec, band); });
-      const FieldError err = compareFields(*vdb, *exact);
+      const ExactAndOpenVdb r = timeExactAndOpenVdb(s, geo, spec, band);
+      const double tExact = r.exactSeconds, tVdb = r.openVdbSeconds;
+      const FieldError err = compareFields(*r.openVdb, *r.exact);
       md += fmt::format("| {} | {} | {}x{}x{} | {:.1f} | {} | {:.3f} | {:.3f} | {:.2f} | {:.3f} / {:.2f} | {:.3f}% |\n",
                         fs::path(path).filename().string(), res, spec.dims.x, spec.dims.y, spec.dims.z,
-                        band / spec.voxelSize, exact->activeVoxelCount(), tExact, tVdb, tExact / tVdb, err.meanAbs,
+                        band / spec.voxelSize, r.exact->activeVoxelCount(), tExact, tVdb, tExact / tVdb, err.meanAbs,
                         err.maxAbs, 100.0 * err.signErrorRate());
       spdlog::info("exact {:.3f} s, OpenVDB {:.3f} s, ratio {:.2f}", tExact, tVdb, tExact / tVdb);
     }
@@ -364,21 +377,22 @@ std::string openMeshCase(const BenchOptions& s) {
                                "winding everywhere: the rule before it, one run; wrong sign: exact vs that.\n\n",
                                geo.triangleCount(), scene.meshReports[0].boundaryEdges);
   md += "| res | band (voxels) | active voxels | exact (s) | OpenVDB (s) | exact / OpenVDB | winding everywhere (s) | "
-        "wrong sign vs winding everywhere | OpenVDB vs exact: mean / max abs (voxels) |\n|---|---|---|---|---|---|---|---|---|\n";
+        "wrong sign vs winding everywhere | OpenVDB vs exact: mean / max abs (voxels) |\n"
+        "|---|---|---|---|---|---|---|---|---|\n";
   for (int res : s.resolutions)
     for (double bandVoxels : {3.0, s.bandFraction * res}) {
       const double band = bandVoxels * bounds.maxExtent() / res;
       const GridSpec spec = GridSpec::fromBounds(geo.bounds, res, band);
+      const ExactAndOpenVdb r = timeExactAndOpenVdb(s, geo, spec, band);
+      const openvdb::FloatGrid::Ptr& exact = r.exact;
+      const double tExact = r.exactSeconds, tVdb = r.openVdbSeconds;
       ExactSdfOptions opt;
       opt.band = band;
       opt.progress = false;
-      openvdb::FloatGrid::Ptr exact, vdb;
-      const double tExact = medianSeconds(s.repeats, [&] { exact = exactSignedDistance(geo, spec, opt); });
-      const double tVdb = medianSeconds(s.repeats, [&] { vdb = openvdbLevelSet(geo, spec, band); });
       opt.sign = SignMethod::WindingNumber;
       openvdb::FloatGrid::Ptr winding;
       const double tWinding = medianSeconds(1, [&] { winding = exactSignedDistance(geo, spec, opt); });
-      const FieldError signs = compareFields(*exact, *winding), err = compareFields(*vdb, *exact);
+      const FieldError signs = compareFields(*exact, *winding), err = compareFields(*r.openVdb, *exact);
       md += fmt::format("| {} | {:.1f} | {} | {:.3f} | {:.3f} | {:.2f} | {:.3f} | {:.4f}% | {:.3f} / {:.2f} |\n", res,
                         bandVoxels, exact->activeVoxelCount(), tExact, tVdb, tExact / tVdb, tWinding,
                         100.0 * signs.signErrorRate(), err.meanAbs, err.maxAbs);

@@ -141,7 +141,8 @@ Mesh makeBoxMesh(const glm::vec3& size, std::string name) {
 namespace {
 
 /// Split every triangle of (v, f) in four at its edge points midpointOf(a, b), one new vertex per edge.
-template <class Midpoint> void splitInFour(std::vector<glm::dvec3>& v, std::vector<glm::uvec3>& f, Midpoint midpointOf) {
+template <class Midpoint>
+void splitInFour(std::vector<glm::dvec3>& v, std::vector<glm::uvec3>& f, Midpoint midpointOf) {
   std::unordered_map<std::uint64_t, unsigned> mid;
   mid.reserve(f.size() * 2);
   auto midpoint = [&](unsigned a, unsigned b) {
@@ -162,11 +163,12 @@ template <class Midpoint> void splitInFour(std::vector<glm::dvec3>& v, std::vect
 } // namespace
 
 Mesh subdivideMesh(const Mesh& mesh, int levels) {
-  if (levels < 0 || levels > 6) throw Error(fmt::format("mesh '{}': subdivision levels {} must be in [0, 6]", mesh.name,
-                                                        levels));
+  if (levels < 0 || levels > 6)
+    throw Error(fmt::format("mesh '{}': subdivision levels {} must be in [0, 6]", mesh.name, levels));
   std::vector<glm::dvec3> v(mesh.positions.begin(), mesh.positions.end());
   std::vector<glm::uvec3> f = mesh.triangles;
-  for (int l = 0; l < levels; ++l) splitInFour(v, f, [](const glm::dvec3& a, const glm::dvec3& b) { return 0.5 * (a + b); });
+  for (int l = 0; l < levels; ++l)
+    splitInFour(v, f, [](const glm::dvec3& a, const glm::dvec3& b) { return 0.5 * (a + b); });
   Mesh m{mesh.name, mesh.source, {}, std::move(f)};
   m.positions.reserve(v.size());
   for (const glm::dvec3& p : v) m.positions.push_back(glm::vec3(p));

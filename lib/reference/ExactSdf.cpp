@@ -31,8 +31,8 @@ struct MeshData {
   std::unique_ptr<WindingNumberTree> winding;
   bool useWinding = false;
   /// Open meshes under SignMethod::Auto: the winding number only where the closest feature touches the rim
-  /// (boundaryEdge / boundaryVertex), the pseudo-normal elsewhere. Set when every edge has one or two faces
-  /// and every shared edge is consistently oriented.
+  /// (boundaryEdge / boundaryVertex), the pseudo-normal elsewhere. Set for one connected piece whose edges
+  /// have one or two faces, every shared edge consistently oriented (findRim).
   bool windingOnRimOnly = false;
   std::vector<char> boundaryEdge;   // per triangle, 3 (AB, BC, CA): the edge has one face
   std::vector<char> boundaryVertex; // per vertex: on a boundary edge
@@ -41,12 +41,13 @@ struct MeshData {
 using EdgeKey = std::uint64_t;
 EdgeKey edgeKey(unsigned a, unsigned b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
 
-void computePseudoNormals(MeshData& md, std::unordered_map<EdgeKey, glm::dvec3>& edgeSum) {
+void computePseudoNormals(MeshData& md) {
   const WorldMesh& m = *md.mesh;
   const std::size_t nt = m.triangles.size();
   md.faceNormal.resize(nt);
   md.edgeNormal.assign(3 * nt, glm::vec3(0.0f));
   std::vector<glm::dvec3> vn(m.positions.size(), glm::dvec3(0.0));
+  std::unordered_map<EdgeKey, glm::dvec3> edgeSum;
   edgeSum.reserve(nt * 2);
   for (std::size_t t = 0; t < nt; ++t) {
     const glm::uvec3 tri = m.triangles[t];
@@ -210,8 +211,7 @@ ExactDistanceField::ExactDistanceField(const SceneGeometry& geometry, SignMethod
     const WorldMesh& wm = geometry.meshes[i];
     MeshData& md = im.meshes[i];
     md.mesh = &wm;
-    std::unordered_map<EdgeKey, glm::dvec3> edgeSum;
-    computePseudoNormals(md, edgeSum);
+    computePseudoNormals(md);
     md.useWinding = sign == SignMethod::WindingNumber || (sign == SignMethod::Auto && !wm.watertight);
     md.windingOnRimOnly = sign == SignMethod::Auto && !wm.watertight && findRim(md);
     if (md.useWinding) md.winding = std::make_unique<WindingNumberTree>(wm.positions, wm.triangles);

@@ -186,13 +186,15 @@ MeshBvhs buildMeshBvhs(const Scene& scene, int maxLeafSize) {
   return out;
 }
 
-InstanceBvh buildInstanceBvh(const Scene& scene, const MeshBvhs& meshes, double time) {
+InstanceBvh buildInstanceBvh(const Scene& scene, const MeshBvhs& meshes, double time, const glm::dvec3& frameOrigin) {
   InstanceBvh out;
+  out.frameOrigin = frameOrigin;
   const std::size_t n = scene.instances.size();
   std::vector<glm::vec3> lo(n), hi(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Instance& inst = scene.instances[i];
-    const glm::dmat4 m = inst.matrixAt(time);
+    glm::dmat4 m = inst.matrixAt(time);
+    m[3] -= glm::dvec4(frameOrigin, 0.0);
     const glm::dmat4 inv = glm::inverse(m);
     BvhInstance gi{};
     for (int r = 0; r < 3; ++r) {

@@ -21,8 +21,10 @@ struct MeshBvhs {
   std::vector<glm::vec3> meshLo, meshHi; ///< object-space bounds of each mesh
 };
 
-/// @brief The top level at one moment: instances (in the scene's order) and a BVH over their world boxes.
+/// @brief The top level at one moment: instances (in the scene's order) and a BVH over their world boxes,
+///        all measured from frameOrigin.
 struct InstanceBvh {
+  glm::dvec3 frameOrigin{0.0};                 ///< world point of the top level's (0, 0, 0)
   std::vector<gpu::shared::BvhNode> nodes;
   std::vector<std::uint32_t> slots;            ///< leaf primitive -> instance index
   std::vector<gpu::shared::BvhInstance> instances;
@@ -33,7 +35,11 @@ struct InstanceBvh {
 MeshBvhs buildMeshBvhs(const Scene& scene, int maxLeafSize = 4);
 
 /// @brief Build the top level for the instance transforms at @a time seconds.
-InstanceBvh buildInstanceBvh(const Scene& scene, const MeshBvhs& meshes, double time);
+/// @param frameOrigin the world point the top level measures from: instance transforms map object space to
+///        world - frameOrigin (subtracted in double before rounding to float), so queries near a grid far from
+///        the world's origin keep float precision.
+InstanceBvh buildInstanceBvh(const Scene& scene, const MeshBvhs& meshes, double time,
+                             const glm::dvec3& frameOrigin = glm::dvec3(0.0));
 
 /// @brief Generic SAH build over boxes with Embree's rtcBuildBVH, flattened to BvhNode (children adjacent).
 /// @param lo, hi the primitives' boxes; @param order receives the primitive index of each leaf slot.

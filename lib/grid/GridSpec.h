@@ -36,6 +36,13 @@ struct GridSpec {
     return ijk.x >= 0 && ijk.y >= 0 && ijk.z >= 0 && ijk.x < dims.x && ijk.y < dims.y && ijk.z < dims.z;
   }
   std::string describe() const;
+  /// @brief The same voxels with coordinates measured from the world point @a frameOrigin (origin - frameOrigin,
+  ///        in double): the grid as the GPU passes see it in their frame.
+  GridSpec inFrame(const glm::dvec3& frameOrigin) const {
+    GridSpec s = *this;
+    s.origin -= frameOrigin;
+    return s;
+  }
 
   /// @brief The grid that covers @a bounds grown by @a padding on every side, with voxels of size
   ///        (longest side of @a bounds) / @a resolution; every axis gets as many voxels as it needs (at

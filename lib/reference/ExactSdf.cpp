@@ -458,6 +458,7 @@ void fillSubBlock(const BandFill& f, const glm::ivec3& o, int sb, BlockScratch& 
 openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const GridSpec& spec,
                                             const ExactSdfOptions& options, ExactSdfStats* stats) {
   const auto start = std::chrono::steady_clock::now();
+  requireWorldFrame(geometry, "exact SDF");
   if (std::isnan(options.band) || options.band <= 0.0)
     throw Error(fmt::format("exact SDF: band {} must be positive (or inf for the full domain)", options.band));
   ExactDistanceField field(geometry, options.sign);

@@ -12,6 +12,7 @@ namespace rtsdf {
 namespace {
 
 void flatten(const SceneGeometry& geometry, std::vector<openvdb::Vec3s>& points, std::vector<openvdb::Vec3I>& tris) {
+  requireWorldFrame(geometry, "OpenVDB level set");
   for (const WorldMesh& m : geometry.meshes) {
     const unsigned base = unsigned(points.size());
     for (const glm::vec3& p : m.positions) points.emplace_back(p.x, p.y, p.z);

@@ -132,6 +132,7 @@ void validateLight(const Light& l, std::size_t index) {
 } // namespace
 
 GBuffer traceGBuffer(const SceneGeometry& geometry, const gpu::shared::CameraParams& camera) {
+  requireWorldFrame(geometry, "ray-traced G-buffer");
   const int width = camera.size.x, height = camera.size.y;
   if (width < 1 || height < 1)
     throw Error(fmt::format("G-buffer: image size {}x{} must be positive", width, height));
@@ -244,6 +245,7 @@ float pixelVisibility(RTCScene scene, const Light& light, const Cone& sun, std::
 
 LightVisibility rayTracedVisibility(const SceneGeometry& geometry, const std::vector<Light>& lights,
                                     const GBuffer& gbuffer, const RayTracedShadowSettings& settings) {
+  requireWorldFrame(geometry, "ray-traced shadows");
   checkTraceInputs(lights, gbuffer, settings);
   LightVisibility vis(lights.size(), std::vector<float>(gbuffer.pixelCount(), 1.0f));
   if (lights.empty() || gbuffer.pixelCount() == 0) return vis;

@@ -8,7 +8,8 @@
 
 namespace rtsdf {
 
-gpu::shared::CameraParams makeCameraParams(const Camera& camera, int width, int height) {
+gpu::shared::CameraParams makeCameraParams(const Camera& camera, int width, int height,
+                                           const glm::dvec3& frameOrigin) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw Error(fmt::format("image size {}x{} is out of range [1, 16384]", width, height));
   const glm::dvec3 f = camera.target - camera.position;
@@ -23,7 +24,7 @@ gpu::shared::CameraParams makeCameraParams(const Camera& camera, int width, int 
   const glm::dvec3 up = glm::cross(right, forward);
   const double ty = std::tan(0.5 * camera.verticalFov), tx = ty * double(width) / double(height);
   gpu::shared::CameraParams c{};
-  c.position = glm::vec4(glm::vec3(camera.position), 1.0f);
+  c.position = glm::vec4(glm::vec3(camera.position - frameOrigin), 1.0f);
   c.forward = glm::vec4(glm::vec3(forward), 0.0f);
   c.right = glm::vec4(glm::vec3(right * tx), 0.0f);
   c.up = glm::vec4(glm::vec3(up * ty), 0.0f);
@@ -31,7 +32,8 @@ gpu::shared::CameraParams makeCameraParams(const Camera& camera, int width, int 
   return c;
 }
 
-std::vector<gpu::shared::GpuLight> makeGpuLights(const std::vector<Light>& lights) {
+std::vector<gpu::shared::GpuLight> makeGpuLights(const std::vector<Light>& lights,
+                                                 const glm::dvec3& frameOrigin) {
   std::vector<gpu::shared::GpuLight> out;
   for (const Light& l : lights) {
     gpu::shared::GpuLight g{};
@@ -39,7 +41,7 @@ std::vector<gpu::shared::GpuLight> makeGpuLights(const std::vector<Light>& light
       g.position = glm::vec4(glm::vec3(-glm::normalize(l.direction)), float(gpu::shared::kLightDirectional));
       g.size = glm::vec4(float(std::tan(l.angularRadius)), 0.0f, 0.0f, 0.0f);
     } else {
-      g.position = glm::vec4(glm::vec3(l.position), float(gpu::shared::kLightSphere));
+      g.position = glm::vec4(glm::vec3(l.position - frameOrigin), float(gpu::shared::kLightSphere));
       g.size = glm::vec4(float(l.radius), 0.0f, 0.0f, 0.0f);
     }
     g.color = glm::vec4(glm::vec3(l.color * l.intensity), 1.0f);

@@ -72,8 +72,9 @@ void checkRenderable(const Scene& scene) {
   if (scene.lights.empty()) throw Error(fmt::format("{}: the scene has no light to cast shadows", scene.path));
 }
 
-GBuffer downloadGBuffer(const gpu::VulkanContext& ctx, const GpuGBuffer& g) {
+GBuffer downloadGBuffer(const gpu::VulkanContext& ctx, const GpuGBuffer& g, const glm::dvec3& frameOrigin) {
   GBuffer out;
+  out.origin = frameOrigin;
   out.width = g.width;
   out.height = g.height;
   out.position.resize(out.pixelCount());
@@ -114,8 +115,12 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     throw Error("the GPU renderer draws sdf or shadowmap shadows; ray tracing runs on the CPU (renderRayTraced)");
   settings.validate();
   checkRenderable(scene);
-  mCamera = makeCameraParams(scene.camera, settings.width, settings.height);
-  mLights = makeGpuLights(scene.lights);
+  if (settings.technique == ShadowTechnique::Sdf)
+    mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, settings.pipeline);
+  // The GPU works near the scene: the SDF's frame, or the corner of the bounds for shadow maps.
+  mFrameOrigin = mSdf ? mSdf->frameOrigin() : sdfBounds.empty() ? glm::dvec3(0.0) : sdfBounds.min;
+  mCamera = makeCameraParams(scene.camera, settings.width, settings.height, mFrameOrigin);
+  mLights = makeGpuLights(scene.lights, mFrameOrigin);
   mGpu = std::make_unique<Gpu>(ctx);
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
   mGpu->gbuffer.reserve(ctx, settings.width, settings.height);
@@ -124,9 +129,8 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
   const VkDeviceSize visBytes = VkDeviceSize(pixels * mLights.size() * 4);
   mGpu->visibility = Buffer(ctx, visBytes, kStorage, Buffer::Memory::Device, "visibility");
   mGpu->history = Buffer(ctx, visBytes, kStorage, Buffer::Memory::Device, "TAA history");
-  if (settings.technique == ShadowTechnique::Sdf) {
-    mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, settings.pipeline);
-    const GridSpec& f = mSdf->fineSpec();
+  if (mSdf) {
+    const GridSpec f = mSdf->fineSpec().inFrame(mFrameOrigin);
     mSampling = settings.sdf.sampling;
     if (mSampling == SdfSampling::Texture && !gpu::SampledVolume::supported(ctx)) {
       spdlog::warn("{} cannot filter R32_SFLOAT 3D textures: SDF shadows sample the fine buffer instead",
@@ -150,8 +154,8 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
                                                                        : sh::kPenumbraCentered;
     p.jitter = settings.sdf.jitter ? 1.0f : 0.0f;
   } else {
-    mBvh = std::make_unique<GpuSceneBvh>(ctx, scene);
-    mMapParams = makeShadowMapParams(mLights, buildSceneGeometry(scene, 0.0).bounds, settings.shadowMap,
+    mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, mFrameOrigin);
+    mMapParams = makeShadowMapParams(mLights, buildSceneGeometry(scene, 0.0, mFrameOrigin).bounds, settings.shadowMap,
                                      settings.width, settings.height);
     const std::size_t n = std::size_t(settings.shadowMap.resolution);
     const std::size_t bytes = mLights.size() * 6 * n * n * 4;
@@ -213,7 +217,7 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   cmd.submitAndWait();
   for (const auto& r : g.profiler.results()) out.passMs.push_back(r);
   if (readBack) {
-    out.gbuffer = downloadGBuffer(mCtx, g.gbuffer);
+    out.gbuffer = downloadGBuffer(mCtx, g.gbuffer, mFrameOrigin);
     out.visibility = downloadVisibility(mCtx, mSettings.taa.enabled ? g.history : g.visibility, mLights.size(),
                                         out.gbuffer.pixelCount());
   }
@@ -259,7 +263,7 @@ glm::vec3 instanceAlbedo(int instance) {
 } // namespace
 
 std::vector<std::uint8_t> litSideMask(const Scene& scene, const GBuffer& g, std::size_t light) {
-  const auto lights = makeGpuLights(scene.lights);
+  const auto lights = makeGpuLights(scene.lights, g.origin);
   const sh::GpuLight& l = lights.at(light);
   std::vector<std::uint8_t> mask(g.pixelCount(), 0);
   for (std::size_t i = 0; i < mask.size(); ++i) {
@@ -275,7 +279,7 @@ std::vector<std::uint8_t> litSideMask(const Scene& scene, const GBuffer& g, std:
 Image composeImage(const Scene& scene, const RenderedFrame& frame) {
   const GBuffer& g = frame.gbuffer;
   Image img(g.width, g.height);
-  const auto lights = makeGpuLights(scene.lights);
+  const auto lights = makeGpuLights(scene.lights, g.origin);
   std::vector<float> r(g.pixelCount()), gr(g.pixelCount()), b(g.pixelCount());
   const glm::vec3 ambient(0.06f, 0.065f, 0.075f), sky(0.35f, 0.42f, 0.52f);
   for (std::size_t i = 0; i < g.pixelCount(); ++i) {

@@ -123,6 +123,11 @@ public:
   RenderedFrame renderFrame(double time, bool readBack = true);
 
   const SdfPipeline* sdfPipeline() const { return mSdf.get(); }
+  /// @brief The world point the GPU passes measure from (the SDF's frameOrigin(), or the corner of the bounds
+  ///        with shadow maps): G-buffer positions, lights and every pass parameter are relative to it.
+  const glm::dvec3& frameOrigin() const { return mFrameOrigin; }
+  /// @brief The lights as uploaded (in the frame of frameOrigin()), for the CPU references of the passes.
+  const std::vector<gpu::shared::GpuLight>& gpuLights() const { return mLights; }
   /// @brief How the SDF march samples the fine SDF in this renderer (Texture may have fallen back to Buffer).
   SdfSampling sdfSampling() const { return mSampling; }
   /// @brief The SDF shadow parameters of the last frame (for the CPU reference).
@@ -139,6 +144,7 @@ private:
   const Scene& mScene;
   RenderSettings mSettings;
   Bounds mBounds;
+  glm::dvec3 mFrameOrigin{0.0};
   gpu::shared::CameraParams mCamera{};
   std::vector<gpu::shared::GpuLight> mLights;
   gpu::shared::SdfShadowParams mSdfParams{};

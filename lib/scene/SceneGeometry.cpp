@@ -15,6 +15,12 @@ std::size_t SceneGeometry::triangleCount() const {
   return n;
 }
 
+void requireWorldFrame(const SceneGeometry& geometry, const char* user) {
+  if (geometry.origin != glm::dvec3(0.0))
+    throw Error(fmt::format("{}: needs world coordinates, but the geometry is measured from ({}, {}, {})", user,
+                            geometry.origin.x, geometry.origin.y, geometry.origin.z));
+}
+
 std::vector<glm::vec4> triangleCorners(const SceneGeometry& geometry) {
   std::vector<glm::vec4> out;
   out.reserve(3 * geometry.triangleCount());
@@ -24,8 +30,9 @@ std::vector<glm::vec4> triangleCorners(const SceneGeometry& geometry) {
   return out;
 }
 
-SceneGeometry buildSceneGeometry(const Scene& scene, double time) {
+SceneGeometry buildSceneGeometry(const Scene& scene, double time, const glm::dvec3& origin) {
   SceneGeometry geo;
+  geo.origin = origin;
   geo.meshes.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) {
     const Mesh& mesh = scene.meshes.at(inst.mesh);
@@ -36,13 +43,14 @@ SceneGeometry buildSceneGeometry(const Scene& scene, double time) {
     w.watertight = scene.meshReports.at(inst.mesh).watertight();
     w.positions.reserve(mesh.positions.size());
     for (const glm::vec3& p : mesh.positions) {
-      const glm::dvec3 q = glm::dvec3(m * glm::dvec4(glm::dvec3(p), 1.0));
+      const glm::dvec3 q = glm::dvec3(m * glm::dvec4(glm::dvec3(p), 1.0)) - origin;
       const glm::vec3 f(q);
       if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z))
         throw Error(fmt::format("{}: instance '{}' moves a vertex to a non-finite position at time {}", scene.path,
                                 inst.name, time));
       w.positions.push_back(f);
-      geo.bounds.add(glm::dvec3(f));
+      // In double: grids placed from these bounds sit where they would at the world's origin, to the voxel.
+      geo.bounds.add(q);
     }
     const bool mirrored = glm::determinant(glm::dmat3(m)) < 0.0;
     w.triangles.reserve(mesh.triangles.size());

@@ -68,7 +68,10 @@ CoarseSdfBuilder::CoarseSdfBuilder(const gpu::VulkanContext& ctx)
 
 CoarseSdf CoarseSdfBuilder::build(const SceneGeometry& geometry, const GridSpec& spec, const CoarseSdfSettings& settings,
                                   bool keepSeeds) {
-  return build(triangleCorners(geometry), spec, settings, keepSeeds);
+  // The corners are relative to the geometry's frame: so is the grid they are voxelized on.
+  CoarseSdf out = build(triangleCorners(geometry), spec.inFrame(geometry.origin), settings, keepSeeds);
+  out.spec = spec;
+  return out;
 }
 
 CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const GridSpec& spec,

@@ -15,7 +15,9 @@ namespace rtsdf {
 class GpuSceneBvh {
 public:
   /// @brief Build and upload the bottom levels of @a scene's meshes. @a scene must outlive this object.
-  GpuSceneBvh(const gpu::VulkanContext& ctx, const Scene& scene);
+  /// @param frameOrigin the world point the top level measures from (buildInstanceBvh): every query and answer
+  ///        of a shader that traverses this BVH is in world - frameOrigin.
+  GpuSceneBvh(const gpu::VulkanContext& ctx, const Scene& scene, const glm::dvec3& frameOrigin = glm::dvec3(0.0));
   /// @brief Rebuild and upload the top level for the instance transforms at @a time seconds (no-op when the
   ///        time is the one last uploaded).
   void update(double time);
@@ -33,10 +35,13 @@ public:
   const MeshBvhs& meshes() const { return mMeshes; }
   /// @brief The top level as last uploaded (for the CPU side of G-buffer normals and tests).
   const InstanceBvh& top() const { return mTop; }
+  /// @brief The world point of the BVH's (0, 0, 0).
+  const glm::dvec3& frameOrigin() const { return mFrameOrigin; }
 
 private:
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
+  glm::dvec3 mFrameOrigin;
   MeshBvhs mMeshes;
   InstanceBvh mTop;
   double mTime = 0.0;

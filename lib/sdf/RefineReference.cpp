@@ -25,9 +25,12 @@ float upsampleCoarse(const std::vector<float>& coarse, const GridSpec& cs, const
   return glm::mix(glm::mix(c00, c10, t.y), glm::mix(c01, c11, t.y), t.z);
 }
 
-std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vector<float>& coarse, const GridSpec& cs,
-                                 const GridSpec& fs, const std::vector<std::uint32_t>& mask, std::uint32_t rays,
-                                 std::uint32_t frame, std::uint32_t seed, float beta) {
+std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vector<float>& coarse,
+                                 const GridSpec& coarseSpec, const GridSpec& fineSpec,
+                                 const std::vector<std::uint32_t>& mask, std::uint32_t rays, std::uint32_t frame,
+                                 std::uint32_t seed, float beta) {
+  // Voxel centres in the geometry's frame, as SdfPipeline hands the grids to the GPU.
+  const GridSpec cs = coarseSpec.inFrame(geometry.origin), fs = fineSpec.inFrame(geometry.origin);
   const ExactDistanceField field(geometry);
   std::vector<float> out(mask.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mask.size()), [&](const tbb::blocked_range<std::size_t>& r) {

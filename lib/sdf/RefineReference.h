@@ -17,7 +17,8 @@ float upsampleCoarse(const std::vector<float>& coarse, const GridSpec& coarseSpe
 
 /// @brief One fresh frame (no history) of rays-mode refinement at the packed fine voxels @a mask:
 ///        f = min(c + beta + sqrt(3)/2 h_coarse, nearest hit), signed by the majority of back-face hits
-///        (rays of unlimited reach, as refine.comp).
+///        (rays of unlimited reach, as refine.comp). The grids are in world coordinates; positions are computed
+///        in @a geometry's frame (SceneGeometry::origin), as SdfPipeline does.
 std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vector<float>& coarse,
                                  const GridSpec& coarseSpec, const GridSpec& fineSpec,
                                  const std::vector<std::uint32_t>& mask, std::uint32_t rays, std::uint32_t frame,

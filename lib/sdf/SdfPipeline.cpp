@@ -203,7 +203,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   checkPipelineMemory(need, memoryLimits(ctx.info()));
   mCoarseSpec = need.coarse;
   mFineSpec = need.fine;
-  mBvh = std::make_unique<GpuSceneBvh>(ctx, scene);
+  mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, frameOrigin());
   mGpu = std::make_unique<Gpu>(ctx, s.mode);
   const std::size_t fineBytes = mFineSpec.voxelCount() * 4;
   mGpu->fine = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine SDF");
@@ -240,9 +240,10 @@ RayMask SdfPipeline::updateMask(FrameStats& stats) {
 
 RefineParams SdfPipeline::refineParams(std::size_t maskVoxels) const {
   RefineParams p{};
-  p.fineOriginH = glm::vec4(glm::vec3(mFineSpec.origin), float(mFineSpec.voxelSize));
-  p.fineDims = glm::ivec4(mFineSpec.dims, int(maskVoxels));
-  p.coarseOriginInvH = glm::vec4(glm::vec3(mCoarseSpec.origin), float(1.0 / mCoarseSpec.voxelSize));
+  const GridSpec fine = mFineSpec.inFrame(frameOrigin()), coarse = mCoarseSpec.inFrame(frameOrigin());
+  p.fineOriginH = glm::vec4(glm::vec3(fine.origin), float(fine.voxelSize));
+  p.fineDims = glm::ivec4(fine.dims, int(maskVoxels));
+  p.coarseOriginInvH = glm::vec4(glm::vec3(coarse.origin), float(1.0 / coarse.voxelSize));
   p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
   p.alpha = float(mSettings.alpha);
   p.rays = std::uint32_t(mSettings.rays);
@@ -260,7 +261,7 @@ FrameStats SdfPipeline::runFrame(double time) {
   cs.variant = mSettings.variant;
   cs.beta = mSettings.beta;
   cs.readNearest = false;
-  CoarseSdf coarse = mGpu->coarse.build(buildSceneGeometry(mScene, time), mCoarseSpec, cs);
+  CoarseSdf coarse = mGpu->coarse.build(buildSceneGeometry(mScene, time, frameOrigin()), mCoarseSpec, cs);
   stats.passMs = coarse.passMs;
   mCoarse = std::move(coarse.distance);
   const RayMask mask = updateMask(stats);

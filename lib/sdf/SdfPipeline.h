@@ -151,11 +151,15 @@ public:
   /// @brief The last frame's coarse SDF (x fastest).
   const std::vector<float>& coarseField() const { return mCoarse; }
   const GridSpec& coarseSpec() const { return mCoarseSpec; }
+  /// @brief The world point the GPU passes measure from: the fine grid's corner. Triangles, the BVH's top level
+  ///        and the grids are moved into this frame in double before they become floats, so a scene far from
+  ///        the world's origin keeps the precision it has at the origin.
+  const glm::dvec3& frameOrigin() const { return mFineSpec.origin; }
   const GridSpec& fineSpec() const { return mFineSpec; }
   const PipelineSettings& settings() const { return mSettings; }
   /// @brief The fine SDF on the GPU (dense, x fastest, fineSpec()), valid after runFrame().
   const gpu::Buffer& fineBuffer() const;
-  /// @brief The scene's BVH on the GPU, its top level as of the last runFrame().
+  /// @brief The scene's BVH on the GPU, its top level as of the last runFrame(), in the frame of frameOrigin().
   const GpuSceneBvh& bvh() const { return *mBvh; }
 
 private:

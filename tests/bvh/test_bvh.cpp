@@ -79,11 +79,19 @@ struct EmbreeScene {
 struct BvhTag : test::NoSuiteObjects {};
 using BvhGpu = test::VulkanSuite<BvhTag>;
 
-void checkScene(const gpu::VulkanContext& ctx, const std::string& name, double time) {
-  const Scene scene = loadScene(test::dataPath("scenes/" + name));
-  const SceneGeometry geo = buildSceneGeometry(scene, time);
+/// GPU queries against Embree and the exact field. With @a far, the scene is moved that far away from the world's
+/// origin and everything is measured from there (the grid-relative frame of SdfPipeline): the same tolerances hold.
+void checkScene(const gpu::VulkanContext& ctx, const std::string& name, double time,
+                const glm::dvec3& far = glm::dvec3(0.0)) {
+  Scene scene = loadScene(test::dataPath("scenes/" + name));
+  for (Instance& inst : scene.instances) {
+    inst.transform.translation += far;
+    inst.animation.center += far;
+  }
+  const glm::dvec3 frame = far;
+  const SceneGeometry geo = buildSceneGeometry(scene, time, frame);
   const MeshBvhs meshes = buildMeshBvhs(scene);
-  const InstanceBvh top = buildInstanceBvh(scene, meshes, time);
+  const InstanceBvh top = buildInstanceBvh(scene, meshes, time, frame);
   EmbreeScene embree(geo);
 
   std::mt19937 rng(42);
@@ -245,4 +253,10 @@ TEST_F(BvhGpu, ClosestPointSideIsRightNearSharpEdgesAndCorners) {
 TEST_F(BvhGpu, RaysAndClosestPointsOnTheDefaultSceneWhileTheTeapotOrbits) {
   checkScene(*sCtx, "default.json", 0.0);
   checkScene(*sCtx, "default.json", 2.7);
+}
+
+// 1e5 from the origin, float world coordinates are 1/128 apart; in a frame at the scene (instance translations
+// moved there in double) the queries are as exact as at the origin.
+TEST_F(BvhGpu, RaysAndClosestPointsFarFromTheOriginInTheSceneFrame) {
+  checkScene(*sCtx, "bunny.json", 0.0, glm::dvec3(1e5, -1e5, 1e5));
 }

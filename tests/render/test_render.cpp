@@ -76,7 +76,7 @@ TEST_F(Render, GBufferPassEqualsEmbreePrimaryHits) {
     }
     if (!cpu.hit(i)) continue;
     ++hits;
-    EXPECT_LT(glm::length(glm::vec3(f.gbuffer.position[i]) - glm::vec3(cpu.position[i])), 1e-4f);
+    EXPECT_LT(glm::length(f.gbuffer.worldPosition(i) - cpu.worldPosition(i)), 1e-4);
     EXPECT_GT(glm::dot(glm::vec3(f.gbuffer.normal[i]), glm::vec3(cpu.normal[i])), 0.9999f);
   }
   EXPECT_GT(hits, cpu.pixelCount() / 2);
@@ -96,7 +96,7 @@ TEST_F(Render, SdfShadowPassEqualsTheCpuMarch) {
     s.sdf.sampling = SdfSampling::Buffer;
     Renderer r(*sCtx, scene, boundsOf(scene), s);
     const RenderedFrame f = r.renderFrame(0.0);
-    const LightVisibility cpu = sdfShadowsCpu(f.gbuffer, r.sdfPipeline()->fineField(), makeGpuLights(scene.lights),
+    const LightVisibility cpu = sdfShadowsCpu(f.gbuffer, r.sdfPipeline()->fineField(), r.gpuLights(),
                                               r.sdfShadowParams());
     const std::size_t n = countAbove(f.visibility[0], cpu[0], 1e-4f);
     std::size_t shadowed = 0;
@@ -171,7 +171,7 @@ TEST_F(Render, SdfShadowPassFromA3dTextureMatchesTheCpuMarch) {
     ASSERT_EQ(r.sdfSampling(), SdfSampling::Texture);
     const RenderedFrame f = r.renderFrame(0.0);
     EXPECT_GT(f.passTotal(SdfShadowPass::kCopyName), 0.0) << "the copy into the texture is profiled";
-    const LightVisibility cpu = sdfShadowsCpu(f.gbuffer, r.sdfPipeline()->fineField(), makeGpuLights(scene.lights),
+    const LightVisibility cpu = sdfShadowsCpu(f.gbuffer, r.sdfPipeline()->fineField(), r.gpuLights(),
                                               r.sdfShadowParams());
     double sum = 0.0;
     for (std::size_t i = 0; i < cpu[0].size(); ++i) sum += std::fabs(f.visibility[0][i] - cpu[0][i]);
@@ -213,8 +213,10 @@ TEST_F(Render, ShadowMapPassEqualsEmbreeDepthsAndTheCpuLookup) {
   Renderer r(*sCtx, scene, boundsOf(scene), s);
   const RenderedFrame f = r.renderFrame(0.0);
   const std::vector<float> gpuDepth = r.shadowMapDepths();
-  const auto lights = makeGpuLights(scene.lights);
-  const std::vector<float> cpuDepth = shadowMapDepthsCpu(buildSceneGeometry(scene, 0.0), lights, r.shadowMapParams());
+  // The CPU reference works in the renderer's frame, as the passes do.
+  const auto& lights = r.gpuLights();
+  const std::vector<float> cpuDepth =
+      shadowMapDepthsCpu(buildSceneGeometry(scene, 0.0, r.frameOrigin()), lights, r.shadowMapParams());
   ASSERT_EQ(gpuDepth.size(), cpuDepth.size());
   std::size_t used = 0, differ = 0, hits = 0;
   for (std::size_t l = 0; l < lights.size(); ++l) {
@@ -306,7 +308,7 @@ TEST_F(Render, ShadowMapsAreExactAwayFromShadowEdges) {
   const RenderedFrame f = r.renderFrame(0.0);
   std::size_t shadowed = 0, lit = 0;
   for (std::size_t i = 0; i < f.gbuffer.pixelCount(); ++i) {
-    const glm::vec4 q = f.gbuffer.position[i];
+    const glm::dvec3 q = f.gbuffer.worldPosition(i);
     if (!f.gbuffer.hit(i) || std::fabs(q.y) > 0.05f) continue; // the floor only
     const float v = f.visibility[0][i];
     if (q.x < -0.08f && q.x > -0.92f && std::fabs(q.z) < 0.92f) {

@@ -1,77 +1,114 @@
 #include "reference/WindingNumber.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 
 namespace rtsdf {
 namespace {
 constexpr int kLeafSize = 8;
+constexpr int kParallelBuild = 1 << 14; // subtrees this large build their halves in parallel
 constexpr double kInv4Pi = 1.0 / (4.0 * M_PI);
 } // namespace
+
+/// Builds the tree top down by median splits of the centroids. Per-triangle vector areas and centroids are
+/// computed once; a node's index is known before its subtree is built (the shape depends on the counts alone), so
+/// large subtrees build in parallel.
+struct WindingNumberTree::Builder {
+  WindingNumberTree& tree;
+  std::vector<glm::dvec3> vectorArea, centroid;
+  std::vector<int> order; // triangle of each slot; the leaves' ranges index it
+  std::map<int, int> nodes; // nodes of a subtree over that many triangles
+
+  /// Fills the table for @a count and every subtree below it (before the build, which only reads it).
+  int nodesFor(int count) {
+    if (count <= kLeafSize) return 1;
+    const auto it = nodes.find(count);
+    if (it != nodes.end()) return it->second;
+    const int n = 1 + nodesFor(count / 2) + nodesFor(count - count / 2);
+    nodes.emplace(count, n);
+    return n;
+  }
+  int subtreeNodes(int count) const { return count <= kLeafSize ? 1 : nodes.at(count); }
+
+  /// Node @a index over the slots [first, first + count).
+  void build(int index, int first, int count) {
+    glm::dvec3 lo(INFINITY), hi(-INFINITY), weighted(0.0), areaNormal(0.0);
+    double area = 0.0;
+    for (int i = first; i < first + count; ++i) {
+      const int t = order[std::size_t(i)];
+      const double a = glm::length(vectorArea[std::size_t(t)]);
+      weighted += a * centroid[std::size_t(t)];
+      area += a;
+      areaNormal += vectorArea[std::size_t(t)];
+      lo = glm::min(lo, centroid[std::size_t(t)]);
+      hi = glm::max(hi, centroid[std::size_t(t)]);
+    }
+    Node node{};
+    node.center = area > 0.0 ? weighted / area : 0.5 * (lo + hi);
+    node.areaNormal = areaNormal;
+    double r2 = 0.0;
+    for (int i = first; i < first + count; ++i) {
+      const std::size_t t = std::size_t(order[std::size_t(i)]);
+      for (const glm::dvec3* v : {&tree.mA[t], &tree.mB[t], &tree.mC[t]}) {
+        const glm::dvec3 d = *v - node.center;
+        r2 = std::max(r2, glm::dot(d, d));
+      }
+    }
+    node.radius = std::sqrt(r2);
+    node.first = first;
+    node.count = count;
+    node.left = node.right = -1;
+    if (count > kLeafSize) {
+      // Median split of the centroids along the widest axis.
+      const glm::dvec3 ext = hi - lo;
+      const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+      const int mid = count / 2;
+      const auto begin = order.begin() + first;
+      std::nth_element(begin, begin + mid, begin + count, [&](int x, int y) {
+        return centroid[std::size_t(x)][axis] < centroid[std::size_t(y)][axis];
+      });
+      node.left = index + 1;
+      node.right = index + 1 + subtreeNodes(mid);
+      auto left = [&] { build(node.left, first, mid); };
+      auto right = [&] { build(node.right, first + mid, count - mid); };
+      if (count >= kParallelBuild) tbb::parallel_invoke(left, right);
+      else { left(); right(); }
+    }
+    tree.mNodes[std::size_t(index)] = node;
+  }
+};
 
 WindingNumberTree::WindingNumberTree(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles,
                                      double beta)
     : mBeta(beta) {
   const std::size_t n = triangles.size();
   mA.resize(n); mB.resize(n); mC.resize(n);
-  for (std::size_t t = 0; t < n; ++t) {
-    mA[t] = glm::dvec3(positions[triangles[t].x]);
-    mB[t] = glm::dvec3(positions[triangles[t].y]);
-    mC[t] = glm::dvec3(positions[triangles[t].z]);
-  }
-  mNodes.reserve(2 * n / kLeafSize + 2);
-  if (n) build(0, int(n));
-}
-
-int WindingNumberTree::build(int first, int count) {
-  const int index = int(mNodes.size());
-  mNodes.push_back({});
-  glm::dvec3 lo(INFINITY), hi(-INFINITY), weighted(0.0), areaNormal(0.0);
-  double area = 0.0;
-  for (int t = first; t < first + count; ++t) {
-    const glm::dvec3 va = 0.5 * glm::cross(mB[t] - mA[t], mC[t] - mA[t]);
-    const double a = glm::length(va);
-    const glm::dvec3 centroid = (mA[t] + mB[t] + mC[t]) / 3.0;
-    weighted += a * centroid;
-    area += a;
-    areaNormal += va;
-    lo = glm::min(lo, centroid);
-    hi = glm::max(hi, centroid);
-  }
-  Node node{};
-  node.center = area > 0.0 ? weighted / area : 0.5 * (lo + hi);
-  node.areaNormal = areaNormal;
-  double r2 = 0.0;
-  for (int t = first; t < first + count; ++t)
-    for (const glm::dvec3* v : {&mA[t], &mB[t], &mC[t]}) {
-      const glm::dvec3 d = *v - node.center;
-      r2 = std::max(r2, glm::dot(d, d));
+  Builder b{*this, std::vector<glm::dvec3>(n), std::vector<glm::dvec3>(n), std::vector<int>(n), {}};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t t = r.begin(); t != r.end(); ++t) {
+      mA[t] = glm::dvec3(positions[triangles[t].x]);
+      mB[t] = glm::dvec3(positions[triangles[t].y]);
+      mC[t] = glm::dvec3(positions[triangles[t].z]);
+      b.vectorArea[t] = 0.5 * glm::cross(mB[t] - mA[t], mC[t] - mA[t]);
+      b.centroid[t] = (mA[t] + mB[t] + mC[t]) / 3.0;
     }
-  node.radius = std::sqrt(r2);
-  node.first = first;
-  node.count = count;
-  node.left = node.right = -1;
-  if (count > kLeafSize) {
-    // Median split of the centroids along the widest axis.
-    const glm::dvec3 ext = hi - lo;
-    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-    std::vector<int> order(count);
-    std::iota(order.begin(), order.end(), first);
-    const int mid = count / 2;
-    std::nth_element(order.begin(), order.begin() + mid, order.end(), [&](int x, int y) {
-      return (mA[x][axis] + mB[x][axis] + mC[x][axis]) < (mA[y][axis] + mB[y][axis] + mC[y][axis]);
-    });
-    std::vector<glm::dvec3> a(count), b(count), c(count);
-    for (int i = 0; i < count; ++i) { a[i] = mA[order[i]]; b[i] = mB[order[i]]; c[i] = mC[order[i]]; }
-    std::copy(a.begin(), a.end(), mA.begin() + first);
-    std::copy(b.begin(), b.end(), mB.begin() + first);
-    std::copy(c.begin(), c.end(), mC.begin() + first);
-    node.left = build(first, mid);
-    node.right = build(first + mid, count - mid);
+  });
+  if (!n) return;
+  std::iota(b.order.begin(), b.order.end(), 0);
+  mNodes.resize(std::size_t(b.nodesFor(int(n))));
+  b.build(0, 0, int(n));
+  // The leaves index slots: put the corners in slot order.
+  std::vector<glm::dvec3> a(n), bb(n), c(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t t = std::size_t(b.order[i]);
+    a[i] = mA[t]; bb[i] = mB[t]; c[i] = mC[t];
   }
-  mNodes[index] = node;
-  return index;
+  mA = std::move(a); mB = std::move(bb); mC = std::move(c);
 }
 
 double WindingNumberTree::solidAngle(int t, const glm::dvec3& p) const {

@@ -34,7 +34,7 @@ private:
     int first, count;      // triangle range (leaves)
     int left, right;       // children, -1 for leaves
   };
-  int build(int first, int count);
+  struct Builder;
   double solidAngle(int tri, const glm::dvec3& p) const;
 
   std::vector<glm::dvec3> mA, mB, mC; // triangle corners, reordered by the tree

@@ -36,7 +36,7 @@ extern "C" void onInterrupt(int) {
 }
 
 int runBake(const BakeCommand& c) {
-  checkOutputPath(c.output);
+  checkOutputPath(c.output, ".vdb", {c.options.scene});
   const BakeResult r = bake(c.options, terminalJobControl());
   writeBake(r, c.output, c.written);
   fmt::print("{}", bakeReport(c.options, r, c.output, c.written));
@@ -50,7 +50,7 @@ int runCompare(CompareCommand c) {
 }
 
 int runAnimate(const AnimateCommand& c) {
-  if (!c.csv.empty()) checkOutputPath(c.csv);
+  if (!c.csv.empty()) checkOutputPath(c.csv, ".csv", {c.options.scene});
   const AnimateResult r = animate(c.options, {}, [](const AnimateFrame& f) {
     if (f.frame == 0)
       fmt::print("{:>5} {:>7} {:>10} {:>10} {:>10} {:>10} {:>12} {:>12} {:>10}\n", "frame", "time", "mask", "GPU ms",
@@ -65,7 +65,7 @@ int runAnimate(const AnimateCommand& c) {
 
 int runRender(const RenderCommand& c) {
   const RenderOutputs out = RenderOutputs::forExr(c.output, c.png);
-  out.check();
+  out.check({c.options.scene});
   const RenderJobResult r = renderScene(c.options, terminalJobControl());
   const RenderSettings& rs = c.options.render;
   fmt::print("{} shadows, {}x{}, frame at t = {} s:\n{}", toString(rs.technique), rs.width, rs.height, c.options.time,

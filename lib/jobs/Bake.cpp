@@ -6,6 +6,7 @@
 #include "scene/SceneLoader.h"
 #include "sdf/CoarseSdf.h"
 #include "sdf/RefinePasses.h"
+#include "util/AtomicFile.h"
 #include "util/Error.h"
 #include "util/Memory.h"
 #include "util/Settings.h"
@@ -151,6 +152,10 @@ BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const J
   spdlog::info("{}: {}", options.scene, summary);
   BakeResult r = options.method == BakeMethod::Rtsdf ? bakeRtsdf(options, scene, control) : bakeOnGrid(options, scene);
   r.sceneSummary = summary;
+  // The files read: writeBake never replaces one of them.
+  if (!options.scene.empty()) r.inputs.push_back(options.scene);
+  for (const Mesh& m : scene.meshes)
+    if (!m.source.empty() && m.source.front() != '<') r.inputs.push_back(m.source);
   return r;
 }
 
@@ -167,6 +172,7 @@ BakeResult bake(const Scene& scene, const BakeOptions& options, const JobControl
 }
 
 void writeBake(const BakeResult& result, const fs::path& path, const BakeOutputOptions& output) {
+  checkOutputPath(path, ".vdb", result.inputs);
   openvdb::GridPtrVec grids{result.grid};
   if (output.fog) grids.push_back(makeFogGrid(*result.grid));
   writeVdb(path, grids, output.vdb);

@@ -66,6 +66,7 @@ struct BakeResult {
   FrameStats lastFrame;           ///< the last frame's mask and pass times (jfa: passes only; rtsdf)
   std::string device;             ///< the Vulkan device that ran (jfa, rtsdf)
   std::string sceneSummary;       ///< meshes, instances, triangles, dropped triangles
+  std::vector<std::filesystem::path> inputs; ///< the scene and mesh files read (an output never replaces one)
 };
 
 /// @brief Bake the SDF of @a options.scene.
@@ -85,6 +86,7 @@ struct BakeOutputOptions {
 };
 
 /// @brief Write @a result to @a path atomically (nothing is left behind on failure).
+/// @throw Error when @a path is not a .vdb name, is one of result.inputs, or cannot be written.
 void writeBake(const BakeResult& result, const std::filesystem::path& path, const BakeOutputOptions& output = {});
 
 /// @brief What a bake did, as the lines `rtsdf bake` prints (scene, method, grid, band, activity, time, output).

@@ -118,15 +118,30 @@ RenderOutputs RenderOutputs::forExr(const fs::path& exr, const fs::path& png) {
   return o;
 }
 
-void RenderOutputs::check() const {
-  checkOutputPath(exr);
-  checkOutputPath(png);
+void RenderOutputs::check(const std::vector<fs::path>& inputs) const {
+  checkOutputPath(exr, ".exr", inputs);
+  checkOutputPath(png, ".png", inputs);
+  std::error_code ec;
+  if (png == exr || png == errorPng || fs::weakly_canonical(png, ec) == fs::weakly_canonical(exr, ec))
+    throw Error(fmt::format("{}: the PNG would replace another output of this render (the EXR is {})", png.string(),
+                            exr.string()));
 }
 
 void writeRender(const RenderJobResult& result, const RenderOutputs& outputs) {
-  if (result.compared) writePng(outputs.errorPng, result.errorImage);
-  writeExr(outputs.exr, result.image);
-  writePng(outputs.png, displayImage(result.image));
+  std::vector<fs::path> written;
+  try {
+    if (result.compared) {
+      writePng(outputs.errorPng, result.errorImage);
+      written.push_back(outputs.errorPng);
+    }
+    writeExr(outputs.exr, result.image);
+    written.push_back(outputs.exr);
+    writePng(outputs.png, displayImage(result.image));
+  } catch (...) {
+    std::error_code ec;
+    for (const fs::path& p : written) fs::remove(p, ec);
+    throw;
+  }
 }
 
 } // namespace rtsdf

@@ -50,11 +50,14 @@ RenderJobResult renderScene(const RenderJobOptions& options, const JobControl& c
 struct RenderOutputs {
   std::filesystem::path exr, png, errorPng;
   static RenderOutputs forExr(const std::filesystem::path& exr, const std::filesystem::path& png = {});
-  /// @throw Error when a folder is missing or a path is a folder (before any work).
-  void check() const;
+  /// @brief Refuse, before any work, outputs that cannot or must not be written: a missing folder, a folder, an
+  ///        extension other than .exr / .png, two outputs at one path, or an output at one of @a inputs.
+  /// @throw Error naming the path and the problem.
+  void check(const std::vector<std::filesystem::path>& inputs = {}) const;
 };
 
 /// @brief Write the EXR (linear, every channel), the sRGB PNG and, after a comparison, the error picture.
+/// @note All or nothing: when one write fails, the files this call had already written are removed.
 void writeRender(const RenderJobResult& result, const RenderOutputs& outputs);
 
 } // namespace rtsdf

@@ -3,6 +3,8 @@
 #include "util/Error.h"
 
 #include <fmt/format.h>
+
+#include <cctype>
 #include <fstream>
 #include <random>
 #include <system_error>
@@ -44,13 +46,29 @@ void writeTextAtomically(const fs::path& target, const std::string& text) {
   });
 }
 
-void checkOutputPath(const std::filesystem::path& p) {
+namespace {
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+} // namespace
+
+void checkOutputPath(const std::filesystem::path& p, const std::string& extension,
+                     const std::vector<std::filesystem::path>& inputs) {
   namespace fs = std::filesystem;
+  if (p.empty()) throw Error("the output path is empty");
   std::error_code ec;
   const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec))
     throw Error(fmt::format("{}: output folder '{}' does not exist", p.string(), dir.string()));
   if (fs::is_directory(p, ec)) throw Error(fmt::format("{}: is a folder, not a file", p.string()));
+  for (const fs::path& in : inputs) {
+    std::error_code e1;
+    if (!in.empty() && fs::exists(p, e1) && fs::exists(in, e1) && fs::equivalent(p, in, e1))
+      throw Error(fmt::format("{}: the output would replace an input of this command ({})", p.string(), in.string()));
+  }
+  if (!extension.empty() && lower(p.extension().string()) != lower(extension))
+    throw Error(fmt::format("{}: the output is a {} file: give it the extension {}", p.string(), extension, extension));
 }
 
 } // namespace rtsdf

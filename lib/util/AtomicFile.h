@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace rtsdf {
 
@@ -14,9 +15,13 @@ namespace rtsdf {
 void writeFileAtomically(const std::filesystem::path& target,
                          const std::function<void(const std::filesystem::path&)>& write);
 
-/// @brief Fail early (before any work) when @a path cannot be written: its folder is missing or it is a folder.
+/// @brief Fail early (before any work) when @a path cannot or must not be written: it is empty, its folder is
+///        missing, it is a folder, its extension is not @a extension, or it is one of @a inputs.
+/// @param extension the format's extension with its dot (".vdb"), compared ignoring case; empty: any.
+/// @param inputs files the command reads: an output never replaces one of them.
 /// @throw Error naming the path and the problem.
-void checkOutputPath(const std::filesystem::path& path);
+void checkOutputPath(const std::filesystem::path& path, const std::string& extension = {},
+                     const std::vector<std::filesystem::path>& inputs = {});
 
 /// @brief Write @a text to @a target atomically. @throw Error naming the file on failure.
 void writeTextAtomically(const std::filesystem::path& target, const std::string& text);

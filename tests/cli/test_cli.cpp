@@ -234,6 +234,55 @@ TEST(Cli, BadInputIsRefusedClearlyWithNoOutputFile) {
   EXPECT_NE(junk.output.find("junk.vdb"), std::string::npos) << junk.output;
 }
 
+namespace {
+std::string fileBytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+} // namespace
+
+// An output never replaces an input and always carries its format's extension; a render that fails on its last
+// file leaves none of the others. Each is refused with a message naming the path and a non-zero exit.
+TEST(Cli, OutputsNeverReplaceInputsAndMatchTheirFormat) {
+  const TempDir dir;
+  const auto mesh = dir / "in.obj";
+  std::filesystem::copy_file(test::dataPath("meshes/teapot.obj"), mesh);
+  const std::string before = fileBytes(mesh);
+  struct Case { std::string args; std::string expect; std::filesystem::path absent; };
+  const std::vector<Case> bakes = {
+      {"-o " + q(mesh), "would replace an input", {}},
+      {"-o " + q(dir / "x.txt"), "give it the extension .vdb", dir / "x.txt"},
+      {"-o ''", "the output path is empty", {}},
+  };
+  for (const Case& c : bakes) {
+    SCOPED_TRACE(c.args);
+    const Result r = rtsdfCmd("bake " + q(mesh) + " --res 16 " + c.args);
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+    if (!c.absent.empty()) EXPECT_FALSE(std::filesystem::exists(c.absent));
+  }
+  EXPECT_EQ(fileBytes(mesh), before) << "the input mesh changed";
+
+  const std::string scene = q(test::dataPath("scenes/analytic.json"));
+  const std::string small = "-q render " + scene + " --shadows shadowmap --width 16 --height 9 ";
+  const std::vector<Case> renders = {
+      {"-o " + q(dir / "y.png"), "give it the extension .exr", dir / "y.png"},
+      {"-o " + q(dir / "y.exr") + " --png " + q(dir / "y.exr"), "give it the extension .png", dir / "y.exr"},
+      // The PNG cannot be written: the EXR written before it is removed again.
+      {"-o " + q(dir / "z.exr") + " --png /proc/z.png", "z.png", dir / "z.exr"},
+  };
+  for (const Case& c : renders) {
+    SCOPED_TRACE(c.args);
+    const Result r = rtsdfCmd(small + c.args);
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(c.absent));
+  }
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
+  EXPECT_EQ(files, 1u) << "only the input mesh is left";
+}
+
 // render end to end: every technique writes an EXR (R, G, B and the light's visibility) and a PNG that read
 // back; --compare prints the error against the truth and writes the error picture.
 TEST(Cli, RendersTheAnalyticSceneWithEveryTechnique) {

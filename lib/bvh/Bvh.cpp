@@ -188,7 +188,6 @@ MeshBvhs buildMeshBvhs(const Scene& scene, int maxLeafSize) {
 
 InstanceBvh buildInstanceBvh(const Scene& scene, const MeshBvhs& meshes, double time, const glm::dvec3& frameOrigin) {
   InstanceBvh out;
-  out.frameOrigin = frameOrigin;
   const std::size_t n = scene.instances.size();
   std::vector<glm::vec3> lo(n), hi(n);
   for (std::size_t i = 0; i < n; ++i) {

@@ -22,9 +22,8 @@ struct MeshBvhs {
 };
 
 /// @brief The top level at one moment: instances (in the scene's order) and a BVH over their world boxes,
-///        all measured from frameOrigin.
+///        measured from the frameOrigin it was built for.
 struct InstanceBvh {
-  glm::dvec3 frameOrigin{0.0};                 ///< world point of the top level's (0, 0, 0)
   std::vector<gpu::shared::BvhNode> nodes;
   std::vector<std::uint32_t> slots;            ///< leaf primitive -> instance index
   std::vector<gpu::shared::BvhInstance> instances;

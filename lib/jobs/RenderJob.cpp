@@ -121,8 +121,12 @@ RenderOutputs RenderOutputs::forExr(const fs::path& exr, const fs::path& png) {
 void RenderOutputs::check(const std::vector<fs::path>& inputs) const {
   checkOutputPath(exr, ".exr", inputs);
   checkOutputPath(png, ".png", inputs);
-  std::error_code ec;
-  if (png == exr || png == errorPng || fs::weakly_canonical(png, ec) == fs::weakly_canonical(exr, ec))
+  auto same = [](const fs::path& a, const fs::path& b) {
+    std::error_code ea, eb;
+    const fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+    return ea || eb ? a == b : ca == cb;
+  };
+  if (same(png, exr) || same(png, errorPng))
     throw Error(fmt::format("{}: the PNG would replace another output of this render (the EXR is {})", png.string(),
                             exr.string()));
 }

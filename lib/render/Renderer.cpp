@@ -115,12 +115,16 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     throw Error("the GPU renderer draws sdf or shadowmap shadows; ray tracing runs on the CPU (renderRayTraced)");
   settings.validate();
   checkRenderable(scene);
+  // The GPU works near the scene: the SDF's frame (its fine grid's corner, SdfPipeline::frameOrigin()), or the
+  // corner of the bounds for shadow maps. Known before anything is allocated, so a bad camera is refused first.
   if (settings.technique == ShadowTechnique::Sdf)
-    mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, settings.pipeline);
-  // The GPU works near the scene: the SDF's frame, or the corner of the bounds for shadow maps.
-  mFrameOrigin = mSdf ? mSdf->frameOrigin() : sdfBounds.empty() ? glm::dvec3(0.0) : sdfBounds.min;
+    mFrameOrigin = pipelineGrids(sdfBounds, settings.pipeline).second.origin;
+  else
+    mFrameOrigin = sdfBounds.empty() ? glm::dvec3(0.0) : sdfBounds.min;
   mCamera = makeCameraParams(scene.camera, settings.width, settings.height, mFrameOrigin);
   mLights = makeGpuLights(scene.lights, mFrameOrigin);
+  if (settings.technique == ShadowTechnique::Sdf)
+    mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, settings.pipeline);
   mGpu = std::make_unique<Gpu>(ctx);
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
   mGpu->gbuffer.reserve(ctx, settings.width, settings.height);

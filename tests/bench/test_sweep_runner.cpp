@@ -3,8 +3,11 @@
 #include "bench/SweepPlots.h"
 #include "bench/SweepRunner.h"
 #include "image/ImageIO.h"
+#include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
+#include "sdf/SdfPipeline.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -57,7 +60,8 @@ TEST(SweepRunner, MeasuresPointsAnchorsAndStorageOnTheBunny) {
   EXPECT_GT(c.refineMs, 0.0);
   EXPECT_GT(c.jumpFloodMs, 0.0);
   EXPECT_GT(c.peakMiB, 10.0);
-  EXPECT_TRUE(std::isfinite(c.shadowRmse) && c.shadowRmse < 0.5);
+  std::printf("bunny XS closest: shadow visibility RMSE %.4f, FLIP %.4f\n", c.shadowRmse, c.shadowFlip);
+  EXPECT_LT(c.shadowRmse, 0.1); // measured 0.0593 (lavapipe, 64x36, 64 truth samples); NaN fails too
   EXPECT_TRUE(std::isfinite(c.shadowFlip));
 
   // More rays, less error (x = 0 leaves the upsampled coarse field).
@@ -71,8 +75,12 @@ TEST(SweepRunner, MeasuresPointsAnchorsAndStorageOnTheBunny) {
   exact.anchor = AnchorKind::Exact;
   const SweepRecord e = runner.run(exact)[0];
   ASSERT_TRUE(e.ok()) << e.note;
-  EXPECT_EQ(e.meanAbs, 0.0);
   EXPECT_EQ(e.voxelSize, c.voxelSize) << "anchors use the pipeline's fine voxels";
+  EXPECT_EQ(e.grid, c.grid);
+  // The anchor's error is against the exact field itself (0 by construction): check that both records are
+  // measured over the same band instead; the band's content is checked in closed form on a box below.
+  EXPECT_EQ(e.errorVoxels, c.errorVoxels);
+  EXPECT_GE(e.maskVoxels, e.errorVoxels);
   SweepPoint vdb = exact;
   vdb.anchor = AnchorKind::OpenVdb;
   const SweepRecord v = runner.run(vdb)[0];
@@ -108,6 +116,40 @@ TEST(SweepRunner, MeasuresPointsAnchorsAndStorageOnTheBunny) {
   for (const auto& p : pngs) {
     EXPECT_GT(readPng(dir.path() / p).width, 500) << p;
   }
+}
+
+// The exact anchor of a box against the closed-form box distance: its band holds exactly the fine voxels
+// whose centre is within the band of the box (up to voxels within float rounding of the band's edge).
+TEST(SweepRunner, ExactAnchorHoldsTheClosedFormBandOfABox) {
+  const glm::dvec3 half(0.5, 0.31, 0.42);
+  const Scene scene = parseScene(R"({"meshes": {"box": {"box": [1.0, 0.62, 0.84]}},
+      "instances": [{"mesh": "box", "translate": [0.1, 0.2, 0.3]}]})",
+                                 "box.json");
+  const glm::dvec3 centre(0.1, 0.2, 0.3);
+  SweepRunner runner(scene, options());
+  SweepPoint p = xs(SweepGroup::Anchor, RefineMode::Closest, 0, 1);
+  p.anchor = AnchorKind::Exact;
+  const SweepRecord e = runner.run(p)[0];
+  ASSERT_TRUE(e.ok()) << e.note;
+  const GridSpec spec = pipelineGrids(buildSceneGeometry(scene, 0.0).bounds, p.pipeline).second;
+  ASSERT_EQ(e.grid, fmt::format("{}x{}x{}", spec.dims.x, spec.dims.y, spec.dims.z));
+  const double band = p.pipeline.band;
+  ASSERT_EQ(options().errorBand, band); // so the error is measured over the same band
+  std::uint64_t inBand = 0, onEdge = 0;
+  for (int z = 0; z < spec.dims.z; ++z)
+    for (int y = 0; y < spec.dims.y; ++y)
+      for (int x = 0; x < spec.dims.x; ++x) {
+        const glm::dvec3 q = glm::abs(spec.indexToWorld(glm::dvec3(x, y, z)) - centre) - half;
+        const double d = glm::length(glm::max(q, 0.0)) + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);
+        inBand += std::fabs(d) <= band;
+        onEdge += std::fabs(std::fabs(d) - band) < 1e-5;
+      }
+  std::printf("box anchor: %llu band voxels, closed form %llu (%llu within 1e-5 of the band's edge)\n",
+              (unsigned long long)e.maskVoxels, (unsigned long long)inBand, (unsigned long long)onEdge);
+  EXPECT_GT(inBand, 5000u);
+  EXPECT_LE(std::max(e.maskVoxels, inBand) - std::min(e.maskVoxels, inBand), onEdge);
+  EXPECT_LE(std::max(e.errorVoxels, inBand) - std::min(e.errorVoxels, inBand), onEdge);
+  EXPECT_EQ(runner.context().validationErrors(), 0u) << runner.context().lastValidationMessage();
 }
 
 TEST(SweepRunner, DynamicPointsGiveOneRecordPerFrameAndStopWhenAsked) {

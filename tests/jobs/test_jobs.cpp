@@ -185,7 +185,7 @@ TEST(Jobs, AnimateGivesOneFramePerStepWithItsErrorAndCsv) {
   EXPECT_EQ(calls, 2);
   for (const AnimateFrame& f : r.frames) {
     EXPECT_GT(f.error.voxels, 0u);
-    EXPECT_LT(f.error.meanAbs, 2.0);
+    EXPECT_LT(f.error.meanAbs, 1.0); // measured 0.52 and 0.31 voxels (frames 0 and 1, lavapipe)
     EXPECT_GT(f.gpuMs(), 0.0);
   }
   const std::string csv = r.csv();
@@ -213,7 +213,7 @@ TEST(Jobs, RenderJobComparesWithTheTruthAndWritesEveryFile) {
   const RenderJobResult r = renderScene(o);
   ASSERT_TRUE(r.compared);
   EXPECT_GT(r.error.pixels, 0u);
-  EXPECT_LT(r.error.visibilityMeanAbs, 0.1);
+  EXPECT_LT(r.error.visibilityMeanAbs, 0.06); // measured 0.0316 (48x27, 16 truth samples, lavapipe)
   EXPECT_NE(r.passTable().find("SdfShadowPass"), std::string::npos);
   TempDir dir;
   const RenderOutputs out = RenderOutputs::forExr(dir / "r.exr");

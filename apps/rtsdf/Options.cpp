@@ -2,10 +2,47 @@
 
 #include "util/EnumNames.h"
 
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
 #include <map>
+#include <optional>
 
 namespace rtsdf::app {
 namespace {
+
+/// The number in @a text, or nothing when it is not one (trailing characters included).
+std::optional<double> number(const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE) return std::nullopt;
+  return v;
+}
+
+/// A numeric check whose message says the range in plain numbers (CLI11's own prints the largest double in full).
+CLI::Validator numberCheck(std::function<bool(double)> ok, const std::string& range) {
+  return CLI::Validator(
+      [ok = std::move(ok), range](std::string& text) -> std::string {
+        const std::optional<double> v = number(text);
+        if (!v) return "'" + text + "' is not a number (or is beyond the range of a double)";
+        if (!ok(*v)) return text + " is out of range: it must be " + range;
+        return {};
+      },
+      range, range);
+}
+CLI::Validator inRange(double lo, double hi) {
+  return numberCheck([lo, hi](double v) { return v >= lo && v <= hi; }, fmt::format("in [{:g}, {:g}]", lo, hi));
+}
+CLI::Validator atLeast(double lo) {
+  return numberCheck([lo](double v) { return v >= lo && std::isfinite(v); }, fmt::format(">= {:g}", lo));
+}
+CLI::Validator positive() {
+  return numberCheck([](double v) { return v > 0.0 && std::isfinite(v); }, "> 0");
+}
 
 /// An enum option: its choices come from the enum's name table (names only), its default is printed by name.
 template <class E> CLI::Option* addEnum(CLI::App* cmd, const std::string& flag, E& value, const std::string& help) {
@@ -30,18 +67,18 @@ template <class E> CLI::Option* addEnum(CLI::App* cmd, const std::string& flag, 
 /// The GPU pipeline's knobs, shared by bake, animate and render.
 void bindPipeline(CLI::App* cmd, PipelineSettings& p, std::string& device) {
   cmd->add_option("--coarse", p.coarseRes, "Coarse SDF resolution: voxels across the scene (methods jfa, rtsdf)")
-      ->check(CLI::Range(1, 1024))->capture_default_str();
+      ->check(inRange(1, 1024))->capture_default_str();
   cmd->add_option("--fine", p.fineRes, "Fine SDF resolution (method rtsdf), at least --coarse")
-      ->check(CLI::Range(1, 1024))->capture_default_str();
-  cmd->add_option("--rays", p.rays, "Rays per masked fine voxel per frame (x)")->check(CLI::Range(0, 1024))
+      ->check(inRange(1, 1024))->capture_default_str();
+  cmd->add_option("--rays", p.rays, "Rays per masked fine voxel per frame (x)")->check(inRange(0, 1024))
       ->capture_default_str();
   cmd->add_option("--alpha", p.alpha, "History decay: f = min(alpha f' + (1 - alpha) c, r)")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+      ->check(inRange(0.0, 1.0))->capture_default_str();
   addEnum(cmd, "--refine", p.mode, "rays: the paper's random rays; closest: exact closest-point distance");
   cmd->add_option("--seed", p.seed, "Random seed of the ray directions")->capture_default_str();
   addEnum(cmd, "--jfa", p.variant, "Jump-flooding variant: jfa, 1+jfa or jfa+2");
   cmd->add_option("--beta", p.beta, "Coarse SDF shell: distance minus beta, in scene units (default: half a coarse "
-                                    "voxel)")->check(CLI::NonNegativeNumber);
+                                    "voxel)")->check(atLeast(0.0));
   cmd->add_option("--device", device, "Vulkan device by index or name (see 'rtsdf info')");
 }
 
@@ -55,20 +92,21 @@ void bindBake(CLI::App& app, BakeCommand& c) {
           "flooding, distance minus beta); rtsdf: coarse SDF, OpenVDB ray mask and fine SDF refined through the GPU "
           "BVH");
   cmd->add_option("-r,--res", o.resolution, "Voxels along the scene's longest axis (other axes follow)")
-      ->check(CLI::Range(1, 8192))->capture_default_str();
+      ->check(inRange(1, 8192))->capture_default_str();
   cmd->add_option("-d,--band", o.pipeline.band, "Narrow-band half-width in scene units (active voxels: |d| <= band); "
                                                 "for rtsdf the ray-mask band d (0: no refinement)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(atLeast(0.0))->capture_default_str();
   cmd->add_flag("--full", o.fullDomain, "Full-domain field: every voxel active (exact method only)");
   cmd->add_option("--padding", o.pipeline.padding, "Margin around the scene bounds in scene units (default: the "
                                                    "band, at most a quarter of the scene's longest side)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(atLeast(0.0));
   cmd->add_option("-t,--time", o.time, "Animation time in seconds")->capture_default_str();
   addEnum(cmd, "--sign", o.sign, "Sign rule of the exact method: auto (pseudo-normal for closed meshes, winding "
                                  "number for open ones), pseudonormal, winding");
   bindPipeline(cmd, o.pipeline, o.device);
   cmd->add_option("--frames", o.frames, "Frames of refinement to accumulate (method rtsdf)")
-      ->check(CLI::Range(1, 100000))->capture_default_str();
+      ->check(inRange(1, 100000))->capture_default_str();
+  cmd->add_flag("--allow-empty", o.allowEmpty, "Write the level set even when no voxel is active (else an error)");
   cmd->add_flag("--fog", c.written.fog, "Also write a 'density' fog grid so Blender shows the volume");
   cmd->add_flag("--half", c.written.vdb.halfFloat, "Store values as 16-bit halves");
   addEnum(cmd, "--compression", c.written.vdb.compression, "blosc, zip or none");
@@ -80,14 +118,14 @@ void bindAnimate(CLI::App& app, AnimateCommand& c) {
       "animate", "Run the RTSDF pipeline over an animation: per-frame mask size, pass times and error against the "
                  "exact field of the same moment (ghosting), optionally per-frame .vdb files");
   cmd->add_option("scene", o.scene, "Scene (.json) or mesh file")->required();
-  cmd->add_option("--frames", o.frames, "Frames to run")->check(CLI::Range(1, 100000))->capture_default_str();
-  cmd->add_option("--fps", o.fps, "Frames per second of scene time")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--frames", o.frames, "Frames to run")->check(inRange(1, 100000))->capture_default_str();
+  cmd->add_option("--fps", o.fps, "Frames per second of scene time")->check(positive())->capture_default_str();
   cmd->add_option("--csv", c.csv, "Write per-frame statistics to this CSV file");
   cmd->add_option("--vdb-dir", o.vdbDir, "Write frameNNNN.vdb files (fine SDF band) into this folder");
   cmd->add_flag("!--no-error", o.measureError, "Skip the per-frame comparison with the exact field");
   cmd->add_option("--focus", o.focus,
                   "Measure the error only in the box this instance sweeps (e.g. teapot: ghosting behind it)");
-  cmd->add_option("-d,--band", o.pipeline.band, "Band d in scene units")->check(CLI::NonNegativeNumber)
+  cmd->add_option("-d,--band", o.pipeline.band, "Band d in scene units")->check(atLeast(0.0))
       ->capture_default_str();
   bindPipeline(cmd, o.pipeline, o.device);
 }
@@ -100,20 +138,20 @@ void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
                                              "trilinear filtering, one fetch per step) or buffer (filtered in the "
                                              "shader like the CPU reference, eight fetches)");
   cmd->add_option("--epsilon", s.epsilonVoxels, "SDF hit threshold and march start in fine voxels (>= 1)")
-      ->check(CLI::Range(1.0, 64.0))->capture_default_str();
+      ->check(inRange(1.0, 64.0))->capture_default_str();
   cmd->add_option("--bias", s.biasVoxels, "Subtracted from SDF samples, in fine voxels: against leaks through thin "
                                           "surfaces and the filtered field's overestimate at convex edges")
-      ->check(CLI::Range(0.0, 64.0))->capture_default_str();
+      ->check(inRange(0.0, 64.0))->capture_default_str();
   cmd->add_option("--min-step", s.minStepVoxels, "Shortest SDF march step in fine voxels: how densely the march "
                                                  "samples near occluders")
-      ->check(CLI::Range(0.05, 64.0))->capture_default_str();
+      ->check(inRange(0.05, 64.0))->capture_default_str();
   cmd->add_option("--max-step", s.maxStep, "Longest SDF march step, against banding (scene units)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--max-steps", s.maxSteps, "SDF march steps at most")->check(CLI::Range(1, 4096))
+      ->check(positive())->capture_default_str();
+  cmd->add_option("--max-steps", s.maxSteps, "SDF march steps at most")->check(inRange(1, 4096))
       ->capture_default_str();
   cmd->add_option("--normal-offset", s.normalOffset,
                   "SDF march start off the surface along its normal (scene units; default: the bias)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(atLeast(0.0));
   cmd->add_flag("!--no-jitter", s.jitter, "Do not jitter the SDF march's start per pixel and frame");
 }
 
@@ -128,27 +166,27 @@ void bindRender(CLI::App& app, RenderCommand& c) {
   cmd->add_option("--png", c.png, "Output .png (default: the .exr's name with .png)");
   addEnum(cmd, "--shadows", r.technique, "sdf: sphere tracing of the RTSDF fine SDF; shadowmap: depth maps with "
                                          "PCF; raytraced: distributed ray tracing on the CPU (the truth)");
-  cmd->add_option("--width", r.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  cmd->add_option("--height", r.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--width", r.width, "Image width in pixels")->check(inRange(1, 16384))->capture_default_str();
+  cmd->add_option("--height", r.height, "Image height in pixels")->check(inRange(1, 16384))->capture_default_str();
   cmd->add_option("--frames", o.frames, "Frames rendered (SDF refinement and TAA accumulate); the last one is "
-                                        "written")->check(CLI::Range(1, 100000))->capture_default_str();
-  cmd->add_option("--fps", o.fps, "Frames per second of scene time")->check(CLI::PositiveNumber)->capture_default_str();
+                                        "written")->check(inRange(1, 100000))->capture_default_str();
+  cmd->add_option("--fps", o.fps, "Frames per second of scene time")->check(positive())->capture_default_str();
   cmd->add_option("-t,--time", o.time, "Scene time of the written frame in seconds")->capture_default_str();
   bindSdfShadows(cmd, r.sdf);
   cmd->add_option("--shadow-map-res", r.shadowMap.resolution, "Shadow map texels per side (per cube face)")
-      ->check(CLI::Range(1, 8192))->capture_default_str();
-  cmd->add_option("--pcf-radius", r.shadowMap.pcfRadius, "PCF kernel radius in texels")->check(CLI::Range(0, 16))
+      ->check(inRange(1, 8192))->capture_default_str();
+  cmd->add_option("--pcf-radius", r.shadowMap.pcfRadius, "PCF kernel radius in texels")->check(inRange(0, 16))
       ->capture_default_str();
   cmd->add_option("--shadow-bias", r.shadowMap.depthBiasTexels, "Shadow map depth bias in texels")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(atLeast(0.0))->capture_default_str();
   cmd->add_flag("!--no-taa", r.taa.enabled, "Turn temporal accumulation off");
-  cmd->add_option("--taa-blend", r.taa.blend, "TAA weight of the newest frame")->check(CLI::Range(1e-6, 1.0))
+  cmd->add_option("--taa-blend", r.taa.blend, "TAA weight of the newest frame")->check(inRange(1e-6, 1.0))
       ->capture_default_str();
   cmd->add_option("--samples", r.rayTraced.samples, "Ray-traced shadows: samples per pixel and light")
-      ->check(CLI::Range(1, 65536))->capture_default_str();
+      ->check(inRange(1, 65536))->capture_default_str();
   cmd->add_flag("--compare", o.compare, "Also ray trace the truth and print the visibility RMSE and FLIP of the "
                                         "picture");
-  cmd->add_option("-d,--band", r.pipeline.band, "SDF ray-mask band d in scene units")->check(CLI::NonNegativeNumber)
+  cmd->add_option("-d,--band", r.pipeline.band, "SDF ray-mask band d in scene units")->check(atLeast(0.0))
       ->capture_default_str();
   bindPipeline(cmd, r.pipeline, o.device);
   // The ray tracer's random seed follows the pipeline's.
@@ -161,13 +199,13 @@ void bindBench(CLI::App& app, BenchCommand& c) {
   CLI::App* cmd = app.add_subcommand(
       "bench", "Time rtsdf's builders against their anchors in one run and write a Markdown table with ratios");
   cmd->add_option("scenes", s.scenes, "Scenes or meshes (default: data/scenes/default.json and the bunny)");
-  cmd->add_option("--res", s.resolutions, "Resolutions (voxels along the longest axis)")->check(CLI::Range(1, 8192))
+  cmd->add_option("--res", s.resolutions, "Resolutions (voxels along the longest axis)")->check(inRange(1, 8192))
       ->capture_default_str();
   cmd->add_option("--band-fraction", s.bandFraction, "Band half-width as a fraction of the scene's extent")
-      ->check(CLI::Range(1e-6, 10.0))->capture_default_str();
+      ->check(inRange(1e-6, 10.0))->capture_default_str();
   cmd->add_option("--repeats", s.repeats, "Timed runs per point, the median is reported (--sweep: timed frames after "
                                           "a warm-up frame, and runs of each anchor)")
-      ->check(CLI::Range(1, 100))->capture_default_str();
+      ->check(inRange(1, 100))->capture_default_str();
   cmd->add_option("-o,--output", s.output, "Also write the Markdown report to this file");
   addEnum(cmd, "--suite", s.suite, "reference: exact SDF vs OpenVDB meshToLevelSet (with the default scenes "
                                    "also a 230k-triangle scan with holes); coarse: GPU voxelize + jump flooding per "
@@ -185,10 +223,10 @@ void bindBench(CLI::App& app, BenchCommand& c) {
       ->check(CLI::IsMember(enumMap<bench::SweepPreset>()));
   cmd->add_option("--out", c.sweepOptions.outDir, "The sweep's output folder (created; default: sweep-<scene name>)");
   cmd->add_option("--error-band", run.errorBand, "The sweep measures the field error where |exact| <= this (scene "
-                                                 "units)")->check(CLI::Range(1e-9, 1e9))->capture_default_str();
+                                                 "units)")->check(inRange(1e-9, 1e9))->capture_default_str();
   cmd->add_flag("!--no-shadows", run.shadows, "The sweep skips the shadow image error");
   cmd->add_option("--truth-samples", run.truthSamples, "Samples per pixel of the sweep's ray-traced shadow truth")
-      ->check(CLI::Range(1, 65536))->capture_default_str();
+      ->check(inRange(1, 65536))->capture_default_str();
   cmd->callback([&c] {
     c.sweepOptions.run.device = c.suite.device;
     c.sweepOptions.run.repeats = c.suite.repeats;

@@ -9,6 +9,7 @@
 #include "jobs/SystemInfo.h"
 #include "util/AtomicFile.h"
 #include "util/Error.h"
+#include "util/Interrupt.h"
 #include "util/Log.h"
 #include "util/Progress.h"
 
@@ -19,21 +20,10 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
-#include <csignal>
 #include <exception>
 
 namespace rtsdf::app {
 namespace {
-
-std::atomic<bool> gStop{false};
-
-extern "C" void onInterrupt(int) {
-  // The first Ctrl-C asks the job to stop after the current unit of work; a second one ends it at once.
-  if (gStop.exchange(true)) {
-    std::signal(SIGINT, SIG_DFL);
-    std::raise(SIGINT);
-  }
-}
 
 int runBake(const BakeCommand& c) {
   checkOutputPath(c.output, ".vdb", {c.options.scene});
@@ -87,21 +77,37 @@ int runBench(const BenchCommand& c) {
     fmt::print("{}", bench::runBenchSuite(c.suite, terminalJobControl()));
     return 0;
   }
-  // Ctrl-C stops the sweep after the current frame; the report then covers the finished points.
-  gStop = false;
-  const auto previous = std::signal(SIGINT, onInterrupt);
+  // The first Ctrl-C stops the sweep after the current frame (the report then covers the finished points); a
+  // second one ends it at once.
+  std::atomic<bool> stop{false};
+  const GracefulStop graceful(stop);
   bench::SweepJobOptions o = c.sweepOptions;
   o.preset = parseEnum<bench::SweepPreset>(c.sweep);
   if (c.suite.scenes.size() > 1) throw Error("the sweep runs on one scene (give one scene or mesh)");
   if (!c.suite.scenes.empty()) o.scene = c.suite.scenes.front();
-  const bench::SweepJobResult r = bench::runSweep(o, terminalJobControl([] { return gStop.load(); }));
-  std::signal(SIGINT, previous);
+  const bench::SweepJobResult r = bench::runSweep(o, terminalJobControl([&stop] { return stop.load(); }));
   if (r.interrupted) {
     if (!r.plotError.empty()) spdlog::error("{}", r.plotError);
     return 130;
   }
   if (!r.plotError.empty()) throw Error(r.plotError);
   return 0;
+}
+
+/// The message for a first word that names no subcommand ("frob"), or empty. CLI11 alone would say only that
+/// a subcommand is required.
+std::string unknownCommand(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue; // the global options are flags: no values to skip
+    std::string names;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      if (sub->check_name(word)) return {};
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    return fmt::format("unknown command '{}' (commands: {})", word, names);
+  }
+  return {};
 }
 
 int run(const Commands& c) {
@@ -126,6 +132,10 @@ int main(int argc, char** argv) {
   int verbosity = 0;
   bool quiet = false;
   bindCommands(app, commands, verbosity, quiet);
+  if (const std::string unknown = unknownCommand(app, argc, argv); !unknown.empty()) {
+    fmt::print(stderr, "{}\nRun with --help for more information.\n", unknown);
+    return 1;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -134,10 +144,14 @@ int main(int argc, char** argv) {
   commands.which = app.get_subcommands().front()->get_name();
   std::string& command = commands.bench.sweepOptions.command; // for the sweep's report
   for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(i ? argv[i] : "rtsdf");
+  rtsdf::installInterruptHandlers();
   rtsdf::initLogging(quiet ? -1 : verbosity);
   rtsdf::Progress::setEnabled(!quiet);
   try {
     return run(commands);
+  } catch (const rtsdf::Interrupted&) {
+    spdlog::error("interrupted");
+    return 130;
   } catch (const rtsdf::SettingError& e) {
     spdlog::error("{}: {}", flagOf(e.setting()), e.what());
   } catch (const rtsdf::Error& e) {

@@ -33,6 +33,9 @@ GridSpec GridSpec::fromBounds(const Bounds& bounds, int resolution, double paddi
   for (int a = 0; a < 3; ++a) {
     // A tiny tolerance keeps an axis of exactly n voxels from rounding up to n+1.
     const double n = std::ceil(ext[a] / spec.voxelSize - 1e-9);
+    if (!(n <= 4.0 * kMaxResolution))
+      throw Error(fmt::format("grid: the padding {:g} makes axis {} {:.4g} voxels long (at most {}): lower the padding",
+                              padding, "xyz"[a], n, 4 * kMaxResolution));
     spec.dims[a] = std::max(1, int(n));
   }
   spec.origin = padded.center() - 0.5 * glm::dvec3(spec.dims) * spec.voxelSize;

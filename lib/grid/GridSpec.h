@@ -52,8 +52,12 @@ struct GridSpec {
   /// @param resolution voxels across the longest side of @a bounds (padding adds voxels), in
   ///                   [1, kMaxResolution]
   /// @param padding    world-space margin added on each side, finite and >= 0
-  /// @throw Error on empty or non-finite bounds, a zero-size box, or a resolution or padding out of range.
+  /// @throw Error on empty or non-finite bounds, a zero-size box, a resolution or padding out of range, or a
+  ///        padding that makes an axis longer than 4 x kMaxResolution voxels.
   static GridSpec fromBounds(const Bounds& bounds, int resolution, double padding);
+
+  /// @brief The length of the grid's diagonal: no distance inside the grid is longer.
+  double diagonal() const { return glm::length(glm::dvec3(dims)) * voxelSize; }
 
   /// @brief The largest resolution accepted along one axis.
   static constexpr int kMaxResolution = 8192;

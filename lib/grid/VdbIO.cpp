@@ -163,21 +163,6 @@ void writeVdb(const fs::path& path, const openvdb::GridPtrVec& grids, const VdbW
   });
 }
 
-openvdb::GridPtrVec readVdb(const fs::path& path) {
-  ensureOpenVdb();
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error(fmt::format("{}: file not found", path.string()));
-  try {
-    openvdb::io::File file(path.string());
-    file.open();
-    openvdb::GridPtrVecPtr grids = file.getGrids();
-    file.close();
-    return *grids;
-  } catch (const openvdb::Exception& e) {
-    throw Error(fmt::format("{}: not a readable .vdb file: {}", path.string(), e.what()));
-  }
-}
-
 FloatGrid::Ptr readLevelSet(const fs::path& path) {
   const openvdb::GridPtrVec grids = readVdb(path);
   FloatGrid::Ptr only;

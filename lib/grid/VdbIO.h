@@ -77,8 +77,16 @@ struct VdbWriteOptions {
 void writeVdb(const std::filesystem::path& path, const openvdb::GridPtrVec& grids, const VdbWriteOptions& options = {});
 
 /// @brief Read every grid of a .vdb file.
-/// @throw Error naming the file when it is missing or not a readable .vdb.
+/// @throw Error naming the file when it is missing, not a regular file, larger than half the memory available,
+///        or not a readable .vdb (see readVdbBytes).
 openvdb::GridPtrVec readVdb(const std::filesystem::path& path);
+
+/// @brief Read every grid of a .vdb held in memory, defensively: the header, metadata tables and grid
+///        descriptors are walked first (every length bounded by the bytes, every grid ending inside them), then
+///        OpenVDB reads through a stream that throws at its first read past the end.
+/// @param name what errors call the bytes (the file's path).
+/// @throw Error naming @a name, the problem and its byte offset, on one short line.
+openvdb::GridPtrVec readVdbBytes(const std::string& bytes, const std::string& name);
 
 /// @brief Read the level set of a .vdb: the float grid named "surface", else the only float level set.
 /// @throw Error naming the file when there is no such grid.

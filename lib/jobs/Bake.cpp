@@ -108,6 +108,8 @@ GridSpec bakeGrid(const BakeOptions& o, const SceneGeometry& geo, double padding
   const GridSpec spec = o.grid ? *o.grid
                                : GridSpec::fromBounds(geo.bounds, o.method == BakeMethod::Jfa ? o.pipeline.coarseRes
                                                                                               : o.resolution, padding);
+  if (!o.fullDomain) requireBandWithin(spec, o.pipeline.band);
+  if (o.method == BakeMethod::Jfa) requireBetaWithin(spec, o.pipeline.beta);
   const std::uint64_t mem = physicalMemoryBytes();
   if (mem) checkDenseMemory(spec, o.fullDomain ? 8 : (o.method == BakeMethod::Jfa ? 24 : 1), mem / 2, "bake");
   spdlog::info("grid: {}, band {} ({:.1f} voxels){}", spec.describe(), o.pipeline.band,
@@ -151,6 +153,11 @@ BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const J
   const std::string summary = detail::meshSummary(scene);
   spdlog::info("{}: {}", options.scene, summary);
   BakeResult r = options.method == BakeMethod::Rtsdf ? bakeRtsdf(options, scene, control) : bakeOnGrid(options, scene);
+  if (!options.allowEmpty && r.grid->activeVoxelCount() == 0)
+    throw Error(fmt::format("{}: the {} level set on {} has no active voxel (band {:g} = {:.3g} voxels): widen the "
+                            "band, raise the resolution or, to keep it, allow an empty result", options.scene,
+                            toString(options.method), r.spec.describe(), options.pipeline.band,
+                            options.pipeline.band / r.spec.voxelSize));
   r.sceneSummary = summary;
   // The files read: writeBake never replaces one of them.
   if (!options.scene.empty()) r.inputs.push_back(options.scene);

@@ -43,6 +43,7 @@ struct BakeOptions {
   double time = 0.0;                   ///< animation time in seconds
   SignMethod sign = SignMethod::Auto;  ///< sign rule of the exact method
   int frames = 16;                     ///< refinement frames to accumulate (rtsdf)
+  bool allowEmpty = false;             ///< a level set with no active voxel is a result, not an error
   std::string device;                  ///< Vulkan device by index or name; empty: the best one (jfa, rtsdf)
   /// The band d and the padding for every method (pipeline.band: active voxels |d| <= band; for rtsdf also the
   /// ray mask) and the GPU pipeline's knobs: coarse resolution (jfa, rtsdf), fine resolution, rays, alpha,
@@ -71,7 +72,8 @@ struct BakeResult {
 
 /// @brief Bake the SDF of @a options.scene.
 /// @throw SettingError on a setting out of range, Error on bad input (the file and the problem), a missing
-///        Vulkan device, a grid too large for memory or a Vulkan validation error; Interrupted when @a control
+///        Vulkan device, a grid too large for memory, a Vulkan validation error or a level set with no active
+///        voxel (unless options.allowEmpty); Interrupted when @a control
 ///        asks to stop between refinement frames.
 BakeResult bake(const BakeOptions& options, const JobControl& control = {});
 

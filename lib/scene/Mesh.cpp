@@ -50,6 +50,10 @@ MeshReport validateMesh(Mesh& mesh) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw Error(fmt::format("{}: vertex {} has a non-finite coordinate ({}, {}, {})", where(mesh), v, p.x, p.y,
                               p.z));
+    const float m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    if (m > kMaxCoordinate)
+      throw Error(fmt::format("{}: vertex {} has the coordinate {:g}, beyond the ±{:g} rtsdf supports (float "
+                              "precision): scale the model down", where(mesh), v, m, kMaxCoordinate));
   }
   const std::size_t nv = mesh.positions.size();
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {

@@ -38,10 +38,16 @@ struct MeshReport {
 ///        BVH see the same triangles.
 bool hasFloatArea(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
 
+/// @brief The largest vertex coordinate magnitude rtsdf accepts, in mesh and in scene units. Beyond it a
+///        triangle's squared normal overflows float (its area test, its pseudo-normal), and a float holds
+///        the position only to 64 units or worse: scale such a model down.
+inline constexpr double kMaxCoordinate = 1e9;
+
 /// @brief Validate a mesh in place: errors for what cannot be repaired, counted drops for what can.
 /// @param mesh the mesh; on return it holds only finite, non-degenerate triangles over welded vertices.
 /// @return the counts of what was found and dropped, and the mesh's topology.
-/// @throw Error naming the mesh's source file and object when a vertex coordinate is NaN or Inf, when a
+/// @throw Error naming the mesh's source file and object when a vertex coordinate is NaN or Inf or beyond
+///        ±kMaxCoordinate, when a
 ///        triangle index is out of range, or when no triangle is left (empty mesh).
 /// @note Zero-area triangles (repeated indices, collinear points, or too thin for float: hasFloatArea) are
 ///       dropped and counted: Embree never hits them, and they carry no surface.

@@ -1,40 +1,107 @@
 #include "scene/MeshIO.h"
 
 #include "util/Error.h"
+#include "util/InputFile.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
 
-#include <system_error>
+#include <algorithm>
+#include <cctype>
+#include <sstream>
 
 namespace rtsdf {
 namespace fs = std::filesystem;
 
-bool isMeshFile(const fs::path& path) {
-  Assimp::Importer importer;
-  return path.has_extension() && importer.IsExtensionSupported(path.extension().string());
+namespace {
+
+constexpr unsigned kImportSteps = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
+
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
 }
 
-Mesh loadMeshFile(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error(fmt::format("{}: mesh file not found", path.string()));
-  if (!fs::is_regular_file(path, ec)) throw Error(fmt::format("{}: not a regular file", path.string()));
+/// The counts an OFF header declares must fit in the file: every vertex takes at least 6 bytes ("0 0 0\n") and
+/// every face 8 ("3 0 1 2\n"). Without this check the importer reserves memory for whatever the header says.
+void checkOffHeader(const std::string& head, std::uint64_t fileSize, const std::string& name) {
+  std::istringstream in(head);
+  std::string line;
+  bool sawKeyword = false;
+  while (std::getline(in, line)) {
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::istringstream words(line);
+    std::string first;
+    if (!(words >> first)) continue;
+    if (!sawKeyword && first.find("OFF") != std::string::npos) {
+      sawKeyword = true;
+      if (!(words >> first)) continue; // the counts may follow the keyword on its line
+    }
+    std::istringstream counts(line.substr(line.find(first)));
+    double vertices = 0, faces = 0;
+    if (!(counts >> vertices >> faces)) return; // malformed: the importer says so
+    const double need = 6.0 * vertices + 8.0 * faces;
+    if (vertices < 0 || faces < 0 || need > double(fileSize))
+      throw Error(fmt::format("{}: the OFF header declares {:.0f} vertices and {:.0f} faces, which need at least {:.0f} bytes, "
+                              "but the file has {}", name, vertices, faces, need, fileSize));
+    return;
+  }
+}
 
-  Assimp::Importer importer;
-  // Keep only triangles; points and lines carry no surface.
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  // No vertex joining or degenerate removal here: validateMesh() welds and counts what it drops.
-  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices |
-                                                              aiProcess_SortByPType);
-  if (!scene) throw Error(fmt::format("{}: cannot read mesh: {}", path.string(), importer.GetErrorString()));
+/// Bytes of one PLY scalar property type (0 when unknown).
+int plyTypeBytes(const std::string& t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
 
+/// The element counts of a PLY header must fit in the file: in ASCII each property takes at least 2 bytes, in
+/// binary its type's size (a list at least its count's).
+void checkPlyHeader(const std::string& head, std::uint64_t fileSize, const std::string& name) {
+  std::istringstream in(head);
+  std::string line, format;
+  double need = 0, count = 0;
+  std::string element;
+  while (std::getline(in, line)) {
+    std::istringstream w(line);
+    std::string key;
+    w >> key;
+    if (key == "format") w >> format;
+    else if (key == "element") {
+      w >> element >> count;
+      if (!(count >= 0)) throw Error(fmt::format("{}: PLY element '{}' has a negative count", name, element));
+    } else if (key == "property") {
+      std::string type;
+      w >> type;
+      const bool ascii = format == "ascii";
+      need += count * (ascii ? 2 : std::max(1, plyTypeBytes(type == "list" ? (w >> type, type) : type)));
+    } else if (key == "end_header") {
+      if (need > double(fileSize))
+        throw Error(fmt::format("{}: the PLY header declares elements that need at least {:.0f} bytes, but the file has "
+                                "{}", name, need, fileSize));
+      return;
+    }
+  }
+}
+
+/// Header claims checked against the file's size before assimp allocates for them.
+void checkHeaderClaims(const std::string& head, std::uint64_t fileSize, const std::string& extension,
+                       const std::string& name) {
+  const std::string ext = lower(extension);
+  if (ext == ".off") checkOffHeader(head, fileSize, name);
+  if (ext == ".ply") checkPlyHeader(head, fileSize, name);
+}
+
+/// Every triangle of an imported scene, in one mesh.
+Mesh toMesh(const aiScene& scene, const std::string& name) {
   Mesh mesh;
-  mesh.source = path.string();
-  mesh.name = path.stem().string();
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* am = scene->mMeshes[m];
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    const aiMesh* am = scene.mMeshes[m];
     if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
     const unsigned base = unsigned(mesh.positions.size());
     for (unsigned v = 0; v < am->mNumVertices; ++v)
@@ -44,12 +111,51 @@ Mesh loadMeshFile(const fs::path& path) {
       if (face.mNumIndices != 3) continue;
       for (unsigned c = 0; c < 3; ++c)
         if (face.mIndices[c] >= am->mNumVertices)
-          throw Error(fmt::format("{}: mesh '{}' face {} uses vertex index {} but it has {} vertices", path.string(),
+          throw Error(fmt::format("{}: mesh '{}' face {} uses vertex index {} but it has {} vertices", name,
                                   am->mName.C_Str(), f, face.mIndices[c], am->mNumVertices));
       mesh.triangles.emplace_back(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
     }
   }
-  if (mesh.triangles.empty()) throw Error(fmt::format("{}: empty mesh (no triangles)", path.string()));
+  if (mesh.triangles.empty()) throw Error(fmt::format("{}: empty mesh (no triangles)", name));
+  return mesh;
+}
+
+void configure(Assimp::Importer& importer) {
+  // Keep only triangles; points and lines carry no surface.
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+}
+
+} // namespace
+
+bool isMeshFile(const fs::path& path) {
+  Assimp::Importer importer;
+  return path.has_extension() && importer.IsExtensionSupported(path.extension().string());
+}
+
+Mesh loadMeshFile(const fs::path& path) {
+  const std::uint64_t size = checkInputFile(path, "mesh file");
+  checkHeaderClaims(readFileHead(path, 1 << 16), size, path.extension().string(), path.string());
+  Assimp::Importer importer;
+  configure(importer);
+  // No vertex joining or degenerate removal here: validateMesh() welds and counts what it drops.
+  const aiScene* scene = importer.ReadFile(path.string(), kImportSteps);
+  if (!scene)
+    throw Error(fmt::format("{}: cannot read mesh: {}", path.string(), oneLine(importer.GetErrorString())));
+  Mesh mesh = toMesh(*scene, path.string());
+  mesh.source = path.string();
+  mesh.name = path.stem().string();
+  return mesh;
+}
+
+Mesh loadMeshFromMemory(const std::string& bytes, const std::string& extension, const std::string& name) {
+  checkHeaderClaims(bytes.substr(0, 1 << 16), bytes.size(), extension, name);
+  Assimp::Importer importer;
+  configure(importer);
+  const std::string hint = extension.empty() || extension[0] != '.' ? extension : extension.substr(1);
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), kImportSteps, hint.c_str());
+  if (!scene) throw Error(fmt::format("{}: cannot read mesh: {}", name, oneLine(importer.GetErrorString())));
+  Mesh mesh = toMesh(*scene, name);
+  mesh.source = mesh.name = name;
   return mesh;
 }
 

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace rtsdf {
@@ -43,11 +44,17 @@ SceneGeometry buildSceneGeometry(const Scene& scene, double time, const glm::dve
     w.watertight = scene.meshReports.at(inst.mesh).watertight();
     w.positions.reserve(mesh.positions.size());
     for (const glm::vec3& p : mesh.positions) {
-      const glm::dvec3 q = glm::dvec3(m * glm::dvec4(glm::dvec3(p), 1.0)) - origin;
+      const glm::dvec3 world = glm::dvec3(m * glm::dvec4(glm::dvec3(p), 1.0));
+      const glm::dvec3 q = world - origin;
       const glm::vec3 f(q);
       if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z))
         throw Error(fmt::format("{}: instance '{}' moves a vertex to a non-finite position at time {}", scene.path,
                                 inst.name, time));
+      const double far = std::max({std::abs(world.x), std::abs(world.y), std::abs(world.z)});
+      if (far > kMaxCoordinate)
+        throw Error(fmt::format("{}: instance '{}' moves a vertex to the coordinate {:g} at time {}, beyond the ±{:g} "
+                                "rtsdf supports (float precision): scale the scene down", scene.path, inst.name, far,
+                                time, kMaxCoordinate));
       w.positions.push_back(f);
       // In double: grids placed from these bounds sit where they would at the world's origin, to the voxel.
       geo.bounds.add(q);

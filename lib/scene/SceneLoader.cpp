@@ -2,6 +2,7 @@
 
 #include "scene/MeshIO.h"
 #include "util/Error.h"
+#include "util/InputFile.h"
 
 #include <fmt/format.h>
 #include <glm/gtc/quaternion.hpp>
@@ -142,13 +143,61 @@ Animation parseAnimation(const Reader& rd, const json& a, const std::string& whe
   return anim;
 }
 
+/// Where the parser is (the key path, for errors) and which keys each open object has had (duplicates are
+/// errors: JSON leaves them undefined, and nlohmann would silently keep the last).
+class KeyTracker {
+public:
+  explicit KeyTracker(const Reader& rd) : mRd(rd) {}
+
+  /// nlohmann's parser callback: keeps every value (returns true).
+  bool operator()(int, json::parse_event_t event, json& parsed) {
+    using E = json::parse_event_t;
+    if (event == E::object_start || event == E::array_start) mOpen.push_back({event == E::array_start, {}, {}});
+    if ((event == E::object_end || event == E::array_end) && !mOpen.empty()) mOpen.pop_back();
+    if (event == E::key && !mOpen.empty()) {
+      Level& top = mOpen.back();
+      const std::string k = parsed.get<std::string>();
+      top.last.clear(); // the path names the object, not its previous key
+      if (!top.keys.insert(k).second) mRd.fail(path(), fmt::format("the key '{}' appears twice in one object", k));
+      top.last = k;
+    }
+    return true;
+  }
+
+  /// The key path of the value being read ("meshes.s.sphere.radius", "instances[]").
+  std::string path() const {
+    std::string p;
+    for (const Level& l : mOpen) {
+      if (l.array) p += "[]";
+      else if (!l.last.empty()) p += (p.empty() ? "" : ".") + l.last;
+    }
+    return p.empty() ? "scene" : p;
+  }
+
+private:
+  struct Level {
+    bool array;
+    std::set<std::string> keys;
+    std::string last;
+  };
+  const Reader& mRd;
+  std::vector<Level> mOpen;
+};
+
 /// The scene file's top-level object, with its keys and format version checked.
 json parseDocument(const Reader& rd, const std::string& text) {
   json doc;
+  KeyTracker keys(rd);
+  const json::parser_callback_t track = [&keys](int depth, json::parse_event_t event, json& parsed) {
+    return keys(depth, event, parsed);
+  };
   try {
-    doc = json::parse(text);
+    doc = json::parse(text, track);
   } catch (const json::parse_error& e) {
-    throw Error(fmt::format("{}: malformed JSON: {}", rd.file(), e.what()));
+    throw Error(fmt::format("{}: malformed JSON: {}", rd.file(), oneLine(e.what())));
+  } catch (const json::exception& e) {
+    // e.g. out_of_range.406, a number beyond double (1e999): name where it is.
+    throw Error(fmt::format("{}: {}: unreadable value: {}", rd.file(), keys.path(), oneLine(e.what())));
   }
   rd.allowOnly(doc, "scene", {"rtsdf_scene", "meshes", "instances", "lights", "camera", "comment"});
   if (doc.contains("rtsdf_scene") && (!doc["rtsdf_scene"].is_number_integer() || doc["rtsdf_scene"].get<int>() != 1))
@@ -318,15 +367,10 @@ Scene parseScene(const std::string& text, const fs::path& origin) {
 }
 
 Scene loadScene(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error(fmt::format("{}: scene file not found", path.string()));
-  if (path.extension() == ".json") {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(fmt::format("{}: cannot open scene file", path.string()));
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parseScene(ss.str(), path);
-  }
+  // A scene larger than this is not a scene description (meshes live in their own files).
+  constexpr std::uint64_t kMaxSceneBytes = 64u << 20;
+  if (path.extension() == ".json") return parseScene(readFileBytes(path, "scene file", kMaxSceneBytes), path);
+  checkInputFile(path, "scene file");
   if (!isMeshFile(path))
     throw Error(fmt::format("{}: neither a .json scene nor a mesh format assimp reads", path.string()));
   Scene scene;

@@ -37,7 +37,29 @@ void PipelineSettings::validate() const {
 double defaultPadding(const Bounds& bounds, double band) { return std::min(band, 0.25 * bounds.maxExtent()); }
 
 double pipelinePadding(const Bounds& bounds, const PipelineSettings& s) {
-  return s.padding >= 0.0 ? s.padding : defaultPadding(bounds, s.band);
+  if (s.padding < 0.0) return defaultPadding(bounds, s.band);
+  // A margin wider than the scene models mostly empty space (and at 1e30 overflows the grid's size).
+  const double longest = bounds.maxExtent();
+  if (longest > 0.0 && s.padding > longest)
+    throw SettingError("padding", fmt::format("padding {:g} is more than the scene's longest side ({:g}): at most "
+                                              "{:g}", s.padding, longest, longest));
+  return s.padding;
+}
+
+void requireBandWithin(const GridSpec& grid, double band) {
+  const double d = grid.diagonal();
+  if (band > d)
+    throw SettingError("band", fmt::format("band {:g} is longer than the grid's diagonal ({:g}): every voxel would be "
+                                           "in it; at most {:g} (for an exact field everywhere, ask for the full "
+                                           "domain)", band, d, d));
+}
+
+void requireBetaWithin(const GridSpec& coarse, double beta) {
+  const double d = coarse.diagonal();
+  if (beta > d)
+    throw SettingError("beta", fmt::format("beta {:g} is longer than the coarse grid's diagonal ({:g}): the shell "
+                                           "would swallow every voxel; at most {:g} (default: half a coarse voxel, "
+                                           "{:g})", beta, d, d, 0.5 * coarse.voxelSize));
 }
 
 GridSpec coarseGridOver(const GridSpec& fine, const Bounds& bounds, int coarseRes, double padding) {
@@ -55,6 +77,8 @@ std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const Pipeline
   const double padding = pipelinePadding(bounds, s);
   const GridSpec fine = GridSpec::fromBounds(bounds, s.fineRes, padding);
   const GridSpec coarse = coarseGridOver(fine, bounds, s.coarseRes, padding);
+  // No band limit here: a ray-mask band beyond the grid masks every voxel, a knob's legitimate extreme.
+  requireBetaWithin(coarse, s.beta);
   for (int a = 0; a < 3; ++a)
     if (fine.dims[a] > gpu::shared::kMaxSeedAxis)
       throw SettingError("fine resolution", fmt::format("fine grid {}: more than {} voxels along an axis (lower the "

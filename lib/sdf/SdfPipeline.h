@@ -56,7 +56,17 @@ struct PipelineSettings {
 double defaultPadding(const Bounds& bounds, double band);
 
 /// @brief The padding @a s asks for: s.padding when >= 0, else defaultPadding(bounds, s.band).
+/// @throw SettingError "padding" when s.padding exceeds the longest side of @a bounds.
 double pipelinePadding(const Bounds& bounds, const PipelineSettings& s);
+
+/// @brief A level set's band no longer than @a grid's diagonal (a longer one holds every voxel: ask for the full
+///        domain). Not applied to the ray-mask band, where a band beyond the grid masks every voxel.
+/// @throw SettingError "band" naming the largest band accepted.
+void requireBandWithin(const GridSpec& grid, double band);
+
+/// @brief A coarse shell beta no longer than @a coarse's diagonal (a longer one makes every voxel inside).
+/// @throw SettingError "beta" naming the largest beta accepted and the default.
+void requireBetaWithin(const GridSpec& coarse, double beta);
 
 /// @brief The coarse grid over a fine grid: the same corner, the voxel size of GridSpec::fromBounds(@a bounds,
 ///        @a coarseRes, @a padding), and enough voxels to cover the fine grid.

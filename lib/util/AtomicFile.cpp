@@ -1,6 +1,7 @@
 #include "util/AtomicFile.h"
 
 #include "util/Error.h"
+#include "util/Interrupt.h"
 
 #include <fmt/format.h>
 
@@ -23,6 +24,8 @@ void writeFileAtomically(const fs::path& target,
     throw Error(fmt::format("{}: is a directory, not a file", target.string()));
   std::random_device rd;
   const fs::path tmp = dir / fmt::format(".{}.tmp-{}-{:08x}", target.filename().string(), getpid(), rd());
+  // Registered before it exists: SIGINT/SIGTERM during the write or the rename remove it (util/Interrupt.h).
+  const TemporaryFileGuard guard(tmp);
   try {
     write(tmp);
   } catch (...) {

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <openvdb/io/Stream.h>
 
+#include <algorithm>
 #include <cstring>
 #include <sstream>
 
@@ -79,9 +80,10 @@ bool walkHeader(LayoutWalker& w) {
   return offsets;
 }
 
-/// One grid written with offsets: its descriptor, then at its start its compression, metadata and transform
-/// type, all before its block data; it must end inside the file.
-void walkGrid(LayoutWalker& w, int index) {
+/// One grid: its descriptor, then its compression, metadata and transform type. With offsets these must lie
+/// before its block data and the grid must end inside the file; without (a file written to a stream) only the
+/// first grid can be walked, up to the end of the file.
+void walkGrid(LayoutWalker& w, int index, bool offsets) {
   const std::uint64_t end = w.size();
   const std::string name = w.string("grid name", end);
   const std::string type = w.string("grid type", end);
@@ -89,16 +91,19 @@ void walkGrid(LayoutWalker& w, int index) {
   const auto gridPos = w.read<std::int64_t>("grid offsets", end);
   const auto blockPos = w.read<std::int64_t>("grid offsets", end);
   const auto endPos = w.read<std::int64_t>("grid offsets", end);
-  const std::string grid = fmt::format("grid {} ('{}' of type {})", index, name, type);
-  if (endPos > std::int64_t(end))
-    w.fail(fmt::format("it is truncated: {} ends at byte {}", grid, endPos));
-  if (!(std::int64_t(w.pos()) <= gridPos && gridPos <= blockPos && blockPos <= endPos))
-    w.fail(fmt::format("{} has inconsistent offsets ({}, {}, {})", grid, gridPos, blockPos, endPos));
-  w.seek(std::uint64_t(gridPos));
-  w.read<std::uint32_t>("grid compression", std::uint64_t(blockPos));
-  w.metadata("grid metadata", std::uint64_t(blockPos));
-  w.string("transform type", std::uint64_t(blockPos));
-  w.seek(std::uint64_t(endPos));
+  std::uint64_t headerEnd = end;
+  if (offsets) {
+    const std::string grid = fmt::format("grid {} ('{}' of type {})", index, name, type);
+    if (endPos > std::int64_t(end)) w.fail(fmt::format("it is truncated: {} ends at byte {}", grid, endPos));
+    if (!(std::int64_t(w.pos()) <= gridPos && gridPos <= blockPos && blockPos <= endPos))
+      w.fail(fmt::format("{} has inconsistent offsets ({}, {}, {})", grid, gridPos, blockPos, endPos));
+    w.seek(std::uint64_t(gridPos));
+    headerEnd = std::uint64_t(blockPos);
+  }
+  w.read<std::uint32_t>("grid compression", headerEnd);
+  w.metadata("grid metadata", headerEnd);
+  w.string("transform type", headerEnd);
+  if (offsets) w.seek(std::uint64_t(endPos));
 }
 
 void walkLayout(const std::string& bytes, const std::string& name) {
@@ -107,8 +112,8 @@ void walkLayout(const std::string& bytes, const std::string& name) {
   const auto count = w.read<std::int32_t>("grid count", w.size());
   if (count < 0 || std::uint64_t(count) > (w.size() - w.pos()) / 36)
     w.fail(fmt::format("a grid count of {} cannot fit", count));
-  // Files written to a stream have no offsets: OpenVDB reads those sequentially, bounded by the stream.
-  for (int i = 0; offsets && i < count; ++i) walkGrid(w, i);
+  // Files written to a stream have no offsets: past the first grid OpenVDB reads them bounded by the stream only.
+  for (int i = 0; i < (offsets ? count : std::min(count, 1)); ++i) walkGrid(w, i, offsets);
 }
 
 } // namespace

@@ -99,8 +99,8 @@ private:
   test::TempDir mDir;
 };
 
-/// Create one file of a row: text, a copy of a fixture or of data/ (optionally cut to its first bytes), a
-/// FIFO or a folder.
+/// Create one file of a row: text, bytes in hex, a fuzzer's regression input, a copy of a fixture or of data/
+/// (optionally cut to its first bytes), a FIFO or a folder.
 void createFile(const fs::path& p, const json& spec) {
   if (spec.is_string()) return test::writeText(p, spec.get<std::string>());
   if (spec.value("fifo", false)) {
@@ -108,6 +108,18 @@ void createFile(const fs::path& p, const json& spec) {
     return;
   }
   if (spec.value("folder", false)) return (void)fs::create_directories(p);
+  if (spec.contains("hex")) {
+    const std::string hex = spec["hex"];
+    std::string bytes;
+    for (std::size_t i = 0; i + 1 < hex.size(); i += 2) bytes += char(std::stoi(hex.substr(i, 2), nullptr, 16));
+    return test::writeText(p, bytes);
+  }
+  if (spec.contains("regression")) { // a crash input the fuzzers found, minus its leading format bytes
+    std::ifstream in(fs::path(RTSDF_FUZZ_REGRESSIONS) / spec["regression"].get<std::string>(), std::ios::binary);
+    ASSERT_TRUE(in) << spec;
+    const std::string bytes(std::istreambuf_iterator<char>(in), {});
+    return test::writeText(p, bytes.substr(std::min(bytes.size(), spec.value("skip", std::size_t(0)))));
+  }
   const fs::path from = spec.contains("fixture") ? Fixtures::get().path(spec["fixture"])
                                                  : fs::path(test::dataPath(spec.at("data")));
   fs::copy_file(from, p);

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Build the libFuzzer targets (clang, ASan + UBSan) and run each for a bounded time on a seed corpus made from
+# data/, after replaying every saved crash input in fuzz/regressions/<target>/. Any crash, leak, sanitizer
+# report, timeout or memory blow-up fails the script and leaves the input under build-fuzz/artifacts/: add it to
+# fuzz/regressions/<target>/ (and, for a CLI-reachable case, a row to tests/cli/bad_inputs.json) with the fix.
+# Usage: scripts/fuzz.sh [seconds per target, default 60]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-60}"
+./scripts/install-deps.sh
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Fuzz -DRTSDF_BUILD_TESTS=OFF >/dev/null
+ninja -C build-fuzz fuzz_scene_json fuzz_mesh fuzz_vdb
+
+seeds=build-fuzz/seeds
+rm -rf "$seeds" build-fuzz/artifacts
+mkdir -p "$seeds"/{fuzz_scene_json,fuzz_mesh,fuzz_vdb} build-fuzz/artifacts
+cp data/scenes/*.json "$seeds/fuzz_scene_json/"
+# Mesh seeds: the first byte picks the format (0 obj, 1 ply, 2 stl, 3 off), as fuzz/fuzz_mesh.cpp reads it.
+{ printf '\0'; head -c 4000 data/meshes/teapot.obj; } > "$seeds/fuzz_mesh/teapot-head.obj"
+{ printf '\0'; head -c 4000 data/meshes/bunny.obj; } > "$seeds/fuzz_mesh/bunny-head.obj"
+printf '\1ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' \
+  > "$seeds/fuzz_mesh/tri.ply"
+printf '\2solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' \
+  > "$seeds/fuzz_mesh/tri.stl"
+printf '\3OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' > "$seeds/fuzz_mesh/tet.off"
+/usr/bin/python3 - "$seeds/fuzz_vdb" <<'PY'
+import sys, pyopenvdb as vdb
+g = vdb.createLevelSetSphere(radius=1.0, center=(0, 0, 0), voxelSize=0.25, halfWidth=2.0)
+g.name = "surface"
+vdb.write(sys.argv[1] + "/sphere.vdb", grids=[g])
+PY
+
+export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
+status=0
+for target in fuzz_scene_json fuzz_mesh fuzz_vdb; do
+  regressions="fuzz/regressions/$target"
+  mkdir -p "$regressions"
+  echo "== $target: ${seconds} s (seeds: $(ls "$seeds/$target" | wc -l), regressions: $(ls "$regressions" | wc -l))"
+  if ! "build-fuzz/fuzz/$target" "$seeds/$target" "$regressions" -max_total_time="$seconds" -max_len=65536 \
+       -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -artifact_prefix="build-fuzz/artifacts/$target-" \
+       -print_final_stats=1 2> "build-fuzz/$target.log"; then
+    tail -40 "build-fuzz/$target.log"
+    status=1
+  fi
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "build-fuzz/$target.log" | tr '\n' ' '; echo
+done
+ls build-fuzz/artifacts
+exit $status

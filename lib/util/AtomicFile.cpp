@@ -72,6 +72,14 @@ void checkOutputPath(const std::filesystem::path& p, const std::string& extensio
   }
   if (!extension.empty() && lower(p.extension().string()) != lower(extension))
     throw Error(fmt::format("{}: the output is a {} file: give it the extension {}", p.string(), extension, extension));
+  // A file created and removed at once: a folder that cannot take files (read-only, /proc, no permission) fails
+  // now, not after the work (permission bits alone do not tell: root passes them).
+  const fs::path probe = dir / fmt::format(".{}.probe-{}", p.filename().string(), getpid());
+  const TemporaryFileGuard guard(probe);
+  std::ofstream out(probe, std::ios::binary);
+  if (!out) throw Error(fmt::format("{}: cannot create files in the folder '{}'", p.string(), dir.string()));
+  out.close();
+  fs::remove(probe, ec);
 }
 
 } // namespace rtsdf

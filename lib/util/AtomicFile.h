@@ -16,7 +16,8 @@ void writeFileAtomically(const std::filesystem::path& target,
                          const std::function<void(const std::filesystem::path&)>& write);
 
 /// @brief Fail early (before any work) when @a path cannot or must not be written: it is empty, its folder is
-///        missing, it is a folder, its extension is not @a extension, or it is one of @a inputs.
+///        missing or takes no files (probed by creating and removing a file beside it), it is a folder, its
+///        extension is not @a extension, or it is one of @a inputs.
 /// @param extension the format's extension with its dot (".vdb"), compared ignoring case; empty: any.
 /// @param inputs files the command reads: an output never replaces one of them.
 /// @throw Error naming the path and the problem.

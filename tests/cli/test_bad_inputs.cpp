@@ -1,7 +1,7 @@
 // The bad-input table (tests/cli/bad_inputs.json, docs/reliability.md): one row per kind of bad input, each a
 // test of its own. A row names the files to create, the command, the exit code and the words its message must
 // hold. Every row also checks what the README promises of every refused command: it ends (no hang), its message
-// is short (no line longer than 400 characters), it leaves no file behind (no output, no temporary) and it
+// is short (no line longer than 300 characters), it leaves no file behind (no output, no temporary) and it
 // changes none of its inputs. Then SIGINT and SIGTERM, which must leave nothing behind either.
 #include "TestUtil.h"
 #include "grid/VdbIO.h"
@@ -207,7 +207,7 @@ TEST_P(BadInput, IsRefusedClearlyLeavingNothingBehind) {
   for (const std::string& w : row.words) EXPECT_NE(r.output.find(w), std::string::npos) << "'" << w << "' in:\n"
                                                                                          << r.output;
   std::istringstream lines(r.output);
-  for (std::string line; std::getline(lines, line);) EXPECT_LE(line.size(), 400u) << line.substr(0, 400) << "...";
+  for (std::string line; std::getline(lines, line);) EXPECT_LE(line.size(), 300u) << line.substr(0, 300) << "...";
   EXPECT_EQ(differences(before, snapshot(work.path())), "") << r.output;
 }
 

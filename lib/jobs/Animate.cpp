@@ -70,6 +70,24 @@ FieldError frameError(const Scene& scene, const SdfPipeline& pipe, double t, con
   return compareFields(*exact, *fine);
 }
 
+/// The frame files this run wrote: removed again unless the run finishes (keep()), so a failed or interrupted
+/// animation leaves no output of any kind.
+class WrittenFrames {
+public:
+  WrittenFrames() = default;
+  WrittenFrames(const WrittenFrames&) = delete;
+  WrittenFrames& operator=(const WrittenFrames&) = delete;
+  ~WrittenFrames() {
+    std::error_code ec;
+    for (const fs::path& p : mPaths) fs::remove(p, ec);
+  }
+  void add(fs::path p) { mPaths.push_back(std::move(p)); }
+  void keep() { mPaths.clear(); }
+
+private:
+  std::vector<fs::path> mPaths;
+};
+
 } // namespace
 
 AnimateResult animate(const AnimateOptions& a, const JobControl& control,
@@ -91,6 +109,7 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
   AnimateResult result;
   result.coarse = pipe.coarseSpec();
   result.fine = pipe.fineSpec();
+  WrittenFrames written;
   for (int f = 0; f < a.frames; ++f) {
     control.checkStop();
     AnimateFrame fr;
@@ -98,13 +117,17 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
     fr.time = f / a.fps;
     fr.stats = pipe.runFrame(fr.time);
     if (a.measureError) fr.error = frameError(scene, pipe, fr.time, a.focus.empty() ? nullptr : &box);
-    if (!a.vdbDir.empty())
-      writeVdb(a.vdbDir / fmt::format("frame{:04d}.vdb", f), {fineLevelSet(pipe, stamp, fr.time)}, {});
+    if (!a.vdbDir.empty()) {
+      const fs::path file = a.vdbDir / fmt::format("frame{:04d}.vdb", f);
+      writeVdb(file, {fineLevelSet(pipe, stamp, fr.time)}, {});
+      written.add(file);
+    }
     result.frames.push_back(fr);
     if (onFrame) onFrame(fr);
     control.report("animate", std::uint64_t(f + 1), std::uint64_t(a.frames));
   }
   detail::throwOnValidationErrors(ctx);
+  written.keep();
   return result;
 }
 

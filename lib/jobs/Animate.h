@@ -49,6 +49,7 @@ struct AnimateResult {
 /// @brief Run the pipeline over @a options.frames frames of @a options.scene.
 /// @param onFrame called after each frame (e.g. to print it), may be empty.
 /// @throw SettingError, Error as bake() does; Interrupted when @a control asks to stop between frames.
+/// @note The frameNNNN.vdb files of options.vdbDir are removed again when the run throws.
 AnimateResult animate(const AnimateOptions& options, const JobControl& control = {},
                       const std::function<void(const AnimateFrame&)>& onFrame = {});
 

@@ -172,6 +172,28 @@ TEST(Jobs, RtsdfAndExactBakesAtTheSameResolutionCompareVoxelForVoxel) {
   EXPECT_LT(e.meanAbs, 0.05); // closest refinement is exact inside the ray mask
 }
 
+// A stopped (or failed) animation leaves no frame file behind; a finished one keeps them all.
+TEST(Jobs, AnimateStoppedHalfwayRemovesTheFramesItWrote) {
+  TempDir dir;
+  AnimateOptions o;
+  o.scene = test::dataPath("scenes/default.json");
+  o.frames = 3;
+  o.pipeline.coarseRes = 16;
+  o.pipeline.fineRes = 32;
+  o.measureError = false;
+  o.vdbDir = dir.path();
+  int polls = 0;
+  JobControl stopAfterTwo;
+  stopAfterTwo.stopRequested = [&] { return ++polls > 2; };
+  EXPECT_THROW(animate(o, stopAfterTwo, [&](const AnimateFrame&) {
+                 EXPECT_TRUE(std::filesystem::exists(dir / "frame0000.vdb")); // written as the run goes
+               }),
+               Interrupted);
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+  animate(o);
+  EXPECT_TRUE(std::filesystem::exists(dir / "frame0002.vdb"));
+}
+
 TEST(Jobs, AnimateGivesOneFramePerStepWithItsErrorAndCsv) {
   AnimateOptions o;
   o.scene = test::dataPath("scenes/default.json");

@@ -129,9 +129,13 @@ GridMatch matchGrids(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) {
     return m;
   }
   m.alignment = GridAlignment::Resampled;
+  // Say why: another voxel size, or the same size on a lattice offset by a fraction of a voxel.
+  const std::string why = lattice ? fmt::format("the same voxel size ({:.6g}) on a lattice offset by a fraction of a "
+                                                "voxel: A's voxel (0,0,0) is at B's index {}", voxelUnit(a), vec3(s))
+                                  : fmt::format("voxel size {:.6g} vs {:.6g}, A's voxel (0,0,0) at B's index {}",
+                                                voxelUnit(a), voxelUnit(b), vec3(s));
   m.description = fmt::format("B resampled at A's voxel centres by trilinear interpolation (OpenVDB BoxSampler, where "
-                              "all 8 neighbours are active in B): voxel size {:.6g} vs {:.6g}, A's voxel (0,0,0) at "
-                              "B's index {}", voxelUnit(a), voxelUnit(b), vec3(s));
+                              "all 8 neighbours are active in B): {}", why);
   return m;
 }
 

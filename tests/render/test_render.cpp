@@ -322,32 +322,48 @@ TEST_F(Render, TaaPassEqualsTheCpuAccumulation) {
   EXPECT_EQ(countAbove(f.visibility[0], history[0], 1e-6f), 0u);
 }
 
+/// A TaaPass over a small image of one constant value: step() runs one frame on the history it holds and
+/// returns the value it leaves (every pixel must agree).
+class TaaRig {
+public:
+  explicit TaaRig(gpu::VulkanContext& ctx) : mCtx(ctx), mPass(ctx) {}
+  void setHistory(float value) { gpu::upload(mCtx, mHistory, std::vector<float>(kPixels, value).data(), kBytes); }
+  double step(int frame, float blend, float input, bool clamp = false) {
+    gpu::upload(mCtx, mCurrent, std::vector<float>(kPixels, input).data(), kBytes);
+    sh::TaaParams p{};
+    p.image = glm::ivec4(kWidth, kHeight, 1, frame);
+    p.blend = blend;
+    p.clampHistory = clamp ? 1u : 0u;
+    gpu::CommandBuffer cmd(mCtx);
+    mPass.execute(cmd.handle(), nullptr, {mCurrent}, {mHistory}, p);
+    cmd.submitAndWait();
+    std::vector<float> out(kPixels);
+    gpu::download(mCtx, mHistory, out.data(), kBytes);
+    for (float v : out) EXPECT_EQ(v, out[0]);
+    return double(out[0]);
+  }
+
+private:
+  static constexpr int kWidth = 8, kHeight = 4;
+  static constexpr std::size_t kPixels = std::size_t(kWidth) * kHeight, kBytes = kPixels * sizeof(float);
+  gpu::VulkanContext& mCtx;
+  const gpu::Buffer mCurrent{mCtx, kBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device, "current"};
+  const gpu::Buffer mHistory{mCtx, kBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device, "history"};
+  const TaaPass mPass;
+};
+
 // TaaPass against its closed form, independent of the shared taaResolve: with history h and a constant current
 // frame c, the result is c on the first frame, h + (c - h) max(blend, 1 / frame) later, and c again when the
 // history is clamped into the (constant) neighbourhood of the current frame.
 TEST_F(Render, TaaPassFollowsTheClosedFormBlendAndClamp) {
-  const int w = 8, h = 4;
-  const std::size_t n = std::size_t(w) * h, bytes = n * sizeof(float);
-  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  const gpu::Buffer current(*sCtx, bytes, usage, gpu::Buffer::Memory::Device, "current");
-  const gpu::Buffer history(*sCtx, bytes, usage, gpu::Buffer::Memory::Device, "history");
-  gpu::upload(*sCtx, current, std::vector<float>(n, 0.8f).data(), bytes);
-  const TaaPass pass(*sCtx);
+  TaaRig taa(*sCtx);
   struct Case { int frame; bool clamp; float blend; float expected; };
   for (const Case& c : {Case{1, false, 0.1f, 0.8f}, Case{5, false, 0.1f, 0.2f + 0.6f * 0.2f},
                         Case{20, false, 0.1f, 0.2f + 0.6f * 0.1f}, Case{20, false, 0.5f, 0.5f},
                         Case{5, true, 0.1f, 0.8f}}) {
-    gpu::upload(*sCtx, history, std::vector<float>(n, 0.2f).data(), bytes);
-    sh::TaaParams p{};
-    p.image = glm::ivec4(w, h, 1, c.frame);
-    p.blend = c.blend;
-    p.clampHistory = c.clamp ? 1u : 0u;
-    gpu::CommandBuffer cmd(*sCtx);
-    pass.execute(cmd.handle(), nullptr, {current}, {history}, p);
-    cmd.submitAndWait();
-    std::vector<float> out(n);
-    gpu::download(*sCtx, history, out.data(), bytes);
-    for (float v : out) ASSERT_NEAR(v, c.expected, 1e-6f) << "frame " << c.frame << " clamp " << c.clamp;
+    taa.setHistory(0.2f);
+    EXPECT_NEAR(taa.step(c.frame, c.blend, 0.8f, c.clamp), c.expected, 1e-6) << "frame " << c.frame << " clamp "
+                                                                              << c.clamp;
   }
   EXPECT_EQ(sCtx->validationErrors(), 0u);
 }
@@ -356,38 +372,27 @@ TEST_F(Render, TaaPassFollowsTheClosedFormBlendAndClamp) {
 // weighs the same (the running mean), and inputs alternating 1, 0 settle at the fixed point of
 // x = blend + (1 - blend) y, y = (1 - blend) x: x = 1 / (2 - blend) after a 1, y = (1 - blend) / (2 - blend) after a 0.
 TEST_F(Render, TaaPassAccumulatesTheRunningMeanThenTheExponentialAverage) {
-  const int w = 8, h = 4;
-  const std::size_t n = std::size_t(w) * h, bytes = n * sizeof(float);
-  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  const gpu::Buffer current(*sCtx, bytes, usage, gpu::Buffer::Memory::Device, "current");
-  const gpu::Buffer history(*sCtx, bytes, usage, gpu::Buffer::Memory::Device, "history");
-  const TaaPass pass(*sCtx);
-  auto step = [&](int frame, float blend, float input) {
-    gpu::upload(*sCtx, current, std::vector<float>(n, input).data(), bytes);
-    sh::TaaParams p{};
-    p.image = glm::ivec4(w, h, 1, frame);
-    p.blend = blend;
-    gpu::CommandBuffer cmd(*sCtx);
-    pass.execute(cmd.handle(), nullptr, {current}, {history}, p);
-    cmd.submitAndWait();
-    std::vector<float> out(n);
-    gpu::download(*sCtx, history, out.data(), bytes);
-    for (float v : out) EXPECT_EQ(v, out[0]);
-    return double(out[0]);
-  };
+  TaaRig taa(*sCtx);
   const float inputs[] = {0.3f, 0.9f, 0.0f, 0.5f, 1.0f, 0.2f, 0.7f, 0.4f, 0.8f, 0.1f};
   double sum = 0.0;
   for (int k = 1; k <= 10; ++k) {
     sum += inputs[k - 1];
-    EXPECT_NEAR(step(k, 0.1f, inputs[k - 1]), sum / k, 1e-6) << "frame " << k;
+    EXPECT_NEAR(taa.step(k, 0.1f, inputs[k - 1]), sum / k, 1e-6) << "frame " << k;
   }
   const double b = 0.3;
   double afterOne = 0.0, afterZero = 0.0;
-  for (int k = 1; k <= 60; ++k) (k % 2 ? afterOne : afterZero) = step(k, float(b), float(k % 2));
+  for (int k = 1; k <= 60; ++k) (k % 2 ? afterOne : afterZero) = taa.step(k, float(b), float(k % 2));
   // 28 alternations after the running mean leave 0.49^28 ~ 2e-9 of the start.
   EXPECT_NEAR(afterOne, 1.0 / (2.0 - b), 1e-6);
   EXPECT_NEAR(afterZero, (1.0 - b) / (2.0 - b), 1e-6);
   EXPECT_EQ(sCtx->validationErrors(), 0u);
+}
+
+/// Shadow maps of @a mapRes texels per side for a square picture of @a pixels.
+RenderSettings plateShadowMaps(int pixels, int mapRes) {
+  RenderSettings s = small(ShadowTechnique::ShadowMap, pixels, pixels);
+  s.shadowMap.resolution = mapRes;
+  return s;
 }
 
 // Shadow maps with PCF against the geometric truth, independent of the shared lookup code: a sun straight
@@ -396,9 +401,7 @@ TEST_F(Render, TaaPassAccumulatesTheRunningMeanThenTheExponentialAverage) {
 // beside it.
 TEST_F(Render, ShadowMapsAreExactAwayFromShadowEdges) {
   const Scene scene = plateScene();
-  RenderSettings s = small(ShadowTechnique::ShadowMap, 120, 120);
-  s.shadowMap.resolution = 512;
-  Renderer r(*sCtx, scene, boundsOf(scene), s);
+  Renderer r(*sCtx, scene, boundsOf(scene), plateShadowMaps(120, 512));
   const RenderedFrame f = r.renderFrame(0.0);
   std::size_t shadowed = 0, lit = 0;
   for (std::size_t i = 0; i < f.gbuffer.pixelCount(); ++i) {
@@ -422,9 +425,7 @@ TEST_F(Render, ShadowMapsAreExactAwayFromShadowEdges) {
 // down each texel's centre lies right above the floor point it shadows. Coarse texels make the ramp wide.
 TEST_F(Render, PcfAtAStraightEdgeIsTheFractionOfCoveredTexels) {
   const Scene scene = plateScene();
-  RenderSettings s = small(ShadowTechnique::ShadowMap, 240, 240);
-  s.shadowMap.resolution = 64;
-  Renderer r(*sCtx, scene, boundsOf(scene), s);
+  Renderer r(*sCtx, scene, boundsOf(scene), plateShadowMaps(240, 64));
   const RenderedFrame f = r.renderFrame(0.0);
   const sh::ShadowMapParams m = r.shadowMapParams()[0];
   const int res = m.info.x, rad = m.image.z;

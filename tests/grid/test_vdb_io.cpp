@@ -4,8 +4,11 @@
 #include "util/Error.h"
 
 #include <gtest/gtest.h>
+#include <openvdb/io/Stream.h>
 
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 
 using namespace rtsdf;
 using rtsdf::test::TempDir;
@@ -145,4 +148,45 @@ TEST(VdbIO, PythonOpenVdbReadsTheLevelSet) {
   EXPECT_EQ(std::stoull(f[2]), grid->activeVoxelCount());
   EXPECT_NEAR(std::stod(f[3]), 0.3, 1e-6);
   EXPECT_EQ(f[4], "test");
+}
+
+namespace {
+
+/// A small level-set sphere written by rtsdf's writer (with grid offsets) and by an OpenVDB stream (without).
+std::pair<std::string, std::string> sphereFileBytes(const std::filesystem::path& dir) {
+  const GridSpec g = GridSpec::fromBounds({{-1, -1, -1}, {1, 1, 1}}, 16, 0.2);
+  auto grid = denseToLevelSet(sphereField(g, {0, 0, 0}, 0.6), g, 0.3f);
+  stampLevelSet(*grid, g, {{"method", "test"}});
+  writeVdb(dir / "s.vdb", {grid});
+  std::ifstream in(dir / "s.vdb", std::ios::binary);
+  std::ostringstream stream;
+  openvdb::io::Stream(stream).write({grid});
+  return {std::string(std::istreambuf_iterator<char>(in), {}), stream.str()};
+}
+
+} // namespace
+
+// The defensive reader takes both layouts, and refuses every cut of a file with one short line naming it.
+TEST(VdbIO, DefensiveReaderTakesBothLayoutsAndRefusesEveryTruncation) {
+  TempDir dir;
+  const auto [file, stream] = sphereFileBytes(dir.path());
+  for (const std::string* bytes : {&file, &stream}) {
+    const openvdb::GridPtrVec grids = readVdbBytes(*bytes, "whole.vdb");
+    ASSERT_EQ(grids.size(), 1u);
+    EXPECT_GT(grids[0]->activeVoxelCount(), 1000u);
+    int refused = 0;
+    for (std::size_t cut = 0; cut < bytes->size(); cut += 1 + cut / 16) {
+      try {
+        readVdbBytes(bytes->substr(0, cut), "cut.vdb");
+        ADD_FAILURE() << "a cut at " << cut << " of " << bytes->size() << " bytes was read";
+      } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_EQ(m.rfind("cut.vdb: not a readable .vdb file: ", 0), 0u) << m;
+        EXPECT_LT(m.size(), 300u) << m;
+        EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+        ++refused;
+      }
+    }
+    EXPECT_GT(refused, 50);
+  }
 }

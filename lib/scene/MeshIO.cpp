@@ -2,6 +2,7 @@
 
 #include "util/Error.h"
 #include "util/InputFile.h"
+#include "util/Memory.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -48,8 +49,8 @@ void checkOffHeader(const std::string& head, std::uint64_t fileSize, const std::
     if (!(counts >> vertices >> faces)) return; // malformed: the importer says so
     const double need = 6.0 * vertices + 8.0 * faces;
     if (vertices < 0 || faces < 0 || need > double(fileSize))
-      throw Error(fmt::format("{}: the OFF header declares {:.0f} vertices and {:.0f} faces, which need at least {:.0f} bytes, "
-                              "but the file has {}", name, vertices, faces, need, fileSize));
+      throw Error(fmt::format("{}: the OFF header declares {:.0f} vertices and {:.0f} faces, which need at least "
+                              "{:.0f} bytes, but the file has {}", name, vertices, faces, need, fileSize));
     return;
   }
 }
@@ -81,12 +82,12 @@ void checkPlyHeader(const std::string& head, std::uint64_t fileSize, const std::
     } else if (key == "property") {
       std::string type;
       w >> type;
-      const bool ascii = format == "ascii";
-      need += count * (ascii ? 2 : std::max(1, plyTypeBytes(type == "list" ? (w >> type, type) : type)));
+      if (type == "list") w >> type; // a list takes at least its count's bytes
+      need += count * (format == "ascii" ? 2 : std::max(1, plyTypeBytes(type)));
     } else if (key == "end_header") {
       if (need > double(fileSize))
-        throw Error(fmt::format("{}: the PLY header declares elements that need at least {:.0f} bytes, but the file has "
-                                "{}", name, need, fileSize));
+        throw Error(fmt::format("{}: the PLY header declares elements that need at least {:.0f} bytes, but the "
+                                "file has {}", name, need, fileSize));
       return;
     }
   }
@@ -139,6 +140,10 @@ bool isMeshFile(const fs::path& path) {
 
 Mesh loadMeshFile(const fs::path& path) {
   const std::uint64_t size = checkInputFile(path, "mesh file");
+  // The importer holds the file and its mesh in memory: a file larger than the memory available cannot load.
+  if (const std::uint64_t available = availableHostMemory(); available && size > available)
+    throw Error(fmt::format("{}: the mesh file has {:.1f} GiB, more than the {:.1f} GiB of memory available",
+                            path.string(), double(size) / (1u << 30), double(available) / (1u << 30)));
   checkHeaderClaims(readFileHead(path, 1 << 16), size, path.extension().string(), path.string());
   Assimp::Importer importer;
   configure(importer);

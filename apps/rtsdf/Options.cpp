@@ -97,8 +97,9 @@ void bindBake(CLI::App& app, BakeCommand& c) {
                                                 "for rtsdf the ray-mask band d (0: no refinement)")
       ->check(atLeast(0.0))->capture_default_str();
   cmd->add_flag("--full", o.fullDomain, "Full-domain field: every voxel active (exact method only)");
-  cmd->add_option("--padding", o.pipeline.padding, "Margin around the scene bounds in scene units (default: the "
-                                                   "band, at most a quarter of the scene's longest side)")
+  cmd->add_option("--padding", o.pipeline.padding, "Margin around the scene bounds in scene units, at most the "
+                                                   "scene's longest side (default: the band, at most a quarter of "
+                                                   "that side)")
       ->check(atLeast(0.0));
   cmd->add_option("-t,--time", o.time, "Animation time in seconds")->capture_default_str();
   addEnum(cmd, "--sign", o.sign, "Sign rule of the exact method: auto (pseudo-normal for closed meshes, winding "

@@ -30,7 +30,7 @@ g.name = "surface"
 vdb.write(sys.argv[1] + "/sphere.vdb", grids=[g])
 PY
 
-export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
+export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 status=0
 for target in fuzz_scene_json fuzz_mesh fuzz_vdb; do
   regressions="fuzz/regressions/$target"

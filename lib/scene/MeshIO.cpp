@@ -18,10 +18,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// ValidateDataStructure first: assimp then reports a malformed import (a face without indices) as an error
-// instead of aborting on an assertion in a later step (the fuzzer found one in Triangulate).
-constexpr unsigned kImportSteps = aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                                  aiProcess_PreTransformVertices | aiProcess_SortByPType;
+// The import reads and validates only (ValidateDataStructure: a malformed import, like a face without indices, is
+// an error instead of an assertion abort later); the post-processing runs after postProcess() has made the
+// primitive types agree with the faces.
+constexpr unsigned kReadSteps = aiProcess_ValidateDataStructure;
+constexpr unsigned kPostSteps = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
 
 std::string lower(std::string s) {
   for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -126,6 +127,28 @@ Mesh toMesh(const aiScene& scene, const std::string& name) {
   return mesh;
 }
 
+/// Triangulate, flatten and sort an imported scene. Importers can flag a mesh as holding polygons when none of its
+/// faces has more than three corners, or leave a face with none (the fuzzer found PLY files that do), and
+/// assimp's Triangulate then aborts on an assertion: such faces are errors, and the flags are recomputed from
+/// the faces. @return nullptr when post-processing fails. @throw Error naming @a name for a face without corners.
+const aiScene* postProcess(Assimp::Importer& importer, const std::string& name) {
+  // The scene belongs to the importer until post-processing, which edits it in place anyway.
+  aiScene* scene = const_cast<aiScene*>(importer.GetScene());
+  if (!scene) return nullptr;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    aiMesh* mesh = scene->mMeshes[m];
+    unsigned types = 0;
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const unsigned n = mesh->mFaces[f].mNumIndices;
+      if (n == 0) throw Error(fmt::format("{}: cannot read mesh: face {} of mesh {} has no corners", name, f, m));
+      types |= n == 1 ? aiPrimitiveType_POINT : n == 2 ? aiPrimitiveType_LINE : n == 3 ? aiPrimitiveType_TRIANGLE
+                                                                                       : aiPrimitiveType_POLYGON;
+    }
+    mesh->mPrimitiveTypes = types;
+  }
+  return importer.ApplyPostProcessing(kPostSteps);
+}
+
 void configure(Assimp::Importer& importer) {
   // Keep only triangles; points and lines carry no surface.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
@@ -148,7 +171,7 @@ Mesh loadMeshFile(const fs::path& path) {
   Assimp::Importer importer;
   configure(importer);
   // No vertex joining or degenerate removal here: validateMesh() welds and counts what it drops.
-  const aiScene* scene = importer.ReadFile(path.string(), kImportSteps);
+  const aiScene* scene = importer.ReadFile(path.string(), kReadSteps) ? postProcess(importer, path.string()) : nullptr;
   if (!scene)
     throw Error(fmt::format("{}: cannot read mesh: {}", path.string(), oneLine(importer.GetErrorString())));
   Mesh mesh = toMesh(*scene, path.string());
@@ -162,7 +185,9 @@ Mesh loadMeshFromMemory(const std::string& bytes, const std::string& extension, 
   Assimp::Importer importer;
   configure(importer);
   const std::string hint = extension.empty() || extension[0] != '.' ? extension : extension.substr(1);
-  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), kImportSteps, hint.c_str());
+  const aiScene* scene =
+      importer.ReadFileFromMemory(bytes.data(), bytes.size(), kReadSteps, hint.c_str()) ? postProcess(importer, name)
+                                                                                        : nullptr;
   if (!scene) throw Error(fmt::format("{}: cannot read mesh: {}", name, oneLine(importer.GetErrorString())));
   Mesh mesh = toMesh(*scene, name);
   mesh.source = mesh.name = name;

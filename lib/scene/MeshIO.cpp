@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <sstream>
 
 namespace rtsdf {
@@ -31,29 +32,26 @@ std::string lower(std::string s) {
 
 /// The counts an OFF header declares must fit in the file: every vertex takes at least 6 bytes ("0 0 0\n") and
 /// every face 8 ("3 0 1 2\n"). Without this check the importer reserves memory for whatever the header says.
+/// The scan is lenient on purpose: the first two numbers after the keyword, wherever they start (assimp reads
+/// "OFF6666" as a count of 6666), comments skipped.
 void checkOffHeader(const std::string& head, std::uint64_t fileSize, const std::string& name) {
+  std::string text;
   std::istringstream in(head);
-  std::string line;
-  bool sawKeyword = false;
-  while (std::getline(in, line)) {
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream words(line);
-    std::string first;
-    if (!(words >> first)) continue;
-    if (!sawKeyword && first.find("OFF") != std::string::npos) {
-      sawKeyword = true;
-      if (!(words >> first)) continue; // the counts may follow the keyword on its line
-    }
-    std::istringstream counts(line.substr(line.find(first)));
-    double vertices = 0, faces = 0;
-    if (!(counts >> vertices >> faces)) return; // malformed: the importer says so
-    const double need = 6.0 * vertices + 8.0 * faces;
-    if (vertices < 0 || faces < 0 || need > double(fileSize))
-      throw Error(fmt::format("{}: the OFF header declares {:.0f} vertices and {:.0f} faces, which need at least "
-                              "{:.0f} bytes, but the file has {}", name, vertices, faces, need, fileSize));
-    return;
+  for (std::string line; std::getline(in, line);) text += line.substr(0, line.find('#')) + "\n";
+  const std::size_t keyword = text.find("OFF");
+  std::size_t at = keyword == std::string::npos ? 0 : keyword + 3;
+  double counts[2];
+  for (double& count : counts) {
+    at = text.find_first_of("0123456789+-.", at);
+    if (at == std::string::npos) return; // malformed: the importer says so
+    char* end = nullptr;
+    count = std::strtod(text.c_str() + at, &end);
+    at = std::size_t(end - text.c_str()) + (end == text.c_str() + at); // past the number (or its lone sign)
   }
+  const double vertices = counts[0], faces = counts[1], need = 6.0 * vertices + 8.0 * faces;
+  if (!(vertices >= 0 && faces >= 0 && need <= double(fileSize)))
+    throw Error(fmt::format("{}: the OFF header declares {:.0f} vertices and {:.0f} faces, which need at least "
+                            "{:.0f} bytes, but the file has {}", name, vertices, faces, need, fileSize));
 }
 
 /// Bytes of one PLY scalar property type (0 when unknown).

@@ -2,13 +2,13 @@
 
 #include "gpu/EmbeddedShaders.h"
 #include "gpu/VulkanError.h"
+#include "util/Text.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
@@ -18,10 +18,6 @@ namespace {
 
 const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
 
 const char* typeName(VkPhysicalDeviceType t) {
   switch (t) {
@@ -186,7 +182,7 @@ std::uint32_t chooseDevice(const std::vector<DeviceInfo>& devices, const std::st
     return std::uint32_t(i);
   }
   for (const auto& d : devices)
-    if (lower(d.name).find(lower(request)) != std::string::npos) return d.index;
+    if (toLower(d.name).find(toLower(request)) != std::string::npos) return d.index;
   throw SettingError("device", fmt::format("device '{}': no Vulkan device has that name (see 'rtsdf info')", request));
 }
 

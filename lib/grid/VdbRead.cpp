@@ -6,6 +6,7 @@
 
 #include "util/Error.h"
 #include "util/InputFile.h"
+#include "util/Text.h"
 #include "util/Memory.h"
 
 #include <fmt/format.h>

@@ -3,6 +3,7 @@
 #include "util/Error.h"
 #include "util/InputFile.h"
 #include "util/Memory.h"
+#include "util/Text.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
@@ -10,7 +11,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdlib>
 #include <sstream>
 
@@ -25,10 +25,6 @@ namespace {
 constexpr unsigned kReadSteps = aiProcess_ValidateDataStructure;
 constexpr unsigned kPostSteps = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
 
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 /// The counts an OFF header declares must fit in the file: every vertex takes at least 6 bytes ("0 0 0\n") and
 /// every face 8 ("3 0 1 2\n"). Without this check the importer reserves memory for whatever the header says.
@@ -97,7 +93,7 @@ void checkPlyHeader(const std::string& head, std::uint64_t fileSize, const std::
 /// Header claims checked against the file's size before assimp allocates for them.
 void checkHeaderClaims(const std::string& head, std::uint64_t fileSize, const std::string& extension,
                        const std::string& name) {
-  const std::string ext = lower(extension);
+  const std::string ext = toLower(extension);
   if (ext == ".off") checkOffHeader(head, fileSize, name);
   if (ext == ".ply") checkPlyHeader(head, fileSize, name);
 }

@@ -3,6 +3,7 @@
 #include "scene/MeshIO.h"
 #include "util/Error.h"
 #include "util/InputFile.h"
+#include "util/Text.h"
 
 #include <fmt/format.h>
 #include <glm/gtc/quaternion.hpp>

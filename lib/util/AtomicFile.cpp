@@ -2,10 +2,10 @@
 
 #include "util/Error.h"
 #include "util/Interrupt.h"
+#include "util/Text.h"
 
 #include <fmt/format.h>
 
-#include <cctype>
 #include <fstream>
 #include <random>
 #include <system_error>
@@ -49,12 +49,6 @@ void writeTextAtomically(const fs::path& target, const std::string& text) {
   });
 }
 
-namespace {
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-} // namespace
 
 void checkOutputPath(const std::filesystem::path& p, const std::string& extension,
                      const std::vector<std::filesystem::path>& inputs) {
@@ -70,7 +64,7 @@ void checkOutputPath(const std::filesystem::path& p, const std::string& extensio
     if (!in.empty() && fs::exists(p, e1) && fs::exists(in, e1) && fs::equivalent(p, in, e1))
       throw Error(fmt::format("{}: the output would replace an input of this command ({})", p.string(), in.string()));
   }
-  if (!extension.empty() && lower(p.extension().string()) != lower(extension))
+  if (!extension.empty() && toLower(p.extension().string()) != toLower(extension))
     throw Error(fmt::format("{}: the output is a {} file: give it the extension {}", p.string(), extension, extension));
   // A file created and removed at once: a folder that cannot take files (read-only, /proc, no permission) fails
   // now, not after the work (permission bits alone do not tell: root passes them).

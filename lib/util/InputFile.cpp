@@ -56,17 +56,4 @@ std::string readFileHead(const fs::path& path, std::size_t count) {
   return bytes;
 }
 
-std::string oneLine(const std::string& message, std::size_t maxChars) {
-  std::string out;
-  out.reserve(std::min(message.size(), maxChars + 3));
-  for (const char c : message) {
-    const char s = (static_cast<unsigned char>(c) < 32 || c == 127) ? ' ' : c;
-    if (s == ' ' && (out.empty() || out.back() == ' ')) continue;
-    if (out.size() >= maxChars) return out + "...";
-    out += s;
-  }
-  while (!out.empty() && out.back() == ' ') out.pop_back();
-  return out;
-}
-
 } // namespace rtsdf

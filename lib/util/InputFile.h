@@ -22,8 +22,4 @@ std::string readFileBytes(const std::filesystem::path& path, const std::string& 
 /// @brief At most @a count bytes from the start of the file (fewer when it is shorter).
 std::string readFileHead(const std::filesystem::path& path, std::size_t count);
 
-/// @brief An error message from a third-party reader cut down to one short line: control characters become
-///        spaces, runs of spaces collapse, and text past @a maxChars is replaced by "...".
-std::string oneLine(const std::string& message, std::size_t maxChars = 200);
-
 } // namespace rtsdf

@@ -1,0 +1,26 @@
+#include "util/Text.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace rtsdf {
+
+std::string toLower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string oneLine(const std::string& message, std::size_t maxChars) {
+  std::string out;
+  out.reserve(std::min(message.size(), maxChars + 3));
+  for (const char c : message) {
+    const char s = (static_cast<unsigned char>(c) < 32 || c == 127) ? ' ' : c;
+    if (s == ' ' && (out.empty() || out.back() == ' ')) continue;
+    if (out.size() >= maxChars) return out + "...";
+    out += s;
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
+} // namespace rtsdf

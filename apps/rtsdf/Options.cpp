@@ -76,7 +76,9 @@ void bindPipeline(CLI::App* cmd, PipelineSettings& p, std::string& device) {
       ->check(inRange(0.0, 1.0))->capture_default_str();
   addEnum(cmd, "--refine", p.mode, "rays: the paper's random rays; closest: exact closest-point distance");
   cmd->add_option("--seed", p.seed, "Random seed of the ray directions")->capture_default_str();
-  addEnum(cmd, "--jfa", p.variant, "Jump-flooding variant: jfa, 1+jfa or jfa+2");
+  addEnum(cmd, "--coarse-method,--jfa", p.coarseMethod,
+          "How the coarse SDF finds each voxel's nearest seed: edt (exact separable transform, the default) or the "
+          "jump-flooding variants jfa, 1+jfa (the paper's) and jfa+2; --jfa is the older name");
   cmd->add_option("--beta", p.beta, "Coarse SDF shell: distance minus beta, in scene units (default: half a coarse "
                                     "voxel)")->check(atLeast(0.0));
   cmd->add_option("--device", device, "Vulkan device by index or name (see 'rtsdf info')");

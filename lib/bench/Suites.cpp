@@ -62,20 +62,23 @@ std::string cpuName() {
 
 namespace {
 
-/// The coarse-SDF suite: GPU pass times per JFA variant beside the CPU jump flooding, the exact EDT of the
-/// same seeds and OpenVDB's full-domain meshToSignedDistanceField, at the same voxels.
+/// The coarse-SDF suite: GPU pass times per coarse method (the exact transform and the jump-flooding variants)
+/// beside the CPU jump flooding, the CPU exact EDT of the same seeds and OpenVDB's full-domain
+/// meshToSignedDistanceField, at the same voxels; each method's errors against the exact EDT.
 std::string coarseSuite(const BenchOptions& s) {
   gpu::ContextOptions copt = detail::contextOptions(s.device);
   copt.validation = false;
   gpu::VulkanContext ctx(copt);
   CoarseSdfBuilder builder(ctx);
   std::string md = fmt::format("GPU: {} ({}). GPU times: median of {} runs after one warm-up, from GPU timestamps. "
-                               "CPU times: median of {} runs (OpenVDB: 1 run).\n\n",
+                               "CPU times: median of {} runs (OpenVDB: 1 run). Transform: ExactEdtPass (edt) or "
+                               "JumpFloodPass.\n\n",
                                ctx.info().name, ctx.info().typeName, s.repeats, s.repeats);
-  md += "| scene | res | grid | variant | voxelize (ms) | jump flood (ms) | distance (ms) | coarse SDF total (ms) | "
-        "CPU jump flood (ms) | exact EDT (ms) | OpenVDB SDF (ms) | coarse / OpenVDB | voxels off vs EDT | max error "
-        "(voxels) |\n";
-  md += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  md += "| scene | res | grid | method | voxelize (ms) | transform (ms) | distance (ms) | coarse SDF total (ms) | "
+        "transform vs 1+jfa | CPU jump flood (ms) | CPU exact EDT (ms) | OpenVDB SDF (ms) | coarse / OpenVDB | voxels "
+        "off vs EDT | max error (voxels) |\n";
+  md += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  auto med = [](std::vector<double> x) { std::sort(x.begin(), x.end()); return x[x.size() / 2]; };
   for (const std::string& path : s.scenes) {
     const SceneGeometry geo = buildSceneGeometry(loadScene(path), 0.0);
     const auto corners = triangleCorners(geo);
@@ -86,31 +89,35 @@ std::string coarseSuite(const BenchOptions& s) {
       std::vector<float> edt;
       const double tEdt = 1e3 * medianSeconds(s.repeats, [&] { edt = exactEdtSquared(seeds, spec.dims); });
       const double tCpuJfa =
-          1e3 * medianSeconds(s.repeats, [&] { jumpFloodCpu(seeds, spec.dims, JfaVariant::OnePlusJfa); });
+          1e3 * medianSeconds(s.repeats, [&] { jumpFloodCpu(seeds, spec.dims, CoarseMethod::OnePlusJfa); });
       const double tVdb = 1e3 * medianSeconds(1, [&] { openvdbSignedDistanceField(geo, spec); });
-      for (JfaVariant v : {JfaVariant::Jfa, JfaVariant::OnePlusJfa, JfaVariant::JfaPlusTwo}) {
+      struct Row { CoarseMethod method; double vox, transform, dist; JfaAccuracy acc; };
+      std::vector<Row> rows;
+      for (CoarseMethod m : {CoarseMethod::Edt, CoarseMethod::Jfa, CoarseMethod::OnePlusJfa, CoarseMethod::JfaPlusTwo}) {
         CoarseSdfSettings cs;
-        cs.variant = v;
+        cs.method = m;
         builder.build(corners, spec, cs); // warm-up
-        std::vector<double> vox, jfa, dist;
+        std::vector<double> vox, transform, dist;
         CoarseSdf last;
         for (int r = 0; r < s.repeats; ++r) {
           last = builder.build(corners, spec, cs);
           vox.push_back(last.passTotal(VoxelizePass::kName));
-          jfa.push_back(last.passTotal(JumpFloodPass::kName));
+          transform.push_back(last.passTotal(JumpFloodPass::kName) + last.passTotal(ExactEdtPass::kName));
           dist.push_back(last.passTotal(CoarseDistancePass::kName));
         }
-        auto med = [](std::vector<double> x) { std::sort(x.begin(), x.end()); return x[x.size() / 2]; };
-        const double total = med(vox) + med(jfa) + med(dist);
-        const JfaAccuracy acc = compareWithExact(last.nearest, edt, spec.dims);
-        md += fmt::format("| {} | {} | {}x{}x{} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {} | {} | {} | {:.3f} | "
-                          "{:.4f}% | {:.2f} |\n",
-                          fs::path(path).filename().string(), res, spec.dims.x, spec.dims.y, spec.dims.z, toString(v),
-                          med(vox), med(jfa), med(dist), total,
-                          v == JfaVariant::OnePlusJfa ? fmt::format("{:.1f}", tCpuJfa) : "",
-                          v == JfaVariant::OnePlusJfa ? fmt::format("{:.1f}", tEdt) : "",
-                          v == JfaVariant::OnePlusJfa ? fmt::format("{:.0f}", tVdb) : "", total / tVdb,
-                          100.0 * acc.wrongFraction(), acc.maxError);
+        rows.push_back({m, med(vox), med(transform), med(dist), compareWithExact(last.nearest, edt, spec.dims)});
+      }
+      const double anchor = rows[2].transform; // 1+jfa, the paper's
+      for (const Row& r : rows) {
+        const bool first = r.method == CoarseMethod::Edt;
+        const double total = r.vox + r.transform + r.dist;
+        md += fmt::format("| {} | {} | {}x{}x{} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.3f} | {} | {} | {} | "
+                          "{:.3f} | {:.4f}% | {:.2f} |\n",
+                          fs::path(path).filename().string(), res, spec.dims.x, spec.dims.y, spec.dims.z,
+                          toString(r.method), r.vox, r.transform, r.dist, total, r.transform / anchor,
+                          first ? fmt::format("{:.1f}", tCpuJfa) : "", first ? fmt::format("{:.1f}", tEdt) : "",
+                          first ? fmt::format("{:.0f}", tVdb) : "", total / tVdb, 100.0 * r.acc.wrongFraction(),
+                          r.acc.maxError);
       }
     }
   }

@@ -111,7 +111,7 @@ std::string SweepPoint::label() const {
   if (group == SweepGroup::Alpha || group == SweepGroup::Dynamic) s += fmt::format(" alpha={:g}", pipeline.alpha);
   if (group == SweepGroup::Frames || group == SweepGroup::Alpha || group == SweepGroup::Dynamic)
     s += fmt::format(" frames={}", frames);
-  if (group == SweepGroup::Jfa) s += fmt::format(" {}", toString(pipeline.variant));
+  if (group == SweepGroup::Jfa) s += fmt::format(" {}", toString(pipeline.coarseMethod));
   return s;
 }
 
@@ -155,9 +155,9 @@ std::vector<SweepPoint> makeSweepPlan(SweepPreset preset, bool animated, double 
   }
   for (double al : k.alphas) plan.push_back(point(SweepGroup::Alpha, k.knobSize, R, 1, d, al, 8));
   for (int f : k.frameCounts) plan.push_back(point(SweepGroup::Frames, k.knobSize, R, 1, d, a, f));
-  for (JfaVariant v : {JfaVariant::Jfa, JfaVariant::OnePlusJfa, JfaVariant::JfaPlusTwo}) {
+  for (CoarseMethod v : {CoarseMethod::Edt, CoarseMethod::Jfa, CoarseMethod::OnePlusJfa, CoarseMethod::JfaPlusTwo}) {
     SweepPoint p = point(SweepGroup::Jfa, k.knobSize, R, k.knobX, d, a, 2);
-    p.pipeline.variant = v;
+    p.pipeline.coarseMethod = v;
     plan.push_back(p);
   }
   if (animated) {
@@ -176,8 +176,8 @@ std::vector<SweepPoint> makeSweepPlan(SweepPreset preset, bool animated, double 
 }
 
 std::string csvHeader() {
-  return "group,label,size,anchor,coarse,fine,mode,jfa,rays,band,alpha,frames,frame,time,mask_voxels,voxelize_ms,"
-         "jump_flood_ms,distance_ms,mirror_ms,upsample_ms,refine_ms,frame_ms,mean_abs_vox,rms_vox,max_abs_vox,"
+  return "group,label,size,anchor,coarse,fine,mode,coarse_method,rays,band,alpha,frames,frame,time,mask_voxels,voxelize_ms,"
+         "transform_ms,distance_ms,mirror_ms,upsample_ms,refine_ms,frame_ms,mean_abs_vox,rms_vox,max_abs_vox,"
          "sign_error_rate,error_voxels,shadow_rmse,shadow_penumbra_rmse,shadow_flip,storage_band_voxels,vdb_bytes,dense_bytes,peak_mib,peak_growth_mib,note";
 }
 
@@ -186,9 +186,9 @@ std::string csvRow(const SweepRecord& r) {
   auto g = [](double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string(); };
   return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                      toString(p.group), quoted(p.label()), p.size, quoted(toString(p.anchor)), p.pipeline.coarseRes,
-                     p.pipeline.fineRes, toString(p.pipeline.mode), toString(p.pipeline.variant), p.pipeline.rays,
+                     p.pipeline.fineRes, toString(p.pipeline.mode), toString(p.pipeline.coarseMethod), p.pipeline.rays,
                      p.bruteForce ? "inf" : g(p.pipeline.band), g(p.pipeline.alpha), p.frames, r.frame, g(r.time),
-                     r.maskVoxels, g(r.voxelizeMs), g(r.jumpFloodMs), g(r.distanceMs), g(r.mirrorMs), g(r.upsampleMs),
+                     r.maskVoxels, g(r.voxelizeMs), g(r.transformMs), g(r.distanceMs), g(r.mirrorMs), g(r.upsampleMs),
                      g(r.refineMs), g(r.frameMs), g(r.meanAbs), g(r.rms), g(r.maxAbs), g(r.signErrorRate),
                      r.errorVoxels, g(r.shadowRmse), g(r.shadowPenumbraRmse), g(r.shadowFlip),
                      p.storageBandVoxels > 0 ? g(p.storageBandVoxels) : std::string(), r.vdbBytes, r.denseBytes, g(r.peakMiB),
@@ -274,7 +274,7 @@ std::string reportHeader(const SweepContext& c, const std::vector<SweepRecord>& 
 /// The paper's pass durations and sizes x rays in one table.
 std::string sizesTable(const RecordList& v) {
   std::string md = "## Pass durations and sizes x rays (d = 0.1, alpha = 0.95, 1+JFA, 2 frames)\n\n";
-  md += "| size | coarse/fine | mode | x | mask voxels | voxelize | jump flood | distance | mirror (CPU) | upsample | "
+  md += "| size | coarse/fine | mode | x | mask voxels | voxelize | transform | distance | mirror (CPU) | upsample | "
         "refine | frame (ms) | mean / RMS / max error | wrong sign | shadow RMSE / FLIP | peak MiB |\n";
   md += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const SweepRecord* r : v)
@@ -282,7 +282,7 @@ std::string sizesTable(const RecordList& v) {
                       r->point.size, r->point.pipeline.coarseRes, r->point.pipeline.fineRes,
                       toString(r->point.pipeline.mode),
                       r->point.pipeline.mode == RefineMode::Rays ? fmt::format("{}", r->point.pipeline.rays) : "-",
-                      r->maskVoxels, num(r->voxelizeMs, 2), num(r->jumpFloodMs, 2), num(r->distanceMs, 2),
+                      r->maskVoxels, num(r->voxelizeMs, 2), num(r->transformMs, 2), num(r->distanceMs, 2),
                       num(r->mirrorMs, 2), num(r->upsampleMs, 2), num(r->refineMs, 2), num(r->frameMs, 1), err(*r),
                       pct(r->signErrorRate), shadow(*r), peak(*r));
   return md + "\n";
@@ -332,13 +332,13 @@ std::string bandTable(const RecordList& v) {
 template <class Value>
 std::string knobTable(const RecordList& v, const std::string& title, const std::string& column, Value value) {
   std::string md = fmt::format("## {} at size {}\n\n", title, v.front()->point.size);
-  md += fmt::format("| {} | mode | x | frames | jump flood (ms) | frame (ms) | mean / RMS / max error | wrong sign | "
+  md += fmt::format("| {} | mode | x | frames | transform (ms) | frame (ms) | mean / RMS / max error | wrong sign | "
                     "shadow RMSE / FLIP | peak MiB |\n|---|---|---|---|---|---|---|---|---|---|\n",
                     column);
   for (const SweepRecord* r : v)
     md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", value(*r),
                       toString(r->point.pipeline.mode), r->point.pipeline.rays, r->point.frames,
-                      num(r->jumpFloodMs, 2), num(r->frameMs, 1), err(*r), pct(r->signErrorRate), shadow(*r),
+                      num(r->transformMs, 2), num(r->frameMs, 1), err(*r), pct(r->signErrorRate), shadow(*r),
                       peak(*r));
   return md + "\n";
 }
@@ -427,8 +427,8 @@ std::string markdownReport(const SweepContext& c, const std::vector<SweepRecord>
     md += knobTable(v, "Frames accumulated (static scene, alpha = 0.95)", "frames",
                     [](const SweepRecord& r) { return fmt::format("{}", r.point.frames); });
   if (const auto v = ofGroup(rs, SweepGroup::Jfa); !v.empty())
-    md += knobTable(v, "Jump-flooding variant", "variant",
-                    [](const SweepRecord& r) { return std::string(toString(r.point.pipeline.variant)); });
+    md += knobTable(v, "Coarse method (exact transform or jump-flooding variant)", "coarse method",
+                    [](const SweepRecord& r) { return std::string(toString(r.point.pipeline.coarseMethod)); });
   if (const auto v = ofGroup(rs, SweepGroup::Dynamic); !v.empty()) md += dynamicTable(v);
   if (const auto v = ofGroup(rs, SweepGroup::Storage); !v.empty()) md += storageTable(v, c.errorBand);
   if (const auto front = paretoFront(rs); !front.empty()) md += paretoTable(rs, front);

@@ -24,7 +24,7 @@ enum class SweepGroup {
   Band,    ///< band d x rays; d = inf is the brute-force anchor (every voxel refined)
   Alpha,   ///< history decay
   Frames,  ///< frames accumulated on a static scene
-  Jfa,     ///< jump-flooding variant of the coarse SDF
+  Jfa,     ///< coarse method: the exact transform and the jump-flooding variants
   Dynamic, ///< the scene's animation: one record per frame, each against the exact field of that moment
   Anchor,  ///< OpenVDB meshToLevelSet and the exact reference at the same fine voxels and band
   Storage  ///< the band as a sparse .vdb file vs a dense grid, per fine resolution (exact field)
@@ -94,7 +94,7 @@ struct SweepRecord {
   int frame = 0;               ///< the frame the error belongs to (0-based)
   double time = 0.0;           ///< scene time of that frame (s)
   std::uint64_t maskVoxels = 0;///< fine voxels in the ray mask
-  double voxelizeMs = kNotMeasured, jumpFloodMs = kNotMeasured, distanceMs = kNotMeasured,
+  double voxelizeMs = kNotMeasured, transformMs = kNotMeasured, distanceMs = kNotMeasured,
          upsampleMs = kNotMeasured, refineMs = kNotMeasured; ///< GPU pass times (pipeline points only)
   double mirrorMs = kNotMeasured; ///< CPU: the OpenVDB mirror and the mask list
   double frameMs = kNotMeasured;  ///< per-frame cost: the GPU passes plus the mirror (anchors, storage: CPU wall time)

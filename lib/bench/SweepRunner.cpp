@@ -43,7 +43,7 @@ void setTimings(SweepRecord& r, const std::vector<FrameStats>& all) {
     return median(v);
   };
   r.voxelizeMs = med([](const FrameStats& f) { return f.passTotal(VoxelizePass::kName); });
-  r.jumpFloodMs = med([](const FrameStats& f) { return f.passTotal(JumpFloodPass::kName); });
+  r.transformMs = med([](const FrameStats& f) { return coarseTransformMs(f.passMs); });
   r.distanceMs = med([](const FrameStats& f) { return f.passTotal(CoarseDistancePass::kName); });
   r.upsampleMs = med([](const FrameStats& f) { return f.passTotal(UpsamplePass::kName); });
   r.refineMs = med([](const FrameStats& f) { return f.refineMs(); });

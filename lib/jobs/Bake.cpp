@@ -46,7 +46,7 @@ openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions&
                 {{"method", "rtsdf"}, {"scene", o.scene}, {"coarse", std::to_string(p.coarseRes)},
                  {"resolution", std::to_string(p.fineRes)}, {"band", fmt::format("{}", p.band)},
                  {"alpha", fmt::format("{}", p.alpha)}, {"rays", std::to_string(p.rays)},
-                 {"frames", std::to_string(o.frames)}, {"refine", toString(p.mode)}, {"jfa", toString(p.variant)},
+                 {"frames", std::to_string(o.frames)}, {"refine", toString(p.mode)}, {"coarse_method", toString(p.coarseMethod)},
                  {"seed", std::to_string(p.seed)}, {"time", fmt::format("{}", time)}, {"version", detail::version()}});
   return grid;
 }
@@ -77,7 +77,7 @@ openvdb::FloatGrid::Ptr bakeCoarse(const BakeOptions& o, const SceneGeometry& ge
                                    BakeResult& r) {
   gpu::VulkanContext ctx(detail::contextOptions(o.device));
   CoarseSdfSettings cs;
-  cs.variant = o.pipeline.variant;
+  cs.method = o.pipeline.coarseMethod;
   cs.beta = o.pipeline.beta;
   CoarseSdfBuilder builder(ctx);
   const CoarseSdf coarse = builder.build(geo, spec, cs);
@@ -85,7 +85,7 @@ openvdb::FloatGrid::Ptr bakeCoarse(const BakeOptions& o, const SceneGeometry& ge
   r.device = ctx.info().name;
   spdlog::info("GPU {}: {}", ctx.info().name, [&] {
     std::string t;
-    for (const char* p : {VoxelizePass::kName, JumpFloodPass::kName, CoarseDistancePass::kName})
+    for (const char* p : {VoxelizePass::kName, coarseTransformPass(cs.method), CoarseDistancePass::kName})
       t += fmt::format("{} {:.2f} ms  ", p, coarse.passTotal(p));
     return t;
   }());
@@ -144,7 +144,7 @@ BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene) {
                  {"padding", fmt::format("{}", padding)},
                  {"time", fmt::format("{}", o.time)},
                  {"sign", signDescription(o)},
-                 {"jfa", jfa ? toString(o.pipeline.variant) : ""},
+                 {"coarse_method", jfa ? toString(o.pipeline.coarseMethod) : ""},
                  {"version", detail::version()}});
   return r;
 }
@@ -191,12 +191,12 @@ std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::pat
   const PipelineSettings& p = o.pipeline;
   const FrameStats& st = r.lastFrame;
   std::string passes;
-  for (const char* n : {VoxelizePass::kName, JumpFloodPass::kName, CoarseDistancePass::kName, UpsamplePass::kName,
+  for (const char* n : {VoxelizePass::kName, coarseTransformPass(p.coarseMethod), CoarseDistancePass::kName, UpsamplePass::kName,
                         p.mode == RefineMode::Rays ? RayRefinePass::kName : ClosestRefinePass::kName})
     passes += fmt::format("{} {:.1f} ms, ", n, st.passTotal(n));
   std::string t = fmt::format("scene      {}\n", o.scene);
   t += fmt::format("method     rtsdf ({} refinement, x = {}, alpha = {}, {} frames, {})\n", toString(p.mode), p.rays,
-                   p.alpha, o.frames, toString(p.variant));
+                   p.alpha, o.frames, toString(p.coarseMethod));
   t += fmt::format("coarse     {}\n", r.coarseSpec.describe());
   t += fmt::format("fine       {}\n", r.spec.describe());
   t += fmt::format("ray mask   {} coarse voxels, {} fine voxels (band {})\n", st.maskCoarseVoxels, st.maskFineVoxels,

@@ -55,8 +55,9 @@ std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, co
 }
 
 std::vector<std::uint32_t> jumpFloodCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims,
-                                        JfaVariant variant) {
+                                        CoarseMethod variant) {
   checkDims(dims);
+  if (!isJumpFlooding(variant)) throw Error("jumpFloodCpu: the coarse method is not a jump-flooding variant");
   std::vector<std::uint32_t> a = seeds, b(seeds.size());
   for (int step : jumpFloodSteps(dims, variant)) {
     tbb::parallel_for(tbb::blocked_range<int>(0, dims.z), [&](const tbb::blocked_range<int>& r) {
@@ -78,6 +79,62 @@ std::vector<std::uint32_t> jumpFloodCpu(const std::vector<std::uint32_t>& seeds,
     a.swap(b);
   }
   return a;
+}
+
+namespace {
+
+/// One line of the exact feature transform, as exact_edt.comp does it (a private stack instead of the output
+/// slots: the same entries in the same order).
+void exactEdtLine(const std::uint32_t* src, std::uint32_t* dst, int n, std::ptrdiff_t stride, ivec3 start,
+                  ivec3 step, std::vector<ivec3>& stack) {
+  stack.clear(); // (seed position s, first owned position t, height g)
+  for (int u = 0; u < n; ++u) {
+    const std::uint32_t f = src[u * stride];
+    if (f == kNoSeed) continue;
+    const int gu = distance2(start + u * step, unpackSeed(f));
+    while (!stack.empty()) {
+      const ivec3 top = stack.back();
+      if ((top.y - top.x) * (top.y - top.x) + top.z <= (top.y - u) * (top.y - u) + gu) break;
+      stack.pop_back();
+    }
+    int w = 0;
+    if (!stack.empty()) {
+      w = 1 + edtSeparation(stack.back().x, stack.back().z, u, gu);
+      if (w >= n) continue;
+    }
+    stack.push_back(ivec3(u, w, gu));
+  }
+  for (int u = n - 1; u >= 0; --u) {
+    dst[u * stride] = stack.empty() ? kNoSeed : src[stack.back().x * stride];
+    if (!stack.empty() && u == stack.back().y) stack.pop_back();
+  }
+}
+
+} // namespace
+
+std::vector<std::uint32_t> exactEdtNearestCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims) {
+  checkDims(dims);
+  std::vector<std::uint32_t> a = seeds, b(seeds.size());
+  for (int axis = 0; axis < 3; ++axis) {
+    const int na = axis == 0 ? dims.y : dims.x, nb = axis == 2 ? dims.y : dims.z;
+    const std::ptrdiff_t stride = edtLineStride(dims, axis);
+    const ivec3 step(axis == 0, axis == 1, axis == 2);
+    tbb::parallel_for(0, nb, [&](int lb) {
+      std::vector<ivec3> stack;
+      for (int la = 0; la < na; ++la) {
+        const ivec3 start = edtLineStart(axis, la, lb);
+        const std::size_t base = lin(start, dims);
+        exactEdtLine(&a[base], &b[base], dims[axis], stride, start, step, stack);
+      }
+    });
+    a.swap(b);
+  }
+  return a;
+}
+
+std::vector<std::uint32_t> nearestSeedsCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims,
+                                           CoarseMethod method) {
+  return method == CoarseMethod::Edt ? exactEdtNearestCpu(seeds, dims) : jumpFloodCpu(seeds, dims, method);
 }
 
 std::vector<float> coarseDistanceCpu(const std::vector<std::uint32_t>& nearest, const glm::ivec3& dims,

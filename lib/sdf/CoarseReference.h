@@ -5,7 +5,7 @@
 ///        transform of the same seeds (what jump flooding approximates).
 #include "gpu/shared/CoarseSdf.h"
 #include "grid/GridSpec.h"
-#include "sdf/JumpFloodSteps.h"
+#include "sdf/CoarseMethod.h"
 
 #include <cstdint>
 #include <vector>
@@ -21,7 +21,16 @@ std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, co
 
 /// @brief Jump flooding of @a seeds (TBB): the nearest seed found per voxel, or kNoSeed if there are none.
 std::vector<std::uint32_t> jumpFloodCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims,
-                                        JfaVariant variant);
+                                        CoarseMethod variant);
+
+/// @brief The exact nearest seed of every voxel (kNoSeed if there are none): the CPU reference of ExactEdtPass, the
+///        same separable feature transform (Meijster et al.) line by line along x, y, then z (TBB). Ties go to the
+///        smaller packed seed. Its distances equal exactEdtSquared()'s.
+std::vector<std::uint32_t> exactEdtNearestCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims);
+
+/// @brief The nearest seeds by @a method: exactEdtNearestCpu() for CoarseMethod::Edt, else jumpFloodCpu().
+std::vector<std::uint32_t> nearestSeedsCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims,
+                                           CoarseMethod method);
 
 /// @brief c = |p - nearest| * h - beta, or @a emptyDistance where there is no seed.
 std::vector<float> coarseDistanceCpu(const std::vector<std::uint32_t>& nearest, const glm::ivec3& dims,

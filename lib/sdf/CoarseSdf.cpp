@@ -49,6 +49,27 @@ const gpu::Buffer& JumpFloodPass::result(const Inputs& in, const Outputs& out, c
   return jumpFloodSteps(params.dims, params.variant).size() % 2 ? out.scratch : in.seeds;
 }
 
+void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                           const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  const glm::ivec3 dims = params.dims;
+  const gpu::Buffer* src = &in.seeds;
+  const gpu::Buffer* dst = &out.scratch;
+  for (int axis = 0; axis < 3; ++axis) {
+    ExactEdtParams p{};
+    p.dims = glm::ivec4(dims, 0);
+    p.axis = axis;
+    const int na = axis == 0 ? dims.y : dims.x, nb = axis == 2 ? dims.y : dims.z;
+    gpu::computeBarrier(cmd); // the previous axis (or pass) wrote src
+    std::array<gpu::Binding, kExactEdtBindingCount> b;
+    b[kExactEdtBindingSrc] = src;
+    b[kExactEdtBindingDst] = dst;
+    mPipeline.dispatch(cmd, b, &p, {gpu::groupsFor(na, RTSDF_EDT_GROUP_X), std::uint32_t(nb), 1});
+    std::swap(src, dst);
+  }
+  gpu::computeBarrier(cmd);
+}
+
 void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in,
                                  const Outputs& out, const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
@@ -64,7 +85,7 @@ void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
 float emptySceneDistance(const GridSpec& spec) { return float(glm::length(glm::dvec3(spec.dims)) * spec.voxelSize); }
 
 CoarseSdfBuilder::CoarseSdfBuilder(const gpu::VulkanContext& ctx)
-    : mCtx(ctx), mVoxelize(ctx), mJumpFlood(ctx), mDistance(ctx), mProfiler(ctx) {}
+    : mCtx(ctx), mVoxelize(ctx), mJumpFlood(ctx), mExactEdt(ctx), mDistance(ctx), mProfiler(ctx) {}
 
 CoarseSdf CoarseSdfBuilder::build(const SceneGeometry& geometry, const GridSpec& spec, const CoarseSdfSettings& settings,
                                   bool keepSeeds) {
@@ -122,12 +143,16 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
     out.seeds.resize(voxels);
     download(mCtx, a, out.seeds.data(), voxels * 4);
   }
-  const JumpFloodPass::Params flood{dims, settings.variant};
-  const Buffer& nearest = JumpFloodPass::result({a}, {b}, flood);
+  const bool exact = !isJumpFlooding(settings.method);
+  const JumpFloodPass::Params flood{dims, settings.method};
+  const Buffer& nearest = exact ? b : JumpFloodPass::result({a}, {b}, flood);
   gpu::CommandBuffer cmd(mCtx);
   mProfiler.reset(cmd.handle());
   mVoxelize.execute(cmd.handle(), &mProfiler, {cornerBuf}, {a}, voxelize);
-  mJumpFlood.execute(cmd.handle(), &mProfiler, {a}, {b}, flood);
+  if (exact)
+    mExactEdt.execute(cmd.handle(), &mProfiler, {a}, {b}, {dims});
+  else
+    mJumpFlood.execute(cmd.handle(), &mProfiler, {a}, {b}, flood);
   mDistance.execute(cmd.handle(), &mProfiler, {nearest}, {dist}, dp);
   cmd.submitAndWait();
   out.passMs = mProfiler.results();

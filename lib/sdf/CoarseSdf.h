@@ -1,15 +1,15 @@
 #pragma once
 /// @file CoarseSdf.h
 /// @brief The coarse SDF of the RTSDF pipeline, made on the GPU every frame: VoxelizePass (conservative
-///        triangle/voxel overlap -> seed voxels), JumpFloodPass (3D jump flooding -> nearest seed per voxel)
-///        and CoarseDistancePass (c = distance - beta).
+///        triangle/voxel overlap -> seed voxels), ExactEdtPass (exact feature transform) or JumpFloodPass (3D
+///        jump flooding, the paper's) -> nearest seed per voxel, and CoarseDistancePass (c = distance - beta).
 #include "gpu/ComputePass.h"
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"
 #include "gpu/shared/CoarseSdf.h"
 #include "grid/GridSpec.h"
 #include "scene/SceneGeometry.h"
-#include "sdf/JumpFloodSteps.h"
+#include "sdf/CoarseMethod.h"
 #include "util/PassTimes.h"
 
 #include <memory>
@@ -47,7 +47,7 @@ public:
   struct Outputs { const gpu::Buffer& scratch; };  ///< written by the odd steps
   struct Params {
     glm::ivec3 dims{0};
-    JfaVariant variant = JfaVariant::OnePlusJfa;
+    CoarseMethod variant = CoarseMethod::OnePlusJfa; ///< a jump-flooding variant
   };
   explicit JumpFloodPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "jump_flood.comp", gpu::shared::kJumpFloodBindingCount,
@@ -56,6 +56,21 @@ public:
                const Params& params) const;
   /// @brief The buffer that holds the nearest seeds after execute() with the same arguments.
   static const gpu::Buffer& result(const Inputs& in, const Outputs& out, const Params& params);
+};
+
+/// @brief ExactEdtPass: the exact nearest seed per voxel by a separable feature transform, one dispatch per axis
+///        (x: seeds -> scratch, y: scratch -> seeds, z: seeds -> scratch), one invocation per grid line. The
+///        result ends in the scratch buffer. Any dims up to kMaxSeedAxis per axis.
+class ExactEdtPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "ExactEdtPass";
+  struct Inputs { const gpu::Buffer& seeds; };    ///< overwritten by the y pass
+  struct Outputs { const gpu::Buffer& scratch; }; ///< the nearest seeds
+  struct Params { glm::ivec3 dims{0}; };
+  explicit ExactEdtPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "exact_edt.comp", gpu::shared::kExactEdtBindingCount, sizeof(gpu::shared::ExactEdtParams)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
 };
 
 /// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel.
@@ -73,7 +88,7 @@ public:
 
 /// @brief Settings of the coarse SDF.
 struct CoarseSdfSettings {
-  JfaVariant variant = JfaVariant::OnePlusJfa;
+  CoarseMethod method = CoarseMethod::Edt;
   /// Subtracted from the seed distance (scene units); negative: half a voxel.
   double beta = -1.0;
   /// Read the nearest seeds back (tests, benchmarks); the pipeline needs only the distances.
@@ -110,9 +125,20 @@ private:
   gpu::Buffer mCorners, mSeedsA, mSeedsB, mDistanceBuf;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;
+  ExactEdtPass mExactEdt;
   CoarseDistancePass mDistance;
   gpu::GpuProfiler mProfiler;
 };
+
+/// @brief GPU milliseconds of the nearest-seed transform in @a times: ExactEdtPass or JumpFloodPass, whichever ran.
+inline double coarseTransformMs(const PassTimes& times) {
+  return passTotal(times, ExactEdtPass::kName) + passTotal(times, JumpFloodPass::kName);
+}
+
+/// @brief The profiler name of the pass that runs @a method's transform.
+inline const char* coarseTransformPass(CoarseMethod method) {
+  return isJumpFlooding(method) ? JumpFloodPass::kName : ExactEdtPass::kName;
+}
 
 /// @brief The value stored where no seed exists: the grid's diagonal (no distance inside it is larger).
 float emptySceneDistance(const GridSpec& spec);

@@ -282,7 +282,7 @@ FrameStats SdfPipeline::runFrame(double time) {
   stats.time = time;
   ++mFrame;
   CoarseSdfSettings cs;
-  cs.variant = mSettings.variant;
+  cs.method = mSettings.coarseMethod;
   cs.beta = mSettings.beta;
   cs.readNearest = false;
   CoarseSdf coarse = mGpu->coarse.build(buildSceneGeometry(mScene, time, frameOrigin()), mCoarseSpec, cs);

@@ -43,7 +43,7 @@ struct PipelineSettings {
   double alpha = 0.95;   ///< history decay
   int rays = 10;         ///< x: rays per masked voxel per frame
   RefineMode mode = RefineMode::Rays;
-  JfaVariant variant = JfaVariant::OnePlusJfa;
+  CoarseMethod coarseMethod = CoarseMethod::Edt; ///< how the coarse SDF finds nearest seeds
   double beta = -1.0;    ///< coarse shell; < 0: half a coarse voxel
   std::uint32_t seed = 1;
   /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.

@@ -54,7 +54,7 @@ TEST(SweepPlan, EveryPresetCoversEveryKnobAndItsAnchors) {
     const auto plan = makeSweepPlan(preset, true, 3.0);
     std::set<std::string> sizes;
     bool closest = false, brute = false, alpha0 = false, alpha1 = false;
-    std::set<JfaVariant> variants;
+    std::set<CoarseMethod> variants;
     for (const SweepPoint& p : plan) {
       EXPECT_NO_THROW(p.pipeline.validate()) << p.label();
       EXPECT_GT(p.estimatedCost(), 0.0);
@@ -65,12 +65,12 @@ TEST(SweepPlan, EveryPresetCoversEveryKnobAndItsAnchors) {
         EXPECT_GE(p.pipeline.band, 3.0 * 4.0) << "d = inf must reach beyond the scene";
       }
       if (p.group == SweepGroup::Alpha) alpha0 |= p.pipeline.alpha == 0.0, alpha1 |= p.pipeline.alpha == 1.0;
-      if (p.group == SweepGroup::Jfa) variants.insert(p.pipeline.variant);
+      if (p.group == SweepGroup::Jfa) variants.insert(p.pipeline.coarseMethod);
     }
     EXPECT_TRUE(closest);
     EXPECT_TRUE(brute);
     EXPECT_TRUE(alpha0 && alpha1);
-    EXPECT_EQ(variants.size(), 3u);
+    EXPECT_EQ(variants.size(), 4u);
     EXPECT_GE(count(plan, SweepGroup::Frames), 2u);
     EXPECT_EQ(count(plan, SweepGroup::Dynamic), 3u);
     // One OpenVDB and one exact anchor per size.

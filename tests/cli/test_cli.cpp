@@ -150,7 +150,7 @@ TEST(Cli, BakesTheGpuCoarseSdf) {
   EXPECT_NE(r.output.find("JumpFloodPass"), std::string::npos) << r.output;
   const auto grid = readLevelSet(dir / "coarse.vdb");
   EXPECT_EQ(grid->metaValue<std::string>("rtsdf:method"), "jfa");
-  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:jfa"), "jfa+2");
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:coarse_method"), "jfa+2");
   EXPECT_EQ(gridSpecOf(*grid).dims.x, 44); // 40 across the scene plus the band's padding
   EXPECT_GT(grid->activeVoxelCount(), 1000u);
   // The coarse field is distance minus beta: its minimum is -beta (half a voxel by default) on the seeds.

@@ -61,7 +61,7 @@ TEST(Jobs, EveryEnumHasOneNameTable) {
   expectNamesRoundTrip<BakeMethod>();
   expectNamesRoundTrip<SignMethod>();
   expectNamesRoundTrip<RefineMode>();
-  expectNamesRoundTrip<JfaVariant>();
+  expectNamesRoundTrip<CoarseMethod>();
   expectNamesRoundTrip<ShadowTechnique>();
   expectNamesRoundTrip<PenumbraEstimate>();
   expectNamesRoundTrip<SdfSampling>();

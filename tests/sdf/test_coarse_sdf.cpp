@@ -33,9 +33,9 @@ protected:
   }
 
   /// GPU and CPU on the same triangles and grid: seeds and nearest seeds identical, distances within rounding.
-  static void expectGpuEqualsCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec, JfaVariant variant) {
+  static void expectGpuEqualsCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec, CoarseMethod method) {
     CoarseSdfSettings s;
-    s.variant = variant;
+    s.method = method;
     const CoarseSdf gpu = builder().build(corners, spec, s, true);
     const std::vector<std::uint32_t> seeds = voxelizeCpu(corners, spec);
     ASSERT_EQ(gpu.seeds.size(), seeds.size());
@@ -45,7 +45,7 @@ protected:
       seedCount += seeds[i] != kNoSeed;
     }
     EXPECT_EQ(seedDiff, 0u) << "of " << seedCount << " seeds";
-    const std::vector<std::uint32_t> nearest = jumpFloodCpu(seeds, spec.dims, variant);
+    const std::vector<std::uint32_t> nearest = nearestSeedsCpu(seeds, spec.dims, method);
     std::size_t nearestDiff = 0;
     for (std::size_t i = 0; i < nearest.size(); ++i) nearestDiff += gpu.nearest[i] != nearest[i];
     EXPECT_EQ(nearestDiff, 0u);
@@ -53,7 +53,22 @@ protected:
         coarseDistanceCpu(nearest, spec.dims, float(spec.voxelSize), gpu.beta, emptySceneDistance(spec));
     for (std::size_t i = 0; i < dist.size(); ++i)
       ASSERT_NEAR(gpu.distance[i], dist[i], 1e-5f * (1.0f + std::fabs(dist[i]))) << i;
-    EXPECT_GT(gpu.passTotal(JumpFloodPass::kName), 0.0);
+    EXPECT_GT(gpu.passTotal(isJumpFlooding(method) ? JumpFloodPass::kName : ExactEdtPass::kName), 0.0);
+  }
+
+  /// ExactEdtPass alone on given seeds: its nearest seeds.
+  static std::vector<std::uint32_t> exactEdtGpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims) {
+    const ExactEdtPass pass(*sCtx);
+    const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    gpu::Buffer a, b;
+    gpu::reserveAndUpload(*sCtx, a, seeds.data(), seeds.size() * 4, usage, "seeds");
+    gpu::reserve(*sCtx, b, seeds.size() * 4, usage, gpu::Buffer::Memory::Device, "scratch");
+    gpu::CommandBuffer cmd(*sCtx);
+    pass.execute(cmd.handle(), nullptr, {a}, {b}, {dims});
+    cmd.submitAndWait();
+    std::vector<std::uint32_t> out(seeds.size());
+    gpu::download(*sCtx, b, out.data(), out.size() * 4);
+    return out;
   }
 
   static inline std::unique_ptr<CoarseSdfBuilder> sBuilder;
@@ -73,7 +88,7 @@ SceneGeometry sceneGeometry(const std::string& name) {
 TEST_F(CoarseSdfGpu, DefaultSceneEqualsCpuForEveryVariant) {
   const SceneGeometry geo = sceneGeometry("default.json");
   const GridSpec spec = GridSpec::fromBounds(geo.bounds, 128, 0.1);
-  for (JfaVariant v : {JfaVariant::Jfa, JfaVariant::OnePlusJfa, JfaVariant::JfaPlusTwo}) {
+  for (CoarseMethod v : {CoarseMethod::Edt, CoarseMethod::Jfa, CoarseMethod::OnePlusJfa, CoarseMethod::JfaPlusTwo}) {
     SCOPED_TRACE(toString(v));
     expectGpuEqualsCpu(triangleCorners(geo), spec, v);
   }
@@ -81,7 +96,63 @@ TEST_F(CoarseSdfGpu, DefaultSceneEqualsCpuForEveryVariant) {
 
 TEST_F(CoarseSdfGpu, BunnyEqualsCpuAt128) {
   const SceneGeometry geo = sceneGeometry("bunny.json");
-  expectGpuEqualsCpu(triangleCorners(geo), GridSpec::fromBounds(geo.bounds, 128, 0.1), JfaVariant::OnePlusJfa);
+  for (CoarseMethod v : {CoarseMethod::Edt, CoarseMethod::OnePlusJfa}) {
+    SCOPED_TRACE(toString(v));
+    expectGpuEqualsCpu(triangleCorners(geo), GridSpec::fromBounds(geo.bounds, 128, 0.1), v);
+  }
+}
+
+// The exact transform's distances are the Felzenszwalb-Huttenlocher transform's, bit for bit, on real scenes
+// at the paper's coarse size, on the GPU (through the whole builder) and the CPU.
+TEST_F(CoarseSdfGpu, ExactEdtDistancesEqualTheExactTransform) {
+  for (const char* scene : {"default.json", "bunny.json"}) {
+    SCOPED_TRACE(scene);
+    const SceneGeometry geo = sceneGeometry(scene);
+    const GridSpec spec = GridSpec::fromBounds(geo.bounds, 128, 0.1);
+    CoarseSdfSettings s;
+    s.method = CoarseMethod::Edt;
+    const CoarseSdf gpu = builder().build(geo, spec, s, true);
+    const std::vector<float> exact = exactEdtSquared(gpu.seeds, spec.dims);
+    const JfaAccuracy acc = compareWithExact(gpu.nearest, exact, spec.dims);
+    EXPECT_GT(acc.voxels, 0u);
+    EXPECT_EQ(acc.wrong, 0u);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < exact.size(); ++i) {
+      const glm::ivec3 p(int(i % spec.dims.x), int((i / spec.dims.x) % spec.dims.y),
+                         int(i / (std::size_t(spec.dims.x) * spec.dims.y)));
+      differ += gpu.nearest[i] == kNoSeed || float(gpu::shared::distance2(p, gpu::shared::unpackSeed(gpu.nearest[i]))) != exact[i];
+    }
+    EXPECT_EQ(differ, 0u);
+  }
+}
+
+// Random seeds, dense enough for many ties, on grids with lines up to kMaxSeedAxis long (lavapipe stops shader
+// loops after ~16k iterations: the line loops must stay well below): GPU == CPU reference == brute force,
+// including the tie rule (the smallest packed seed among the nearest).
+TEST_F(CoarseSdfGpu, ExactEdtEqualsBruteForceWithTiesAndLongLines) {
+  std::mt19937 rng(11);
+  for (const glm::ivec3 dims : {glm::ivec3(23, 17, 31), glm::ivec3(1024, 3, 2), glm::ivec3(2, 1024, 3),
+                                glm::ivec3(3, 2, 1024), glm::ivec3(1, 1, 1), glm::ivec3(9, 1, 1)}) {
+    SCOPED_TRACE(::testing::Message() << dims.x << "x" << dims.y << "x" << dims.z);
+    const std::size_t n = std::size_t(dims.x) * dims.y * dims.z;
+    std::vector<std::uint32_t> seeds(n, kNoSeed);
+    std::vector<std::uint32_t> points;
+    for (std::size_t i = 0; i < std::max<std::size_t>(1, n / 60); ++i) {
+      const glm::ivec3 p(int(rng() % dims.x), int(rng() % dims.y), int(rng() % dims.z));
+      seeds[(std::size_t(p.z) * dims.y + p.y) * dims.x + p.x] = gpu::shared::packSeed(p);
+      points.push_back(gpu::shared::packSeed(p));
+    }
+    const std::vector<std::uint32_t> cpu = exactEdtNearestCpu(seeds, dims);
+    EXPECT_EQ(exactEdtGpu(seeds, dims), cpu);
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::ivec3 q(int(i % dims.x), int((i / dims.x) % dims.y), int(i / (std::size_t(dims.x) * dims.y)));
+      std::uint32_t best = kNoSeed;
+      for (std::uint32_t p : points) best = gpu::shared::nearerSeed(q, best, p);
+      ASSERT_EQ(cpu[i], best) << "voxel " << q.x << "," << q.y << "," << q.z;
+    }
+    const std::vector<std::uint32_t> none(n, kNoSeed);
+    EXPECT_EQ(exactEdtGpu(none, dims), none);
+  }
 }
 
 TEST_F(CoarseSdfGpu, NonCubicThinEmptyAndBoundaryGrids) {
@@ -92,14 +163,16 @@ TEST_F(CoarseSdfGpu, NonCubicThinEmptyAndBoundaryGrids) {
   odd.dims = {37, 64, 20};
   odd.voxelSize = geo.bounds.maxExtent() / 40.0;
   odd.origin = geo.bounds.center() - 0.5 * glm::dvec3(odd.dims) * odd.voxelSize;
-  expectGpuEqualsCpu(corners, odd, JfaVariant::OnePlusJfa);
+  expectGpuEqualsCpu(corners, odd, CoarseMethod::OnePlusJfa);
+  expectGpuEqualsCpu(corners, odd, CoarseMethod::Edt);
   // One voxel thick, through the middle of the bunny.
   GridSpec thin = odd;
   thin.dims = {48, 1, 48};
   thin.origin = geo.bounds.center() - 0.5 * glm::dvec3(thin.dims) * thin.voxelSize;
-  expectGpuEqualsCpu(corners, thin, JfaVariant::JfaPlusTwo);
+  expectGpuEqualsCpu(corners, thin, CoarseMethod::JfaPlusTwo);
+  expectGpuEqualsCpu(corners, thin, CoarseMethod::Edt);
   // The mesh touches the grid's boundary (no padding).
-  expectGpuEqualsCpu(corners, GridSpec::fromBounds(geo.bounds, 50, 0.0), JfaVariant::Jfa);
+  expectGpuEqualsCpu(corners, GridSpec::fromBounds(geo.bounds, 50, 0.0), CoarseMethod::Jfa);
   // No triangles at all: no seeds anywhere, every voxel at the empty-scene distance.
   const CoarseSdf empty = builder().build(std::vector<glm::vec4>{}, odd, {}, true);
   for (std::size_t i = 0; i < empty.nearest.size(); ++i) {
@@ -112,7 +185,8 @@ TEST_F(CoarseSdfGpu, NonCubicThinEmptyAndBoundaryGrids) {
   one.dims = {1, 1, 1};
   one.voxelSize = geo.bounds.maxExtent();
   one.origin = geo.bounds.center() - 0.5 * one.voxelSize;
-  expectGpuEqualsCpu(corners, one, JfaVariant::OnePlusJfa);
+  expectGpuEqualsCpu(corners, one, CoarseMethod::OnePlusJfa);
+  expectGpuEqualsCpu(corners, one, CoarseMethod::Edt);
 }
 
 TEST_F(CoarseSdfGpu, HugeTrianglesAreVoxelizedCompletely) {
@@ -124,7 +198,8 @@ TEST_F(CoarseSdfGpu, HugeTrianglesAreVoxelizedCompletely) {
   spec.origin = glm::dvec3(0.0);
   const std::vector<glm::vec4> quad = {{0.01f, 0.01f, 0.004f, 1}, {0.99f, 0.01f, 0.006f, 1}, {0.99f, 0.99f, 0.005f, 1},
                                        {0.01f, 0.01f, 0.004f, 1}, {0.99f, 0.99f, 0.005f, 1}, {0.01f, 0.99f, 0.006f, 1}};
-  expectGpuEqualsCpu(quad, spec, JfaVariant::OnePlusJfa);
+  expectGpuEqualsCpu(quad, spec, CoarseMethod::OnePlusJfa);
+  expectGpuEqualsCpu(quad, spec, CoarseMethod::Edt);
 }
 
 TEST_F(CoarseSdfGpu, SeedsAreConservativeAndTight) {
@@ -186,7 +261,7 @@ TEST(JumpFlooding, ErrorsAgainstTheExactTransformStayWithinMeasuredBounds) {
     const auto exact = exactEdtSquared(seeds, spec.dims);
     JfaAccuracy acc[3];
     int i = 0;
-    for (JfaVariant v : {JfaVariant::Jfa, JfaVariant::OnePlusJfa, JfaVariant::JfaPlusTwo}) {
+    for (CoarseMethod v : {CoarseMethod::Jfa, CoarseMethod::OnePlusJfa, CoarseMethod::JfaPlusTwo}) {
       acc[i] = compareWithExact(jumpFloodCpu(seeds, spec.dims, v), exact, spec.dims);
       std::printf("%s at 128, %-6s: %.4f%% of voxels off, max %.3f voxels\n", scene, toString(v),
                   100.0 * acc[i].wrongFraction(), acc[i].maxError);

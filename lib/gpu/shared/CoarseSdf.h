@@ -18,6 +18,9 @@ const uint kVoxelizeBindingCount = 2u;
 const uint kJumpFloodBindingSrc = 0u;           // nearest seeds after the previous step
 const uint kJumpFloodBindingDst = 1u;           // nearest seeds after this step
 const uint kJumpFloodBindingCount = 2u;
+const uint kExactEdtBindingSrc = 0u;            // nearest seeds of the previous axis (or the seeds)
+const uint kExactEdtBindingDst = 1u;            // nearest seeds after this axis; also the line's scratch stack
+const uint kExactEdtBindingCount = 2u;
 const uint kCoarseDistanceBindingNearest = 0u;  // nearest seed per voxel
 const uint kCoarseDistanceBindingDistance = 1u; // c per voxel
 const uint kCoarseDistanceBindingCount = 2u;
@@ -40,6 +43,17 @@ struct VoxelizeParams {
 struct JumpFloodParams {
   ivec4 dims;
   int step;
+  int pad0, pad1, pad2;
+};
+
+/// Work-group size of exact_edt.comp: invocations along the first line coordinate (x for the y and z passes, so a
+/// group reads and writes contiguous voxels).
+#define RTSDF_EDT_GROUP_X 64
+
+/// Push constants of exact_edt.comp: one invocation per line of the grid along @a axis.
+struct ExactEdtParams {
+  ivec4 dims;
+  int axis;            // 0: lines along x (indexed by y, z); 1: along y (x, z); 2: along z (x, y)
   int pad0, pad1, pad2;
 };
 
@@ -136,6 +150,27 @@ RTSDF_FN uint nearerSeed(ivec3 p, uint best, uint candidate) {
   int dc = distance2(p, unpackSeed(candidate));
   return (dc < db || (dc == db && candidate < best)) ? candidate : best;
 }
+
+/// The line of exact_edt.comp's invocation (a, b) for @a axis: the voxel at position 0 (a, b are its coordinates
+/// on the other two axes, lowest first) and the index step between consecutive voxels; n: the line's length.
+RTSDF_FN ivec3 edtLineStart(int axis, int a, int b) {
+  return axis == 0 ? ivec3(0, a, b) : (axis == 1 ? ivec3(a, 0, b) : ivec3(a, b, 0));
+}
+RTSDF_FN int edtLineStride(ivec3 dims, int axis) { return axis == 0 ? 1 : (axis == 1 ? dims.x : dims.x * dims.y); }
+
+/// Meijster's separation of the parabolas rooted at line positions i < u with heights gi, gu (squared distances
+/// to their seeds off the line): the last integer position where i is at least as near as u. Integer
+/// arithmetic only (floor division), so it is exact on both sides.
+RTSDF_FN int edtSeparation(int i, int gi, int u, int gu) {
+  int num = u * u - i * i + gu - gi;
+  int den = 2 * (u - i);
+  return num >= 0 ? num / den : -((-num + den - 1) / den);
+}
+
+/// A scratch stack entry of the envelope: the parabola's line position s and the first position t it owns.
+RTSDF_FN uint packEdtEntry(int s, int t) { return uint(s) | (uint(t) << 16); }
+RTSDF_FN int edtEntrySeed(uint e) { return int(e & 0xFFFFu); }
+RTSDF_FN int edtEntryStart(uint e) { return int(e >> 16); }
 
 RTSDF_SHARED_END
 

@@ -151,6 +151,56 @@ RefinePoint runRefinePoint(const gpu::VulkanContext& ctx, const Scene& scene, co
   return r;
 }
 
+/// UpsamplePass at sizes S and M: one voxel per invocation against runs along z, on the same coarse SDF and
+/// grids as the pipeline's (median GPU time of s.repeats after a warm-up), and whether their outputs agree.
+std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& geo, const BenchOptions& s) {
+  std::string md = "| size | coarse/fine | fine grid | per voxel (ms) | runs of " +
+                   std::to_string(RTSDF_UPSAMPLE_RUN_LENGTH) + " along z (ms) | runs / per voxel | max difference |\n"
+                   "|---|---|---|---|---|---|---|\n";
+  CoarseSdfBuilder builder(ctx);
+  const UpsamplePass perVoxel(ctx, UpsamplePass::Kernel::PerVoxel), runs(ctx, UpsamplePass::Kernel::Runs);
+  gpu::GpuProfiler profiler(ctx);
+  for (const auto& [size, coarseRes, fineRes] : {std::tuple<const char*, int, int>{"S", 64, 128}, {"M", 128, 256}}) {
+    PipelineSettings ps;
+    ps.coarseRes = coarseRes;
+    ps.fineRes = fineRes;
+    const auto [coarse, fine] = pipelineGrids(geo.bounds, ps);
+    builder.build(geo, coarse, {});
+    const GridSpec c = coarse.inFrame(geo.origin), f = fine.inFrame(geo.origin);
+    gpu::shared::RefineParams p{};
+    p.fineOriginH = glm::vec4(glm::vec3(f.origin), float(f.voxelSize));
+    p.fineDims = glm::ivec4(f.dims, 0);
+    p.coarseOriginInvH = glm::vec4(glm::vec3(c.origin), float(1.0 / c.voxelSize));
+    p.coarseDims = glm::ivec4(c.dims, 0);
+    std::vector<float> out[2];
+    double ms[2];
+    int k = 0;
+    for (const UpsamplePass* pass : {&perVoxel, &runs}) {
+      gpu::Buffer buf;
+      gpu::reserve(ctx, buf, f.voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device,
+                   "fine SDF");
+      std::vector<double> t;
+      for (int r = 0; r <= s.repeats; ++r) { // the first: warm-up
+        gpu::CommandBuffer cmd(ctx);
+        profiler.reset(cmd.handle());
+        pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer()}, {buf}, p);
+        cmd.submitAndWait();
+        if (r > 0) t.push_back(passTotal(profiler.results(), UpsamplePass::kName));
+      }
+      std::sort(t.begin(), t.end());
+      ms[k] = t[t.size() / 2];
+      out[k].resize(f.voxelCount());
+      gpu::download(ctx, buf, out[k].data(), out[k].size() * 4);
+      ++k;
+    }
+    float maxDiff = 0.0f;
+    for (std::size_t i = 0; i < out[0].size(); ++i) maxDiff = std::max(maxDiff, std::fabs(out[0][i] - out[1][i]));
+    md += fmt::format("| {} | {}/{} | {}x{}x{} | {:.1f} | {:.1f} | {:.3f} | {:g} |\n", size, coarseRes, fineRes,
+                      f.dims.x, f.dims.y, f.dims.z, ms[0], ms[1], ms[1] / ms[0], maxDiff);
+  }
+  return md;
+}
+
 /// The refinement suite: the paper's tables (ray-trace pass time for x at sizes S and M; band d x rays)
 /// with the error against the exact field beside each time, and OpenVDB's meshToLevelSet at the fine
 /// resolution and band as the anchor.
@@ -167,7 +217,8 @@ std::string refineSuite(const BenchOptions& s) {
     const Scene scene = loadScene(path);
     const SceneGeometry geo = buildSceneGeometry(scene, 0.0);
     const std::string name = fs::path(path).filename().string();
-    md += fmt::format("### {}: sizes x rays (d = 0.1, alpha = 0.95, 1+JFA)\n\n", name);
+    md += fmt::format("### {}: UpsamplePass\n\n", name) + upsampleTable(ctx, geo, s) + "\n";
+    md += fmt::format("### {}: sizes x rays (d = 0.1, alpha = 0.95, exact coarse transform)\n\n", name);
     md += "| size | coarse/fine | mode | x | mask voxels | RayRefinePass (ms) | all passes (ms) | mirror CPU (ms) | "
           "mean / max abs error | wrong sign | OpenVDB meshToLevelSet (ms) | refine / OpenVDB |\n";
     md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";

@@ -23,7 +23,8 @@ namespace rtsdf {
 enum class BakeMethod {
   Exact,   ///< CPU exact reference (Embree closest points + robust sign)
   OpenVdb, ///< OpenVDB's meshToLevelSet
-  Jfa,     ///< GPU coarse SDF: voxelization + 3D jump flooding (distance minus beta)
+  Jfa,     ///< GPU coarse SDF: voxelization + nearest seeds by PipelineSettings::coarseMethod (the exact
+           ///< transform by default, 3D jump flooding on request), distance minus beta
   Rtsdf    ///< the full pipeline: coarse SDF, OpenVDB ray mask, fine SDF refined through the GPU BVH
 };
 template <> struct EnumNames<BakeMethod> {

@@ -14,7 +14,7 @@ void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   const glm::ivec3 d = params.fineDims;
   mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(d.x, RTSDF_UPSAMPLE_GROUP_X), gpu::groupsFor(d.y, RTSDF_UPSAMPLE_GROUP_Y),
-                      gpu::groupsFor(d.z, RTSDF_UPSAMPLE_GROUP_Z)});
+                      gpu::groupsFor(d.z, std::uint32_t(mRun))});
   gpu::computeBarrier(cmd);
 }
 

@@ -16,13 +16,23 @@ namespace rtsdf {
 class UpsamplePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "UpsamplePass";
+  /// How the work is split: the kernels give the same values bit for bit.
+  enum class Kernel {
+    Runs,    ///< RTSDF_UPSAMPLE_RUN_LENGTH voxels along z per invocation, coarse values reused along the run
+    PerVoxel ///< one voxel per invocation, 8 coarse loads each (the baseline the benchmark shows)
+  };
   struct Inputs { const gpu::Buffer& coarse; }; ///< c_t, dense, x fastest
   struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel written
   using Params = gpu::shared::RefineParams;     ///< grids of both levels
-  explicit UpsamplePass(const gpu::VulkanContext& ctx)
-      : ComputePass(ctx, "refine_upsample.comp", gpu::shared::kUpsampleBindingCount, sizeof(Params)) {}
+  explicit UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel = Kernel::Runs)
+      : ComputePass(ctx, kernel == Kernel::Runs ? "refine_upsample.comp" : "refine_upsample_voxel.comp",
+                    gpu::shared::kUpsampleBindingCount, sizeof(Params)),
+        mRun(kernel == Kernel::Runs ? RTSDF_UPSAMPLE_RUN_LENGTH : 1) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
+
+private:
+  int mRun;
 };
 
 /// @brief The refinement of the masked fine voxels (refine_main.glsl): the shared shape of RayRefinePass and

@@ -11,10 +11,11 @@ RTSDF_SHARED_BEGIN
 #define RTSDF_REFINE_RAYS 0    // the paper: x random rays per voxel per frame, nearest hit, decayed history
 #define RTSDF_REFINE_CLOSEST 1 // exact closest-point distance through the same BVH, deterministic
 
-/// Work-group shape of refine_upsample.comp (x fastest in memory).
-#define RTSDF_UPSAMPLE_GROUP_X 8
-#define RTSDF_UPSAMPLE_GROUP_Y 8
-#define RTSDF_UPSAMPLE_GROUP_Z 2
+/// Work-group shape of refine_upsample.comp (x fastest in memory; one invocation per run along z).
+#define RTSDF_UPSAMPLE_GROUP_X 32
+#define RTSDF_UPSAMPLE_GROUP_Y 2
+/// Fine voxels along z per invocation of refine_upsample.comp.
+#define RTSDF_UPSAMPLE_RUN_LENGTH 16
 /// Work-group size of the refinement shaders (one invocation per masked fine voxel).
 #define RTSDF_REFINE_GROUP 64
 

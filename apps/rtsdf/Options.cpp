@@ -211,7 +211,7 @@ void bindBench(CLI::App& app, BenchCommand& c) {
       ->check(inRange(1, 100))->capture_default_str();
   cmd->add_option("-o,--output", s.output, "Also write the Markdown report to this file");
   addEnum(cmd, "--suite", s.suite, "reference: exact SDF vs OpenVDB meshToLevelSet (with the default scenes "
-                                   "also a 230k-triangle scan with holes); coarse: GPU voxelize + jump flooding per "
+                                   "also a 230k-triangle scan with holes); coarse: GPU voxelize + exact EDT or jump flooding per "
                                    "pass vs CPU jump flooding, exact EDT and OpenVDB "
                                    "meshToSignedDistanceField; refine: the paper's ray-trace tables (sizes x rays, "
                                    "band x rays) with errors, vs OpenVDB meshToLevelSet; render: per-pass times of SDF "

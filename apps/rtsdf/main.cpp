@@ -127,7 +127,7 @@ int run(const Commands& c) {
 int main(int argc, char** argv) {
   using namespace rtsdf::app;
   Commands commands;
-  CLI::App app{"rtsdf: signed distance fields of triangle-mesh scenes (OpenVDB export, GPU jump flooding and ray "
+  CLI::App app{"rtsdf: signed distance fields of triangle-mesh scenes (OpenVDB export, GPU coarse SDF and ray "
                "refinement, soft shadows)"};
   int verbosity = 0;
   bool quiet = false;

@@ -14,7 +14,7 @@ namespace rtsdf::bench {
 /// @brief Which tables a benchmark run makes.
 enum class BenchSuite {
   Reference, ///< exact SDF vs OpenVDB meshToLevelSet, same voxels and band
-  Coarse,    ///< GPU voxelize + jump flooding per pass and variant vs CPU jump flooding, exact EDT, OpenVDB SDF
+  Coarse,    ///< GPU voxelize + nearest-seed transform per pass and method vs CPU jump flooding, exact EDT, OpenVDB SDF
   Refine,    ///< the paper's ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet
   Render     ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth
 };

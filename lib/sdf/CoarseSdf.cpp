@@ -121,8 +121,8 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   gpu::reserve(mCtx, mCorners, corners.size() * sizeof(glm::vec4), storage, Buffer::Memory::Device, "triangle corners");
   upload(mCtx, mCorners, corners.data(), corners.size() * sizeof(glm::vec4));
-  gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / jump flood A");
-  gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "jump flood B");
+  gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / transform A");
+  gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "transform B");
   gpu::reserve(mCtx, mDistanceBuf, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
   const Buffer &cornerBuf = mCorners, &a = mSeedsA, &b = mSeedsB, &dist = mDistanceBuf;
 

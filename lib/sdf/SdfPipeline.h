@@ -1,6 +1,6 @@
 #pragma once
 /// @file SdfPipeline.h
-/// @brief One frame of the RTSDF pipeline: coarse SDF on the GPU (voxelize + jump flooding), its mirror in
+/// @brief One frame of the RTSDF pipeline: coarse SDF on the GPU (voxelize + nearest seeds), its mirror in
 ///        a sparse OpenVDB grid whose active band |c| <= d is the ray mask, then the fine SDF refined by
 ///        BVH queries only under the mask, accumulated over frames.
 #include "bvh/Bvh.h"

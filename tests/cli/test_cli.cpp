@@ -158,6 +158,23 @@ TEST(Cli, BakesTheGpuCoarseSdf) {
   for (auto it = grid->cbeginValueOn(); it; ++it) lo = std::min(lo, *it);
   EXPECT_NEAR(lo, -0.5 * grid->voxelSize()[0], 1e-6);
 
+  // The default coarse method is the exact transform: never farther than jump flooding's nearest seed.
+  const Result exact = rtsdfCmd("bake " + q(test::dataPath("scenes/default.json")) +
+                                " --method jfa --coarse 40 --band 0.1 -o " + q(dir / "exact.vdb"));
+  ASSERT_EQ(exact.exitCode, 0) << exact.output;
+  EXPECT_NE(exact.output.find("ExactEdtPass"), std::string::npos) << exact.output;
+  const auto exactGrid = readLevelSet(dir / "exact.vdb");
+  EXPECT_EQ(exactGrid->metaValue<std::string>("rtsdf:coarse_method"), "edt");
+  std::size_t compared = 0;
+  const auto jfaAccess = grid->getConstAccessor();
+  for (auto it = exactGrid->cbeginValueOn(); it; ++it) {
+    float j = 0.0f;
+    if (!jfaAccess.probeValue(it.getCoord(), j)) continue;
+    ++compared;
+    ASSERT_LE(*it, j + 1e-6f) << it.getCoord();
+  }
+  EXPECT_GT(compared, 1000u);
+
   const Result bad = rtsdfCmd("bake " + q(test::dataPath("scenes/default.json")) +
                               " --method jfa --device no-such-gpu -o " + q(dir / "x.vdb"));
   EXPECT_NE(bad.exitCode, 0);

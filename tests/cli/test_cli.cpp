@@ -434,7 +434,7 @@ TEST(Cli, SweepWritesCsvReportAndPlots) {
   std::ifstream md(out / "report.md");
   const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
   for (const char* section : {"Pass durations and sizes x rays", "Anchors", "Band d x rays", "History decay",
-                              "Frames accumulated", "Jump-flooding variant", "Storage", "Pareto front", "pareto.png"})
+                              "Frames accumulated", "Coarse method (exact transform or jump-flooding variant)", "Storage", "Pareto front", "pareto.png"})
     EXPECT_NE(report.find(section), std::string::npos) << section;
   EXPECT_EQ(report.find("failed:"), std::string::npos) << report;
   for (const char* png : {"pareto.png", "time_vs_work.png", "error_vs_frames.png"})

@@ -167,11 +167,7 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
     const auto [coarse, fine] = pipelineGrids(geo.bounds, ps);
     builder.build(geo, coarse, {});
     const GridSpec c = coarse.inFrame(geo.origin), f = fine.inFrame(geo.origin);
-    gpu::shared::RefineParams p{};
-    p.fineOriginH = glm::vec4(glm::vec3(f.origin), float(f.voxelSize));
-    p.fineDims = glm::ivec4(f.dims, 0);
-    p.coarseOriginInvH = glm::vec4(glm::vec3(c.origin), float(1.0 / c.voxelSize));
-    p.coarseDims = glm::ivec4(c.dims, 0);
+    const gpu::shared::RefineParams p = refineGridParams(c, f);
     std::vector<float> out[2];
     double ms[2];
     int k = 0;

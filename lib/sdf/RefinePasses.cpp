@@ -5,6 +5,15 @@
 namespace rtsdf {
 using namespace gpu::shared;
 
+RefineParams refineGridParams(const GridSpec& coarse, const GridSpec& fine) {
+  RefineParams p{};
+  p.fineOriginH = glm::vec4(glm::vec3(fine.origin), float(fine.voxelSize));
+  p.fineDims = glm::ivec4(fine.dims, 0);
+  p.coarseOriginInvH = glm::vec4(glm::vec3(coarse.origin), float(1.0 / coarse.voxelSize));
+  p.coarseDims = glm::ivec4(coarse.dims, 0);
+  return p;
+}
+
 void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);

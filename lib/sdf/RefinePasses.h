@@ -8,9 +8,14 @@
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"
 #include "gpu/shared/Refine.h"
+#include "grid/GridSpec.h"
 #include "sdf/GpuSceneBvh.h"
 
 namespace rtsdf {
+
+/// @brief The grid half of the refinement's push constants: both grids' corners, voxel sizes and dims (the
+///        grids as the GPU sees them, e.g. GridSpec::inFrame of the frame's origin); the rest zero.
+gpu::shared::RefineParams refineGridParams(const GridSpec& coarse, const GridSpec& fine);
 
 /// @brief UpsamplePass: fine[v] = the coarse SDF trilinearly interpolated at fine voxel v's centre.
 class UpsamplePass : gpu::ComputePass {

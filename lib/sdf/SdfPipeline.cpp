@@ -263,12 +263,8 @@ RayMask SdfPipeline::updateMask(FrameStats& stats) {
 }
 
 RefineParams SdfPipeline::refineParams(std::size_t maskVoxels) const {
-  RefineParams p{};
-  const GridSpec fine = mFineSpec.inFrame(frameOrigin()), coarse = mCoarseSpec.inFrame(frameOrigin());
-  p.fineOriginH = glm::vec4(glm::vec3(fine.origin), float(fine.voxelSize));
-  p.fineDims = glm::ivec4(fine.dims, int(maskVoxels));
-  p.coarseOriginInvH = glm::vec4(glm::vec3(coarse.origin), float(1.0 / coarse.voxelSize));
-  p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
+  RefineParams p = refineGridParams(mCoarseSpec.inFrame(frameOrigin()), mFineSpec.inFrame(frameOrigin()));
+  p.fineDims.w = int(maskVoxels);
   p.alpha = float(mSettings.alpha);
   p.rays = std::uint32_t(mSettings.rays);
   p.frame = mFrame;

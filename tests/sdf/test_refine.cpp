@@ -196,11 +196,7 @@ TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
     const auto [coarse, fine] = pipelineGrids(geo.bounds, ps);
     CoarseSdfBuilder builder(*sCtx);
     const std::vector<float> c = builder.build(geo, coarse, {}).distance;
-    gpu::shared::RefineParams p{};
-    p.fineOriginH = glm::vec4(glm::vec3(fine.origin), float(fine.voxelSize));
-    p.fineDims = glm::ivec4(fine.dims, 0);
-    p.coarseOriginInvH = glm::vec4(glm::vec3(coarse.origin), float(1.0 / coarse.voxelSize));
-    p.coarseDims = glm::ivec4(coarse.dims, 0);
+    const gpu::shared::RefineParams p = refineGridParams(coarse, fine);
     std::vector<float> out[2];
     int k = 0;
     for (UpsamplePass::Kernel kernel : {UpsamplePass::Kernel::Runs, UpsamplePass::Kernel::PerVoxel}) {

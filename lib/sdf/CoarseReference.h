@@ -1,8 +1,8 @@
 #pragma once
 /// @file CoarseReference.h
-/// @brief CPU references of the coarse-SDF passes: the same voxelization and jump flooding as the GPU
-///        (the same shared functions, so the outputs must be identical), and the exact Euclidean distance
-///        transform of the same seeds (what jump flooding approximates).
+/// @brief CPU references of the coarse-SDF passes: the same voxelization, exact feature transform and jump
+///        flooding as the GPU (the same shared functions and rules, so the outputs must be identical), and
+///        Felzenszwalb-Huttenlocher's exact distance transform of the same seeds (the independent check).
 #include "gpu/shared/CoarseSdf.h"
 #include "grid/GridSpec.h"
 #include "sdf/CoarseMethod.h"

@@ -62,9 +62,9 @@ int runRender(const RenderCommand& c) {
              r.passTable());
   if (r.compared)
     fmt::print("against ray-traced truth: visibility RMSE {:.4f}, mean |diff| {:.4f} ({} lit pixels); penumbra RMSE "
-               "{:.4f} ({} pixels); FLIP {:.4f}\n",
+               "{:.4f} ({} pixels); umbra mean |diff| {:.4f} ({} pixels); FLIP {:.4f}\n",
                r.error.visibilityRmse, r.error.visibilityMeanAbs, r.error.pixels, r.error.penumbraRmse,
-               r.error.penumbraPixels, r.error.flip);
+               r.error.penumbraPixels, r.error.umbraMeanAbs, r.error.umbraPixels, r.error.flip);
   writeRender(r, out);
   if (r.compared) fmt::print("wrote the visibility error picture {}\n", out.errorPng.string());
   fmt::print("wrote {} (channels {}) and {}\n", out.exr.string(), fmt::join(r.image.channelNames(), ", "),

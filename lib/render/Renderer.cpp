@@ -334,7 +334,7 @@ ShadowImageError compareWithTruth(const Scene& scene, const RenderedFrame& test,
   if (a.width != b.width || a.height != b.height)
     throw Error(fmt::format("cannot compare a {}x{} frame with a {}x{} one", a.width, a.height, b.width, b.height));
   ShadowImageError e;
-  std::vector<float> va, vb, pa, pb;
+  std::vector<float> va, vb, pa, pb, ua, ub;
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     const std::vector<std::uint8_t> lit = litSideMask(scene, b, l);
     for (std::size_t i = 0; i < b.pixelCount(); ++i) {
@@ -344,6 +344,9 @@ ShadowImageError compareWithTruth(const Scene& scene, const RenderedFrame& test,
       if (truth.visibility[l][i] > 0.02f && truth.visibility[l][i] < 0.98f) {
         pa.push_back(test.visibility[l][i]);
         pb.push_back(truth.visibility[l][i]);
+      } else if (truth.visibility[l][i] < 0.02f) {
+        ua.push_back(test.visibility[l][i]);
+        ub.push_back(truth.visibility[l][i]);
       }
     }
   }
@@ -353,6 +356,8 @@ ShadowImageError compareWithTruth(const Scene& scene, const RenderedFrame& test,
   e.visibilityMeanAbs = meanAbsDifference(va, vb);
   e.penumbraPixels = pa.size();
   e.penumbraRmse = pa.empty() ? 0.0 : rmse(pa, pb);
+  e.umbraPixels = ua.size();
+  e.umbraMeanAbs = ua.empty() ? 0.0 : meanAbsDifference(ua, ub);
   const Image ia = displayImage(composeImage(scene, test)), ib = displayImage(composeImage(scene, truth));
   auto srgb = [](const Image& img) {
     std::vector<glm::vec3> out(img.pixelCount());

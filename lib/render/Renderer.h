@@ -183,8 +183,10 @@ struct ShadowImageError {
   double visibilityRmse = 0.0;      ///< over lit-side pixels of every light where both frames see the same instance
   double visibilityMeanAbs = 0.0;
   double penumbraRmse = 0.0;        ///< over the truth's penumbra pixels (0.02 < visibility < 0.98)
+  /// Mean |test - truth| over the truth's umbra pixels (visibility < 0.02): light leaking where none arrives.
+  double umbraMeanAbs = 0.0;
   double flip = 0.0;                ///< mean LDR-FLIP of the sRGB pictures
-  std::size_t pixels = 0, penumbraPixels = 0;
+  std::size_t pixels = 0, penumbraPixels = 0, umbraPixels = 0;
 };
 /// @brief Compare @a test with @a truth (same camera and size).
 /// @throw Error when the sizes differ or no pixel is comparable.

@@ -366,6 +366,9 @@ TEST(Cli, RendersTheAnalyticSceneWithEveryTechnique) {
     EXPECT_TRUE(flip >= 0.0 && flip <= 2.0 * limit) << r.output;
     // The error concentrates in the penumbrae: their RMSE is at least the whole picture's.
     EXPECT_GE(numberAfter(r.output, "penumbra RMSE "), rmse) << r.output;
+    // Light in the truth's umbra: none where the truth renders itself, a visibility error otherwise.
+    const double umbra = numberAfter(r.output, "umbra mean |diff| ");
+    EXPECT_TRUE(limit > 0.0 ? umbra >= 0.0 && umbra <= 1.0 : umbra == 0.0) << r.output;
     const Image img = readExr(exr);
     EXPECT_EQ(img.width(), 64);
     EXPECT_EQ(img.height(), 36);

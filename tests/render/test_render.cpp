@@ -516,6 +516,25 @@ TEST_F(Render, AnalyticPenumbraMatchesTheTruth) {
   EXPECT_LT(centred.penumbraRmse, classic.penumbraRmse);
 }
 
+// The image error keeps the truth's umbra (V < 0.02) apart from its penumbra: light added only in the umbra
+// shows in the umbra's mean |diff| (exactly what was added) and the whole picture's, never in the penumbra's.
+TEST_F(Render, ImageErrorReportsLightLeakingIntoTheUmbra) {
+  const Scene scene = analyticScene();
+  const RenderedFrame truth = truthOf(scene, 0.0, 80, 45, 64);
+  RenderedFrame leak = truth;
+  for (float& v : leak.visibility[0])
+    if (v < 0.02f) v += 0.25f;
+  const ShadowImageError e = compareWithTruth(scene, leak, truth);
+  EXPECT_GT(e.umbraPixels, 100u);
+  EXPECT_GT(e.penumbraPixels, 100u);
+  EXPECT_NEAR(e.umbraMeanAbs, 0.25, 1e-6);
+  EXPECT_EQ(e.penumbraRmse, 0.0);
+  EXPECT_NEAR(e.visibilityMeanAbs, 0.25 * double(e.umbraPixels) / double(e.pixels), 1e-6);
+  const ShadowImageError same = compareWithTruth(scene, truth, truth);
+  EXPECT_EQ(same.umbraMeanAbs, 0.0);
+  EXPECT_EQ(same.umbraPixels, e.umbraPixels);
+}
+
 // The default scene at 320x180 against the ray-traced truth, SDF at fine 256 (the size `render` uses; the
 // sun's penumbrae are one or two voxels wide at 128) with the default march settings, and the 1024^2 shadow
 // map with PCF. Measured: penumbra RMSE (truth in (0.02, 0.98)) 0.126 vs 0.153 over 244 pixels, mean
@@ -530,8 +549,10 @@ TEST_F(Render, SdfShadowsAreCloserToTheTruthThanShadowMapsOnTheDefaultScene) {
   const ShadowImageError es = compareWithTruth(scene, sdf.renderFrame(0.0), truth);
   Renderer map(*sCtx, scene, boundsOf(scene), small(ShadowTechnique::ShadowMap, w, h));
   const ShadowImageError em = compareWithTruth(scene, map.renderFrame(0.0), truth);
-  std::printf("default scene: SDF mean |err| %.4f FLIP %.4f penumbra RMSE %.4f; shadow map %.4f, %.4f, %.4f\n",
-              es.visibilityMeanAbs, es.flip, es.penumbraRmse, em.visibilityMeanAbs, em.flip, em.penumbraRmse);
+  std::printf("default scene: SDF mean |err| %.4f FLIP %.4f penumbra RMSE %.4f umbra mean |diff| %.4f; shadow map "
+              "%.4f, %.4f, %.4f, %.4f\n",
+              es.visibilityMeanAbs, es.flip, es.penumbraRmse, es.umbraMeanAbs, em.visibilityMeanAbs, em.flip,
+              em.penumbraRmse, em.umbraMeanAbs);
   EXPECT_GT(es.penumbraPixels, 200u);
   EXPECT_LT(es.penumbraRmse, em.penumbraRmse);
   EXPECT_LT(es.visibilityMeanAbs, em.visibilityMeanAbs);

@@ -155,7 +155,12 @@ void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
   cmd->add_option("--normal-offset", s.normalOffset,
                   "SDF march start off the surface along its normal (scene units; default: the bias)")
       ->check(atLeast(0.0));
-  cmd->add_flag("!--no-jitter", s.jitter, "Do not jitter the SDF march's start per pixel and frame");
+  cmd->add_option("--lateral-probes", s.lateralProbes,
+                  "Centered estimate: SDF samples around the light's cone where the march came closest to an "
+                  "occluder, so that thin plates hold their umbra (0: off)")
+      ->check(inRange(0, 64))->capture_default_str();
+  cmd->add_flag("!--no-jitter", s.jitter, "Do not jitter the SDF march's start per pixel and frame (and the "
+                                          "lateral probes' rotation)");
 }
 
 void bindRender(CLI::App& app, RenderCommand& c) {
@@ -273,7 +278,7 @@ std::string flagOf(const std::string& setting) {
       {"padding", "--padding"}, {"full domain", "--full"}, {"fps", "--fps"}, {"vdb folder", "--vdb-dir"},
       {"focus", "--focus"}, {"image width", "--width"}, {"image height", "--height"}, {"epsilon", "--epsilon"},
       {"bias", "--bias"}, {"min step", "--min-step"}, {"max step", "--max-step"}, {"max steps", "--max-steps"},
-      {"normal offset", "--normal-offset"}, {"shadow map resolution", "--shadow-map-res"},
+      {"normal offset", "--normal-offset"}, {"lateral probes", "--lateral-probes"}, {"shadow map resolution", "--shadow-map-res"},
       {"PCF radius", "--pcf-radius"}, {"shadow bias", "--shadow-bias"}, {"TAA blend", "--taa-blend"},
       {"samples", "--samples"}, {"error band", "--error-band"}, {"repeats", "--repeats"},
       {"truth samples", "--truth-samples"}, {"band fraction", "--band-fraction"}, {"output folder", "--out"},

@@ -27,6 +27,7 @@ void RenderSettings::validate() const {
     throw SettingError("max step", fmt::format("max step {} must be finite and > 0", sdf.maxStep));
   requireInRange("max steps", sdf.maxSteps, 1, 4096);
   requireFinite("normal offset", sdf.normalOffset);
+  requireInRange("lateral probes", sdf.lateralProbes, 0, 64);
   requireInRange("shadow map resolution", shadowMap.resolution, 1, 8192);
   requireInRange("PCF radius", shadowMap.pcfRadius, 0, 16);
   if (!(std::isfinite(shadowMap.depthBiasTexels) && shadowMap.depthBiasTexels >= 0.0))
@@ -157,6 +158,7 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
                  : settings.sdf.penumbra == PenumbraEstimate::Improved ? sh::kPenumbraImproved
                                                                        : sh::kPenumbraCentered;
     p.jitter = settings.sdf.jitter ? 1.0f : 0.0f;
+    p.lateralProbes = std::uint32_t(settings.sdf.lateralProbes);
   } else {
     mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, mFrameOrigin);
     mMapParams = makeShadowMapParams(mLights, buildSceneGeometry(scene, 0.0, mFrameOrigin).bounds, settings.shadowMap,

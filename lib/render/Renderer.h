@@ -68,6 +68,10 @@ struct SdfShadowSettings {
   /// March start off the surface along its normal (scene units); < 0: the bias, so that a flat receiver's own
   /// plane, biased, is exactly its geometric horizon (docs/design.md).
   double normalOffset = -1.0;
+  /// Centred estimate: SDF samples around the light's cone where the march came closest to an occluder, so
+  /// that a plate thinner than the cone does not pass for an edge and leak light (docs/design.md); 0: off
+  /// (the centre's signed distance alone, as before).
+  int lateralProbes = 8;
   SdfSampling sampling = SdfSampling::Texture;
 };
 

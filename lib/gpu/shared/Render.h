@@ -53,6 +53,9 @@ struct SdfShadowParams {
   uint penumbra;    // kPenumbra*
   float jitter;     // 0: fixed start; 1: start offset jittered per pixel and frame by up to one epsilon
   float minStep;    // shortest step: the march samples h at least this densely near occluders
+  uint lateralProbes; // centred only: SDF samples around the cone where the ray came closest to an occluder
+                      // (tells a plate crossing the whole cone from an edge; 0: off)
+  uint pad0;
 };
 
 /// Push constants of shadow_map.comp (build) and shadow_lookup.comp.
@@ -125,6 +128,43 @@ RTSDF_FN float exitDistance(vec3 o, vec3 d, vec3 lo, vec3 hi) {
   return tExit > tEnter ? tExit : 0.0f;
 }
 
+/// The signed distance (in light-disc radii, negative: covered) from the cone's axis to the edge of the occluder
+/// the centred march came closest to, from lateralProbes SDF samples around the cone there. The centre's own
+/// signed distance cannot tell a plate from a rod: a plate the ray crosses is never deeper than half its
+/// thickness, so it passes for a narrow edge and lets light through its umbra. Each probe sits on a ray
+/// parallel to L at the cone's radius r = w t, moved along L onto the plane through the closest point parallel
+/// to the surface the ray approached (normal: the SDF gradient at the last sample half a voxel clear of every
+/// surface). For a straight edge at signed distance e r from the axis, the probe facing away from the occluder
+/// is r (1 - e) outside it, so e = 1 - hMax / r: the same as the centre's h / r for thick occluders, but -1 or
+/// less for a plate that covers the whole rim. Returns 1 (no opinion) where the approach grazes the surface
+/// (the receiver's own plane) or moves away from it.
+RTSDF_FN float lateralEdgeDistance(SdfShadowParams s, vec3 o, vec3 L, float tApproach, float tClose, float w,
+                                   float rotation01) {
+  RTSDF_PRECISE vec3 a = o + L * tApproach;
+  float e = 0.25f * s.gridOriginH.w;
+  RTSDF_PRECISE vec3 g = vec3(1.0f, -1.0f, -1.0f) * sampleSdf(s, a + e * vec3(1.0f, -1.0f, -1.0f)) +
+                         vec3(-1.0f, -1.0f, 1.0f) * sampleSdf(s, a + e * vec3(-1.0f, -1.0f, 1.0f)) +
+                         vec3(-1.0f, 1.0f, -1.0f) * sampleSdf(s, a + e * vec3(-1.0f, 1.0f, -1.0f)) +
+                         vec3(1.0f, 1.0f, 1.0f) * sampleSdf(s, a + e * vec3(1.0f, 1.0f, 1.0f));
+  float gl = length(g);
+  if (!(gl > 0.0f)) return 1.0f;
+  vec3 n = g / gl;
+  float ln = dot(n, L);
+  if (ln > -0.25f) return 1.0f; // grazing (the receiver's own plane) or moving away: no crossing to probe
+  vec3 u = normalize(cross(L, abs(L.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
+  vec3 v = cross(L, u);
+  RTSDF_PRECISE vec3 q = o + L * tClose;
+  float r = w * tClose;
+  float hMax = -3.0e38f;
+  for (uint k = 0u; k < s.lateralProbes; ++k) {
+    float phi = 6.28318531f * (float(k) + rotation01) / float(s.lateralProbes);
+    vec3 d = cos(phi) * u + sin(phi) * v;
+    RTSDF_PRECISE vec3 p = q + r * d - (r * dot(d, n) / ln) * L;
+    hMax = max(hMax, sampleSdf(s, p) - s.bias);
+  }
+  return hMax / r - 1.0f;
+}
+
 /// The SDF soft-shadow march from surface point p (unit normal n) towards the light along unit L, up to
 /// tMax, for a light whose half-angle has tangent w (0: a point or parallel light, hard shadows).
 /// jitter01 in [0, 1) offsets the start. Returns the light's visibility in [0, 1].
@@ -134,6 +174,9 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float t
   float res = 1.0f;
   float ph = 1.0e30f;
   bool centered = s.penumbra == kPenumbraCentered;
+  // Centred: the closest approach (smallest h / (w t)) and the last sample before it at least half a voxel off
+  // every surface (0: none), where the gradient is the normal of the surface approached.
+  float tClose = 0.0f, tApproach = 0.0f, tOutside = 0.0f;
   for (uint i = 0u; i < s.maxSteps; ++i) {
     if (t >= tMax) break;
     RTSDF_PRECISE float h = sampleSdf(s, o + L * t) - s.bias;
@@ -145,7 +188,10 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float t
         RTSDF_PRECISE float dd = sqrt(max(h * h - y * y, 0.0f));
         res = min(res, dd / (w * max(t - y, 1.0e-6f)));
       } else {
-        res = min(res, h / (w * t));
+        RTSDF_PRECISE float edge = h / (w * t);
+        if (edge < res) { tClose = t; tApproach = tOutside; }
+        if (h >= 0.5f * s.gridOriginH.w) tOutside = t;
+        res = min(res, edge);
       }
     } else if (h < 0.0f) {
       res = -1.0f; // centred and a point-like light: inside an occluder means fully shadowed
@@ -157,6 +203,8 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float t
     t += clamp(abs(h), s.minStep, s.maxStep);
   }
   if (centered) {
+    if (s.lateralProbes > 0u && res > -1.0f && res < 1.0f && tApproach > 0.0f)
+      res = min(res, lateralEdgeDistance(s, o, L, tApproach, tClose, w, s.jitter * jitter01));
     RTSDF_PRECISE float r = clamp(res, -1.0f, 1.0f);
     // Visible fraction of a disc behind a straight occluder edge at signed distance r (in disc radii),
     // the cubic approximation of the circular segment area.

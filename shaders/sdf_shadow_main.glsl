@@ -1,6 +1,7 @@
 // SdfShadowPass's body, shared by its two variants (sdf_shadow.comp: the fine SDF as a 3D texture;
 // sdf_shadow_buffer.comp: as a dense buffer). Per pixel and light, sphere-trace the fine SDF towards the light
-// (sdfShadowMarch in gpu/shared/Render.h, shared with the CPU reference). Visibility is written light-major.
+// (sdfShadowMarch, or sdfShadowUmbra in the umbra variants, in gpu/shared/Render.h, shared with the CPU
+// reference). Visibility is written light-major.
 #include "gpu/shared/Render.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -25,7 +26,11 @@ void main() {
     vec3 L;
     float tMax, w;
     if (pos.w >= 0.0 && lightGeometry(lights[l], pos.xyz, lo, hi, L, tMax, w))
-      v = sdfShadowMarch(params, pos.xyz, n, L, tMax, w, jitter);
+#ifdef RTSDF_SHADOW_UMBRA
+      v = sdfShadowUmbra(params, pos.xyz, n, L, tMax, w, jitter);
+#else
+      v = sdfShadowMarch(params, params.penumbra, pos.xyz, n, L, tMax, w, jitter);
+#endif
     visibility[uint(l) * pixels + i] = v;
   }
 }

@@ -136,7 +136,8 @@ void bindAnimate(CLI::App& app, AnimateCommand& c) {
 void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
   addEnum(cmd, "--penumbra", s.penumbra, "SDF penumbra estimate: classic (k h / t), improved (triangulated between "
                                          "samples), centered (marches through occluders: penumbra centred on the "
-                                         "shadow boundary)");
+                                         "shadow boundary), umbra (--light-samples centered marches towards "
+                                         "jittered points of the light, averaged: the SDF-simulated umbra)");
   addEnum(cmd, "--sdf-sampling", s.sampling, "How the SDF march reads the fine SDF: texture (a 3D texture, hardware "
                                              "trilinear filtering, one fetch per step) or buffer (filtered in the "
                                              "shader like the CPU reference, eight fetches)");
@@ -159,6 +160,9 @@ void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
                   "Centered estimate: SDF samples around the light's cone where the march came closest to an "
                   "occluder, so that thin plates hold their umbra (0: off)")
       ->check(inRange(0, 64))->capture_default_str();
+  cmd->add_option("--light-samples", s.lightSamples,
+                  "--penumbra umbra: marches per pixel, light and frame, each over its share of the light")
+      ->check(inRange(1, 64))->capture_default_str();
   cmd->add_flag("!--no-jitter", s.jitter, "Do not jitter the SDF march's start per pixel and frame (and the "
                                           "lateral probes' rotation)");
 }
@@ -278,7 +282,7 @@ std::string flagOf(const std::string& setting) {
       {"padding", "--padding"}, {"full domain", "--full"}, {"fps", "--fps"}, {"vdb folder", "--vdb-dir"},
       {"focus", "--focus"}, {"image width", "--width"}, {"image height", "--height"}, {"epsilon", "--epsilon"},
       {"bias", "--bias"}, {"min step", "--min-step"}, {"max step", "--max-step"}, {"max steps", "--max-steps"},
-      {"normal offset", "--normal-offset"}, {"lateral probes", "--lateral-probes"}, {"shadow map resolution", "--shadow-map-res"},
+      {"normal offset", "--normal-offset"}, {"lateral probes", "--lateral-probes"}, {"light samples", "--light-samples"}, {"shadow map resolution", "--shadow-map-res"},
       {"PCF radius", "--pcf-radius"}, {"shadow bias", "--shadow-bias"}, {"TAA blend", "--taa-blend"},
       {"samples", "--samples"}, {"error band", "--error-band"}, {"repeats", "--repeats"},
       {"truth samples", "--truth-samples"}, {"band fraction", "--band-fraction"}, {"output folder", "--out"},

@@ -2,6 +2,8 @@
 
 #include "util/Error.h"
 
+#include <fmt/format.h>
+
 #include <array>
 
 namespace rtsdf {
@@ -42,10 +44,13 @@ std::vector<VkDescriptorType> sdfShadowTextureBindings() {
 }
 } // namespace
 
-SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx)
-    : mBufferPipeline(ctx, "sdf_shadow_buffer.comp", kSdfShadowBindingCount, sizeof(SdfShadowParams)) {
+SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra)
+    : mBufferPipeline(ctx, umbra ? "sdf_shadow_umbra_buffer.comp" : "sdf_shadow_buffer.comp", kSdfShadowBindingCount,
+                      sizeof(SdfShadowParams)),
+      mUmbra(umbra) {
   if (gpu::SampledVolume::supported(ctx))
-    mTexturePipeline = gpu::ComputePipeline(ctx, "sdf_shadow.comp", sdfShadowTextureBindings(), sizeof(SdfShadowParams));
+    mTexturePipeline = gpu::ComputePipeline(ctx, umbra ? "sdf_shadow_umbra.comp" : "sdf_shadow.comp",
+                                            sdfShadowTextureBindings(), sizeof(SdfShadowParams));
 }
 
 void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
@@ -56,6 +61,9 @@ void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
   b[kSdfShadowBindingLights] = &in.lights;
   b[kSdfShadowBindingVisibility] = &out.visibility;
   const glm::uvec3 groups = imageGroups(in.gbuffer.width, in.gbuffer.height);
+  if ((params.penumbra == gpu::shared::kPenumbraUmbra) != mUmbra)
+    throw Error(fmt::format("SdfShadowPass: built for the {} estimates, asked for penumbra estimate {}",
+                            mUmbra ? "umbra" : "single-march", params.penumbra));
   if (in.texture) {
     if (mTexturePipeline.name().empty())
       throw Error("SdfShadowPass: this device cannot sample the fine SDF as a filtered 3D texture");

@@ -53,14 +53,18 @@ public:
   };
   struct Outputs { const gpu::Buffer& visibility; }; ///< params.gridDims.w * width * height floats, light-major
   using Params = gpu::shared::SdfShadowParams;
+  /// @param umbra build the umbra estimate's variants (kPenumbraUmbra: several marches per pixel and light),
+  ///        else the single-march ones (classic, improved, centred).
   /// @note The texture variant is built only where the device filters R32_SFLOAT 3D textures linearly.
-  explicit SdfShadowPass(const gpu::VulkanContext& ctx);
-  /// @throw Error when a texture is given but the device cannot filter it (see gpu::SampledVolume::supported).
+  explicit SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra = false);
+  /// @throw Error when a texture is given but the device cannot filter it (see gpu::SampledVolume::supported),
+  ///        or when params.penumbra is (or is not) kPenumbraUmbra and the pass was built otherwise.
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 
 private:
   gpu::ComputePipeline mTexturePipeline, mBufferPipeline;
+  bool mUmbra = false;
 };
 
 /// @brief Shadow maps (the baseline games use): a depth map per light (orthographic for directional lights,

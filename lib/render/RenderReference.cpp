@@ -31,7 +31,10 @@ LightVisibility sdfShadowsCpu(const GBuffer& g, const std::vector<float>& field,
         glm::vec3 L;
         float tMax, w;
         if (sh::lightGeometry(lights[l], glm::vec3(g.position[i]), lo, hi, L, tMax, w))
-          vis[l][i] = sh::sdfShadowMarch(params, glm::vec3(g.position[i]), glm::vec3(g.normal[i]), L, tMax, w, jitter);
+          vis[l][i] = params.penumbra == sh::kPenumbraUmbra
+                          ? sh::sdfShadowUmbra(params, glm::vec3(g.position[i]), glm::vec3(g.normal[i]), L, tMax, w, jitter)
+                          : sh::sdfShadowMarch(params, params.penumbra, glm::vec3(g.position[i]),
+                                               glm::vec3(g.normal[i]), L, tMax, w, jitter);
       }
     }
   });

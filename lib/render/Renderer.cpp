@@ -28,6 +28,7 @@ void RenderSettings::validate() const {
   requireInRange("max steps", sdf.maxSteps, 1, 4096);
   requireFinite("normal offset", sdf.normalOffset);
   requireInRange("lateral probes", sdf.lateralProbes, 0, 64);
+  requireInRange("light samples", sdf.lightSamples, 1, 64);
   requireInRange("shadow map resolution", shadowMap.resolution, 1, 8192);
   requireInRange("PCF radius", shadowMap.pcfRadius, 0, 16);
   if (!(std::isfinite(shadowMap.depthBiasTexels) && shadowMap.depthBiasTexels >= 0.0))
@@ -105,8 +106,8 @@ struct Renderer::Gpu {
   GpuGBuffer gbuffer;
   Buffer lights, visibility, history, depth, maps;
   gpu::SampledVolume fineTexture; ///< SdfSampling::Texture: the fine SDF for hardware-filtered sampling
-  explicit Gpu(const gpu::VulkanContext& ctx)
-      : gbufferPass(ctx), sdfShadowPass(ctx), shadowMapPass(ctx), taaPass(ctx), profiler(ctx) {}
+  Gpu(const gpu::VulkanContext& ctx, bool umbra)
+      : gbufferPass(ctx), sdfShadowPass(ctx, umbra), shadowMapPass(ctx), taaPass(ctx), profiler(ctx) {}
 };
 
 Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& sdfBounds,
@@ -126,7 +127,7 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
   mLights = makeGpuLights(scene.lights, mFrameOrigin);
   if (settings.technique == ShadowTechnique::Sdf)
     mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, settings.pipeline);
-  mGpu = std::make_unique<Gpu>(ctx);
+  mGpu = std::make_unique<Gpu>(ctx, settings.technique == ShadowTechnique::Sdf && settings.sdf.penumbra == PenumbraEstimate::Umbra);
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
   mGpu->gbuffer.reserve(ctx, settings.width, settings.height);
   mGpu->lights = Buffer(ctx, mLights.size() * sizeof(sh::GpuLight), kStorage, Buffer::Memory::Device, "lights");
@@ -156,9 +157,11 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     p.maxSteps = std::uint32_t(settings.sdf.maxSteps);
     p.penumbra = settings.sdf.penumbra == PenumbraEstimate::Classic    ? sh::kPenumbraClassic
                  : settings.sdf.penumbra == PenumbraEstimate::Improved ? sh::kPenumbraImproved
+                 : settings.sdf.penumbra == PenumbraEstimate::Umbra    ? sh::kPenumbraUmbra
                                                                        : sh::kPenumbraCentered;
     p.jitter = settings.sdf.jitter ? 1.0f : 0.0f;
     p.lateralProbes = std::uint32_t(settings.sdf.lateralProbes);
+    p.lightSamples = std::uint32_t(settings.sdf.lightSamples);
   } else {
     mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, mFrameOrigin);
     mMapParams = makeShadowMapParams(mLights, buildSceneGeometry(scene, 0.0, mFrameOrigin).bounds, settings.shadowMap,

@@ -33,13 +33,16 @@ template <> struct EnumNames<ShadowTechnique> {
 enum class PenumbraEstimate {
   Classic,  ///< min over samples of k h / t with k = 1 / tan(light half-angle)
   Improved, ///< the triangulated estimate between consecutive samples (less banding)
-  Centered  ///< marches on through occluders (signed h): the penumbra straddles the geometric boundary
+  Centered, ///< marches on through occluders (signed h): the penumbra straddles the geometric boundary
+  Umbra     ///< the SDF-simulated umbra: several centred marches towards jittered points of the light, each
+            ///< over its share of the cone, averaged (TAA integrates the jitter)
 };
 template <> struct EnumNames<PenumbraEstimate> {
   static constexpr const char* kSetting = "penumbra estimate";
   static constexpr std::pair<const char*, PenumbraEstimate> kValues[] = {{"classic", PenumbraEstimate::Classic},
                                                                          {"improved", PenumbraEstimate::Improved},
-                                                                         {"centered", PenumbraEstimate::Centered}};
+                                                                         {"centered", PenumbraEstimate::Centered},
+                                                                         {"umbra", PenumbraEstimate::Umbra}};
 };
 
 /// @brief How the SDF march reads the fine SDF.
@@ -72,6 +75,7 @@ struct SdfShadowSettings {
   /// that a plate thinner than the cone does not pass for an edge and leak light (docs/design.md); 0: off
   /// (the centre's signed distance alone, as before).
   int lateralProbes = 8;
+  int lightSamples = 4; ///< umbra estimate: marches per pixel, light and frame
   SdfSampling sampling = SdfSampling::Texture;
 };
 

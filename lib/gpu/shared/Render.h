@@ -39,6 +39,8 @@ const uint kPenumbraClassic = 0u;  // min over samples of h / (w t): the classic
 const uint kPenumbraImproved = 1u; // triangulated between consecutive samples (fewer banding artifacts)
 const uint kPenumbraCentered = 2u; // marches on inside occluders (signed h), penumbra centred on the
                                    // geometric shadow boundary like a real area light's
+const uint kPenumbraUmbra = 3u;    // lightSamples centred marches towards jittered points of the light's
+                                   // disc, each over its share of the cone, averaged (the SDF-simulated umbra)
 
 /// Push constants of sdf_shadow.comp (and its CPU reference).
 struct SdfShadowParams {
@@ -53,9 +55,9 @@ struct SdfShadowParams {
   uint penumbra;    // kPenumbra*
   float jitter;     // 0: fixed start; 1: start offset jittered per pixel and frame by up to one epsilon
   float minStep;    // shortest step: the march samples h at least this densely near occluders
-  uint lateralProbes; // centred only: SDF samples around the cone where the ray came closest to an occluder
-                      // (tells a plate crossing the whole cone from an edge; 0: off)
-  uint pad0;
+  uint lateralProbes; // centred and umbra: SDF samples around the cone where the ray came closest to an
+                      // occluder (tells a plate crossing the whole cone from an edge; 0: off)
+  uint lightSamples;  // umbra: marches per pixel, light and frame (>= 1)
 };
 
 /// Push constants of shadow_map.comp (build) and shadow_lookup.comp.
@@ -167,13 +169,16 @@ RTSDF_FN float lateralEdgeDistance(SdfShadowParams s, vec3 o, vec3 L, float tApp
 
 /// The SDF soft-shadow march from surface point p (unit normal n) towards the light along unit L, up to
 /// tMax, for a light whose half-angle has tangent w (0: a point or parallel light, hard shadows).
-/// jitter01 in [0, 1) offsets the start. Returns the light's visibility in [0, 1].
-RTSDF_FN float sdfShadowMarch(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float tMax, float w, float jitter01) {
+/// jitter01 in [0, 1) offsets the start. penumbra: kPenumbraClassic, Improved or Centered (the caller's
+/// choice rather than s.penumbra, so that the umbra estimate needs no modified copy of the parameters).
+/// Returns the light's visibility in [0, 1].
+RTSDF_FN float sdfShadowMarch(SdfShadowParams s, uint penumbra, vec3 p, vec3 n, vec3 L, float tMax, float w,
+                              float jitter01) {
   RTSDF_PRECISE vec3 o = p + n * s.normalOffset;
-  RTSDF_PRECISE float t = s.epsilon * (1.0f + s.jitter * jitter01);
+  RTSDF_PRECISE float t = s.epsilon * (1.0f + s.jitter * (jitter01 - 0.75f));
   float res = 1.0f;
   float ph = 1.0e30f;
-  bool centered = s.penumbra == kPenumbraCentered;
+  bool centered = penumbra == kPenumbraCentered;
   // Centred: the closest approach (smallest h / (w t)) and the last sample before it at least half a voxel off
   // every surface (0: none), where the gradient is the normal of the surface approached.
   float tClose = 0.0f, tApproach = 0.0f, tOutside = 0.0f;
@@ -182,7 +187,7 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float t
     RTSDF_PRECISE float h = sampleSdf(s, o + L * t) - s.bias;
     if (!centered && h < s.epsilon) return 0.0f; // the march hit a surface: umbra
     if (w > 0.0f) {
-      if (s.penumbra == kPenumbraImproved) {
+      if (penumbra == kPenumbraImproved) {
         // Aaltonen's triangulation: the nearest point to the occluder between this sample and the last.
         RTSDF_PRECISE float y = (h * h) / (2.0f * ph);
         RTSDF_PRECISE float dd = sqrt(max(h * h - y * y, 0.0f));
@@ -212,6 +217,32 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float t
   }
   RTSDF_PRECISE float r = clamp(res, 0.0f, 1.0f);
   return r * r * (3.0f - 2.0f * r);
+}
+
+/// The SDF-simulated umbra (kPenumbraUmbra): the mean of s.lightSamples centred marches (lateral probes
+/// included) from p towards points of the light's disc (tangent of its half-angle w around unit L), each over a
+/// cone of 1 / lightSamples of the disc's area. The points follow a sunflower (Vogel) spiral, one per
+/// equal-area ring, turned by a second number from the pixel's jitter (TAA integrates the turns). Narrower
+/// cones make each estimate's straight-edge assumption hold over a smaller patch of the disc, and a plate
+/// that one cone crosses shadows its share whatever the others see.
+/// @note Its own shader variants (RTSDF_SHADOW_UMBRA): a second march loop in the one shader slowed the single
+///       march by a quarter on lavapipe even where it never ran.
+RTSDF_FN float sdfShadowUmbra(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float tMax, float w, float jitter01) {
+  if (!(w > 0.0f)) return sdfShadowMarch(s, kPenumbraCentered, p, n, L, tMax, w, jitter01);
+  uint count = max(s.lightSamples, 1u);
+  float wk = w / sqrt(float(count));
+  // The spiral's turn: a second number from the pixel's jitter (24 bits, exact in a float and a uint).
+  float turn = s.jitter * unitFloat(pcgHash(uint(jitter01 * 16777216.0f)));
+  vec3 u = normalize(cross(L, abs(L.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
+  vec3 v = cross(L, u);
+  float sum = 0.0f;
+  for (uint k = 0u; k < count; ++k) {
+    float radius = w * sqrt((float(k) + 0.5f) / float(count));
+    float phi = 6.28318531f * (float(k) * 0.618033989f + turn);
+    vec3 Lk = normalize(L + radius * (cos(phi) * u + sin(phi) * v));
+    sum += sdfShadowMarch(s, kPenumbraCentered, p, n, Lk, tMax, wk, jitter01);
+  }
+  return sum / float(count);
 }
 
 /// Direction towards light l from point p, the distance to march (tMax) and the tangent of its half-angle.

@@ -31,10 +31,10 @@ LightVisibility sdfShadowsCpu(const GBuffer& g, const std::vector<float>& field,
         glm::vec3 L;
         float tMax, w;
         if (sh::lightGeometry(lights[l], glm::vec3(g.position[i]), lo, hi, L, tMax, w))
+          const glm::vec3 p(g.position[i]), n(g.normal[i]);
           vis[l][i] = params.penumbra == sh::kPenumbraUmbra
-                          ? sh::sdfShadowUmbra(params, glm::vec3(g.position[i]), glm::vec3(g.normal[i]), L, tMax, w, jitter)
-                          : sh::sdfShadowMarch(params, params.penumbra, glm::vec3(g.position[i]),
-                                               glm::vec3(g.normal[i]), L, tMax, w, jitter);
+                          ? sh::sdfShadowUmbra(params, p, n, L, tMax, w, jitter)
+                          : sh::sdfShadowMarch(params, params.penumbra, p, n, L, tMax, w, jitter);
       }
     }
   });

@@ -9,7 +9,8 @@
 
 namespace rtsdf {
 
-/// @brief SdfShadowPass on the CPU: the same march over the same field for every pixel and light.
+/// @brief SdfShadowPass on the CPU: the same march (sdfShadowMarch, or sdfShadowUmbra for kPenumbraUmbra) over the
+///        same field for every pixel and light.
 LightVisibility sdfShadowsCpu(const GBuffer& gbuffer, const std::vector<float>& field,
                               const std::vector<gpu::shared::GpuLight>& lights,
                               const gpu::shared::SdfShadowParams& params);

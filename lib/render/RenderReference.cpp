@@ -30,11 +30,11 @@ LightVisibility sdfShadowsCpu(const GBuffer& g, const std::vector<float>& field,
       for (std::size_t l = 0; l < lights.size(); ++l) {
         glm::vec3 L;
         float tMax, w;
-        if (sh::lightGeometry(lights[l], glm::vec3(g.position[i]), lo, hi, L, tMax, w))
-          const glm::vec3 p(g.position[i]), n(g.normal[i]);
-          vis[l][i] = params.penumbra == sh::kPenumbraUmbra
-                          ? sh::sdfShadowUmbra(params, p, n, L, tMax, w, jitter)
-                          : sh::sdfShadowMarch(params, params.penumbra, p, n, L, tMax, w, jitter);
+        const glm::vec3 p(g.position[i]), n(g.normal[i]);
+        if (!sh::lightGeometry(lights[l], p, lo, hi, L, tMax, w)) continue;
+        vis[l][i] = params.penumbra == sh::kPenumbraUmbra
+                        ? sh::sdfShadowUmbra(params, p, n, L, tMax, w, jitter)
+                        : sh::sdfShadowMarch(params, params.penumbra, p, n, L, tMax, w, jitter);
       }
     }
   });

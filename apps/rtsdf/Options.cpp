@@ -163,8 +163,8 @@ void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
   cmd->add_option("--light-samples", s.lightSamples,
                   "--penumbra umbra: marches per pixel, light and frame, each over its share of the light")
       ->check(inRange(1, 64))->capture_default_str();
-  cmd->add_flag("!--no-jitter", s.jitter, "Do not jitter the SDF march's start per pixel and frame (and the "
-                                          "lateral probes' rotation)");
+  cmd->add_flag("!--no-jitter", s.jitter, "Do not jitter the SDF march's start per pixel and frame (nor the "
+                                          "lateral probes' and umbra samples' turn)");
 }
 
 void bindRender(CLI::App& app, RenderCommand& c) {

@@ -67,7 +67,8 @@ struct SdfShadowSettings {
   double minStepVoxels = 0.5; ///< shortest march step in fine voxels: samples the closest approach to an edge
   double maxStep = 0.05;      ///< longest march step, against banding
   int maxSteps = 256;         ///< march steps at most
-  bool jitter = true;         ///< jitter the start per pixel and frame (TAA averages the noise away)
+  bool jitter = true;         ///< jitter the start (over [0.25, 1.25] epsilon), the probes' and umbra samples' turn
+                              ///< per pixel and frame (TAA averages the noise away)
   /// March start off the surface along its normal (scene units); < 0: the bias, so that a flat receiver's own
   /// plane, biased, is exactly its geometric horizon (docs/design.md).
   double normalOffset = -1.0;

@@ -53,7 +53,8 @@ struct SdfShadowParams {
   float normalOffset; // the march starts this far off the surface along its normal
   uint maxSteps;
   uint penumbra;    // kPenumbra*
-  float jitter;     // 0: fixed start; 1: start offset jittered per pixel and frame by up to one epsilon
+  float jitter;     // 0: start at epsilon; 1: start spread over [0.25, 1.25] epsilon per pixel and frame, probes
+                    // and umbra samples turned per pixel and frame
   float minStep;    // shortest step: the march samples h at least this densely near occluders
   uint lateralProbes; // centred and umbra: SDF samples around the cone where the ray came closest to an
                       // occluder (tells a plate crossing the whole cone from an edge; 0: off)

@@ -26,28 +26,36 @@ constexpr unsigned kReadSteps = aiProcess_ValidateDataStructure;
 constexpr unsigned kPostSteps = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
 
 
+/// The first two numbers in @a text at or after @a at (false when there are not two).
+bool firstTwoNumbers(const std::string& text, std::size_t at, double (&counts)[2]) {
+  for (double& count : counts) {
+    at = text.find_first_of("0123456789+-.", at);
+    if (at == std::string::npos) return false;
+    char* end = nullptr;
+    count = std::strtod(text.c_str() + at, &end);
+    at = std::size_t(end - text.c_str()) + (end == text.c_str() + at); // past the number (or its lone sign)
+  }
+  return true;
+}
+
 /// The counts an OFF header declares must fit in the file: every vertex takes at least 6 bytes ("0 0 0\n") and
 /// every face 8 ("3 0 1 2\n"). Without this check the importer reserves memory for whatever the header says.
-/// The scan is lenient on purpose: the first two numbers after the keyword, wherever they start (assimp reads
-/// "OFF6666" as a count of 6666), comments skipped.
+/// The scan is lenient on purpose, comments skipped, and checks two readings: the first two numbers after the
+/// keyword, wherever they start (assimp reads "OFF6666" as a count of 6666), and the first two numbers of the
+/// file (assimp also takes a file whose keyword comes later, or never, and reads its counts from the top).
 void checkOffHeader(const std::string& head, std::uint64_t fileSize, const std::string& name) {
   std::string text;
   std::istringstream in(head);
   for (std::string line; std::getline(in, line);) text += line.substr(0, line.find('#')) + "\n";
   const std::size_t keyword = text.find("OFF");
-  std::size_t at = keyword == std::string::npos ? 0 : keyword + 3;
-  double counts[2];
-  for (double& count : counts) {
-    at = text.find_first_of("0123456789+-.", at);
-    if (at == std::string::npos) return; // malformed: the importer says so
-    char* end = nullptr;
-    count = std::strtod(text.c_str() + at, &end);
-    at = std::size_t(end - text.c_str()) + (end == text.c_str() + at); // past the number (or its lone sign)
+  for (std::size_t at : {std::size_t(0), keyword == std::string::npos ? std::size_t(0) : keyword + 3}) {
+    double counts[2];
+    if (!firstTwoNumbers(text, at, counts)) continue; // malformed: the importer says so
+    const double vertices = counts[0], faces = counts[1], need = 6.0 * vertices + 8.0 * faces;
+    if (!(vertices >= 0 && faces >= 0 && need <= double(fileSize)))
+      throw Error(fmt::format("{}: the OFF header declares {:.0f} vertices and {:.0f} faces, which need at least "
+                              "{:.0f} bytes, but the file has {}", name, vertices, faces, need, fileSize));
   }
-  const double vertices = counts[0], faces = counts[1], need = 6.0 * vertices + 8.0 * faces;
-  if (!(vertices >= 0 && faces >= 0 && need <= double(fileSize)))
-    throw Error(fmt::format("{}: the OFF header declares {:.0f} vertices and {:.0f} faces, which need at least "
-                            "{:.0f} bytes, but the file has {}", name, vertices, faces, need, fileSize));
 }
 
 /// Bytes of one PLY scalar property type (0 when unknown).

@@ -127,7 +127,8 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
   mLights = makeGpuLights(scene.lights, mFrameOrigin);
   if (settings.technique == ShadowTechnique::Sdf)
     mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, settings.pipeline);
-  mGpu = std::make_unique<Gpu>(ctx, settings.technique == ShadowTechnique::Sdf && settings.sdf.penumbra == PenumbraEstimate::Umbra);
+  const bool umbra = settings.technique == ShadowTechnique::Sdf && settings.sdf.penumbra == PenumbraEstimate::Umbra;
+  mGpu = std::make_unique<Gpu>(ctx, umbra);
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
   mGpu->gbuffer.reserve(ctx, settings.width, settings.height);
   mGpu->lights = Buffer(ctx, mLights.size() * sizeof(sh::GpuLight), kStorage, Buffer::Memory::Device, "lights");

@@ -131,6 +131,12 @@ RTSDF_FN float exitDistance(vec3 o, vec3 d, vec3 lo, vec3 hi) {
   return tExit > tEnter ? tExit : 0.0f;
 }
 
+/// Two unit vectors u, v with (u, v, L) orthonormal: the plane across the light's cone around unit L.
+RTSDF_FN void perpendicularBasis(vec3 L, RTSDF_OUT(vec3) u, RTSDF_OUT(vec3) v) {
+  u = normalize(cross(L, abs(L.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
+  v = cross(L, u);
+}
+
 /// The signed distance (in light-disc radii, negative: covered) from the cone's axis to the edge of the occluder
 /// the centred march came closest to, from lateralProbes SDF samples around the cone there. The centre's own
 /// signed distance cannot tell a plate from a rod: a plate the ray crosses is never deeper than half its
@@ -154,8 +160,8 @@ RTSDF_FN float lateralEdgeDistance(SdfShadowParams s, vec3 o, vec3 L, float tApp
   vec3 n = g / gl;
   float ln = dot(n, L);
   if (ln > -0.25f) return 1.0f; // grazing (the receiver's own plane) or moving away: no crossing to probe
-  vec3 u = normalize(cross(L, abs(L.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
-  vec3 v = cross(L, u);
+  vec3 u, v;
+  perpendicularBasis(L, u, v);
   RTSDF_PRECISE vec3 q = o + L * tClose;
   float r = w * tClose;
   float hMax = -3.0e38f;
@@ -234,8 +240,8 @@ RTSDF_FN float sdfShadowUmbra(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float t
   float wk = w / sqrt(float(count));
   // The spiral's turn: a second number from the pixel's jitter (24 bits, exact in a float and a uint).
   float turn = s.jitter * unitFloat(pcgHash(uint(jitter01 * 16777216.0f)));
-  vec3 u = normalize(cross(L, abs(L.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
-  vec3 v = cross(L, u);
+  vec3 u, v;
+  perpendicularBasis(L, u, v);
   float sum = 0.0f;
   for (uint k = 0u; k < count; ++k) {
     float radius = w * sqrt((float(k) + 0.5f) / float(count));

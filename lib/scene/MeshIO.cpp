@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <fstream>
 #include <sstream>
 
 namespace rtsdf {
@@ -98,6 +99,37 @@ void checkPlyHeader(const std::string& head, std::uint64_t fileSize, const std::
   throw Error(fmt::format("{}: the PLY header has no 'end_header' line in its first {} bytes", name, head.size()));
 }
 
+/// OBJ polylines ('l') need two vertices. assimp's OBJ importer counts a one-vertex 'l' as no vertex but still
+/// copies one, so single-vertex lines before a longer one make it write past the end of the mesh's vertex
+/// array (the fuzzer found it: a heap overflow inside assimp). Counted as assimp's parser counts: a statement is
+/// any line whose first character is 'l' (its first word skipped), continued onto the next line by a trailing
+/// backslash; a vertex is a word whose leading integer is not zero.
+void checkObjLines(std::istream& in, const std::string& name) {
+  const auto readLine = [&in](std::string& line) {
+    if (!std::getline(in, line)) return false;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  std::string line, next;
+  for (std::size_t number = 0; readLine(line);) {
+    const std::size_t first = ++number;
+    while (!line.empty() && line.back() == '\\' && readLine(next)) {
+      line.back() = ' ';
+      line += next;
+      ++number;
+    }
+    if (line.empty() || line[0] != 'l') continue;
+    std::istringstream words(line);
+    std::string word;
+    words >> word; // the keyword
+    int vertices = 0;
+    while (words >> word) vertices += std::atoi(word.c_str()) != 0;
+    if (vertices < 2)
+      throw Error(fmt::format("{}: line {}: an OBJ line element ('l') needs at least 2 vertices, this one has {}", name,
+                              first, vertices));
+  }
+}
+
 /// Header claims checked against the file's size before assimp allocates for them.
 void checkHeaderClaims(const std::string& head, std::uint64_t fileSize, const std::string& extension,
                        const std::string& name) {
@@ -170,6 +202,10 @@ Mesh loadMeshFile(const fs::path& path) {
     throw Error(fmt::format("{}: the mesh file has {:.1f} GiB, more than the {:.1f} GiB of memory available",
                             path.string(), double(size) / (1u << 30), double(available) / (1u << 30)));
   checkHeaderClaims(readFileHead(path, 1 << 16), size, path.extension().string(), path.string());
+  if (toLower(path.extension().string()) == ".obj") {
+    std::ifstream in(path, std::ios::binary);
+    checkObjLines(in, path.string());
+  }
   Assimp::Importer importer;
   configure(importer);
   // No vertex joining or degenerate removal here: validateMesh() welds and counts what it drops.
@@ -184,6 +220,10 @@ Mesh loadMeshFile(const fs::path& path) {
 
 Mesh loadMeshFromMemory(const std::string& bytes, const std::string& extension, const std::string& name) {
   checkHeaderClaims(bytes.substr(0, 1 << 16), bytes.size(), extension, name);
+  if (toLower(extension) == ".obj" || toLower(extension) == "obj") {
+    std::istringstream in(bytes);
+    checkObjLines(in, name);
+  }
   Assimp::Importer importer;
   configure(importer);
   const std::string hint = extension.empty() || extension[0] != '.' ? extension : extension.substr(1);

@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 
 namespace rtsdf {
@@ -99,34 +98,65 @@ void checkPlyHeader(const std::string& head, std::uint64_t fileSize, const std::
   throw Error(fmt::format("{}: the PLY header has no 'end_header' line in its first {} bytes", name, head.size()));
 }
 
-/// OBJ polylines ('l') need two vertices. assimp's OBJ importer counts a one-vertex 'l' as no vertex but still
-/// copies one, so single-vertex lines before a longer one make it write past the end of the mesh's vertex
-/// array (the fuzzer found it: a heap overflow inside assimp). Counted as assimp's parser counts: a statement is
-/// any line whose first character is 'l' (its first word skipped), continued onto the next line by a trailing
-/// backslash; a vertex is a word whose leading integer is not zero.
-void checkObjLines(std::istream& in, const std::string& name) {
-  const auto readLine = [&in](std::string& line) {
-    if (!std::getline(in, line)) return false;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    return true;
-  };
-  std::string line, next;
-  for (std::size_t number = 0; readLine(line);) {
-    const std::size_t first = ++number;
-    while (!line.empty() && line.back() == '\\' && readLine(next)) {
-      line.back() = ' ';
-      line += next;
-      ++number;
+/// The vertices assimp's OBJ parser reads from one face, line or point statement @a s (the keyword first):
+/// its tokenizer, step for step (ObjFileParser::getFace), so that the count is the importer's, however odd
+/// the bytes. @return -1 where the importer rejects the statement itself (a zero index).
+int objStatementVertices(const std::string& s) {
+  const auto isSpace = [](char c) { return c == ' ' || c == '\t'; };
+  const auto isLineEnd = [](char c) { return c == '\r' || c == '\n' || c == '\0' || c == '\f'; };
+  std::size_t at = 0;
+  while (at < s.size() && !isSpace(s[at]) && !isLineEnd(s[at])) ++at; // the keyword
+  while (at < s.size() && (isSpace(s[at]) || isLineEnd(s[at]))) ++at;
+  int vertices = 0, position = 0; // position: 0 vertex, 1 texture coordinate, 2 normal ('/' separated)
+  while (at < s.size() && !isLineEnd(s[at])) {
+    std::size_t step = 1;
+    if (s[at] == '/') {
+      ++position;
+    } else if (isSpace(s[at])) {
+      position = 0;
+    } else {
+      const int value = int(std::strtol(s.c_str() + at, nullptr, 10)); // what atoi reads there
+      if (value == 0) return -1;
+      for (int rest = value / 10; rest != 0; rest /= 10) ++step;
+      step += value < 0;
+      vertices += position == 0;
     }
-    if (line.empty() || line[0] != 'l') continue;
-    std::istringstream words(line);
-    std::string word;
-    words >> word; // the keyword
-    int vertices = 0;
-    while (words >> word) vertices += std::atoi(word.c_str()) != 0;
-    if (vertices < 2)
-      throw Error(fmt::format("{}: line {}: an OBJ line element ('l') needs at least 2 vertices, this one has {}", name,
-                              first, vertices));
+    at += step;
+  }
+  return vertices;
+}
+
+/// OBJ polylines ('l') need two vertices. assimp's OBJ importer counts a one-vertex 'l' as no vertex but still
+/// copies one, so one-vertex lines before a longer one make it write past the end of the mesh's vertex array
+/// (the fuzzer found it: a heap overflow inside assimp, which ASan cannot see). The statements are split as
+/// assimp's reader splits them: a statement ends at '\n', '\r', '\f' or '\0' unless a backslash comes right
+/// before, which continues it after the next '\n'.
+void checkObjLines(const std::string& text, const std::string& name) {
+  const auto isLineEnd = [](char c) { return c == '\r' || c == '\n' || c == '\0' || c == '\f'; };
+  std::string statement; // the current statement, kept only when it is an 'l'
+  bool started = false, keep = false;
+  std::size_t line = 1, first = 1;
+  for (std::size_t at = 0; at <= text.size(); ++at) {
+    const bool end = at == text.size();
+    if (!end && text[at] == '\\' && at + 1 < text.size() && isLineEnd(text[at + 1])) {
+      at = text.find('\n', at + 1); // continued after the next '\n'
+      if (at == std::string::npos) at = text.size() - 1;
+      ++line;
+      continue;
+    }
+    if (!end && !isLineEnd(text[at])) {
+      if (!started) keep = text[at] == 'l';
+      started = true;
+      if (keep) statement += text[at];
+      continue;
+    }
+    if (keep && objStatementVertices(statement) == 1)
+      throw Error(fmt::format("{}: line {}: an OBJ line element ('l') needs at least 2 vertices, this one has 1",
+                              name, first));
+    statement.clear();
+    started = keep = false;
+    line += !end && text[at] == '\n';
+    first = line;
   }
 }
 
@@ -202,10 +232,7 @@ Mesh loadMeshFile(const fs::path& path) {
     throw Error(fmt::format("{}: the mesh file has {:.1f} GiB, more than the {:.1f} GiB of memory available",
                             path.string(), double(size) / (1u << 30), double(available) / (1u << 30)));
   checkHeaderClaims(readFileHead(path, 1 << 16), size, path.extension().string(), path.string());
-  if (toLower(path.extension().string()) == ".obj") {
-    std::ifstream in(path, std::ios::binary);
-    checkObjLines(in, path.string());
-  }
+  if (toLower(path.extension().string()) == ".obj") checkObjLines(readFileHead(path, size), path.string());
   Assimp::Importer importer;
   configure(importer);
   // No vertex joining or degenerate removal here: validateMesh() welds and counts what it drops.
@@ -220,10 +247,7 @@ Mesh loadMeshFile(const fs::path& path) {
 
 Mesh loadMeshFromMemory(const std::string& bytes, const std::string& extension, const std::string& name) {
   checkHeaderClaims(bytes.substr(0, 1 << 16), bytes.size(), extension, name);
-  if (toLower(extension) == ".obj" || toLower(extension) == "obj") {
-    std::istringstream in(bytes);
-    checkObjLines(in, name);
-  }
+  if (toLower(extension) == ".obj" || toLower(extension) == "obj") checkObjLines(bytes, name);
   Assimp::Importer importer;
   configure(importer);
   const std::string hint = extension.empty() || extension[0] != '.' ? extension : extension.substr(1);

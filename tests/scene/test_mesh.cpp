@@ -195,6 +195,29 @@ TEST(MeshIO, MissingAndMalformedFilesNameTheFile) {
   EXPECT_NE(errorOf([&] { loadMeshFile(dir / "lines.obj"); }).find("lines.obj"), std::string::npos);
 }
 
+// assimp's OBJ importer writes past its vertex array after one-vertex polylines: they are refused first, counted
+// as its tokenizer counts them (statements end at \f and \0 too, a backslash continues one).
+TEST(MeshIO, ObjOneVertexPolylinesAreRefusedBeforeAssimpReadsThem) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const auto error = [](const std::string& text) {
+    return errorOf([&] { loadMeshFromMemory(text, ".obj", "t.obj"); });
+  };
+  const char withNul[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\n#\0l 3\nf 1 2 3\n";
+  for (const std::string bad : {tri + "l 1\nl 1\nl 1 2 3\n", tri + "l 2\n", tri + "# note\fl 1\n",
+                                std::string(withNul, sizeof(withNul) - 1), tri + "l 1/1\n", tri + "lx -1\n",
+                                tri + "l 1 \\\n\n"}) {
+    const std::string msg = error(bad);
+    EXPECT_NE(msg.find("t.obj: line "), std::string::npos) << bad << ": " << msg;
+    EXPECT_NE(msg.find("needs at least 2 vertices"), std::string::npos) << bad << ": " << msg;
+  }
+  EXPECT_NE(error(tri + "l 1\nl 1\nl 1 2 3\n").find("line 5"), std::string::npos);
+  // Two vertices as assimp reads them (a backslash continues a statement; "+1" reads as 1, then 1 again), or
+  // none (an empty 'l' is dropped), load.
+  for (const std::string good :
+       {tri + "l 1 2\n", tri + "l 1 \\\n 2\n", tri + "l +1\n", tri + "l\n", tri + "l 1 2 3\r\n"})
+    EXPECT_EQ(error(good), "") << good;
+}
+
 TEST(MeshIO, ObjWithOutOfRangeIndexOrNanIsRejected) {
   TempDir dir;
   writeText(dir / "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");

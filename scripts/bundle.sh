@@ -28,7 +28,8 @@ name="rtsdf-$version-linux-$(uname -m)"
 [ -n "$output" ] || output="$build/$name.tar.gz"
 
 stage="$(mktemp -d)"
-trap 'rm -rf "$stage"' EXIT
+partial="$output.partial.$$"
+trap 'rm -rf "$stage" "$partial"' EXIT
 dest="$stage/$name"
 cmake --install "$build" --prefix "$dest" --component runtime >/dev/null
 
@@ -60,8 +61,6 @@ no device, point the loader at the driver's manifest, e.g.
 EOF
 
 mkdir -p "$(dirname "$output")"
-partial="$output.partial.$$"
-trap 'rm -rf "$stage" "$partial"' EXIT
 tar -C "$stage" -czf "$partial" "$name"
 mv "$partial" "$output"
 echo "bundle.sh: $output ($(du -h "$output" | cut -f1), $(ls "$dest/lib" | wc -l) libraries)"

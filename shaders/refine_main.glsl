@@ -17,12 +17,13 @@ layout(std430, binding = kRefineBindingFine) buffer Fine { float fine[]; };
 layout(std430, binding = kRefineBindingHistory) buffer History { float history[]; };
 layout(std430, binding = kRefineBindingVotes) buffer Votes { uint votes[]; };
 layout(std430, binding = kRefineBindingLastFrame) buffer LastFrame { uint lastFrame[]; };
+layout(std430, binding = kRefineBindingMaskCounts) readonly buffer MaskCounts { uint maskCounts[]; };
 
 #include "bvh_traverse.glsl"
 
 void main() {
   uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  if (k >= uint(params.fineDims.w)) return;
+  if (k >= maskCounts[kMaskCountFine]) return;
   uint packed = mask[k];
   ivec3 v = ivec3(int(packed & 1023u), int((packed >> 10) & 1023u), int((packed >> 20) & 1023u));
   ivec3 fd = params.fineDims.xyz;

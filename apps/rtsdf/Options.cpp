@@ -91,7 +91,7 @@ void bindBake(CLI::App& app, BakeCommand& c) {
   cmd->add_option("-o,--output", c.output, "Output .vdb file (written atomically)")->required();
   addEnum(cmd, "-m,--method", o.method,
           "exact: CPU exact reference; openvdb: OpenVDB's meshToLevelSet; jfa: GPU coarse SDF (voxelization, nearest "
-          "seeds by --coarse-method: the exact transform by default, or jump flooding; distance minus beta); rtsdf: coarse SDF, OpenVDB ray mask and fine SDF refined through the GPU "
+          "seeds by --coarse-method: the exact transform by default, or jump flooding; distance minus beta); rtsdf: coarse SDF, ray mask compacted on the GPU and fine SDF refined through the GPU "
           "BVH");
   cmd->add_option("-r,--res", o.resolution, "Voxels along the scene's longest axis (other axes follow)")
       ->check(inRange(1, 8192))->capture_default_str();

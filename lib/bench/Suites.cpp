@@ -127,7 +127,7 @@ std::string coarseSuite(const BenchOptions& s) {
 /// Time and error of one pipeline configuration: `frames` frames accumulated; the last frame's GPU passes,
 /// and the fine field against the exact one over the band (|exact| <= d) after the last frame.
 struct RefinePoint {
-  double refineMs = 0.0, totalMs = 0.0, mirrorMs = 0.0;
+  double refineMs = 0.0, totalMs = 0.0, hostMs = 0.0;
   std::uint64_t mask = 0;
   FieldError error;
 };
@@ -140,7 +140,7 @@ RefinePoint runRefinePoint(const gpu::VulkanContext& ctx, const Scene& scene, co
   RefinePoint r;
   r.refineMs = st.refineMs();
   for (const auto& [n, ms] : st.passMs) r.totalMs += ms;
-  r.mirrorMs = st.mirrorMs;
+  r.hostMs = st.hostMs;
   r.mask = st.maskFineVoxels;
   ExactSdfOptions eo;
   eo.band = errorBand;
@@ -215,7 +215,7 @@ std::string refineSuite(const BenchOptions& s) {
     const std::string name = fs::path(path).filename().string();
     md += fmt::format("### {}: UpsamplePass\n\n", name) + upsampleTable(ctx, geo, s) + "\n";
     md += fmt::format("### {}: sizes x rays (d = 0.1, alpha = 0.95, exact coarse transform)\n\n", name);
-    md += "| size | coarse/fine | mode | x | mask voxels | RayRefinePass (ms) | all passes (ms) | mirror CPU (ms) | "
+    md += "| size | coarse/fine | mode | x | mask voxels | RayRefinePass (ms) | all passes (ms) | host CPU (ms) | "
           "mean / max abs error | wrong sign | OpenVDB meshToLevelSet (ms) | refine / OpenVDB |\n";
     md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& [size, coarse, fine] : {std::tuple<const char*, int, int>{"S", 64, 128}, {"M", 128, 256}}) {
@@ -234,7 +234,7 @@ std::string refineSuite(const BenchOptions& s) {
         const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1);
         md += fmt::format("| {} | {}/{} | {} | {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.3f} / {:.2f} | {:.3f}% | {:.0f} | "
                           "{:.2f} |\n",
-                          size, coarse, fine, toString(m.mode), m.rays, r.mask, r.refineMs, r.totalMs, r.mirrorMs,
+                          size, coarse, fine, toString(m.mode), m.rays, r.mask, r.refineMs, r.totalMs, r.hostMs,
                           r.error.meanAbs, r.error.maxAbs, 100.0 * r.error.signErrorRate(), tVdb, r.refineMs / tVdb);
       }
     }

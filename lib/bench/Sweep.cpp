@@ -177,7 +177,7 @@ std::vector<SweepPoint> makeSweepPlan(SweepPreset preset, bool animated, double 
 
 std::string csvHeader() {
   return "group,label,size,anchor,coarse,fine,mode,coarse_method,rays,band,alpha,frames,frame,time,mask_voxels,voxelize_ms,"
-         "transform_ms,distance_ms,mirror_ms,upsample_ms,refine_ms,frame_ms,mean_abs_vox,rms_vox,max_abs_vox,"
+         "transform_ms,distance_ms,host_ms,upsample_ms,refine_ms,frame_ms,mean_abs_vox,rms_vox,max_abs_vox,"
          "sign_error_rate,error_voxels,shadow_rmse,shadow_penumbra_rmse,shadow_flip,storage_band_voxels,vdb_bytes,dense_bytes,peak_mib,peak_growth_mib,note";
 }
 
@@ -188,7 +188,7 @@ std::string csvRow(const SweepRecord& r) {
                      toString(p.group), quoted(p.label()), p.size, quoted(toString(p.anchor)), p.pipeline.coarseRes,
                      p.pipeline.fineRes, toString(p.pipeline.mode), toString(p.pipeline.coarseMethod), p.pipeline.rays,
                      p.bruteForce ? "inf" : g(p.pipeline.band), g(p.pipeline.alpha), p.frames, r.frame, g(r.time),
-                     r.maskVoxels, g(r.voxelizeMs), g(r.transformMs), g(r.distanceMs), g(r.mirrorMs), g(r.upsampleMs),
+                     r.maskVoxels, g(r.voxelizeMs), g(r.transformMs), g(r.distanceMs), g(r.hostMs), g(r.upsampleMs),
                      g(r.refineMs), g(r.frameMs), g(r.meanAbs), g(r.rms), g(r.maxAbs), g(r.signErrorRate),
                      r.errorVoxels, g(r.shadowRmse), g(r.shadowPenumbraRmse), g(r.shadowFlip),
                      p.storageBandVoxels > 0 ? g(p.storageBandVoxels) : std::string(), r.vdbBytes, r.denseBytes, g(r.peakMiB),
@@ -253,7 +253,8 @@ std::string reportHeader(const SweepContext& c, const std::vector<SweepRecord>& 
   md += fmt::format(
       "- Times: GPU timestamps per pass, median over at least {} frames after a warm-up frame (a point with fewer "
       "frames runs more after its error is measured, for timing only; a moving scene's frames are timed one by one); "
-      "`mirror` is the CPU time of the OpenVDB mirror and mask list; `frame` = GPU passes + mirror. Anchors: CPU "
+      "`host` is the CPU time of a frame outside its wait for the GPU (the ray mask is compacted on the GPU); `frame` "
+      "= GPU passes + host. Anchors: CPU "
       "wall time, median of as many runs.\n"
       "- Field error: |fine - exact| in fine voxels (mean / RMS / max) and the rate of wrong signs, after the "
       "point's last frame, over every fine voxel with |exact| <= {:g} scene units.\n",
@@ -274,7 +275,7 @@ std::string reportHeader(const SweepContext& c, const std::vector<SweepRecord>& 
 /// The paper's pass durations and sizes x rays in one table.
 std::string sizesTable(const RecordList& v) {
   std::string md = "## Pass durations and sizes x rays (d = 0.1, alpha = 0.95, 1+JFA, 2 frames)\n\n";
-  md += "| size | coarse/fine | mode | x | mask voxels | voxelize | transform | distance | mirror (CPU) | upsample | "
+  md += "| size | coarse/fine | mode | x | mask voxels | voxelize | transform | distance | host (CPU) | upsample | "
         "refine | frame (ms) | mean / RMS / max error | wrong sign | shadow RMSE / FLIP | peak MiB |\n";
   md += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const SweepRecord* r : v)
@@ -283,7 +284,7 @@ std::string sizesTable(const RecordList& v) {
                       toString(r->point.pipeline.mode),
                       r->point.pipeline.mode == RefineMode::Rays ? fmt::format("{}", r->point.pipeline.rays) : "-",
                       r->maskVoxels, num(r->voxelizeMs, 2), num(r->transformMs, 2), num(r->distanceMs, 2),
-                      num(r->mirrorMs, 2), num(r->upsampleMs, 2), num(r->refineMs, 2), num(r->frameMs, 1), err(*r),
+                      num(r->hostMs, 2), num(r->upsampleMs, 2), num(r->refineMs, 2), num(r->frameMs, 1), err(*r),
                       pct(r->signErrorRate), shadow(*r), peak(*r));
   return md + "\n";
 }

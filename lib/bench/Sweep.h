@@ -96,8 +96,8 @@ struct SweepRecord {
   std::uint64_t maskVoxels = 0;///< fine voxels in the ray mask
   double voxelizeMs = kNotMeasured, transformMs = kNotMeasured, distanceMs = kNotMeasured,
          upsampleMs = kNotMeasured, refineMs = kNotMeasured; ///< GPU pass times (pipeline points only)
-  double mirrorMs = kNotMeasured; ///< CPU: the OpenVDB mirror and the mask list
-  double frameMs = kNotMeasured;  ///< per-frame cost: the GPU passes plus the mirror (anchors, storage: CPU wall time)
+  double hostMs = kNotMeasured;   ///< CPU time of the frame outside its wait for the GPU (FrameStats::hostMs)
+  double frameMs = kNotMeasured;  ///< per-frame cost: the GPU passes plus the host time (anchors, storage: CPU wall time)
   double meanAbs = kNotMeasured, rms = kNotMeasured, maxAbs = kNotMeasured; ///< |error| in fine voxels
   double signErrorRate = kNotMeasured;
   std::uint64_t errorVoxels = 0;

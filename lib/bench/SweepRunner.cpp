@@ -47,9 +47,9 @@ void setTimings(SweepRecord& r, const std::vector<FrameStats>& all) {
   r.distanceMs = med([](const FrameStats& f) { return f.passTotal(CoarseDistancePass::kName); });
   r.upsampleMs = med([](const FrameStats& f) { return f.passTotal(UpsamplePass::kName); });
   r.refineMs = med([](const FrameStats& f) { return f.refineMs(); });
-  r.mirrorMs = med([](const FrameStats& f) { return f.mirrorMs; });
+  r.hostMs = med([](const FrameStats& f) { return f.hostMs; });
   r.frameMs = med([](const FrameStats& f) {
-    double t = f.mirrorMs;
+    double t = f.hostMs;
     for (const auto& [name, ms] : f.passMs) t += ms;
     return t;
   });

@@ -8,7 +8,9 @@
 #include <openvdb/tools/SignedFloodFill.h>
 #include <tbb/blocked_range3d.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -93,6 +95,42 @@ FloatGrid::Ptr denseToLevelSet(const std::vector<float>& dense, const GridSpec& 
           active[i] = std::fabs(values[i]) <= band;
           any |= active[i];
         }
+    return any;
+  });
+}
+
+FloatGrid::Ptr activeVoxelsToLevelSet(std::vector<std::pair<std::uint64_t, float>> voxels, const GridSpec& spec,
+                                      float band) {
+  const std::uint64_t count = spec.voxelCount();
+  const glm::ivec3 blocks = (spec.dims + (kLeafDim - 1)) / kLeafDim;
+  auto coordOf = [&](std::uint64_t i) {
+    return glm::ivec3(int(i % spec.dims.x), int((i / spec.dims.x) % spec.dims.y),
+                      int(i / (std::uint64_t(spec.dims.x) * spec.dims.y)));
+  };
+  auto blockOf = [&](std::uint64_t i) {
+    const glm::ivec3 b = coordOf(i) / kLeafDim;
+    return (std::uint64_t(b.z) * blocks.y + b.y) * blocks.x + b.x;
+  };
+  for (const auto& v : voxels)
+    if (v.first >= count)
+      throw Error(fmt::format("level set: active voxel {} lies outside grid {} ({} voxels)", v.first, spec.describe(),
+                              count));
+  // Bucketed by block: each block's fill finds its voxels by binary search.
+  std::vector<std::pair<std::uint64_t, std::size_t>> order(voxels.size());
+  for (std::size_t k = 0; k < voxels.size(); ++k) order[k] = {blockOf(voxels[k].first), k};
+  tbb::parallel_sort(order.begin(), order.end());
+  return buildLevelSet(spec, band, [&](const glm::ivec3& o, float* values, bool* active) {
+    const glm::ivec3 b = o / kLeafDim;
+    const std::uint64_t block = (std::uint64_t(b.z) * blocks.y + b.y) * blocks.x + b.x;
+    auto it = std::lower_bound(order.begin(), order.end(), std::make_pair(block, std::size_t(0)));
+    bool any = false;
+    for (; it != order.end() && it->first == block; ++it) {
+      const auto& [linear, value] = voxels[it->second];
+      const glm::ivec3 c = coordOf(linear) - o;
+      const int i = (c.x * kLeafDim + c.y) * kLeafDim + c.z;
+      values[i] = value;
+      active[i] = any = true;
+    }
     return any;
   });
 }

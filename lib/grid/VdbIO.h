@@ -11,6 +11,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rtsdf {
@@ -38,6 +39,13 @@ openvdb::FloatGrid::Ptr buildLevelSet(const GridSpec& spec, float band, const Le
 /// @brief Sparse level set from a dense field (x fastest, GridSpec::linear order): voxels with
 ///        |value| <= band are active, the rest inactive at ±band.
 openvdb::FloatGrid::Ptr denseToLevelSet(const std::vector<float>& dense, const GridSpec& spec, float band);
+
+/// @brief Sparse level set from its active voxels alone, e.g. a band compacted on the GPU: each (GridSpec::linear
+///        index, value) is active, in any order and without repeats; every other voxel is inactive at ±band, its
+///        sign from openvdb::tools::signedFloodFill.
+/// @throw Error when an index lies outside @a spec.
+openvdb::FloatGrid::Ptr activeVoxelsToLevelSet(std::vector<std::pair<std::uint64_t, float>> voxels,
+                                               const GridSpec& spec, float band);
 
 /// @brief Sample a grid at every voxel of @a spec (inactive voxels give their stored ±background).
 /// @note The grid's transform must equal makeTransform(spec).

@@ -191,7 +191,8 @@ std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::pat
   const PipelineSettings& p = o.pipeline;
   const FrameStats& st = r.lastFrame;
   std::string passes;
-  for (const char* n : {VoxelizePass::kName, coarseTransformPass(p.coarseMethod), CoarseDistancePass::kName, UpsamplePass::kName,
+  for (const char* n : {VoxelizePass::kName, coarseTransformPass(p.coarseMethod), CoarseDistancePass::kName,
+                        MaskCompactPass::kName, UpsamplePass::kName,
                         p.mode == RefineMode::Rays ? RayRefinePass::kName : ClosestRefinePass::kName})
     passes += fmt::format("{} {:.1f} ms, ", n, st.passTotal(n));
   std::string t = fmt::format("scene      {}\n", o.scene);
@@ -201,7 +202,7 @@ std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::pat
   t += fmt::format("fine       {}\n", r.spec.describe());
   t += fmt::format("ray mask   {} coarse voxels, {} fine voxels (band {})\n", st.maskCoarseVoxels, st.maskFineVoxels,
                    p.band);
-  t += fmt::format("last frame {}mirror (CPU) {:.1f} ms\n", passes, st.mirrorMs);
+  t += fmt::format("last frame {}host (CPU) {:.1f} ms\n", passes, st.hostMs);
   t += fmt::format("time       {:.3f} s for {} frames on {}\n", r.seconds, o.frames, r.device);
   t += fmt::format("output     {} ({} active voxels)\n", output.string(), r.grid->activeVoxelCount());
   return t;

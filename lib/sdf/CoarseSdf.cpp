@@ -95,8 +95,8 @@ CoarseSdf CoarseSdfBuilder::build(const SceneGeometry& geometry, const GridSpec&
   return out;
 }
 
-CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const GridSpec& spec,
-                                  const CoarseSdfSettings& settings, bool keepSeeds) {
+CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const std::vector<glm::vec4>& corners, const GridSpec& spec,
+                                                     const CoarseSdfSettings& settings) {
   const glm::ivec3 dims = spec.dims;
   if (glm::any(glm::greaterThan(dims, glm::ivec3(kMaxSeedAxis))))
     throw Error(fmt::format("coarse SDF: grid {}x{}x{} exceeds the {} voxels per axis that seeds can address",
@@ -104,16 +104,17 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
   if (corners.size() % 3) throw Error("coarse SDF: triangle corners must come in threes");
   const std::uint64_t voxels = spec.voxelCount();
   const std::uint32_t tris = std::uint32_t(corners.size() / 3);
-  const VoxelizeParams vp = voxelizeParams(spec, tris);
+  Prepared p;
+  p.voxelize.shader = voxelizeParams(spec, tris);
+  const VoxelizeParams& vp = p.voxelize.shader;
   // The most chunks any triangle's voxel range needs: the second dispatch dimension of VoxelizePass.
-  std::uint32_t maxChunks = 1;
   for (std::uint32_t t = 0; t < tris; ++t) {
     const vec3 t0 = toVoxelSpace(glm::vec3(corners[3 * t]), vp.originInvH);
     const vec3 t1 = toVoxelSpace(glm::vec3(corners[3 * t + 1]), vp.originInvH);
     const vec3 t2 = toVoxelSpace(glm::vec3(corners[3 * t + 2]), vp.originInvH);
     const glm::ivec3 n = voxelRangeHi(t0, t1, t2, dims) - voxelRangeLo(t0, t1, t2) + 1;
     if (n.x > 0 && n.y > 0 && n.z > 0)
-      maxChunks = std::max(maxChunks, gpu::groupsFor(std::uint64_t(n.x) * n.y * n.z, vp.chunkSize));
+      p.voxelize.maxChunks = std::max(p.voxelize.maxChunks, gpu::groupsFor(std::uint64_t(n.x) * n.y * n.z, vp.chunkSize));
   }
 
   using gpu::Buffer;
@@ -124,36 +125,53 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
   gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / transform A");
   gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "transform B");
   gpu::reserve(mCtx, mDistanceBuf, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
-  const Buffer &cornerBuf = mCorners, &a = mSeedsA, &b = mSeedsB, &dist = mDistanceBuf;
 
+  p.beta = float(settings.beta >= 0.0 ? settings.beta : 0.5 * spec.voxelSize);
+  p.distance.dims = glm::ivec4(dims, 0);
+  p.distance.voxelSize = float(spec.voxelSize);
+  p.distance.beta = p.beta;
+  p.distance.emptyDistance = emptySceneDistance(spec);
+  p.flood = {dims, settings.method};
+  return p;
+}
+
+const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler,
+                                                  const Prepared& p) const {
+  const bool exact = !isJumpFlooding(p.flood.variant);
+  const gpu::Buffer& nearest = exact ? mSeedsB : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
+  mVoxelize.execute(cmd, profiler, {mCorners}, {mSeedsA}, p.voxelize);
+  if (exact)
+    mExactEdt.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, {p.flood.dims});
+  else
+    mJumpFlood.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, p.flood);
+  mDistance.execute(cmd, profiler, {nearest}, {mDistanceBuf}, p.distance);
+  return nearest;
+}
+
+float CoarseSdfBuilder::record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const SceneGeometry& geometry,
+                               const GridSpec& spec, const CoarseSdfSettings& settings) {
+  const Prepared p = prepare(triangleCorners(geometry), spec.inFrame(geometry.origin), settings);
+  recordPasses(cmd, profiler, p);
+  return p.beta;
+}
+
+CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const GridSpec& spec,
+                                  const CoarseSdfSettings& settings, bool keepSeeds) {
+  const Prepared p = prepare(corners, spec, settings);
+  const std::uint64_t voxels = spec.voxelCount();
   CoarseSdf out;
   out.spec = spec;
-  out.beta = float(settings.beta >= 0.0 ? settings.beta : 0.5 * spec.voxelSize);
-  CoarseDistanceParams dp{};
-  dp.dims = glm::ivec4(dims, 0);
-  dp.voxelSize = float(spec.voxelSize);
-  dp.beta = out.beta;
-  dp.emptyDistance = emptySceneDistance(spec);
-
-  const VoxelizePass::Params voxelize{vp, maxChunks};
+  out.beta = p.beta;
   if (keepSeeds) {
     gpu::CommandBuffer cmd(mCtx);
-    mVoxelize.execute(cmd.handle(), nullptr, {cornerBuf}, {a}, voxelize);
+    mVoxelize.execute(cmd.handle(), nullptr, {mCorners}, {mSeedsA}, p.voxelize);
     cmd.submitAndWait();
     out.seeds.resize(voxels);
-    download(mCtx, a, out.seeds.data(), voxels * 4);
+    download(mCtx, mSeedsA, out.seeds.data(), voxels * 4);
   }
-  const bool exact = !isJumpFlooding(settings.method);
-  const JumpFloodPass::Params flood{dims, settings.method};
-  const Buffer& nearest = exact ? b : JumpFloodPass::result({a}, {b}, flood);
   gpu::CommandBuffer cmd(mCtx);
   mProfiler.reset(cmd.handle());
-  mVoxelize.execute(cmd.handle(), &mProfiler, {cornerBuf}, {a}, voxelize);
-  if (exact)
-    mExactEdt.execute(cmd.handle(), &mProfiler, {a}, {b}, {dims});
-  else
-    mJumpFlood.execute(cmd.handle(), &mProfiler, {a}, {b}, flood);
-  mDistance.execute(cmd.handle(), &mProfiler, {nearest}, {dist}, dp);
+  const gpu::Buffer& nearest = recordPasses(cmd.handle(), &mProfiler, p);
   cmd.submitAndWait();
   out.passMs = mProfiler.results();
   out.distance.resize(voxels);
@@ -161,7 +179,7 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
     out.nearest.resize(voxels);
     download(mCtx, nearest, out.nearest.data(), voxels * 4);
   }
-  download(mCtx, dist, out.distance.data(), voxels * 4);
+  download(mCtx, mDistanceBuf, out.distance.data(), voxels * 4);
   return out;
 }
 

@@ -116,11 +116,28 @@ public:
   /// @brief The same on raw triangle corners (3 per triangle; an empty list gives an empty scene).
   CoarseSdf build(const std::vector<glm::vec4>& corners, const GridSpec& spec, const CoarseSdfSettings& settings,
                   bool keepSeeds = false);
+  /// @brief Record the three passes into @a cmd without reading anything back (the triangle corners are uploaded
+  ///        first, by a transfer of their own): the coarse SDF is left in distanceBuffer() for later passes of
+  ///        @a cmd. Scopes go to @a profiler (null: none), which the caller reset on @a cmd.
+  /// @return beta as applied (scene units).
+  /// @throw Error as build() does.
+  float record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const SceneGeometry& geometry, const GridSpec& spec,
+               const CoarseSdfSettings& settings);
   /// @brief The last build's coarse SDF on the GPU (x fastest), valid until the next build: later passes
   ///        read it in place instead of uploading the read-back copy again.
   const gpu::Buffer& distanceBuffer() const { return mDistanceBuf; }
 
 private:
+  struct Prepared {
+    VoxelizePass::Params voxelize;
+    JumpFloodPass::Params flood;
+    gpu::shared::CoarseDistanceParams distance{};
+    float beta = 0.0f;
+  };
+  /// Check the grid, size the buffers and upload the corners: everything the passes need but the recording.
+  Prepared prepare(const std::vector<glm::vec4>& corners, const GridSpec& spec, const CoarseSdfSettings& settings);
+  /// Record voxelize, transform and distance; returns the buffer that holds the nearest seeds.
+  const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Prepared& p) const;
   const gpu::VulkanContext& mCtx;
   gpu::Buffer mCorners, mSeedsA, mSeedsB, mDistanceBuf;
   VoxelizePass mVoxelize;

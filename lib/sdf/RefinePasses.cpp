@@ -1,6 +1,8 @@
 #include "sdf/RefinePasses.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace rtsdf {
 using namespace gpu::shared;
@@ -12,6 +14,40 @@ RefineParams refineGridParams(const GridSpec& coarse, const GridSpec& fine) {
   p.coarseOriginInvH = glm::vec4(glm::vec3(coarse.origin), float(1.0 / coarse.voxelSize));
   p.coarseDims = glm::ivec4(coarse.dims, 0);
   return p;
+}
+
+std::vector<glm::ivec2> maskFineRanges(const GridSpec& coarse, const GridSpec& fine) {
+  const double ratio = coarse.voxelSize / fine.voxelSize;
+  std::vector<glm::ivec2> ranges;
+  ranges.reserve(std::size_t(coarse.dims.x) + coarse.dims.y + coarse.dims.z);
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < coarse.dims[a]; ++i)
+      ranges.emplace_back(std::max(0, int(std::ceil(i * ratio - 0.5))),
+                          std::min(fine.dims[a] - 1, int(std::ceil((i + 1) * ratio - 0.5)) - 1));
+  return ranges;
+}
+
+void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                              const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kMaskBindingCount> b;
+  b[kMaskBindingCounts] = &out.counts;
+  b[kMaskBindingCoarse] = &in.coarse;
+  b[kMaskBindingFineRanges] = &in.fineRanges;
+  b[kMaskBindingFineList] = &out.fineList;
+  b[kMaskBindingCoarseList] = &out.coarseList;
+  const glm::ivec3 d = params.coarseDims;
+  mPipeline.dispatch(cmd, b, &params,
+                     {gpu::groupsFor(d.x, RTSDF_MASK_GROUP), gpu::groupsFor(d.y, RTSDF_MASK_GROUP),
+                      gpu::groupsFor(d.z, RTSDF_MASK_GROUP)});
+  gpu::computeBarrier(cmd);
+}
+
+void MaskDispatchPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs&, const Outputs& out,
+                               const Params&) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  mPipeline.dispatch(cmd, {&out.counts}, nullptr, {1, 1, 1});
+  gpu::computeBarrier(cmd);
 }
 
 void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
@@ -37,7 +73,8 @@ void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const 
   b[kRefineBindingHistory] = &out.history;
   b[kRefineBindingVotes] = &out.votes;
   b[kRefineBindingLastFrame] = &out.lastFrame;
-  mPipeline.dispatchIndirect(cmd, b, &params, in.dispatch);
+  b[kRefineBindingMaskCounts] = &in.counts;
+  mPipeline.dispatchIndirect(cmd, b, &params, in.counts);
   gpu::computeBarrier(cmd);
 }
 

@@ -11,11 +11,52 @@
 #include "grid/GridSpec.h"
 #include "sdf/GpuSceneBvh.h"
 
+#include <vector>
+
 namespace rtsdf {
 
 /// @brief The grid half of the refinement's push constants: both grids' corners, voxel sizes and dims (the
 ///        grids as the GPU sees them, e.g. GridSpec::inFrame of the frame's origin); the rest zero.
 gpu::shared::RefineParams refineGridParams(const GridSpec& coarse, const GridSpec& fine);
+
+/// @brief The fine voxels under each coarse slab, per axis: entry a-offset + i (x entries, then y, then z) is the
+///        range [lo, hi] of fine indices j along axis a whose centres lie in coarse voxel i, i <= (j + 0.5) / ratio
+///        < i + 1, clamped to the fine grid (lo > hi: none, where the coarse grid overhangs the fine one). The
+///        grids share their corner (coarseGridOver). The CPU mirror (buildRayMask) and MaskCompactPass use these
+///        very tables, so both give the same fine voxels.
+std::vector<glm::ivec2> maskFineRanges(const GridSpec& coarse, const GridSpec& fine);
+
+/// @brief MaskCompactPass (mask_compact.comp): the ray mask on the GPU. Appends every coarse voxel with |c| <= d
+///        (index and value) and the fine voxels under it (packed 10 bits per axis) to two lists, in no order, and
+///        counts both in the counts buffer (gpu/shared/Refine.h's kMaskCount* words, which must be zero before).
+class MaskCompactPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "MaskCompactPass";
+  struct Inputs {
+    const gpu::Buffer& coarse;     ///< c_t, dense, x fastest
+    const gpu::Buffer& fineRanges; ///< maskFineRanges() of the two grids
+  };
+  struct Outputs { const gpu::Buffer &counts, &fineList, &coarseList; };
+  using Params = gpu::shared::MaskParams; ///< fineCapacity / coarseCapacity: entries the lists hold
+  explicit MaskCompactPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "mask_compact.comp", gpu::shared::kMaskBindingCount, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
+/// @brief MaskDispatchPass (mask_dispatch.comp): one invocation writes the refinement's indirect dispatch
+///        (gpu::shared::refineDispatch) from the fine voxels MaskCompactPass counted, at offset 0 of the counts
+///        buffer, which therefore needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT.
+class MaskDispatchPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "MaskDispatchPass";
+  struct Inputs {};
+  struct Outputs { const gpu::Buffer& counts; };
+  struct Params {};
+  explicit MaskDispatchPass(const gpu::VulkanContext& ctx) : ComputePass(ctx, "mask_dispatch.comp", 1, 0) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
 
 /// @brief UpsamplePass: fine[v] = the coarse SDF trilinearly interpolated at fine voxel v's centre.
 class UpsamplePass : gpu::ComputePass {
@@ -46,8 +87,8 @@ class RefinePass : gpu::ComputePass {
 public:
   struct Inputs {
     const GpuSceneBvh& bvh;       ///< top level as of this frame
-    const gpu::Buffer& mask;      ///< packed fine voxels (10 bits per axis)
-    const gpu::Buffer& dispatch;  ///< VkDispatchIndirectCommand: the mask's size, in groups of RTSDF_REFINE_GROUP
+    const gpu::Buffer& mask;      ///< packed fine voxels (10 bits per axis), MaskCompactPass's fine list
+    const gpu::Buffer& counts;    ///< MaskCompactPass's counts, indirect dispatch included (MaskDispatchPass)
   };
   /// Per fine voxel: the SDF (in: c_t upsampled, out: f_t), its unsigned history, decayed sign votes, and the
   /// frame it was last refined in.

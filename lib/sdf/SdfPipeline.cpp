@@ -12,9 +12,10 @@
 #include <tbb/parallel_sort.h>
 
 #include <chrono>
-#include <tuple>
 #include <cmath>
+#include <cstring>
 #include <mutex>
+#include <tuple>
 
 namespace rtsdf {
 using gpu::Buffer;
@@ -103,13 +104,13 @@ PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettin
   const std::uint64_t coarseBuf = nc * 4, fineBuf = nf * 4;
   if (fineBuf >= coarseBuf) { m.largestBuffer = fineBuf; m.largestBufferName = "fine SDF"; }
   else { m.largestBuffer = coarseBuf; m.largestBufferName = "coarse SDF"; }
-  // Seeds A/B and the coarse SDF; fine SDF, history, votes, last frame and the mask at its largest; the BVH
-  // (nodes of 32 bytes, at most two per triangle, corners 48 bytes and ids 4 bytes per triangle) and the
-  // corners VoxelizePass reads (48 bytes per triangle).
-  m.deviceBytes = 3 * coarseBuf + 5 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
-  // Read-back and staging of the coarse SDF, its OpenVDB mirror (4 bytes and a mask bit per voxel at worst);
-  // the mask list and its staging upload; fineField() and its staging read-back.
-  m.hostBytes = nc * 13 + nf * 16;
+  // Seeds A/B, the coarse SDF and the compacted band (8 bytes per voxel); fine SDF, history, votes, last frame
+  // and the compacted mask; the BVH (nodes of 32 bytes, at most two per triangle, corners 48 bytes and ids 4
+  // bytes per triangle) and the corners VoxelizePass reads (48 bytes per triangle).
+  m.deviceBytes = 5 * coarseBuf + 5 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
+  // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
+  // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
+  m.hostBytes = nc * 29 + nf * 16;
   return m;
 }
 
@@ -171,20 +172,15 @@ RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& cs, const
   // Fine voxels whose centres fall in each active coarse voxel, leaf by leaf in parallel.
   openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(mask.coarse->tree());
   std::mutex m;
-  const double ratio = cs.voxelSize / fs.voxelSize;
+  const std::vector<glm::ivec2> ranges = maskFineRanges(cs, fs);
   leaves.foreach([&](const openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
     std::vector<std::uint32_t> local;
     for (auto it = leaf.cbeginValueOn(); it; ++it) {
       const openvdb::Coord c = it.getCoord();
-      glm::ivec3 lo, hi;
-      for (int a = 0; a < 3; ++a) {
-        // fine voxel j has its centre in coarse voxel i when i <= (j + 0.5) / ratio < i + 1
-        lo[a] = std::max(0, int(std::ceil(c[a] * ratio - 0.5)));
-        hi[a] = std::min(fs.dims[a] - 1, int(std::ceil((c[a] + 1) * ratio - 0.5)) - 1);
-      }
-      for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-          for (int x = lo.x; x <= hi.x; ++x)
+      const glm::ivec2 rx = ranges[c.x()], ry = ranges[cs.dims.x + c.y()], rz = ranges[cs.dims.x + cs.dims.y + c.z()];
+      for (int z = rz.x; z <= rz.y; ++z)
+        for (int y = ry.x; y <= ry.y; ++y)
+          for (int x = rx.x; x <= rx.y; ++x)
             local.push_back(std::uint32_t(x) | (std::uint32_t(y) << 10) | (std::uint32_t(z) << 20));
     }
     std::lock_guard<std::mutex> lock(m);
@@ -200,14 +196,18 @@ double FrameStats::refineMs() const {
 
 struct SdfPipeline::Gpu {
   CoarseSdfBuilder coarse;
+  MaskCompactPass compact;
+  MaskDispatchPass maskDispatch;
   UpsamplePass upsample;
   std::unique_ptr<RefinePass> refine; // RayRefinePass or ClosestRefinePass, by the mode
   gpu::GpuProfiler profiler;
   Buffer fine, history, votes, lastFrame;
-  Buffer mask;
-  Buffer indirect{}; // VkDispatchIndirectCommand of the refinement
+  Buffer fineRanges;                  // maskFineRanges() of the grids, uploaded once
+  Buffer counts;                      // the refinement's indirect dispatch, then the mask's counters
+  Buffer countsReadback;              // the counts, copied at the end of each frame for its statistics
+  Buffer mask, coarseList;            // the compacted fine voxels and coarse band voxels (band > 0 only)
   Gpu(const gpu::VulkanContext& ctx, RefineMode mode)
-      : coarse(ctx), upsample(ctx),
+      : coarse(ctx), compact(ctx), maskDispatch(ctx), upsample(ctx),
         refine(mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
                                         : std::make_unique<ClosestRefinePass>(ctx)),
         profiler(ctx) {}
@@ -234,6 +234,21 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   mGpu->history = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine history");
   mGpu->votes = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine sign votes");
   mGpu->lastFrame = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine last frame");
+  using gpu::shared::kMaskCountWords;
+  mGpu->counts = Buffer(ctx, kMaskCountWords * 4, kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                        VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Buffer::Memory::Device,
+                        "ray mask counts");
+  mGpu->countsReadback = Buffer(ctx, kMaskCountWords * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Host,
+                                "ray mask counts (readback)");
+  if (s.band > 0.0) {
+    // Each fine voxel lies under one coarse voxel: the lists can never hold more than the grids.
+    const std::vector<glm::ivec2> ranges = maskFineRanges(mCoarseSpec, mFineSpec);
+    gpu::reserveAndUpload(ctx, mGpu->fineRanges, ranges.data(), ranges.size() * sizeof(glm::ivec2), kStorage,
+                          "ray mask fine ranges");
+    mGpu->mask = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "ray mask (fine voxels)");
+    mGpu->coarseList = Buffer(ctx, mCoarseSpec.voxelCount() * 8, kStorage, Buffer::Memory::Device,
+                              "ray mask (coarse voxels)");
+  }
   gpu::CommandBuffer cmd(ctx);
   // No history yet: lastFrame + 1 must differ from the first frame number (1).
   vkCmdFillBuffer(cmd.handle(), mGpu->lastFrame.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
@@ -244,27 +259,83 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
 
 SdfPipeline::~SdfPipeline() = default;
 
-RayMask SdfPipeline::updateMask(FrameStats& stats) {
-  const auto t0 = std::chrono::steady_clock::now();
-  RayMask mask = buildRayMask(mCoarse, mCoarseSpec, mFineSpec, mSettings.band);
-  stats.mirrorMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  stats.maskCoarseVoxels = mask.coarseVoxels;
-  stats.maskFineVoxels = mask.fineVoxels.size();
-  gpu::reserveAndUpload(mCtx, mGpu->mask, mask.fineVoxels.data(), mask.fineVoxels.size() * 4, kStorage, "ray mask");
-  // The mask's size travels as an indirect dispatch, so a GPU-side compaction can later write it in place.
-  const std::uint32_t groups = gpu::groupsFor(mask.fineVoxels.size(), RTSDF_REFINE_GROUP);
-  const std::uint32_t gx = std::min<std::uint32_t>(std::max(groups, 1u), 65535u), gy = gpu::groupsFor(groups, gx);
-  const VkDispatchIndirectCommand dispatch{groups ? gx : 0u, groups ? gy : 0u, 1u};
-  if (!mGpu->indirect)
-    mGpu->indirect = Buffer(mCtx, sizeof(dispatch), VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Host,
-                            "refine dispatch");
-  upload(mCtx, mGpu->indirect, &dispatch, sizeof(dispatch));
+gpu::shared::MaskParams SdfPipeline::maskParams() const {
+  gpu::shared::MaskParams p{};
+  p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
+  p.band = float(mSettings.band);
+  p.fineCapacity = std::uint32_t(mGpu->mask.size() / 4);
+  p.coarseCapacity = std::uint32_t(mGpu->coarseList.size() / 8);
+  return p;
+}
+
+void SdfPipeline::recordMask(VkCommandBuffer cmd) {
+  Gpu& g = *mGpu;
+  vkCmdFillBuffer(cmd, g.counts.handle(), 0, VK_WHOLE_SIZE, 0u);
+  gpu::computeBarrier(cmd);
+  // d = 0 refines nothing (not even voxels with c = 0): the counts stay zero, and so does the dispatch.
+  if (mSettings.band > 0.0)
+    g.compact.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineRanges}, {g.counts, g.mask, g.coarseList},
+                      maskParams());
+  g.maskDispatch.execute(cmd, &g.profiler, {}, {g.counts}, {});
+}
+
+void SdfPipeline::recordCountsReadback(VkCommandBuffer cmd) const {
+  const VkBufferCopy region{0, 0, gpu::shared::kMaskCountWords * 4};
+  vkCmdCopyBuffer(cmd, mGpu->counts.handle(), mGpu->countsReadback.handle(), 1, &region);
+  VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
+                       nullptr);
+}
+
+std::pair<std::uint32_t, std::uint32_t> SdfPipeline::maskCounts() const {
+  std::uint32_t words[gpu::shared::kMaskCountWords];
+  std::memcpy(words, mGpu->countsReadback.mapped(), sizeof(words));
+  const std::uint32_t fine = words[gpu::shared::kMaskCountFine], coarse = words[gpu::shared::kMaskCountCoarse];
+  // Each fine voxel lies under one coarse voxel and each coarse voxel is appended once: more would be a bug.
+  if (fine > mGpu->mask.size() / 4 || coarse > mGpu->coarseList.size() / 8)
+    throw Error(fmt::format("ray mask: the GPU counted {} fine and {} coarse voxels, more than the grids hold ({} and "
+                            "{})", fine, coarse, mFineSpec.voxelCount(), mCoarseSpec.voxelCount()));
+  return {fine, coarse};
+}
+
+RayMask SdfPipeline::rayMask() const {
+  RayMask mask;
+  if (mFrame == 0 || mSettings.band <= 0.0) return mask;
+  const auto [fine, coarse] = maskCounts();
+  mask.coarseVoxels = coarse;
+  mask.fineVoxels.resize(fine);
+  download(mCtx, mGpu->mask, mask.fineVoxels.data(), std::size_t(fine) * 4);
+  tbb::parallel_sort(mask.fineVoxels.begin(), mask.fineVoxels.end());
+  std::vector<std::uint32_t> pairs(std::size_t(coarse) * 2);
+  download(mCtx, mGpu->coarseList, pairs.data(), pairs.size() * 4);
+  std::vector<std::pair<std::uint64_t, float>> voxels(coarse);
+  for (std::size_t k = 0; k < coarse; ++k) {
+    voxels[k].first = pairs[2 * k];
+    std::memcpy(&voxels[k].second, &pairs[2 * k + 1], 4);
+  }
+  if (mCoarseSpec.voxelSize >= minVdbVoxelSize()) {
+    mask.coarse = activeVoxelsToLevelSet(std::move(voxels), mCoarseSpec, float(mSettings.band));
+  } else {
+    // Voxels too small for an OpenVDB transform: the same grid measured in voxels, as buildRayMask does.
+    GridSpec unit = mCoarseSpec;
+    unit.voxelSize = 1.0;
+    unit.origin = mCoarseSpec.origin / mCoarseSpec.voxelSize;
+    for (auto& v : voxels) v.second = float(double(v.second) / mCoarseSpec.voxelSize);
+    mask.coarse = activeVoxelsToLevelSet(std::move(voxels), unit, float(mSettings.band / mCoarseSpec.voxelSize));
+  }
   return mask;
 }
 
-RefineParams SdfPipeline::refineParams(std::size_t maskVoxels) const {
+std::vector<float> SdfPipeline::coarseField() const {
+  std::vector<float> out(mFrame ? mCoarseSpec.voxelCount() : 0);
+  download(mCtx, mGpu->coarse.distanceBuffer(), out.data(), out.size() * 4);
+  return out;
+}
+
+RefineParams SdfPipeline::refineParams() const {
   RefineParams p = refineGridParams(mCoarseSpec.inFrame(frameOrigin()), mFineSpec.inFrame(frameOrigin()));
-  p.fineDims.w = int(maskVoxels);
   p.alpha = float(mSettings.alpha);
   p.rays = std::uint32_t(mSettings.rays);
   p.frame = mFrame;
@@ -274,29 +345,34 @@ RefineParams SdfPipeline::refineParams(std::size_t maskVoxels) const {
 }
 
 FrameStats SdfPipeline::runFrame(double time) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
   FrameStats stats;
   stats.time = time;
   ++mFrame;
+  Gpu& g = *mGpu;
   CoarseSdfSettings cs;
   cs.method = mSettings.coarseMethod;
   cs.beta = mSettings.beta;
-  cs.readNearest = false;
-  CoarseSdf coarse = mGpu->coarse.build(buildSceneGeometry(mScene, time, frameOrigin()), mCoarseSpec, cs);
-  stats.passMs = coarse.passMs;
-  mCoarse = std::move(coarse.distance);
-  const RayMask mask = updateMask(stats);
+  const SceneGeometry geometry = buildSceneGeometry(mScene, time, frameOrigin());
   mBvh->update(time);
-
-  Gpu& g = *mGpu;
-  const RefineParams p = refineParams(mask.fineVoxels.size());
+  // One command buffer for the whole frame: nothing is read back until it has finished.
   gpu::CommandBuffer cmd(mCtx);
   g.profiler.reset(cmd.handle());
+  g.coarse.record(cmd.handle(), &g.profiler, geometry, mCoarseSpec, cs);
+  recordMask(cmd.handle());
+  const RefineParams p = refineParams();
   g.upsample.execute(cmd.handle(), &g.profiler, {g.coarse.distanceBuffer()}, {g.fine}, p);
-  if (!mask.fineVoxels.empty())
-    g.refine->execute(cmd.handle(), &g.profiler, {*mBvh, g.mask, g.indirect}, {g.fine, g.history, g.votes, g.lastFrame},
+  if (mSettings.band > 0.0)
+    g.refine->execute(cmd.handle(), &g.profiler, {*mBvh, g.mask, g.counts}, {g.fine, g.history, g.votes, g.lastFrame},
                       p);
+  recordCountsReadback(cmd.handle());
+  const auto t1 = Clock::now();
   cmd.submitAndWait();
-  for (const auto& r : g.profiler.results()) stats.passMs.push_back(r);
+  const auto t2 = Clock::now();
+  stats.passMs = g.profiler.results();
+  std::tie(stats.maskFineVoxels, stats.maskCoarseVoxels) = maskCounts();
+  stats.hostMs = std::chrono::duration<double, std::milli>((t1 - t0) + (Clock::now() - t2)).count();
   return stats;
 }
 

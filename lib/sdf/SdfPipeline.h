@@ -81,11 +81,12 @@ std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const Pipeline
 
 /// @brief What SdfPipeline would allocate for some settings and bounds, computed without allocating.
 ///
-/// Device buffers: per coarse voxel 12 bytes (seeds, jump-flood scratch, coarse SDF); per fine voxel 16 bytes
-/// (fine SDF, history, sign votes, last frame) plus up to 4 for the ray mask (every fine voxel when d spans
-/// the scene); the BVH (about 100 bytes per triangle). Host memory per frame: per coarse voxel 13 bytes (its
-/// read-back, the staging copy and the OpenVDB mirror), per fine voxel 16 bytes (mask list and its staging
-/// upload, fineField() and its staging read-back).
+/// Device buffers: per coarse voxel 20 bytes (seeds, jump-flood scratch, coarse SDF, the compacted coarse band);
+/// per fine voxel 20 bytes (fine SDF, history, sign votes, last frame, the compacted ray mask: the GPU appends
+/// to it, so it is sized for every fine voxel); the BVH (about 100 bytes per triangle). Host memory at its peak,
+/// when the results are read back (a frame itself reads back a few words): per coarse voxel 29 bytes
+/// (coarseField() and its staging copy; rayMask()'s coarse band, its staging copy and the OpenVDB mirror), per
+/// fine voxel 16 bytes (rayMask()'s list and fineField(), each with its staging copy).
 struct PipelineMemory {
   GridSpec coarse, fine;          ///< the grids (pipelineGrids)
   std::uint64_t largestBuffer = 0;///< bytes of the largest single storage buffer
@@ -120,7 +121,7 @@ MemoryLimits memoryLimits(const gpu::DeviceInfo& device);
 void checkPipelineMemory(const PipelineMemory& need, const MemoryLimits& limits);
 
 /// @brief The ray mask: the coarse SDF mirrored into OpenVDB (active exactly where |c| <= d) and the fine
-///        voxels whose centres lie in active coarse voxels, packed 10 bits per axis, sorted.
+///        voxels whose centres lie in active coarse voxels (maskFineRanges), packed 10 bits per axis, sorted.
 struct RayMask {
   /// The mirror (null when d = 0: nothing is refined). Its transform is the coarse grid's; where the coarse
   /// voxels are smaller than OpenVDB accepts (minVdbVoxelSize()), the mirror is measured in voxels (voxel
@@ -129,6 +130,8 @@ struct RayMask {
   std::vector<std::uint32_t> fineVoxels;
   std::uint64_t coarseVoxels = 0; ///< active coarse voxels
 };
+/// @brief The CPU reference of the ray mask, from a dense coarse SDF (x fastest). SdfPipeline compacts the same
+///        mask on the GPU (MaskCompactPass) and builds its mirror on demand (SdfPipeline::rayMask()).
 RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& coarseSpec, const GridSpec& fineSpec,
                      double band);
 
@@ -136,7 +139,9 @@ RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& coarseSpe
 struct FrameStats {
   double time = 0.0;
   std::uint64_t maskCoarseVoxels = 0, maskFineVoxels = 0;
-  double mirrorMs = 0.0; ///< CPU: OpenVDB mirror and mask list
+  /// CPU time of the frame outside its wait for the GPU: the scene's triangles transformed and uploaded, the
+  /// BVH's top level, recording and submitting. The ray mask is compacted on the GPU: no mirror in the frame.
+  double hostMs = 0.0;
   PassTimes passMs;      ///< GPU time per pass
   double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
   /// @brief The refinement pass's time, whichever mode ran (RayRefinePass or ClosestRefinePass).
@@ -154,12 +159,18 @@ public:
   SdfPipeline(const SdfPipeline&) = delete;
   SdfPipeline& operator=(const SdfPipeline&) = delete;
 
-  /// @brief One frame at @a time seconds: coarse SDF, mask, upsample, refinement.
+  /// @brief One frame at @a time seconds, one submission: coarse SDF, the ray mask compacted on the GPU
+  ///        (MaskCompactPass, MaskDispatchPass), upsample, refinement dispatched indirectly by the mask's size.
+  ///        Only the mask's counts (a few words) are read back, after the frame.
   FrameStats runFrame(double time);
-  /// @brief The dense fine SDF of the last frame (x fastest), scene units.
+  /// @brief The dense fine SDF of the last frame (x fastest), scene units (read back from the GPU).
   std::vector<float> fineField() const;
-  /// @brief The last frame's coarse SDF (x fastest).
-  const std::vector<float>& coarseField() const { return mCoarse; }
+  /// @brief The last frame's coarse SDF (x fastest; read back from the GPU; empty before the first frame).
+  std::vector<float> coarseField() const;
+  /// @brief The last frame's ray mask as the GPU compacted it, with its OpenVDB mirror built on demand from the
+  ///        compacted band (no dense read-back): the same voxels as buildRayMask(coarseField(), ...), the fine
+  ///        voxels sorted. Empty before the first frame or when d = 0.
+  RayMask rayMask() const;
   const GridSpec& coarseSpec() const { return mCoarseSpec; }
   /// @brief The world point the GPU passes measure from: the fine grid's corner. Triangles, the BVH's top level
   ///        and the grids are moved into this frame in double before they become floats, so a scene far from
@@ -174,14 +185,19 @@ public:
 
 private:
   struct Gpu;
-  RayMask updateMask(FrameStats& stats);
-  gpu::shared::RefineParams refineParams(std::size_t maskVoxels) const;
+  gpu::shared::MaskParams maskParams() const;
+  /// Record: counters reset, MaskCompactPass (band > 0), MaskDispatchPass.
+  void recordMask(VkCommandBuffer cmd);
+  /// Record: the counts copied into the host-visible readback buffer, visible to the host after the frame.
+  void recordCountsReadback(VkCommandBuffer cmd) const;
+  /// The fine and coarse voxels the last frame's mask counted (from the readback).
+  std::pair<std::uint32_t, std::uint32_t> maskCounts() const;
+  gpu::shared::RefineParams refineParams() const;
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   PipelineSettings mSettings;
   GridSpec mCoarseSpec, mFineSpec;
   std::unique_ptr<GpuSceneBvh> mBvh;
-  std::vector<float> mCoarse;
   std::uint32_t mFrame = 0;
   std::unique_ptr<Gpu> mGpu;
 };

@@ -90,6 +90,99 @@ TEST_F(Refine, RayMaskIsTheCoarseBandAndTheFineVoxelsUnderIt) {
   }
 }
 
+namespace {
+
+/// The mask the GPU compacted (SdfPipeline::rayMask(), its mirror built from the compacted band) against the CPU
+/// reference from the dense coarse SDF: the same fine voxels, and mirrors with the same active voxels and values.
+void expectGpuMaskEqualsMirror(const SdfPipeline& pipe, const FrameStats& st) {
+  const RayMask gpu = pipe.rayMask();
+  const RayMask cpu = buildRayMask(pipe.coarseField(), pipe.coarseSpec(), pipe.fineSpec(), pipe.settings().band);
+  ASSERT_TRUE(gpu.coarse && cpu.coarse);
+  EXPECT_GT(cpu.coarseVoxels, 100u);
+  EXPECT_EQ(st.maskCoarseVoxels, cpu.coarseVoxels);
+  EXPECT_EQ(st.maskFineVoxels, cpu.fineVoxels.size());
+  EXPECT_EQ(gpu.coarseVoxels, cpu.coarseVoxels);
+  ASSERT_EQ(gpu.fineVoxels.size(), cpu.fineVoxels.size());
+  std::size_t differ = 0;
+  for (std::size_t k = 0; k < cpu.fineVoxels.size(); ++k) differ += gpu.fineVoxels[k] != cpu.fineVoxels[k];
+  EXPECT_EQ(differ, 0u) << "fine voxels listed differently";
+  EXPECT_EQ(gpu.coarse->activeVoxelCount(), cpu.coarse->activeVoxelCount());
+  EXPECT_EQ(gpu.coarse->transform(), cpu.coarse->transform());
+  auto acc = cpu.coarse->getConstAccessor();
+  std::size_t missing = 0, otherValue = 0;
+  for (auto it = gpu.coarse->cbeginValueOn(); it; ++it) {
+    missing += !acc.isValueOn(it.getCoord());
+    otherValue += acc.getValue(it.getCoord()) != *it;
+  }
+  EXPECT_EQ(missing, 0u) << "active in the GPU's mirror, not in the CPU's";
+  EXPECT_EQ(otherValue, 0u);
+}
+
+Scene scaled(Scene scene, double factor) {
+  for (Instance& inst : scene.instances) {
+    inst.transform.scale *= factor;
+    inst.transform.translation *= factor;
+  }
+  return scene;
+}
+
+} // namespace
+
+TEST_F(Refine, GpuCompactedMaskEqualsTheOpenVdbMirror) {
+  struct Case { const char* name; Scene scene; int coarse, fine; double band; };
+  const Scene bun = bunny();
+  const std::vector<Case> cases{
+      {"default scene at M", loadScene(test::dataPath("scenes/default.json")), 128, 256, 0.1},
+      {"bunny 48/128 (ratio 2.67)", bun, 48, 128, 0.05},
+      {"bunny at 1e-4 (mirror in voxel units)", scaled(bun, 1e-4), 32, 64, 0.1e-4}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    PipelineSettings s;
+    s.coarseRes = c.coarse;
+    s.fineRes = c.fine;
+    s.band = c.band;
+    s.rays = 0;
+    SdfPipeline pipe(*sCtx, c.scene, boundsOf(c.scene), s);
+    if (std::string(c.name).find("1e-4") != std::string::npos) {
+      ASSERT_LT(pipe.coarseSpec().voxelSize, minVdbVoxelSize());
+    }
+    // Twice: the counters start again from zero every frame.
+    pipe.runFrame(0.0);
+    expectGpuMaskEqualsMirror(pipe, pipe.runFrame(0.0));
+  }
+}
+
+TEST_F(Refine, MaskDispatchPassWritesTheRefinementsGroups) {
+  using namespace gpu::shared;
+  // The CPU reference at the edges: empty, one group, the last count that fits along x, one more.
+  EXPECT_EQ(refineDispatch(0), glm::uvec3(0, 0, 1));
+  EXPECT_EQ(refineDispatch(1), glm::uvec3(1, 1, 1));
+  EXPECT_EQ(refineDispatch(65), glm::uvec3(2, 1, 1));
+  EXPECT_EQ(refineDispatch(64u * 65535u), glm::uvec3(65535, 1, 1));
+  EXPECT_EQ(refineDispatch(64u * 65535u + 1u), glm::uvec3(65535, 2, 1));
+  EXPECT_EQ(refineDispatch(1024u * 1024u * 1024u), glm::uvec3(65535, 257, 1)); // every voxel of a 1024^3 grid
+  const MaskDispatchPass pass(*sCtx);
+  const gpu::Buffer counts(*sCtx, kMaskCountWords * 4,
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                           gpu::Buffer::Memory::Host, "counts");
+  for (std::uint32_t n : {0u, 1u, 64u, 65u, 64u * 65535u, 64u * 65535u + 1u, 16777216u}) {
+    std::vector<std::uint32_t> words(kMaskCountWords, 0xDEADBEEFu);
+    words[kMaskCountFine] = n;
+    upload(*sCtx, counts, words.data(), words.size() * 4);
+    gpu::CommandBuffer cmd(*sCtx);
+    pass.execute(cmd.handle(), nullptr, {}, {counts}, {});
+    cmd.submitAndWait();
+    download(*sCtx, counts, words.data(), words.size() * 4);
+    const glm::uvec3 want = refineDispatch(n);
+    EXPECT_EQ(glm::uvec3(words[kMaskCountGroupsX], words[kMaskCountGroupsY], words[kMaskCountGroupsZ]), want) << n;
+    EXPECT_EQ(words[kMaskCountFine], n);
+    // Enough invocations for every voxel, and less than a group too many.
+    const std::uint64_t invocations = std::uint64_t(want.x) * want.y * want.z * RTSDF_REFINE_GROUP;
+    EXPECT_GE(invocations, n);
+    if (n) EXPECT_LT(invocations, n + std::uint64_t(want.x) * RTSDF_REFINE_GROUP);
+  }
+}
+
 TEST_F(Refine, ClosestModeIsTheExactDistanceInTheMask) {
   const Scene scene = bunny();
   PipelineSettings s;

@@ -24,18 +24,58 @@ const uint kUpsampleBindingCoarse = 0u; // coarse SDF c_t (read)
 const uint kUpsampleBindingFine = 1u;   // fine SDF (written: c_t upsampled everywhere)
 const uint kUpsampleBindingCount = 2u;
 
+/// Work-group shape of mask_compact.comp (one invocation per coarse voxel).
+#define RTSDF_MASK_GROUP 4
+
+/// Bindings of mask_compact.comp (MaskCompactPass) and mask_dispatch.comp (MaskDispatchPass, counts only).
+const uint kMaskBindingCounts = 0u;     // MaskCounts words: the refinement's indirect dispatch, then the counters
+const uint kMaskBindingCoarse = 1u;     // coarse SDF c_t (read)
+const uint kMaskBindingFineRanges = 2u; // ivec2 per coarse index per axis (x entries, then y, then z): the fine
+                                        // voxels [lo, hi] whose centres lie in that coarse slab
+const uint kMaskBindingFineList = 3u;   // appended: packed fine voxels (10 bits per axis), in no order
+const uint kMaskBindingCoarseList = 4u; // appended: (coarse linear index, floatBitsToUint(c)) per band voxel
+const uint kMaskBindingCount = 5u;
+
+/// Word indices of the counts buffer: a VkDispatchIndirectCommand for the refinement at offset 0, then the
+/// counters mask_compact.comp appends with (reset to 0 before it runs).
+const uint kMaskCountGroupsX = 0u;
+const uint kMaskCountGroupsY = 1u;
+const uint kMaskCountGroupsZ = 2u;
+const uint kMaskCountFine = 3u;   // fine voxels appended
+const uint kMaskCountCoarse = 4u; // coarse band voxels appended
+const uint kMaskCountWords = 8u;
+
+/// Push constants of mask_compact.comp and mask_dispatch.comp.
+struct MaskParams {
+  ivec4 coarseDims;    // xyz: coarse voxels per axis
+  float band;          // d: a coarse voxel is in the band when |c| <= d (the CPU mirror's float comparison)
+  uint fineCapacity;   // entries the fine list holds (appends beyond it are counted, not written)
+  uint coarseCapacity; // entries the coarse list holds
+  uint pad0;
+};
+
+/// The indirect dispatch of @a fineVoxels voxels in groups of RTSDF_REFINE_GROUP: at most 65535 groups along
+/// x, the rest along y (the refinement flattens them); no groups at all for an empty mask.
+RTSDF_FN uvec3 refineDispatch(uint fineVoxels) {
+  uint groups = fineVoxels / uint(RTSDF_REFINE_GROUP) + (fineVoxels % uint(RTSDF_REFINE_GROUP) != 0u ? 1u : 0u);
+  if (groups == 0u) return uvec3(0u, 0u, 1u);
+  uint gx = min(groups, 65535u);
+  return uvec3(gx, (groups + gx - 1u) / gx, 1u);
+}
+
 /// Bindings of refine_rays.comp and refine_closest.comp: the scene BVH (Bvh.h's kBvhBinding*), then these.
 const uint kRefineBindingMask = kBvhBindingCount + 0u;      // packed fine voxels of the ray mask
 const uint kRefineBindingFine = kBvhBindingCount + 1u;      // in: c_t upsampled; out: f_t signed
 const uint kRefineBindingHistory = kBvhBindingCount + 2u;   // unsigned f_{t-1}
 const uint kRefineBindingVotes = kBvhBindingCount + 3u;     // decayed (front, back) hits, two halves
 const uint kRefineBindingLastFrame = kBvhBindingCount + 4u; // frame of the voxel's last refinement
-const uint kRefineBindingCount = kBvhBindingCount + 5u;
+const uint kRefineBindingMaskCounts = kBvhBindingCount + 5u; // MaskCounts words: the mask's size at kMaskCountFine
+const uint kRefineBindingCount = kBvhBindingCount + 6u;
 
 /// Push constants of refine_upsample.comp and the refinement shaders.
 struct RefineParams {
   vec4 fineOriginH;      // xyz: world corner of fine voxel (0,0,0), w: fine voxel size
-  ivec4 fineDims;        // xyz: fine voxels per axis, w: masked voxels this frame
+  ivec4 fineDims;        // xyz: fine voxels per axis, w: unused (the mask's size is read on the GPU)
   vec4 coarseOriginInvH; // xyz: world corner of coarse voxel (0,0,0), w: 1 / coarse voxel size
   ivec4 coarseDims;      // xyz: coarse voxels per axis
   float alpha;           // history decay

@@ -226,7 +226,16 @@ void bindBench(CLI::App& app, BenchCommand& c) {
                                    "band x rays) with errors, vs OpenVDB meshToLevelSet; render: per-pass times of SDF "
                                    "shadows and shadow maps at 640x360 and 1280x720 with their image error against the "
                                    "ray-traced truth, and the ray tracer's time per sample count (PNGs beside "
-                                   "--output)");
+                                   "--output); frame: the pipeline frame by frame on one scene (host, GPU and wall "
+                                   "time, mask, error against the exact field; --csv writes a row per frame)");
+  addEnum(cmd, "--size", s.frameSize, "Frame suite: S (coarse 64 / fine 128), M (128/256) or L (256/512)");
+  cmd->add_option("--frames", s.frames, "Frame suite: frames run (medians over frames 2..N)")
+      ->check(inRange(1, 100000))->capture_default_str();
+  addEnum(cmd, "--refine", s.refine, "Frame suite: refinement mode");
+  cmd->add_option("--rays", s.rays, "Frame suite: rays per masked voxel per frame (x)")->check(inRange(0, 1024))
+      ->capture_default_str();
+  cmd->add_flag("--still", s.still, "Frame suite: every frame at time 0 (a static scene)");
+  cmd->add_option("--csv", s.csv, "Frame suite: write one CSV row per frame to this file");
   cmd->add_option("--device", s.device, "Vulkan device by index or name (GPU suites and --sweep)");
   cmd->add_option("--sweep", c.sweep,
                   "Run the speed/accuracy sweep on one scene instead of a suite: quick (tiny grids, a minute), "

@@ -1,6 +1,8 @@
 // rtsdf bench's suites: the builders against their anchors, same voxels and band, one run.
 #include "bench/Suites.h"
 
+#include "bench/FrameSuite.h"
+
 #include "grid/GridSpec.h"
 #include "grid/VdbIO.h"
 #include "image/ImageIO.h"
@@ -460,8 +462,21 @@ std::string openMeshCase(const BenchOptions& s) {
 
 } // namespace
 
+std::pair<int, int> frameSizeResolutions(FrameSize size) {
+  switch (size) {
+  case FrameSize::S: return {64, 128};
+  case FrameSize::L: return {256, 512};
+  case FrameSize::M: break;
+  }
+  return {128, 256};
+}
+
 void BenchOptions::validate() const {
   requireInRange("repeats", repeats, 1, 100);
+  requireInRange("frames", frames, 1, 100000);
+  requireInRange("rays", rays, 0, 1024);
+  if (suite == BenchSuite::Frame && scenes.size() > 1)
+    throw SettingError("scenes", fmt::format("the frame suite runs on one scene, not {}", scenes.size()));
   requireInRange("band fraction", bandFraction, 1e-6, 10.0);
   for (int r : resolutions) requireInRange("resolution", r, 1, GridSpec::kMaxResolution);
 }
@@ -470,7 +485,10 @@ std::string runBenchSuite(const BenchOptions& options, const JobControl& control
   options.validate();
   BenchOptions s = options;
   if (s.scenes.empty()) s.scenes = {detail::bundledScene("default.json"), detail::bundledScene("bunny.json")};
-  if (!s.output.empty()) checkOutputPath(s.output);
+  if (s.suite == BenchSuite::Frame) s.scenes.resize(1);
+  const std::vector<fs::path> inputs(s.scenes.begin(), s.scenes.end());
+  if (!s.output.empty()) checkOutputPath(s.output, {}, inputs);
+  if (!s.csv.empty()) checkOutputPath(s.csv, ".csv", inputs);
   std::string md = fmt::format("Machine: {}, {} hardware threads. Date: {:%Y-%m-%d}.\n\n", cpuName(),
                                std::thread::hardware_concurrency(), fmt::localtime(std::time(nullptr)));
   control.checkStop();
@@ -478,6 +496,12 @@ std::string runBenchSuite(const BenchOptions& options, const JobControl& control
   case BenchSuite::Coarse: md += coarseSuite(s); break;
   case BenchSuite::Refine: md += refineSuite(s); break;
   case BenchSuite::Render: md += renderSuite(s); break;
+  case BenchSuite::Frame: {
+    const std::vector<FrameRow> rows = runFrames(s, control);
+    md += frameReport(s, rows);
+    if (!s.csv.empty()) writeTextAtomically(s.csv, frameCsv(rows));
+    break;
+  }
   case BenchSuite::Reference:
     md += referenceSuite(s);
     if (options.scenes.empty()) md += openMeshCase(s);

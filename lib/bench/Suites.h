@@ -2,6 +2,7 @@
 /// @file Suites.h
 /// @brief The benchmark suites of `rtsdf bench`: each times rtsdf's builders against their anchors in one run
 ///        (OpenVDB's meshToLevelSet, the CPU references, the ray-traced truth) and reports Markdown tables.
+#include "sdf/SdfPipeline.h"
 #include "util/EnumNames.h"
 #include "util/JobControl.h"
 
@@ -16,8 +17,19 @@ enum class BenchSuite {
   Reference, ///< exact SDF vs OpenVDB meshToLevelSet, same voxels and band
   Coarse,    ///< GPU voxelize + nearest-seed transform per pass and method vs CPU jump flooding, exact EDT, OpenVDB SDF
   Refine,    ///< the paper's ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet
-  Render     ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth
+  Render,    ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth
+  Frame      ///< the pipeline frame by frame on one scene: host / GPU / wall time, mask, error (bench/FrameSuite.h)
 };
+
+/// @brief The paper's three sizes of the frame suite.
+enum class FrameSize {
+  S, ///< coarse 64 / fine 128
+  M, ///< coarse 128 / fine 256
+  L  ///< coarse 256 / fine 512
+};
+
+/// @brief The coarse and fine resolutions of @a size.
+std::pair<int, int> frameSizeResolutions(FrameSize size);
 
 /// @brief Everything a benchmark run needs.
 struct BenchOptions {
@@ -31,6 +43,13 @@ struct BenchOptions {
   std::string device;               ///< Vulkan device by index or name (GPU suites); empty: the best one
   /// Also write the report here (atomically); the render suite puts its PNGs beside it. Empty: neither.
   std::filesystem::path output;
+  // The frame suite (one scene; default: the bundled default scene).
+  FrameSize frameSize = FrameSize::M;
+  int frames = 10;                        ///< frames run; the report's medians are over frames 2..N
+  RefineMode refine = RefineMode::Closest;
+  int rays = 1;                           ///< x (in closest mode: the rays that vote for the sign)
+  bool still = false;                     ///< every frame at time 0 (static); default: the scene's animation at 30 fps
+  std::filesystem::path csv;              ///< the frame suite's per-frame CSV (atomically); empty: none
   /// @throw SettingError naming the setting that is out of range.
   void validate() const;
 };
@@ -50,6 +69,12 @@ template <> struct EnumNames<bench::BenchSuite> {
   static constexpr std::pair<const char*, bench::BenchSuite> kValues[] = {{"reference", bench::BenchSuite::Reference},
                                                                           {"coarse", bench::BenchSuite::Coarse},
                                                                           {"refine", bench::BenchSuite::Refine},
-                                                                          {"render", bench::BenchSuite::Render}};
+                                                                          {"render", bench::BenchSuite::Render},
+                                                                          {"frame", bench::BenchSuite::Frame}};
+};
+template <> struct EnumNames<bench::FrameSize> {
+  static constexpr const char* kSetting = "frame size";
+  static constexpr std::pair<const char*, bench::FrameSize> kValues[] = {
+      {"S", bench::FrameSize::S}, {"M", bench::FrameSize::M}, {"L", bench::FrameSize::L}};
 };
 } // namespace rtsdf

@@ -48,7 +48,7 @@ std::size_t focusInstance(const Scene& scene, const AnimateOptions& a) {
 openvdb::CoordBBox focusBox(const Scene& scene, const AnimateOptions& a, std::size_t idx, const GridSpec& fine) {
   Bounds swept;
   for (int f = 0; f < a.frames; ++f) {
-    const SceneGeometry g = buildSceneGeometry(scene, f / a.fps);
+    const SceneGeometry g = buildSceneGeometry(scene, a.still ? 0.0 : f / a.fps);
     for (const glm::vec3& p : g.meshes[idx].positions) swept.add(glm::dvec3(p));
   }
   const glm::dvec3 lo = fine.worldToIndex(swept.min - a.pipeline.band);
@@ -97,7 +97,7 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
   const std::size_t focus = a.focus.empty() ? 0 : focusInstance(scene, a);
   // Grids fixed over the whole animation: the union of the scene's bounds at every frame.
   Bounds bounds;
-  for (int f = 0; f < a.frames; ++f) bounds.add(buildSceneGeometry(scene, f / a.fps).bounds);
+  for (int f = 0; f < a.frames; ++f) bounds.add(buildSceneGeometry(scene, a.still ? 0.0 : f / a.fps).bounds);
   gpu::VulkanContext ctx(detail::contextOptions(a.device));
   SdfPipeline pipe(ctx, scene, bounds, a.pipeline);
   spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
@@ -114,7 +114,7 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
     control.checkStop();
     AnimateFrame fr;
     fr.frame = f;
-    fr.time = f / a.fps;
+    fr.time = a.still ? 0.0 : f / a.fps;
     fr.stats = pipe.runFrame(fr.time);
     if (a.measureError) fr.error = frameError(scene, pipe, fr.time, a.focus.empty() ? nullptr : &box);
     if (!a.vdbDir.empty()) {

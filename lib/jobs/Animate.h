@@ -1,7 +1,7 @@
 #pragma once
 /// @file Animate.h
-/// @brief The RTSDF pipeline over an animation: per frame the ray mask, the GPU pass times, the mirror's CPU
-///        cost and the error against the exact field of the same moment (ghosting), optionally a .vdb per frame.
+/// @brief The RTSDF pipeline over an animation: per frame the ray mask, the GPU pass times, the host's CPU
+///        time and the error against the exact field of the same moment (ghosting), optionally a .vdb per frame.
 #include "metrics/FieldError.h"
 #include "sdf/SdfPipeline.h"
 #include "util/JobControl.h"
@@ -18,6 +18,7 @@ struct AnimateOptions {
   std::string scene;          ///< scene (.json) or mesh file
   int frames = 60;
   double fps = 30.0;          ///< frames per second of scene time
+  bool still = false;         ///< every frame at time 0: the scene held still (a static scene's frames)
   bool measureError = true;   ///< each frame against the exact field of the same moment
   std::string focus;          ///< measure only in the box this instance sweeps over the animation (ghosting)
   std::filesystem::path vdbDir; ///< write frameNNNN.vdb (the fine SDF's band) into this folder; empty: none
@@ -42,7 +43,7 @@ struct AnimateFrame {
 struct AnimateResult {
   GridSpec coarse, fine;
   std::vector<AnimateFrame> frames;
-  /// @brief One CSV row per frame: frame, time, mask sizes, pass times, mirror time, error.
+  /// @brief One CSV row per frame: frame, time, mask sizes, pass times, host time, error.
   std::string csv() const;
 };
 

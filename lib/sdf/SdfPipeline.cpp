@@ -372,7 +372,9 @@ FrameStats SdfPipeline::runFrame(double time) {
   const auto t2 = Clock::now();
   stats.passMs = g.profiler.results();
   std::tie(stats.maskFineVoxels, stats.maskCoarseVoxels) = maskCounts();
-  stats.hostMs = std::chrono::duration<double, std::milli>((t1 - t0) + (Clock::now() - t2)).count();
+  const auto t3 = Clock::now();
+  stats.hostMs = std::chrono::duration<double, std::milli>((t1 - t0) + (t3 - t2)).count();
+  stats.wallMs = std::chrono::duration<double, std::milli>(t3 - t0).count();
   return stats;
 }
 

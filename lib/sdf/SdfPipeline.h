@@ -142,6 +142,7 @@ struct FrameStats {
   /// CPU time of the frame outside its wait for the GPU: the scene's triangles transformed and uploaded, the
   /// BVH's top level, recording and submitting. The ray mask is compacted on the GPU: no mirror in the frame.
   double hostMs = 0.0;
+  double wallMs = 0.0; ///< runFrame() from call to return: host work, submission and the wait for the GPU
   PassTimes passMs;      ///< GPU time per pass
   double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
   /// @brief The refinement pass's time, whichever mode ran (RayRefinePass or ClosestRefinePass).

@@ -232,6 +232,50 @@ TEST(Cli, BakesTheRefinedSdfAndAnimates) {
   }
 }
 
+TEST(Cli, BenchFrameSuiteWritesOneCsvRowPerFrame) {
+  TempDir dir;
+  const std::string scene = q(test::dataPath("scenes/default.json"));
+  for (const bool still : {false, true}) {
+    SCOPED_TRACE(still ? "still" : "animated");
+    const Result r = rtsdfCmd("bench " + scene + " --suite frame --size S --frames 3 --csv " + q(dir / "frames.csv") +
+                              " -o " + q(dir / "frames.md") + (still ? " --still" : ""));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("Medians of frames 2..N"), std::string::npos) << r.output;
+    std::ifstream csv(dir / "frames.csv");
+    std::string header, line;
+    std::getline(csv, header);
+    EXPECT_EQ(header, "frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,mean_abs_error_voxels,wrong_sign_pct,"
+                      "peak_mib,time");
+    std::vector<std::vector<double>> rows;
+    while (std::getline(csv, line)) {
+      std::vector<double> v;
+      std::stringstream cells(line);
+      for (std::string cell; std::getline(cells, cell, ',');) v.push_back(std::strtod(cell.c_str(), nullptr));
+      ASSERT_EQ(v.size(), 10u) << line;
+      rows.push_back(v);
+    }
+    ASSERT_EQ(rows.size(), 3u);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const std::vector<double>& v = rows[i];
+      EXPECT_EQ(v[0], double(i + 1));
+      EXPECT_GT(v[1], 0.0);                       // host
+      EXPECT_GT(v[2], 0.0);                       // GPU passes
+      EXPECT_GE(v[3], v[1]);                      // wall includes the host's part
+      EXPECT_GT(v[4], 10000.0);                   // mask
+      EXPECT_EQ(v[5], v[4]);                      // every masked voxel refined
+      EXPECT_TRUE(v[6] > 0.0 && v[6] < 0.5) << line; // closest mode at S: a fraction of a voxel
+      EXPECT_TRUE(v[7] >= 0.0 && v[7] < 1.0) << line;
+      EXPECT_GT(v[8], 1.0);                       // peak MiB
+      if (still) {
+        EXPECT_EQ(v[9], 0.0);
+        EXPECT_EQ(v[4], rows[0][4]); // the same scene, the same mask
+      } else {
+        EXPECT_NEAR(v[9], i / 30.0, 1e-6);
+      }
+    }
+  }
+}
+
 TEST(Cli, InfoListsAVulkanDevice) {
   const Result r = rtsdfCmd("info");
   ASSERT_EQ(r.exitCode, 0) << r.output;

@@ -1,0 +1,98 @@
+#include "bench/FrameSuite.h"
+
+#include "jobs/Animate.h"
+#include "jobs/JobSupport.h"
+#include "util/Memory.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+namespace rtsdf::bench {
+
+namespace {
+
+double mib(std::uint64_t bytes) { return double(bytes) / (1024.0 * 1024.0); }
+
+/// The median of @a get over frames 2..N (all frames when there is only one).
+template <class Get> double medianAfterFirst(const std::vector<FrameRow>& rows, Get get) {
+  std::vector<double> v;
+  for (std::size_t i = rows.size() > 1 ? 1 : 0; i < rows.size(); ++i) v.push_back(get(rows[i]));
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+} // namespace
+
+std::string frameCsv(const std::vector<FrameRow>& rows) {
+  std::string csv = "frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,mean_abs_error_voxels,wrong_sign_pct,"
+                    "peak_mib,time\n";
+  for (const FrameRow& r : rows)
+    csv += fmt::format("{},{:.4f},{:.4f},{:.4f},{},{},{:.6f},{:.6f},{:.1f},{:.6g}\n", r.frame, r.hostMs, r.gpuMs,
+                       r.wallMs, r.maskVoxels, r.refinedVoxels, r.meanAbsErrorVoxels, r.wrongSignPct, r.peakMiB,
+                       r.time);
+  return csv;
+}
+
+std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control) {
+  AnimateOptions a;
+  a.scene = s.scenes.empty() ? detail::bundledScene("default.json") : s.scenes.front();
+  a.frames = s.frames;
+  a.still = s.still;
+  a.device = s.device;
+  a.pipeline = PipelineSettings{};
+  std::tie(a.pipeline.coarseRes, a.pipeline.fineRes) = frameSizeResolutions(s.frameSize);
+  a.pipeline.mode = s.refine;
+  a.pipeline.rays = s.rays;
+  resetPeakResidentMemory();
+  std::vector<FrameRow> rows;
+  animate(a, control, [&](const AnimateFrame& f) {
+    FrameRow r;
+    r.frame = f.frame + 1;
+    r.time = f.time;
+    r.hostMs = f.stats.hostMs;
+    r.gpuMs = f.gpuMs();
+    r.wallMs = f.stats.wallMs;
+    r.maskVoxels = f.stats.maskFineVoxels;
+    r.refinedVoxels = f.stats.maskFineVoxels; // every masked voxel is refined every frame
+    r.meanAbsErrorVoxels = f.error.meanAbs;
+    r.wrongSignPct = 100.0 * f.error.signErrorRate();
+    r.peakMiB = mib(peakResidentMemory());
+    spdlog::info("frame {}: host {:.2f} ms, GPU {:.1f} ms, wall {:.1f} ms, mask {}, error {:.4f} voxels", r.frame,
+                 r.hostMs, r.gpuMs, r.wallMs, r.maskVoxels, r.meanAbsErrorVoxels);
+    rows.push_back(r);
+  });
+  return rows;
+}
+
+std::string frameReport(const BenchOptions& s, const std::vector<FrameRow>& rows) {
+  const auto [coarse, fine] = frameSizeResolutions(s.frameSize);
+  std::string md = fmt::format("## Frames: {}, size {} (coarse {} / fine {}), {} refinement, x = {}, d = 0.1, "
+                               "alpha = 0.95, {}\n\n",
+                               s.scenes.empty() ? std::string("default.json") : s.scenes.front(), toString(s.frameSize),
+                               coarse, fine, toString(s.refine), s.rays,
+                               s.still ? "static (every frame at time 0)" : "animated at 30 fps");
+  md += "Medians of frames 2..N (the first frame allocates and warms up):\n\n";
+  md += "| host (ms) | GPU (ms) | wall (ms) | mask voxels | refined voxels | mean abs error (voxels) | wrong sign | "
+        "peak MiB |\n|---|---|---|---|---|---|---|---|\n";
+  md += fmt::format("| {:.3f} | {:.1f} | {:.1f} | {:.0f} | {:.0f} | {:.4f} | {:.4f}% | {:.0f} |\n\n",
+                    medianAfterFirst(rows, [](const FrameRow& r) { return r.hostMs; }),
+                    medianAfterFirst(rows, [](const FrameRow& r) { return r.gpuMs; }),
+                    medianAfterFirst(rows, [](const FrameRow& r) { return r.wallMs; }),
+                    medianAfterFirst(rows, [](const FrameRow& r) { return double(r.maskVoxels); }),
+                    medianAfterFirst(rows, [](const FrameRow& r) { return double(r.refinedVoxels); }),
+                    medianAfterFirst(rows, [](const FrameRow& r) { return r.meanAbsErrorVoxels; }),
+                    medianAfterFirst(rows, [](const FrameRow& r) { return r.wrongSignPct; }),
+                    rows.empty() ? 0.0 : rows.back().peakMiB);
+  md += "| frame | time (s) | host (ms) | GPU (ms) | wall (ms) | mask voxels | mean abs error (voxels) | wrong sign |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+  for (const FrameRow& r : rows)
+    md += fmt::format("| {} | {:.3f} | {:.3f} | {:.1f} | {:.1f} | {} | {:.4f} | {:.4f}% |\n", r.frame, r.time, r.hostMs,
+                      r.gpuMs, r.wallMs, r.maskVoxels, r.meanAbsErrorVoxels, r.wrongSignPct);
+  return md + "\n";
+}
+
+} // namespace rtsdf::bench

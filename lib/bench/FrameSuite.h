@@ -1,0 +1,40 @@
+#pragma once
+/// @file FrameSuite.h
+/// @brief `rtsdf bench --suite frame`: the pipeline's frames one by one on one scene, each with its host, GPU and
+///        wall time, its mask, and its error against the exact field of the same moment; one CSV row per frame.
+#include "bench/Suites.h"
+#include "sdf/SdfPipeline.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtsdf::bench {
+
+/// @brief One row of the frame suite (frame numbers from 1: the first frame allocates and warms up).
+struct FrameRow {
+  int frame = 0;
+  double time = 0.0;                 ///< scene time (s)
+  double hostMs = 0.0;               ///< FrameStats::hostMs: CPU time outside the wait for the GPU
+  double gpuMs = 0.0;                ///< the sum of the frame's pass timestamps
+  double wallMs = 0.0;               ///< FrameStats::wallMs: runFrame from call to return
+  std::uint64_t maskVoxels = 0;      ///< fine voxels in the ray mask
+  std::uint64_t refinedVoxels = 0;   ///< fine voxels refined this frame
+  double meanAbsErrorVoxels = 0.0;   ///< |fine - exact| over the band (|exact| <= fineLevelSetBand), fine voxels
+  double wrongSignPct = 0.0;         ///< voxels of the band whose sign differs from the exact one, percent
+  double peakMiB = 0.0;              ///< the process's peak resident memory since the suite began
+};
+
+/// @brief The frame suite's CSV: the header `frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,
+///        mean_abs_error_voxels,wrong_sign_pct,peak_mib,time` and one line per row.
+std::string frameCsv(const std::vector<FrameRow>& rows);
+
+/// @brief Run the frame suite of @a options (options.scenes: one scene; options.frameSize, frames, refine,
+///        still): one FrameRow per frame, in order.
+/// @throw SettingError, Error as animate() does; Interrupted when @a control asks to stop between frames.
+std::vector<FrameRow> runFrames(const BenchOptions& options, const JobControl& control = {});
+
+/// @brief The Markdown report of @a rows: the settings, the medians of frames 2..N, and every frame.
+std::string frameReport(const BenchOptions& options, const std::vector<FrameRow>& rows);
+
+} // namespace rtsdf::bench

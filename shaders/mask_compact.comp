@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // MaskCompactPass: the ray mask appended on the GPU. One invocation per coarse voxel: a voxel in the band
 // (|c| <= d, the float comparison of the CPU mirror) appends itself to the coarse list and the fine voxels whose
-// centres lie in it (the per-axis range tables, computed on the CPU as the mirror does) to the fine list. One
-// atomic per band voxel reserves its whole run of fine slots; the refinement hashes by voxel, not by slot, so
+// centres lie in it (the per-axis range tables, computed on the CPU as the mirror does) to the fine list. A band
+// voxel reserves its whole run of fine slots at once; the refinement hashes by voxel, not by slot, so
 // the lists' order does not matter.
 #include "gpu/shared/Refine.h"
 
@@ -15,20 +15,43 @@ layout(std430, binding = kMaskBindingFineRanges) readonly buffer FineRanges { iv
 layout(std430, binding = kMaskBindingFineList) writeonly buffer FineList { uint fineList[]; };
 layout(std430, binding = kMaskBindingCoarseList) writeonly buffer CoarseList { uvec2 coarseList[]; };
 
+shared uint groupFine, groupCoarse, baseFine, baseCoarse;
+
 void main() {
+  // Slots are reserved per work group (shared-memory atomics, then one global atomic per counter and group):
+  // one global atomic per band voxel serialised the whole band on a single address.
+  if (gl_LocalInvocationIndex == 0u) {
+    groupFine = 0u;
+    groupCoarse = 0u;
+  }
+  barrier();
   ivec3 p = ivec3(gl_GlobalInvocationID);
   ivec3 dims = params.coarseDims.xyz;
-  if (any(greaterThanEqual(p, dims))) return;
-  uint i = uint((p.z * dims.y + p.y) * dims.x + p.x);
-  float c = coarse[i];
-  if (!(abs(c) <= params.band)) return;
-  uint slot = atomicAdd(counts[kMaskCountCoarse], 1u);
+  bool inGrid = all(lessThan(p, dims));
+  uint i = inGrid ? uint((p.z * dims.y + p.y) * dims.x + p.x) : 0u;
+  float c = inGrid ? coarse[i] : 0.0;
+  bool inBand = inGrid && abs(c) <= params.band;
+  ivec2 rx = ivec2(0, -1), ry = ivec2(0, -1), rz = ivec2(0, -1);
+  uint count = 0u, fineOffset = 0u, coarseOffset = 0u;
+  if (inBand) {
+    rx = fineRanges[p.x];
+    ry = fineRanges[dims.x + p.y];
+    rz = fineRanges[dims.x + dims.y + p.z];
+    ivec3 n = max(ivec3(rx.y, ry.y, rz.y) - ivec3(rx.x, ry.x, rz.x) + 1, ivec3(0));
+    count = uint(n.x * n.y * n.z);
+    coarseOffset = atomicAdd(groupCoarse, 1u);
+    fineOffset = atomicAdd(groupFine, count);
+  }
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) {
+    baseCoarse = groupCoarse > 0u ? atomicAdd(counts[kMaskCountCoarse], groupCoarse) : 0u;
+    baseFine = groupFine > 0u ? atomicAdd(counts[kMaskCountFine], groupFine) : 0u;
+  }
+  barrier();
+  if (!inBand) return;
+  uint slot = baseCoarse + coarseOffset;
   if (slot < params.coarseCapacity) coarseList[slot] = uvec2(i, floatBitsToUint(c));
-  ivec2 rx = fineRanges[p.x], ry = fineRanges[dims.x + p.y], rz = fineRanges[dims.x + dims.y + p.z];
-  ivec3 n = max(ivec3(rx.y, ry.y, rz.y) - ivec3(rx.x, ry.x, rz.x) + 1, ivec3(0));
-  uint count = uint(n.x * n.y * n.z);
-  if (count == 0u) return;
-  uint base = atomicAdd(counts[kMaskCountFine], count);
+  uint base = baseFine + fineOffset;
   for (int z = rz.x; z <= rz.y; ++z)
     for (int y = ry.x; y <= ry.y; ++y)
       for (int x = rx.x; x <= rx.y; ++x, ++base)

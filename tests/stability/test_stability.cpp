@@ -135,7 +135,8 @@ Report inspect(const SdfPipeline& pipe, const Reference& exact, double floatTol)
   const GridSpec& cs = pipe.coarseSpec();
   const GridSpec& fs = pipe.fineSpec();
   const std::vector<float> fine = pipe.fineField();
-  const RayMask mask = buildRayMask(pipe.coarseField(), cs, fs, pipe.settings().band);
+  const std::vector<float> coarse = pipe.coarseField(); // read back once: each call downloads it
+  const RayMask mask = buildRayMask(coarse, cs, fs, pipe.settings().band);
   const float beta = float(pipe.settings().beta >= 0.0 ? pipe.settings().beta : 0.5 * cs.voxelSize);
   const double margin = kSignMargin * cs.voxelSize;
   Report r;
@@ -158,7 +159,7 @@ Report inspect(const SdfPipeline& pipe, const Reference& exact, double floatTol)
     if (d > margin && !(f > 0.0f)) ++r.wrongSignOutside;
     if (d < -margin && !(f < 0.0f)) ++r.wrongSignInside;
     // The frame's upper bound c^ (refine.comp): anything below it came from rays or the closest point.
-    const float bound = upsampleCoarse(pipe.coarseField(), cs, fs, v) + beta + 0.8660254f * float(cs.voxelSize);
+    const float bound = upsampleCoarse(coarse, cs, fs, v) + beta + 0.8660254f * float(cs.voxelSize);
     const double af = std::fabs(double(f));
     if (af < double(bound) * (1.0 - 1e-6) && af < std::fabs(d) - floatTol) ++r.rayUnder;
     if (af < std::fabs(d) - std::sqrt(3.0) * cs.voxelSize - floatTol) ++r.boundUnder;
@@ -334,10 +335,11 @@ TEST_F(Stability, BandFromZeroToBeyondTheScene) {
         EXPECT_EQ(st.maskFineVoxels, 0u);
         const std::vector<float> fine = pipe.fineField();
         const GridSpec& fs = pipe.fineSpec();
+        const std::vector<float> coarse = pipe.coarseField(); // read back once: each call downloads it
         for (int z = 0; z < fs.dims.z; z += 3)
           for (int y = 0; y < fs.dims.y; y += 3)
             for (int x = 0; x < fs.dims.x; x += 3)
-              ASSERT_NEAR(fine[fs.linear(x, y, z)], upsampleCoarse(pipe.coarseField(), pipe.coarseSpec(), fs, {x, y, z}),
+              ASSERT_NEAR(fine[fs.linear(x, y, z)], upsampleCoarse(coarse, pipe.coarseSpec(), fs, {x, y, z}),
                           1e-5f);
       }
       if (d >= 100.0) EXPECT_EQ(st.maskFineVoxels, pipe.fineSpec().voxelCount());

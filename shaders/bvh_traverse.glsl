@@ -156,8 +156,6 @@ vec3 closestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
   return dab <= dbc ? (dab <= dca ? qab : qca) : (dbc <= dca ? qbc : qca);
 }
 
-float boxDistance(vec3 p, vec3 lo, vec3 hi) { return length(max(max(lo - p, p - hi), vec3(0.0))); }
-
 // Closest surface point to p within maxDist (world space). Returns false when none is that close.
 // The answer is kept in locals and written to 'hit' once at the end.
 bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {

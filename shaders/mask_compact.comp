@@ -1,10 +1,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // MaskCompactPass: the ray mask appended on the GPU. One invocation per coarse voxel: a voxel in the band
-// (|c| <= d, the float comparison of the CPU mirror) appends itself to the coarse list and the fine voxels whose
-// centres lie in it (the per-axis range tables, computed on the CPU as the mirror does) to the fine list. A band
-// voxel reserves its whole run of fine slots at once; the refinement hashes by voxel, not by slot, so
-// the lists' order does not matter.
+// (|c| <= d, the float comparison of the CPU mirror) appends itself to the coarse list, counts the fine voxels
+// whose centres lie in it (the per-axis range tables, computed on the CPU as the mirror does) and, when they are
+// to be refined this frame (refinesThisFrame: new to the band, reached by a moving instance, not settled), appends
+// them to the fine list. A band voxel reserves its whole run of fine slots at once; the refinement hashes by
+// voxel, not by slot, so the lists' order does not matter.
 #include "gpu/shared/Refine.h"
 
 layout(local_size_x = RTSDF_MASK_GROUP, local_size_y = RTSDF_MASK_GROUP, local_size_z = RTSDF_MASK_GROUP) in;
@@ -14,14 +15,29 @@ layout(std430, binding = kMaskBindingCoarse) readonly buffer Coarse { float coar
 layout(std430, binding = kMaskBindingFineRanges) readonly buffer FineRanges { ivec2 fineRanges[]; };
 layout(std430, binding = kMaskBindingFineList) writeonly buffer FineList { uint fineList[]; };
 layout(std430, binding = kMaskBindingCoarseList) writeonly buffer CoarseList { uvec2 coarseList[]; };
+layout(std430, binding = kMaskBindingCoarseState) buffer CoarseState { uvec2 coarseState[]; };
+layout(std430, binding = kMaskBindingMovedBoxes) readonly buffer MovedBoxes { MovedBox movedBoxes[]; };
 
-shared uint groupFine, groupCoarse, baseFine, baseCoarse;
+shared uint groupFine, groupMasked, groupCoarse, baseFine, baseCoarse;
+
+// Decide whether band voxel p (index i, value c) is refined this frame and advance its state; sets fresh.
+bool refineDecision(ivec3 p, uint i, float c, out bool fresh) {
+  uvec2 state = coarseState[i];
+  fresh = state.x + 1u != params.frame;
+  bool nearMoved = false;
+  for (uint b = 0u; b < params.movedBoxes && !fresh && !nearMoved; ++b)
+    nearMoved = movedWithinReach(params, p, c, movedBoxes[b]);
+  bool refined = refinesThisFrame(params, fresh, nearMoved, state.y, i);
+  coarseState[i] = uvec2(params.frame, refinementsAfter(refined, fresh, nearMoved, state.y));
+  return refined;
+}
 
 void main() {
   // Slots are reserved per work group (shared-memory atomics, then one global atomic per counter and group):
   // one global atomic per band voxel serialised the whole band on a single address.
   if (gl_LocalInvocationIndex == 0u) {
     groupFine = 0u;
+    groupMasked = 0u;
     groupCoarse = 0u;
   }
   barrier();
@@ -31,29 +47,35 @@ void main() {
   uint i = inGrid ? uint((p.z * dims.y + p.y) * dims.x + p.x) : 0u;
   float c = inGrid ? coarse[i] : 0.0;
   bool inBand = inGrid && abs(c) <= params.band;
+  bool refined = false, fresh = false;
   ivec2 rx = ivec2(0, -1), ry = ivec2(0, -1), rz = ivec2(0, -1);
-  uint count = 0u, fineOffset = 0u, coarseOffset = 0u;
+  uint fineOffset = 0u, coarseOffset = 0u;
   if (inBand) {
     rx = fineRanges[p.x];
     ry = fineRanges[dims.x + p.y];
     rz = fineRanges[dims.x + dims.y + p.z];
     ivec3 n = max(ivec3(rx.y, ry.y, rz.y) - ivec3(rx.x, ry.x, rz.x) + 1, ivec3(0));
-    count = uint(n.x * n.y * n.z);
+    uint count = uint(n.x * n.y * n.z);
     coarseOffset = atomicAdd(groupCoarse, 1u);
-    fineOffset = atomicAdd(groupFine, count);
+    atomicAdd(groupMasked, count);
+    refined = refineDecision(p, i, c, fresh);
+    if (refined) fineOffset = atomicAdd(groupFine, count);
   }
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
     baseCoarse = groupCoarse > 0u ? atomicAdd(counts[kMaskCountCoarse], groupCoarse) : 0u;
     baseFine = groupFine > 0u ? atomicAdd(counts[kMaskCountFine], groupFine) : 0u;
+    if (groupMasked > 0u) atomicAdd(counts[kMaskCountMaskedFine], groupMasked);
   }
   barrier();
   if (!inBand) return;
   uint slot = baseCoarse + coarseOffset;
   if (slot < params.coarseCapacity) coarseList[slot] = uvec2(i, floatBitsToUint(c));
+  if (!refined) return;
   uint base = baseFine + fineOffset;
+  uint flag = fresh ? kMaskFineFresh : 0u;
   for (int z = rz.x; z <= rz.y; ++z)
     for (int y = ry.x; y <= ry.y; ++y)
       for (int x = rx.x; x <= rx.y; ++x, ++base)
-        if (base < params.fineCapacity) fineList[base] = uint(x) | (uint(y) << 10) | (uint(z) << 20);
+        if (base < params.fineCapacity) fineList[base] = uint(x) | (uint(y) << 10) | (uint(z) << 20) | flag;
 }

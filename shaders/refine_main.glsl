@@ -5,7 +5,8 @@
 //   front/back-face hits, decayed by alpha, vote for the sign (more back-face hits: inside).
 //   closest mode: f_t = exact distance by closest-point traversal; sign from the ray votes when x > 0,
 //   else from the side of the closest triangle.
-// History older than the previous frame (a voxel that just entered the mask) restarts from c_t.
+// The list holds the voxels MaskCompactPass chose to refine this frame (the others keep their values); a voxel new
+// to the mask (kMaskFineFresh) restarts from c_t, the others blend with their last value, which fine[] holds.
 #include "gpu/shared/Bvh.h"
 #include "gpu/shared/Refine.h"
 
@@ -14,10 +15,11 @@ layout(push_constant) uniform Push { RefineParams params; };
 #include "bvh_bindings.glsl"
 layout(std430, binding = kRefineBindingMask) readonly buffer Mask { uint mask[]; };
 layout(std430, binding = kRefineBindingFine) buffer Fine { float fine[]; };
-layout(std430, binding = kRefineBindingHistory) buffer History { float history[]; };
 layout(std430, binding = kRefineBindingVotes) buffer Votes { uint votes[]; };
-layout(std430, binding = kRefineBindingLastFrame) buffer LastFrame { uint lastFrame[]; };
 layout(std430, binding = kRefineBindingMaskCounts) readonly buffer MaskCounts { uint maskCounts[]; };
+layout(std430, binding = kRefineBindingCoarse) readonly buffer Coarse { float coarse[]; };
+
+#include "coarse_upsample.glsl"
 
 #include "bvh_traverse.glsl"
 
@@ -33,9 +35,9 @@ void main() {
   // The coarse SDF as an upper bound of the distance: the nearest seed voxel touches the surface within half
   // its diagonal, and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays,
   // which can only over-estimate, could never lower f.)
-  float c = fine[i] + params.beta + 0.8660254 / params.coarseOriginInvH.w;
-  bool fresh = lastFrame[i] + 1u != params.frame;
-  float bound = fresh ? c : params.alpha * history[i] + (1.0 - params.alpha) * c;
+  float c = upsampleCoarseAt(v) + params.beta + 0.8660254 / params.coarseOriginInvH.w;
+  bool fresh = (packed & kMaskFineFresh) != 0u;
+  float bound = fresh ? c : params.alpha * abs(fine[i]) + (1.0 - params.alpha) * c;
   vec2 vote = fresh ? vec2(0.0) : params.alpha * unpackHalf2x16(votes[i]);
 
   // Rays are not cut short: the nearest hit of a ray from inside a closed surface is always a back face and
@@ -72,7 +74,5 @@ void main() {
   inside = vote.y > vote.x;
 #endif
   fine[i] = inside ? -f : f;
-  history[i] = f;
   votes[i] = packHalf2x16(min(vote, vec2(60000.0)));
-  lastFrame[i] = params.frame;
 }

@@ -81,6 +81,15 @@ void bindPipeline(CLI::App* cmd, PipelineSettings& p, std::string& device) {
           "jump-flooding variants jfa, 1+jfa (the paper's) and jfa+2; --jfa is the older name");
   cmd->add_option("--beta", p.beta, "Coarse SDF shell: distance minus beta, in scene units (default: half a coarse "
                                     "voxel)")->check(atLeast(0.0));
+  cmd->add_flag("--full-recompute", p.fullRecompute, "Refine every masked voxel every frame (the paper's frame); "
+                                                      "default: only voxels new to the band, near a moving instance "
+                                                      "or not yet settled");
+  cmd->add_option("--settle-frames", p.settleFrames, "Refinements in a row after which a voxel is settled and kept "
+                                                     "(default: 1 closest with --rays 0, 4 closest, 32 rays)")
+      ->check(inRange(1, 1000000));
+  cmd->add_option("--refresh-period", p.refreshPeriod, "A settled voxel is refined again every this many frames, 0: "
+                                                       "never (default: 0 closest, 8 rays)")
+      ->check(inRange(0, 1000000));
   cmd->add_option("--device", device, "Vulkan device by index or name (see 'rtsdf info')");
 }
 
@@ -235,6 +244,8 @@ void bindBench(CLI::App& app, BenchCommand& c) {
   cmd->add_option("--rays", s.rays, "Frame suite: rays per masked voxel per frame (x)")->check(inRange(0, 1024))
       ->capture_default_str();
   cmd->add_flag("--still", s.still, "Frame suite: every frame at time 0 (a static scene)");
+  cmd->add_flag("--full-recompute", s.fullRecompute, "Frame suite: refine every masked voxel every frame (the "
+                                                     "paper's frame, the anchor of incremental refinement)");
   cmd->add_option("--csv", s.csv, "Frame suite: write one CSV row per frame to this file");
   cmd->add_option("--device", s.device, "Vulkan device by index or name (GPU suites and --sweep)");
   cmd->add_option("--sweep", c.sweep,
@@ -296,7 +307,8 @@ std::string flagOf(const std::string& setting) {
       {"PCF radius", "--pcf-radius"}, {"shadow bias", "--shadow-bias"}, {"TAA blend", "--taa-blend"},
       {"samples", "--samples"}, {"error band", "--error-band"}, {"repeats", "--repeats"},
       {"truth samples", "--truth-samples"}, {"band fraction", "--band-fraction"}, {"output folder", "--out"},
-      {"device", "--device"}, {"anchor", "--against"}, {"scene", "--scene"}};
+      {"device", "--device"}, {"anchor", "--against"}, {"scene", "--scene"}, {"settle frames", "--settle-frames"},
+      {"refresh period", "--refresh-period"}};
   const auto it = flags.find(setting);
   return it == flags.end() ? setting : it->second;
 }

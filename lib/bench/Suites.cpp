@@ -169,7 +169,11 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
     const auto [coarse, fine] = pipelineGrids(geo.bounds, ps);
     builder.build(geo, coarse, {});
     const GridSpec c = coarse.inFrame(geo.origin), f = fine.inFrame(geo.origin);
-    const gpu::shared::RefineParams p = refineGridParams(c, f);
+    const gpu::shared::RefineParams p = refineGridParams(c, f); // band 0: every fine voxel is written
+    const std::vector<int> fineToCoarse = maskCoarseOfFine(c, f);
+    gpu::Buffer table;
+    gpu::reserveAndUpload(ctx, table, fineToCoarse.data(), fineToCoarse.size() * sizeof(int),
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "fine-to-coarse table");
     std::vector<float> out[2];
     double ms[2];
     int k = 0;
@@ -181,7 +185,7 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
       for (int r = 0; r <= s.repeats; ++r) { // the first: warm-up
         gpu::CommandBuffer cmd(ctx);
         profiler.reset(cmd.handle());
-        pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer()}, {buf}, p);
+        pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer(), table}, {buf}, p);
         cmd.submitAndWait();
         if (r > 0) t.push_back(passTotal(profiler.results(), UpsamplePass::kName));
       }

@@ -133,15 +133,15 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
 
 std::string AnimateResult::csv() const {
   std::string csv = "frame,time,mask_coarse,mask_fine,voxelize_ms,transform_ms,distance_ms,upsample_ms,refine_ms,"
-                    "host_ms,band_voxels,mean_abs_error_voxels,max_abs_error_voxels,wrong_sign_rate\n";
+                    "host_ms,band_voxels,mean_abs_error_voxels,max_abs_error_voxels,wrong_sign_rate,refined_fine\n";
   for (const AnimateFrame& fr : frames) {
     const FrameStats& st = fr.stats;
     const FieldError& err = fr.error;
-    csv += fmt::format("{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{},{:.5f},{:.4f},{:.6f}\n", fr.frame,
+    csv += fmt::format("{},{},{},{},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{:.3f},{},{:.5f},{:.4f},{:.6f},{}\n", fr.frame,
                        fr.time, st.maskCoarseVoxels, st.maskFineVoxels, st.passTotal(VoxelizePass::kName),
                        coarseTransformMs(st.passMs), st.passTotal(CoarseDistancePass::kName),
                        st.passTotal(UpsamplePass::kName), st.refineMs(), st.hostMs, err.voxels, err.meanAbs,
-                       err.maxAbs, err.signErrorRate());
+                       err.maxAbs, err.signErrorRate(), st.refinedFineVoxels);
   }
   return csv;
 }

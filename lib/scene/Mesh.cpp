@@ -32,6 +32,12 @@ struct PositionHash {
 
 } // namespace
 
+Bounds positionBounds(const Mesh& mesh) {
+  Bounds b;
+  for (const glm::vec3& p : mesh.positions) b.add(glm::dvec3(p));
+  return b;
+}
+
 bool hasFloatArea(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
   const glm::vec3 n = glm::cross(b - a, c - a);
   const float n2 = glm::dot(n, n);

@@ -1,6 +1,8 @@
 #pragma once
 /// @file Mesh.h
 /// @brief Indexed triangle meshes, their validation and their topology.
+#include "util/Bounds.h"
+
 #include <glm/glm.hpp>
 
 #include <cstddef>
@@ -16,6 +18,9 @@ struct Mesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::uvec3> triangles; ///< counter-clockwise seen from outside
 };
+
+/// @brief The bounds of @a mesh's positions in its own space (empty for a mesh without positions).
+Bounds positionBounds(const Mesh& mesh);
 
 /// @brief What validation found and did to a mesh.
 struct MeshReport {

@@ -27,6 +27,19 @@ std::vector<glm::ivec2> maskFineRanges(const GridSpec& coarse, const GridSpec& f
   return ranges;
 }
 
+std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine) {
+  const std::vector<glm::ivec2> ranges = maskFineRanges(coarse, fine);
+  std::vector<int> table(std::size_t(fine.dims.x) + fine.dims.y + fine.dims.z, -1);
+  std::size_t coarseOffset = 0, fineOffset = 0;
+  for (int a = 0; a < 3; ++a) {
+    for (int i = 0; i < coarse.dims[a]; ++i)
+      for (int j = ranges[coarseOffset + i].x; j <= ranges[coarseOffset + i].y; ++j) table[fineOffset + j] = i;
+    coarseOffset += coarse.dims[a];
+    fineOffset += fine.dims[a];
+  }
+  return table;
+}
+
 void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                               const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
@@ -36,6 +49,8 @@ void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, c
   b[kMaskBindingFineRanges] = &in.fineRanges;
   b[kMaskBindingFineList] = &out.fineList;
   b[kMaskBindingCoarseList] = &out.coarseList;
+  b[kMaskBindingCoarseState] = &out.coarseState;
+  b[kMaskBindingMovedBoxes] = &in.movedBoxes;
   const glm::ivec3 d = params.coarseDims;
   mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(d.x, RTSDF_MASK_GROUP), gpu::groupsFor(d.y, RTSDF_MASK_GROUP),
@@ -56,6 +71,7 @@ void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   std::array<gpu::Binding, kUpsampleBindingCount> b;
   b[kUpsampleBindingCoarse] = &in.coarse;
   b[kUpsampleBindingFine] = &out.fine;
+  b[kUpsampleBindingFineToCoarse] = &in.fineToCoarse;
   const glm::ivec3 d = params.fineDims;
   mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(d.x, RTSDF_UPSAMPLE_GROUP_X), gpu::groupsFor(d.y, RTSDF_UPSAMPLE_GROUP_Y),
@@ -70,10 +86,9 @@ void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const 
   in.bvh.bindTo(b);
   b[kRefineBindingMask] = &in.mask;
   b[kRefineBindingFine] = &out.fine;
-  b[kRefineBindingHistory] = &out.history;
   b[kRefineBindingVotes] = &out.votes;
-  b[kRefineBindingLastFrame] = &out.lastFrame;
   b[kRefineBindingMaskCounts] = &in.counts;
+  b[kRefineBindingCoarse] = &in.coarse;
   mPipeline.dispatchIndirect(cmd, b, &params, in.counts);
   gpu::computeBarrier(cmd);
 }

@@ -26,17 +26,25 @@ gpu::shared::RefineParams refineGridParams(const GridSpec& coarse, const GridSpe
 ///        very tables, so both give the same fine voxels.
 std::vector<glm::ivec2> maskFineRanges(const GridSpec& coarse, const GridSpec& fine);
 
+/// @brief The inverse of maskFineRanges: entry a-offset + j (x entries, then y, then z) is the coarse index along
+///        axis a whose slab holds fine index j (-1 where none does). UpsamplePass finds the ray mask's voxels with it.
+std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine);
+
 /// @brief MaskCompactPass (mask_compact.comp): the ray mask on the GPU. Appends every coarse voxel with |c| <= d
-///        (index and value) and the fine voxels under it (packed 10 bits per axis) to two lists, in no order, and
-///        counts both in the counts buffer (gpu/shared/Refine.h's kMaskCount* words, which must be zero before).
+///        (index and value) to the coarse list and, when they are to be refined this frame (gpu::shared::
+///        refinesThisFrame, which advances the voxel's state), the fine voxels under it (packed 10 bits per axis,
+///        kMaskFineFresh when new to the band) to the fine list, in no order; counts both lists and every fine voxel
+///        under the band in the counts buffer (gpu/shared/Refine.h's kMaskCount* words, which must be zero before).
 class MaskCompactPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "MaskCompactPass";
   struct Inputs {
     const gpu::Buffer& coarse;     ///< c_t, dense, x fastest
     const gpu::Buffer& fineRanges; ///< maskFineRanges() of the two grids
+    const gpu::Buffer& movedBoxes; ///< MovedBox per instance that moved (params.movedBoxes of them)
   };
-  struct Outputs { const gpu::Buffer &counts, &fineList, &coarseList; };
+  /// @a coarseState: (last frame in the band, refinements in a row) per coarse voxel, read and advanced.
+  struct Outputs { const gpu::Buffer &counts, &fineList, &coarseList, &coarseState; };
   using Params = gpu::shared::MaskParams; ///< fineCapacity / coarseCapacity: entries the lists hold
   explicit MaskCompactPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "mask_compact.comp", gpu::shared::kMaskBindingCount, sizeof(Params)) {}
@@ -58,7 +66,9 @@ public:
                const Params& params) const;
 };
 
-/// @brief UpsamplePass: fine[v] = the coarse SDF trilinearly interpolated at fine voxel v's centre.
+/// @brief UpsamplePass: fine[v] = the coarse SDF trilinearly interpolated at fine voxel v's centre, for every fine
+///        voxel outside the ray mask (params.band > 0: the voxels under a coarse voxel with |c| <= band keep their
+///        values; params.band = 0: every voxel).
 class UpsamplePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "UpsamplePass";
@@ -67,8 +77,11 @@ public:
     Runs,    ///< RTSDF_UPSAMPLE_RUN_LENGTH voxels along z per invocation, coarse values reused along the run
     PerVoxel ///< one voxel per invocation, 8 coarse loads each (the baseline the benchmark shows)
   };
-  struct Inputs { const gpu::Buffer& coarse; }; ///< c_t, dense, x fastest
-  struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel written
+  struct Inputs {
+    const gpu::Buffer& coarse;       ///< c_t, dense, x fastest
+    const gpu::Buffer& fineToCoarse; ///< maskCoarseOfFine() of the two grids
+  };
+  struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel outside the mask written
   using Params = gpu::shared::RefineParams;     ///< grids of both levels
   explicit UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel = Kernel::Runs)
       : ComputePass(ctx, kernel == Kernel::Runs ? "refine_upsample.comp" : "refine_upsample_voxel.comp",
@@ -87,12 +100,12 @@ class RefinePass : gpu::ComputePass {
 public:
   struct Inputs {
     const GpuSceneBvh& bvh;       ///< top level as of this frame
-    const gpu::Buffer& mask;      ///< packed fine voxels (10 bits per axis), MaskCompactPass's fine list
+    const gpu::Buffer& mask;      ///< MaskCompactPass's fine list: the voxels to refine this frame
     const gpu::Buffer& counts;    ///< MaskCompactPass's counts, indirect dispatch included (MaskDispatchPass)
+    const gpu::Buffer& coarse;    ///< c_t, dense, x fastest: upsampled at each voxel for its bound
   };
-  /// Per fine voxel: the SDF (in: c_t upsampled, out: f_t), its unsigned history, decayed sign votes, and the
-  /// frame it was last refined in.
-  struct Outputs { const gpu::Buffer &fine, &history, &votes, &lastFrame; };
+  /// Per fine voxel: the SDF (in: f_{t-1} where not fresh; out: f_t, signed) and its decayed sign votes.
+  struct Outputs { const gpu::Buffer &fine, &votes; };
   using Params = gpu::shared::RefineParams;
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;

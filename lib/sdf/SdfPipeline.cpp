@@ -33,6 +33,53 @@ void PipelineSettings::validate() const {
   if (rays < 0 || rays > 1024) throw SettingError("rays", fmt::format("rays {} is out of range [0, 1024]", rays));
   if (std::isnan(beta) || std::isinf(beta)) throw SettingError("beta", fmt::format("beta {} must be finite", beta));
   if (!std::isfinite(padding)) throw SettingError("padding", fmt::format("padding {} must be finite", padding));
+  if (settleFrames == 0 || settleFrames > 1000000)
+    throw SettingError("settle frames", fmt::format("settle frames {} must be in [1, 1000000] (or < 0: by the "
+                                                    "refinement mode)", settleFrames));
+  if (refreshPeriod > 1000000)
+    throw SettingError("refresh period", fmt::format("refresh period {} must be in [0, 1000000] (or < 0: by the "
+                                                     "refinement mode)", refreshPeriod));
+}
+
+int settleFramesFor(const PipelineSettings& s) {
+  if (s.fullRecompute) return 0;
+  if (s.settleFrames > 0) return s.settleFrames;
+  if (s.mode == RefineMode::Closest) return s.rays == 0 ? 1 : 4;
+  return 32;
+}
+
+int refreshPeriodFor(const PipelineSettings& s) {
+  if (s.refreshPeriod >= 0) return s.refreshPeriod;
+  return s.mode == RefineMode::Closest ? 0 : 8;
+}
+
+std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const std::vector<Bounds>& meshBounds,
+                                                      double before, double after, const glm::dvec3& origin) {
+  std::vector<gpu::shared::MovedBox> boxes;
+  for (const Instance& inst : scene.instances) {
+    const glm::dmat4 m0 = inst.matrixAt(before), m1 = inst.matrixAt(after);
+    const Bounds& local = meshBounds.at(inst.mesh);
+    if (m0 == m1 || local.empty()) continue;
+    Bounds swept;
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec4 p((corner & 1 ? local.max : local.min).x, (corner & 2 ? local.max : local.min).y,
+                         (corner & 4 ? local.max : local.min).z, 1.0);
+      swept.add(glm::dvec3(m0 * p) - origin);
+      swept.add(glm::dvec3(m1 * p) - origin);
+    }
+    gpu::shared::MovedBox box{};
+    for (int a = 0; a < 3; ++a) {
+      box.lo[a] = std::nextafter(float(swept.min[a]), -INFINITY);
+      box.hi[a] = std::nextafter(float(swept.max[a]), INFINITY);
+    }
+    if (boxes.size() < RTSDF_MAX_MOVED_BOXES) {
+      boxes.push_back(box);
+    } else { // the shader reads a bounded list: the rest share the last box
+      boxes.back().lo = glm::min(boxes.back().lo, box.lo);
+      boxes.back().hi = glm::max(boxes.back().hi, box.hi);
+    }
+  }
+  return boxes;
 }
 
 double defaultPadding(const Bounds& bounds, double band) { return std::min(band, 0.25 * bounds.maxExtent()); }
@@ -104,10 +151,11 @@ PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettin
   const std::uint64_t coarseBuf = nc * 4, fineBuf = nf * 4;
   if (fineBuf >= coarseBuf) { m.largestBuffer = fineBuf; m.largestBufferName = "fine SDF"; }
   else { m.largestBuffer = coarseBuf; m.largestBufferName = "coarse SDF"; }
-  // Seeds A/B, the coarse SDF and the compacted band (8 bytes per voxel); fine SDF, history, votes, last frame
-  // and the compacted mask; the BVH (nodes of 32 bytes, at most two per triangle, corners 48 bytes and ids 4
-  // bytes per triangle) and the corners VoxelizePass reads (48 bytes per triangle).
-  m.deviceBytes = 5 * coarseBuf + 5 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
+  // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel) and the refinement state (8 bytes per
+  // voxel); fine SDF, votes and the list of voxels to refine; the BVH (nodes of 32 bytes, at most two per
+  // triangle, corners 48 bytes and ids 4 bytes per triangle) and the corners VoxelizePass reads (48 bytes per
+  // triangle).
+  m.deviceBytes = 7 * coarseBuf + 3 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
   // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
   // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
   m.hostBytes = nc * 29 + nf * 16;
@@ -201,8 +249,10 @@ struct SdfPipeline::Gpu {
   UpsamplePass upsample;
   std::unique_ptr<RefinePass> refine; // RayRefinePass or ClosestRefinePass, by the mode
   gpu::GpuProfiler profiler;
-  Buffer fine, history, votes, lastFrame;
-  Buffer fineRanges;                  // maskFineRanges() of the grids, uploaded once
+  Buffer fine, votes;                 // per fine voxel: the SDF (the refinement's history under the mask), votes
+  Buffer coarseState;                 // per coarse voxel: last frame in the band, refinements in a row
+  Buffer movedBoxes;                  // MovedBox per moving instance, written into the frame's command buffer
+  Buffer fineRanges, fineToCoarse;    // maskFineRanges() and maskCoarseOfFine() of the grids, uploaded once
   Buffer counts;                      // the refinement's indirect dispatch, then the mask's counters
   Buffer countsReadback;              // the counts, copied at the end of each frame for its statistics
   Buffer mask, coarseList;            // the compacted fine voxels and coarse band voxels (band > 0 only)
@@ -231,9 +281,15 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   mGpu = std::make_unique<Gpu>(ctx, s.mode);
   const std::size_t fineBytes = mFineSpec.voxelCount() * 4;
   mGpu->fine = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine SDF");
-  mGpu->history = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine history");
   mGpu->votes = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine sign votes");
-  mGpu->lastFrame = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine last frame");
+  mGpu->coarseState = Buffer(ctx, mCoarseSpec.voxelCount() * 8, kStorage, Buffer::Memory::Device,
+                             "coarse refinement state");
+  const std::vector<int> fineToCoarse = maskCoarseOfFine(mCoarseSpec, mFineSpec);
+  gpu::reserveAndUpload(ctx, mGpu->fineToCoarse, fineToCoarse.data(), fineToCoarse.size() * sizeof(int), kStorage,
+                        "ray mask fine-to-coarse table");
+  mGpu->movedBoxes = Buffer(ctx, RTSDF_MAX_MOVED_BOXES * sizeof(gpu::shared::MovedBox),
+                            kStorage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Device, "moved instance boxes");
+  for (const Mesh& mesh : scene.meshes) mMeshBounds.push_back(positionBounds(mesh));
   using gpu::shared::kMaskCountWords;
   mGpu->counts = Buffer(ctx, kMaskCountWords * 4, kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                         VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Buffer::Memory::Device,
@@ -250,32 +306,43 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
                               "ray mask (coarse voxels)");
   }
   gpu::CommandBuffer cmd(ctx);
-  // No history yet: lastFrame + 1 must differ from the first frame number (1).
-  vkCmdFillBuffer(cmd.handle(), mGpu->lastFrame.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
-  vkCmdFillBuffer(cmd.handle(), mGpu->history.handle(), 0, VK_WHOLE_SIZE, 0u);
+  // No voxel has been in the band: last frame + 1 must differ from the first frame number (1).
+  vkCmdFillBuffer(cmd.handle(), mGpu->coarseState.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+  vkCmdFillBuffer(cmd.handle(), mGpu->fine.handle(), 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cmd.handle(), mGpu->votes.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd.handle(), mGpu->movedBoxes.handle(), 0, VK_WHOLE_SIZE, 0u);
   cmd.submitAndWait();
 }
 
 SdfPipeline::~SdfPipeline() = default;
 
-gpu::shared::MaskParams SdfPipeline::maskParams() const {
+gpu::shared::MaskParams SdfPipeline::maskParams(std::uint32_t movedBoxes) const {
   gpu::shared::MaskParams p{};
   p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
   p.band = float(mSettings.band);
   p.fineCapacity = std::uint32_t(mGpu->mask.size() / 4);
   p.coarseCapacity = std::uint32_t(mGpu->coarseList.size() / 8);
+  p.frame = mFrame;
+  const GridSpec coarse = mCoarseSpec.inFrame(frameOrigin());
+  p.coarseOriginH = glm::vec4(glm::vec3(coarse.origin), float(coarse.voxelSize));
+  // movedWithinReach: the coarse bound of the distance (beta, half a coarse diagonal to the seed's surface and
+  // half one to a fine centre of the cell), and a fine voxel for rounding.
+  const double beta = mSettings.beta >= 0.0 ? mSettings.beta : 0.5 * mCoarseSpec.voxelSize;
+  p.reachPad = float(beta + std::sqrt(3.0) * mCoarseSpec.voxelSize + mFineSpec.voxelSize);
+  p.settleFrames = std::uint32_t(settleFramesFor(mSettings));
+  p.refreshPeriod = std::uint32_t(refreshPeriodFor(mSettings));
+  p.movedBoxes = movedBoxes;
   return p;
 }
 
-void SdfPipeline::recordMask(VkCommandBuffer cmd) {
+void SdfPipeline::recordMask(VkCommandBuffer cmd, const gpu::shared::MaskParams& params) {
   Gpu& g = *mGpu;
   vkCmdFillBuffer(cmd, g.counts.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::computeBarrier(cmd);
   // d = 0 refines nothing (not even voxels with c = 0): the counts stay zero, and so does the dispatch.
   if (mSettings.band > 0.0)
-    g.compact.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineRanges}, {g.counts, g.mask, g.coarseList},
-                      maskParams());
+    g.compact.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineRanges, g.movedBoxes},
+                      {g.counts, g.mask, g.coarseList, g.coarseState}, params);
   g.maskDispatch.execute(cmd, &g.profiler, {}, {g.counts}, {});
 }
 
@@ -289,25 +356,39 @@ void SdfPipeline::recordCountsReadback(VkCommandBuffer cmd) const {
                        nullptr);
 }
 
-std::pair<std::uint32_t, std::uint32_t> SdfPipeline::maskCounts() const {
+SdfPipeline::MaskCounts SdfPipeline::maskCounts() const {
   std::uint32_t words[gpu::shared::kMaskCountWords];
   std::memcpy(words, mGpu->countsReadback.mapped(), sizeof(words));
-  const std::uint32_t fine = words[gpu::shared::kMaskCountFine], coarse = words[gpu::shared::kMaskCountCoarse];
+  MaskCounts n;
+  n.refinedFine = words[gpu::shared::kMaskCountFine];
+  n.maskedFine = words[gpu::shared::kMaskCountMaskedFine];
+  n.coarse = words[gpu::shared::kMaskCountCoarse];
   // Each fine voxel lies under one coarse voxel and each coarse voxel is appended once: more would be a bug.
-  if (fine > mGpu->mask.size() / 4 || coarse > mGpu->coarseList.size() / 8)
-    throw Error(fmt::format("ray mask: the GPU counted {} fine and {} coarse voxels, more than the grids hold ({} and "
-                            "{})", fine, coarse, mFineSpec.voxelCount(), mCoarseSpec.voxelCount()));
-  return {fine, coarse};
+  if (n.refinedFine > n.maskedFine || n.maskedFine > mFineSpec.voxelCount() || n.coarse > mCoarseSpec.voxelCount())
+    throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine of {} under {} coarse voxels, more "
+                            "than the grids hold ({} and {})", n.refinedFine, n.maskedFine, n.coarse,
+                            mFineSpec.voxelCount(), mCoarseSpec.voxelCount()));
+  return n;
+}
+
+std::vector<std::uint32_t> SdfPipeline::refinedVoxels() const {
+  std::vector<std::uint32_t> list(mFrame && mSettings.band > 0.0 ? maskCounts().refinedFine : 0);
+  download(mCtx, mGpu->mask, list.data(), list.size() * 4);
+  tbb::parallel_sort(list.begin(), list.end());
+  return list;
+}
+
+std::vector<glm::uvec2> SdfPipeline::coarseState() const {
+  std::vector<glm::uvec2> state(mCoarseSpec.voxelCount());
+  download(mCtx, mGpu->coarseState, state.data(), state.size() * 8);
+  return state;
 }
 
 RayMask SdfPipeline::rayMask() const {
   RayMask mask;
   if (mFrame == 0 || mSettings.band <= 0.0) return mask;
-  const auto [fine, coarse] = maskCounts();
+  const std::uint32_t coarse = maskCounts().coarse;
   mask.coarseVoxels = coarse;
-  mask.fineVoxels.resize(fine);
-  download(mCtx, mGpu->mask, mask.fineVoxels.data(), std::size_t(fine) * 4);
-  tbb::parallel_sort(mask.fineVoxels.begin(), mask.fineVoxels.end());
   std::vector<std::uint32_t> pairs(std::size_t(coarse) * 2);
   download(mCtx, mGpu->coarseList, pairs.data(), pairs.size() * 4);
   std::vector<std::pair<std::uint64_t, float>> voxels(coarse);
@@ -315,6 +396,19 @@ RayMask SdfPipeline::rayMask() const {
     voxels[k].first = pairs[2 * k];
     std::memcpy(&voxels[k].second, &pairs[2 * k + 1], 4);
   }
+  // The fine voxels under the band, from the same range tables MaskCompactPass reads (the GPU lists only those it
+  // refines this frame).
+  const std::vector<glm::ivec2> ranges = maskFineRanges(mCoarseSpec, mFineSpec);
+  const glm::ivec3 cd = mCoarseSpec.dims;
+  for (const auto& [index, value] : voxels) {
+    const glm::ivec3 c(int(index % cd.x), int(index / cd.x % cd.y), int(index / cd.x / cd.y));
+    const glm::ivec2 rx = ranges[c.x], ry = ranges[cd.x + c.y], rz = ranges[cd.x + cd.y + c.z];
+    for (int z = rz.x; z <= rz.y; ++z)
+      for (int y = ry.x; y <= ry.y; ++y)
+        for (int x = rx.x; x <= rx.y; ++x)
+          mask.fineVoxels.push_back(std::uint32_t(x) | (std::uint32_t(y) << 10) | (std::uint32_t(z) << 20));
+  }
+  tbb::parallel_sort(mask.fineVoxels.begin(), mask.fineVoxels.end());
   if (mCoarseSpec.voxelSize >= minVdbVoxelSize()) {
     mask.coarse = activeVoxelsToLevelSet(std::move(voxels), mCoarseSpec, float(mSettings.band));
   } else {
@@ -341,6 +435,7 @@ RefineParams SdfPipeline::refineParams() const {
   p.frame = mFrame;
   p.seed = mSettings.seed;
   p.beta = float(mSettings.beta >= 0.0 ? mSettings.beta : 0.5 * mCoarseSpec.voxelSize);
+  p.band = float(mSettings.band);
   return p;
 }
 
@@ -356,22 +451,34 @@ FrameStats SdfPipeline::runFrame(double time) {
   cs.beta = mSettings.beta;
   const SceneGeometry geometry = buildSceneGeometry(mScene, time, frameOrigin());
   mBvh->update(time);
+  // What moved since the previous frame (the first frame refines every voxel: all are new to the mask).
+  const std::vector<gpu::shared::MovedBox> moved =
+      mFrame > 1 ? movedInstanceBoxes(mScene, mMeshBounds, mPreviousTime, time, frameOrigin())
+                 : std::vector<gpu::shared::MovedBox>{};
+  mPreviousTime = time;
+  stats.movedInstances = moved.size();
   // One command buffer for the whole frame: nothing is read back until it has finished.
   gpu::CommandBuffer cmd(mCtx);
   g.profiler.reset(cmd.handle());
+  // A few hundred bytes at most, written in order with the frame (barrier: recordMask's).
+  if (!moved.empty())
+    vkCmdUpdateBuffer(cmd.handle(), g.movedBoxes.handle(), 0, moved.size() * sizeof(moved[0]), moved.data());
   g.coarse.record(cmd.handle(), &g.profiler, geometry, mCoarseSpec, cs);
-  recordMask(cmd.handle());
+  recordMask(cmd.handle(), maskParams(std::uint32_t(moved.size())));
   const RefineParams p = refineParams();
-  g.upsample.execute(cmd.handle(), &g.profiler, {g.coarse.distanceBuffer()}, {g.fine}, p);
+  g.upsample.execute(cmd.handle(), &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse}, {g.fine}, p);
   if (mSettings.band > 0.0)
-    g.refine->execute(cmd.handle(), &g.profiler, {*mBvh, g.mask, g.counts}, {g.fine, g.history, g.votes, g.lastFrame},
-                      p);
+    g.refine->execute(cmd.handle(), &g.profiler, {*mBvh, g.mask, g.counts, g.coarse.distanceBuffer()},
+                      {g.fine, g.votes}, p);
   recordCountsReadback(cmd.handle());
   const auto t1 = Clock::now();
   cmd.submitAndWait();
   const auto t2 = Clock::now();
   stats.passMs = g.profiler.results();
-  std::tie(stats.maskFineVoxels, stats.maskCoarseVoxels) = maskCounts();
+  const MaskCounts counts = maskCounts();
+  stats.maskFineVoxels = counts.maskedFine;
+  stats.maskCoarseVoxels = counts.coarse;
+  stats.refinedFineVoxels = counts.refinedFine;
   const auto t3 = Clock::now();
   stats.hostMs = std::chrono::duration<double, std::milli>((t1 - t0) + (t3 - t2)).count();
   stats.wallMs = std::chrono::duration<double, std::milli>(t3 - t0).count();

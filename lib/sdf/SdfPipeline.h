@@ -46,9 +46,28 @@ struct PipelineSettings {
   CoarseMethod coarseMethod = CoarseMethod::Edt; ///< how the coarse SDF finds nearest seeds
   double beta = -1.0;    ///< coarse shell; < 0: half a coarse voxel
   std::uint32_t seed = 1;
+  /// Refine every masked voxel every frame (the paper's frame, the anchor of incremental refinement). Default:
+  /// incremental, a voxel is refined only when it is new to the mask, a moving instance came within reach of it
+  /// (either pose within |f| of it), or it has not settled (see settleFrames); otherwise it keeps its value.
+  bool fullRecompute = false;
+  /// Incremental: refinements in a row after which a voxel is settled; < 0: by the mode (settleFramesFor).
+  int settleFrames = -1;
+  /// Incremental: a settled voxel is refined again once every this many frames (0: never, its value is kept);
+  /// < 0: by the mode (refreshPeriodFor).
+  int refreshPeriod = -1;
   /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
   void validate() const;
 };
+
+/// @brief The refinements in a row after which a voxel is settled under @a s: 0 with fullRecompute (every voxel is
+///        refined every frame); else s.settleFrames when > 0; else, by the mode, 1 in closest mode with no sign rays
+///        (an exact, deterministic value: a second refinement would repeat it), 4 in closest mode with sign rays
+///        (a few frames of votes), 32 in rays mode (its decayed history converges over frames).
+int settleFramesFor(const PipelineSettings& s);
+
+/// @brief How often a settled voxel is refined again under @a s: s.refreshPeriod when >= 0; else 0 (never) in
+///        closest mode, whose settled values are exact, and 8 in rays mode, which keeps accumulating rays, slower.
+int refreshPeriodFor(const PipelineSettings& s);
 
 /// @brief The margin a grid keeps around @a bounds for a band of half-width @a band when none is given: the band,
 ///        so that it fits, but at most a quarter of the longest side, so that a band wider than the scene does not
@@ -81,12 +100,13 @@ std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const Pipeline
 
 /// @brief What SdfPipeline would allocate for some settings and bounds, computed without allocating.
 ///
-/// Device buffers: per coarse voxel 20 bytes (seeds, jump-flood scratch, coarse SDF, the compacted coarse band);
-/// per fine voxel 20 bytes (fine SDF, history, sign votes, last frame, the compacted ray mask: the GPU appends
-/// to it, so it is sized for every fine voxel); the BVH (about 100 bytes per triangle). Host memory at its peak,
-/// when the results are read back (a frame itself reads back a few words): per coarse voxel 29 bytes
-/// (coarseField() and its staging copy; rayMask()'s coarse band, its staging copy and the OpenVDB mirror), per
-/// fine voxel 16 bytes (rayMask()'s list and fineField(), each with its staging copy).
+/// Device buffers: per coarse voxel 28 bytes (seeds, jump-flood scratch, coarse SDF, the compacted coarse band,
+/// the refinement state); per fine voxel 12 bytes (fine SDF, which is also the refinement's history, sign votes,
+/// the list of voxels to refine: the GPU appends to it, so it is sized for every fine voxel); the BVH (about 100
+/// bytes per triangle). Host memory at its peak, when the results are read back (a frame itself reads back a few
+/// words): per coarse voxel 29 bytes (coarseField() and its staging copy; rayMask()'s coarse band, its staging
+/// copy and the OpenVDB mirror), per fine voxel 16 bytes (rayMask()'s list and fineField(), each with its staging
+/// copy).
 struct PipelineMemory {
   GridSpec coarse, fine;          ///< the grids (pipelineGrids)
   std::uint64_t largestBuffer = 0;///< bytes of the largest single storage buffer
@@ -95,6 +115,13 @@ struct PipelineMemory {
   std::uint64_t hostBytes = 0;    ///< host copies and staging buffers (peak of one frame)
   std::string describe() const;
 };
+
+/// @brief The boxes the instances of @a scene swept between @a before and @a after seconds, one per instance whose
+///        transform changed: the union of its world bounds in both poses (the corners of @a meshBounds[mesh]
+///        transformed in double), measured from @a origin and rounded outwards to float. At most
+///        RTSDF_MAX_MOVED_BOXES; further ones are merged into the last box. The incremental refinement's input.
+std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const std::vector<Bounds>& meshBounds,
+                                                      double before, double after, const glm::dvec3& origin);
 
 /// @brief Estimate the memory of a pipeline (see PipelineMemory) for @a triangles triangles.
 /// @throw Error as pipelineGrids does.
@@ -139,6 +166,8 @@ RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& coarseSpe
 struct FrameStats {
   double time = 0.0;
   std::uint64_t maskCoarseVoxels = 0, maskFineVoxels = 0;
+  std::uint64_t refinedFineVoxels = 0; ///< masked fine voxels refined this frame (the others kept their value)
+  std::uint64_t movedInstances = 0;    ///< instances whose transform changed since the previous frame
   /// CPU time of the frame outside its wait for the GPU: the scene's triangles transformed and uploaded, the
   /// BVH's top level, recording and submitting. The ray mask is compacted on the GPU: no mirror in the frame.
   double hostMs = 0.0;
@@ -161,8 +190,10 @@ public:
   SdfPipeline& operator=(const SdfPipeline&) = delete;
 
   /// @brief One frame at @a time seconds, one submission: coarse SDF, the ray mask compacted on the GPU
-  ///        (MaskCompactPass, MaskDispatchPass), upsample, refinement dispatched indirectly by the mask's size.
-  ///        Only the mask's counts (a few words) are read back, after the frame.
+  ///        (MaskCompactPass, MaskDispatchPass), upsample, refinement dispatched indirectly by the mask's size
+  ///        (incremental unless PipelineSettings::fullRecompute: the boxes the instances swept since the previous
+  ///        frame, movedInstanceBoxes, are the frame's only upload besides the BVH's top level). Only the mask's
+  ///        counts (a few words) are read back, after the frame.
   FrameStats runFrame(double time);
   /// @brief The dense fine SDF of the last frame (x fastest), scene units (read back from the GPU).
   std::vector<float> fineField() const;
@@ -172,6 +203,12 @@ public:
   ///        compacted band (no dense read-back): the same voxels as buildRayMask(coarseField(), ...), the fine
   ///        voxels sorted. Empty before the first frame or when d = 0.
   RayMask rayMask() const;
+  /// @brief The fine voxels the last frame refined (MaskCompactPass's list, read back and sorted): packed 10 bits
+  ///        per axis, with gpu::shared::kMaskFineFresh on those new to the band.
+  std::vector<std::uint32_t> refinedVoxels() const;
+  /// @brief Per coarse voxel (x fastest): the last frame it was in the band and its refinements in a row (read back;
+  ///        0xFFFFFFFF before it has been in the band).
+  std::vector<glm::uvec2> coarseState() const;
   const GridSpec& coarseSpec() const { return mCoarseSpec; }
   /// @brief The world point the GPU passes measure from: the fine grid's corner. Triangles, the BVH's top level
   ///        and the grids are moved into this frame in double before they become floats, so a scene far from
@@ -186,13 +223,15 @@ public:
 
 private:
   struct Gpu;
-  gpu::shared::MaskParams maskParams() const;
+  /// MaskCompactPass's parameters for this frame, with @a movedBoxes moving instances.
+  gpu::shared::MaskParams maskParams(std::uint32_t movedBoxes) const;
   /// Record: counters reset, MaskCompactPass (band > 0), MaskDispatchPass.
-  void recordMask(VkCommandBuffer cmd);
+  void recordMask(VkCommandBuffer cmd, const gpu::shared::MaskParams& params);
   /// Record: the counts copied into the host-visible readback buffer, visible to the host after the frame.
   void recordCountsReadback(VkCommandBuffer cmd) const;
-  /// The fine and coarse voxels the last frame's mask counted (from the readback).
-  std::pair<std::uint32_t, std::uint32_t> maskCounts() const;
+  struct MaskCounts { std::uint32_t refinedFine = 0, maskedFine = 0, coarse = 0; };
+  /// What the last frame's mask counted (from the readback).
+  MaskCounts maskCounts() const;
   gpu::shared::RefineParams refineParams() const;
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
@@ -200,6 +239,8 @@ private:
   GridSpec mCoarseSpec, mFineSpec;
   std::unique_ptr<GpuSceneBvh> mBvh;
   std::uint32_t mFrame = 0;
+  double mPreviousTime = 0.0;
+  std::vector<Bounds> mMeshBounds; ///< per mesh, in its own space: the moving instances' boxes come from these
   std::unique_ptr<Gpu> mGpu;
 };
 

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <memory>
 
 using namespace rtsdf;
@@ -279,7 +280,8 @@ TEST_F(Refine, FirstFrameEqualsTheCpuReferenceOfTheSameSampling) {
 }
 
 // Both UpsamplePass kernels on every fine voxel: equal to each other bit for bit and to the CPU reference, at the
-// paper's ratio 2 (size M, bunny) and at ratio 3 with a run that crosses coarse cells at varying phases.
+// paper's ratio 2 (size M, bunny) and at ratio 3 with a run that crosses coarse cells at varying phases. With a
+// band, both leave exactly the ray mask's fine voxels (the CPU mirror's) alone and write the same values elsewhere.
 TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
   const SceneGeometry geo = buildSceneGeometry(bunny(), 0.0);
   for (const auto [coarseRes, fineRes] : {std::pair{128, 256}, std::pair{20, 61}}) {
@@ -290,22 +292,42 @@ TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
     const auto [coarse, fine] = pipelineGrids(geo.bounds, ps);
     CoarseSdfBuilder builder(*sCtx);
     const std::vector<float> c = builder.build(geo, coarse, {}).distance;
-    const gpu::shared::RefineParams p = refineGridParams(coarse, fine);
-    std::vector<float> out[2];
+    gpu::shared::RefineParams p = refineGridParams(coarse, fine);
+    const std::vector<int> fineToCoarse = maskCoarseOfFine(coarse, fine);
+    gpu::Buffer table;
+    gpu::reserveAndUpload(*sCtx, table, fineToCoarse.data(), fineToCoarse.size() * sizeof(int),
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "fine-to-coarse table");
+    const float band = float(2.0 * coarse.voxelSize), untouched = 12345.0f;
+    std::vector<float> out[4]; // Runs, PerVoxel; then both with the band
     int k = 0;
-    for (UpsamplePass::Kernel kernel : {UpsamplePass::Kernel::Runs, UpsamplePass::Kernel::PerVoxel}) {
-      const UpsamplePass pass(*sCtx, kernel);
-      gpu::Buffer buf;
-      gpu::reserve(*sCtx, buf, fine.voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device,
-                   "fine");
-      gpu::CommandBuffer cmd(*sCtx);
-      pass.execute(cmd.handle(), nullptr, {builder.distanceBuffer()}, {buf}, p);
-      cmd.submitAndWait();
-      out[k].resize(fine.voxelCount());
-      gpu::download(*sCtx, buf, out[k].data(), out[k].size() * 4);
-      ++k;
-    }
+    for (float b : {0.0f, band})
+      for (UpsamplePass::Kernel kernel : {UpsamplePass::Kernel::Runs, UpsamplePass::Kernel::PerVoxel}) {
+        const UpsamplePass pass(*sCtx, kernel);
+        gpu::Buffer buf;
+        gpu::reserve(*sCtx, buf, fine.voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                     VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::Buffer::Memory::Device, "fine");
+        gpu::CommandBuffer cmd(*sCtx);
+        std::uint32_t bits;
+        std::memcpy(&bits, &untouched, 4);
+        vkCmdFillBuffer(cmd.handle(), buf.handle(), 0, VK_WHOLE_SIZE, bits);
+        gpu::computeBarrier(cmd.handle());
+        p.band = b;
+        pass.execute(cmd.handle(), nullptr, {builder.distanceBuffer(), table}, {buf}, p);
+        cmd.submitAndWait();
+        out[k].resize(fine.voxelCount());
+        gpu::download(*sCtx, buf, out[k].data(), out[k].size() * 4);
+        ++k;
+      }
     EXPECT_EQ(out[0], out[1]);
+    EXPECT_EQ(out[2], out[3]);
+    const RayMask mask = buildRayMask(c, coarse, fine, band);
+    std::vector<char> masked(fine.voxelCount(), 0);
+    for (std::uint32_t v : mask.fineVoxels) masked[fine.linear(v & 1023u, (v >> 10) & 1023u, v >> 20)] = 1;
+    ASSERT_GT(mask.fineVoxels.size(), 1000u);
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < masked.size(); ++i)
+      wrong += masked[i] ? out[2][i] != untouched : out[2][i] != out[0][i];
+    EXPECT_EQ(wrong, 0u);
     std::size_t differ = 0;
     for (int z = 0; z < fine.dims.z; ++z)
       for (int y = 0; y < fine.dims.y; ++y)

@@ -52,6 +52,9 @@ struct BvhHit {
   uint leaf;      // leaf-order triangle index (its corners are corners[3 leaf .. 3 leaf + 2], object space)
 };
 
+/// The distance from @a p to the box [@a lo, @a hi] (0 inside): BVH culling and the refinement's moved boxes.
+RTSDF_FN float boxDistance(vec3 p, vec3 lo, vec3 hi) { return length(max(max(lo - p, p - hi), vec3(0.0))); }
+
 RTSDF_SHARED_END
 
 #endif

@@ -2,6 +2,9 @@
 
 #include "gpu/shared/Refine.h"
 #include "reference/ExactSdf.h"
+#include "sdf/RefinePasses.h"
+
+#include <tbb/parallel_sort.h>
 
 #include <tbb/parallel_for.h>
 
@@ -57,6 +60,35 @@ std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vecto
       out[k] = back > front ? -f : f;
     }
   });
+  return out;
+}
+
+MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec& cs, const GridSpec& fs,
+                               std::vector<glm::uvec2> state, const MaskParams& p, const std::vector<MovedBox>& moved) {
+  MaskDecisions out;
+  const std::vector<glm::ivec2> ranges = maskFineRanges(cs, fs);
+  for (int z = 0; z < cs.dims.z; ++z)
+    for (int y = 0; y < cs.dims.y; ++y)
+      for (int x = 0; x < cs.dims.x; ++x) {
+        const auto i = std::uint32_t(cs.linear(x, y, z));
+        const float c = coarse[i];
+        if (!(std::fabs(c) <= p.band)) continue;
+        const bool fresh = state[i].x + 1u != p.frame;
+        bool nearMoved = false;
+        for (std::size_t b = 0; b < moved.size() && !fresh && !nearMoved; ++b)
+          nearMoved = movedWithinReach(p, {x, y, z}, c, moved[b]);
+        const bool refined = refinesThisFrame(p, fresh, nearMoved, state[i].y, i);
+        state[i] = {p.frame, refinementsAfter(refined, fresh, nearMoved, state[i].y)};
+        if (!refined) continue;
+        const glm::ivec2 rx = ranges[x], ry = ranges[cs.dims.x + y], rz = ranges[cs.dims.x + cs.dims.y + z];
+        for (int fz = rz.x; fz <= rz.y; ++fz)
+          for (int fy = ry.x; fy <= ry.y; ++fy)
+            for (int fx = rx.x; fx <= rx.y; ++fx)
+              out.refined.push_back(std::uint32_t(fx) | (std::uint32_t(fy) << 10) | (std::uint32_t(fz) << 20) |
+                                    (fresh ? kMaskFineFresh : 0u));
+      }
+  tbb::parallel_sort(out.refined.begin(), out.refined.end());
+  out.state = std::move(state);
   return out;
 }
 

@@ -3,6 +3,7 @@
 /// @brief CPU reference of the refinement passes: the same trilinear upsampling and, for a fresh frame, the
 ///        same ray sampling (the same PCG random directions) as refine_upsample.comp and refine.comp, with
 ///        Embree's rtcIntersect1 for the rays.
+#include "gpu/shared/Refine.h"
 #include "grid/GridSpec.h"
 #include "scene/SceneGeometry.h"
 
@@ -23,5 +24,20 @@ std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vecto
                                  const GridSpec& coarseSpec, const GridSpec& fineSpec,
                                  const std::vector<std::uint32_t>& mask, std::uint32_t rays, std::uint32_t frame,
                                  std::uint32_t seed, float beta);
+
+/// @brief What MaskCompactPass decides in one frame of incremental refinement.
+struct MaskDecisions {
+  std::vector<std::uint32_t> refined; ///< fine voxels to refine, packed with kMaskFineFresh, sorted
+  std::vector<glm::uvec2> state;      ///< per coarse voxel: (last frame in the band, refinements in a row) after
+};
+
+/// @brief CPU reference of MaskCompactPass's incremental decisions: for every coarse voxel of @a coarse (dense,
+///        x fastest) in the band (|c| <= p.band), gpu::shared::refinesThisFrame with its state from @a state and
+///        the boxes @a moved; the fine voxels of those refined (maskFineRanges), and the state advanced.
+/// @param coarseSpec, fineSpec the grids; @a p as the pass ran (coarse corner in the GPU's frame, p.movedBoxes
+///        ignored: all of @a moved are read).
+MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec& coarseSpec, const GridSpec& fineSpec,
+                               std::vector<glm::uvec2> state, const gpu::shared::MaskParams& p,
+                               const std::vector<gpu::shared::MovedBox>& moved);
 
 } // namespace rtsdf

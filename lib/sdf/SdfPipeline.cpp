@@ -452,9 +452,9 @@ FrameStats SdfPipeline::runFrame(double time) {
   const SceneGeometry geometry = buildSceneGeometry(mScene, time, frameOrigin());
   mBvh->update(time);
   // What moved since the previous frame (the first frame refines every voxel: all are new to the mask).
-  const std::vector<gpu::shared::MovedBox> moved =
-      mFrame > 1 ? movedInstanceBoxes(mScene, mMeshBounds, mPreviousTime, time, frameOrigin())
-                 : std::vector<gpu::shared::MovedBox>{};
+  mLastMovedBoxes = mFrame > 1 ? movedInstanceBoxes(mScene, mMeshBounds, mPreviousTime, time, frameOrigin())
+                               : std::vector<gpu::shared::MovedBox>{};
+  const std::vector<gpu::shared::MovedBox>& moved = mLastMovedBoxes;
   mPreviousTime = time;
   stats.movedInstances = moved.size();
   // One command buffer for the whole frame: nothing is read back until it has finished.
@@ -464,7 +464,8 @@ FrameStats SdfPipeline::runFrame(double time) {
   if (!moved.empty())
     vkCmdUpdateBuffer(cmd.handle(), g.movedBoxes.handle(), 0, moved.size() * sizeof(moved[0]), moved.data());
   g.coarse.record(cmd.handle(), &g.profiler, geometry, mCoarseSpec, cs);
-  recordMask(cmd.handle(), maskParams(std::uint32_t(moved.size())));
+  mLastMaskParams = maskParams(std::uint32_t(moved.size()));
+  recordMask(cmd.handle(), mLastMaskParams);
   const RefineParams p = refineParams();
   g.upsample.execute(cmd.handle(), &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse}, {g.fine}, p);
   if (mSettings.band > 0.0)

@@ -209,6 +209,9 @@ public:
   /// @brief Per coarse voxel (x fastest): the last frame it was in the band and its refinements in a row (read back;
   ///        0xFFFFFFFF before it has been in the band).
   std::vector<glm::uvec2> coarseState() const;
+  /// @brief MaskCompactPass's parameters in the last frame and the moving boxes it read (maskDecisionsCpu's input).
+  const gpu::shared::MaskParams& lastMaskParams() const { return mLastMaskParams; }
+  const std::vector<gpu::shared::MovedBox>& lastMovedBoxes() const { return mLastMovedBoxes; }
   const GridSpec& coarseSpec() const { return mCoarseSpec; }
   /// @brief The world point the GPU passes measure from: the fine grid's corner. Triangles, the BVH's top level
   ///        and the grids are moved into this frame in double before they become floats, so a scene far from
@@ -240,6 +243,8 @@ private:
   std::unique_ptr<GpuSceneBvh> mBvh;
   std::uint32_t mFrame = 0;
   double mPreviousTime = 0.0;
+  gpu::shared::MaskParams mLastMaskParams{};
+  std::vector<gpu::shared::MovedBox> mLastMovedBoxes;
   std::vector<Bounds> mMeshBounds; ///< per mesh, in its own space: the moving instances' boxes come from these
   std::unique_ptr<Gpu> mGpu;
 };

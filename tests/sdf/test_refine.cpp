@@ -107,6 +107,12 @@ void expectGpuMaskEqualsMirror(const SdfPipeline& pipe, const FrameStats& st) {
   std::size_t differ = 0;
   for (std::size_t k = 0; k < cpu.fineVoxels.size(); ++k) differ += gpu.fineVoxels[k] != cpu.fineVoxels[k];
   EXPECT_EQ(differ, 0u) << "fine voxels listed differently";
+  // Every band voxel is refined here (rays mode, before it settles): MaskCompactPass's own list is the mask.
+  std::vector<std::uint32_t> listed = pipe.refinedVoxels();
+  for (std::uint32_t& v : listed) v &= gpu::shared::kMaskFineCoords;
+  std::sort(listed.begin(), listed.end());
+  EXPECT_EQ(st.refinedFineVoxels, cpu.fineVoxels.size());
+  EXPECT_TRUE(listed == cpu.fineVoxels) << "MaskCompactPass listed other fine voxels than the mirror's";
   EXPECT_EQ(gpu.coarse->activeVoxelCount(), cpu.coarse->activeVoxelCount());
   EXPECT_EQ(gpu.coarse->transform(), cpu.coarse->transform());
   auto acc = cpu.coarse->getConstAccessor();
@@ -143,6 +149,7 @@ TEST_F(Refine, GpuCompactedMaskEqualsTheOpenVdbMirror) {
     s.fineRes = c.fine;
     s.band = c.band;
     s.rays = 0;
+    s.mode = RefineMode::Rays;
     SdfPipeline pipe(*sCtx, c.scene, boundsOf(c.scene), s);
     if (std::string(c.name).find("1e-4") != std::string::npos) {
       ASSERT_LT(pipe.coarseSpec().voxelSize, minVdbVoxelSize());
@@ -339,6 +346,84 @@ TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
   }
 }
 
+// Incremental refinement, decided on the GPU (MaskCompactPass) against its CPU reference, frame by frame on the
+// orbiting teapot: the same fine voxels listed (fresh flags included) and the same per-coarse-voxel state after.
+// Settle 2 and refresh 3 take every branch: new to the band, near the teapot, settling, settled, refreshed.
+TEST_F(Refine, IncrementalDecisionsEqualTheCpuReference) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  PipelineSettings s;
+  s.coarseRes = 40;
+  s.fineRes = 80;
+  s.mode = RefineMode::Closest;
+  s.rays = 0;
+  s.settleFrames = 2;
+  s.refreshPeriod = 3;
+  Bounds bounds;
+  const double fps = 10.0;
+  for (int f = 0; f < 6; ++f) bounds.add(buildSceneGeometry(scene, f / fps).bounds);
+  SdfPipeline pipe(*sCtx, scene, bounds, s);
+  std::vector<glm::uvec2> state = pipe.coarseState();
+  bool sawKept = false, sawNearMoved = false, sawRefresh = false;
+  for (int f = 0; f < 6; ++f) {
+    SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
+    // Frame 4 repeats frame 3's time: nothing moves, settled voxels are kept but for the refresh.
+    const double time = (f == 3 ? f - 1 : f) / fps;
+    const FrameStats st = pipe.runFrame(time);
+    EXPECT_EQ(st.movedInstances, (f == 0 || f == 3) ? 0u : 1u);
+    const MaskDecisions cpu = maskDecisionsCpu(pipe.coarseField(), pipe.coarseSpec(), pipe.fineSpec(), state,
+                                               pipe.lastMaskParams(), pipe.lastMovedBoxes());
+    const std::vector<std::uint32_t> gpu = pipe.refinedVoxels();
+    EXPECT_EQ(st.refinedFineVoxels, cpu.refined.size());
+    EXPECT_TRUE(gpu == cpu.refined) << gpu.size() << " listed on the GPU, " << cpu.refined.size() << " on the CPU";
+    const std::vector<glm::uvec2> after = pipe.coarseState();
+    EXPECT_TRUE(after == cpu.state);
+    sawKept |= st.refinedFineVoxels < st.maskFineVoxels;
+    sawNearMoved |= f == 2 && st.refinedFineVoxels > 0;
+    sawRefresh |= f == 3 && st.refinedFineVoxels > 0 && st.refinedFineVoxels < st.maskFineVoxels / 2;
+    state = after;
+  }
+  EXPECT_TRUE(sawKept && sawNearMoved && sawRefresh);
+}
+
+// The incremental frame against the paper's full recompute on the orbiting teapot (closest mode, exact values):
+// every frame the same fine field (the voxels kept hold the value a recompute would give), so the same error
+// against the exact field, while after the first frame a small part of the mask is refined. With sign rays
+// (x = 1) the kept voxels' signs stop collecting votes: the error must still be no worse than the recompute's.
+TEST_F(Refine, IncrementalMatchesTheFullRecomputeOnTheOrbitingTeapot) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  const double fps = 30.0;
+  const int frames = 5;
+  Bounds bounds;
+  for (int f = 0; f < frames; ++f) bounds.add(buildSceneGeometry(scene, f / fps).bounds);
+  for (int rays : {0, 1}) {
+    SCOPED_TRACE(::testing::Message() << "x = " << rays);
+    PipelineSettings s;
+    s.coarseRes = 48;
+    s.fineRes = 96;
+    s.mode = RefineMode::Closest;
+    s.rays = rays;
+    SdfPipeline incremental(*sCtx, scene, bounds, s);
+    s.fullRecompute = true;
+    SdfPipeline full(*sCtx, scene, bounds, s);
+    for (int f = 0; f < frames; ++f) {
+      SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
+      const FrameStats a = incremental.runFrame(f / fps), b = full.runFrame(f / fps);
+      EXPECT_EQ(a.maskFineVoxels, b.maskFineVoxels);
+      EXPECT_EQ(b.refinedFineVoxels, b.maskFineVoxels);
+      if (f > 0 && rays == 0) EXPECT_LT(a.refinedFineVoxels, b.maskFineVoxels / 5);
+      const MaskedError ea = measure(incremental, scene, f / fps, 1e-5), eb = measure(full, scene, f / fps, 1e-5);
+      if (rays == 0) {
+        const std::vector<float> fa = incremental.fineField(), fb = full.fineField();
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < fa.size(); ++i) differ += fa[i] != fb[i];
+        EXPECT_EQ(differ, 0u) << "of " << fa.size() << " fine voxels";
+      }
+      EXPECT_LE(ea.wrongSign, eb.wrongSign);
+      EXPECT_LE(ea.maxAbs, eb.maxAbs + 1e-4);
+    }
+  }
+}
+
 TEST_F(Refine, ExtremesGiveFiniteFields) {
   const Scene scene = bunny();
   struct Case { const char* name; PipelineSettings s; int frames; };
@@ -393,7 +478,8 @@ TEST_F(Refine, RejectsBadSettings) {
   for (auto f : std::vector<std::function<void(PipelineSettings&)>>{
            [](auto& s) { s.alpha = 1.5; }, [](auto& s) { s.alpha = NAN; }, [](auto& s) { s.band = -1.0; },
            [](auto& s) { s.rays = -1; }, [](auto& s) { s.fineRes = 8; s.coarseRes = 16; },
-           [](auto& s) { s.coarseRes = 0; }}) {
+           [](auto& s) { s.coarseRes = 0; }, [](auto& s) { s.settleFrames = 0; },
+           [](auto& s) { s.refreshPeriod = 2000000; }}) {
     PipelineSettings s;
     f(s);
     EXPECT_THROW(SdfPipeline(*sCtx, scene, boundsOf(scene), s), Error);

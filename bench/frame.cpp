@@ -1,6 +1,6 @@
 // Google Benchmark of one SdfPipeline frame (SdfPipeline::runFrame, wall time: host work, submission and the
 // wait for the GPU) on the bundled scenes at the paper's size M (coarse 128 / fine 256), static scene, after a
-// warm-up frame. The per-frame CSV with host / GPU / wall split and error is `rtsdf bench --suite frame`.
+// warm-up frame; incremental refinement (settled voxels kept) against the paper's full recompute. The per-frame CSV with host / GPU / wall split and error is `rtsdf bench --suite frame`.
 #include "gpu/VulkanContext.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
@@ -20,7 +20,8 @@ const gpu::VulkanContext& context() {
   return *ctx;
 }
 
-/// Arguments: scene (0: default, 1: bunny), mode (0: the paper's rays, x = 1; 1: closest, x = 1).
+/// Arguments: scene (0: default, 1: bunny), mode (0: the paper's rays, x = 1; 1: closest, x = 1), full recompute
+/// (0: incremental, 1: every masked voxel every frame).
 void BM_PipelineFrame(benchmark::State& state) {
   const char* scenes[] = {"default.json", "bunny.json"};
   const Scene scene = loadScene(std::string(RTSDF_DATA_DIR) + "/scenes/" + scenes[state.range(0)]);
@@ -29,6 +30,7 @@ void BM_PipelineFrame(benchmark::State& state) {
   s.fineRes = 256;
   s.rays = 1;
   if (state.range(1) == 1) s.mode = RefineMode::Closest;
+  s.fullRecompute = state.range(2) == 1;
   SdfPipeline pipe(context(), scene, buildSceneGeometry(scene, 0.0).bounds, s);
   FrameStats last = pipe.runFrame(0.0);
   for (auto _ : state) last = pipe.runFrame(0.0);
@@ -36,10 +38,12 @@ void BM_PipelineFrame(benchmark::State& state) {
   for (const auto& [name, ms] : last.passMs) gpu += ms;
   state.counters["gpu_ms"] = gpu;
   state.counters["mask_voxels"] = double(last.maskFineVoxels);
-  state.SetLabel(std::string(scenes[state.range(0)]) + (state.range(1) ? " closest x=1" : " rays x=1"));
+  state.counters["refined_voxels"] = double(last.refinedFineVoxels);
+  state.SetLabel(std::string(scenes[state.range(0)]) + (state.range(1) ? " closest x=1" : " rays x=1") +
+                 (state.range(2) ? " full recompute" : " incremental"));
 }
 BENCHMARK(BM_PipelineFrame)
-    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->ArgsProduct({{0, 1}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(2.0);

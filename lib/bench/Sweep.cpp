@@ -28,6 +28,9 @@ SweepPoint point(SweepGroup g, const Size& size, RefineMode mode, int rays, doub
   p.pipeline.rays = rays;
   p.pipeline.band = band;
   p.pipeline.alpha = alpha;
+  // The sweep measures the paper's knobs on the paper's frame: every masked voxel refined every frame (the
+  // incremental frame, whose static frames refine almost nothing, is the frame suite's).
+  p.pipeline.fullRecompute = true;
   p.frames = frames;
   return p;
 }

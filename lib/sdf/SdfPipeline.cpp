@@ -460,7 +460,7 @@ FrameStats SdfPipeline::runFrame(double time) {
   // One command buffer for the whole frame: nothing is read back until it has finished.
   gpu::CommandBuffer cmd(mCtx);
   g.profiler.reset(cmd.handle());
-  // A few hundred bytes at most, written in order with the frame (barrier: recordMask's).
+  // At most RTSDF_MAX_MOVED_BOXES x 32 bytes (8 KiB), written in order with the frame (barrier: recordMask's).
   if (!moved.empty())
     vkCmdUpdateBuffer(cmd.handle(), g.movedBoxes.handle(), 0, moved.size() * sizeof(moved[0]), moved.data());
   g.coarse.record(cmd.handle(), &g.profiler, geometry, mCoarseSpec, cs);

@@ -27,6 +27,15 @@ std::vector<glm::ivec2> maskFineRanges(const GridSpec& coarse, const GridSpec& f
   return ranges;
 }
 
+void appendFineVoxelsUnder(const std::vector<glm::ivec2>& ranges, const glm::ivec3& coarseDims, const glm::ivec3& c,
+                           std::uint32_t flags, std::vector<std::uint32_t>& out) {
+  const glm::ivec2 rx = ranges[c.x], ry = ranges[coarseDims.x + c.y], rz = ranges[coarseDims.x + coarseDims.y + c.z];
+  for (int z = rz.x; z <= rz.y; ++z)
+    for (int y = ry.x; y <= ry.y; ++y)
+      for (int x = rx.x; x <= rx.y; ++x)
+        out.push_back(std::uint32_t(x) | (std::uint32_t(y) << 10) | (std::uint32_t(z) << 20) | flags);
+}
+
 std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine) {
   const std::vector<glm::ivec2> ranges = maskFineRanges(coarse, fine);
   std::vector<int> table(std::size_t(fine.dims.x) + fine.dims.y + fine.dims.z, -1);

@@ -26,6 +26,11 @@ gpu::shared::RefineParams refineGridParams(const GridSpec& coarse, const GridSpe
 ///        very tables, so both give the same fine voxels.
 std::vector<glm::ivec2> maskFineRanges(const GridSpec& coarse, const GridSpec& fine);
 
+/// @brief Append the fine voxels under coarse voxel @a c (maskFineRanges @a ranges of a coarse grid of @a coarseDims),
+///        packed x | y << 10 | z << 20, each or-ed with @a flags.
+void appendFineVoxelsUnder(const std::vector<glm::ivec2>& ranges, const glm::ivec3& coarseDims, const glm::ivec3& c,
+                           std::uint32_t flags, std::vector<std::uint32_t>& out);
+
 /// @brief The inverse of maskFineRanges: entry a-offset + j (x entries, then y, then z) is the coarse index along
 ///        axis a whose slab holds fine index j (-1 where none does). UpsamplePass finds the ray mask's voxels with it.
 std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine);

@@ -79,13 +79,7 @@ MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec&
           nearMoved = movedWithinReach(p, {x, y, z}, c, moved[b]);
         const bool refined = refinesThisFrame(p, fresh, nearMoved, state[i].y, i);
         state[i] = {p.frame, refinementsAfter(refined, fresh, nearMoved, state[i].y)};
-        if (!refined) continue;
-        const glm::ivec2 rx = ranges[x], ry = ranges[cs.dims.x + y], rz = ranges[cs.dims.x + cs.dims.y + z];
-        for (int fz = rz.x; fz <= rz.y; ++fz)
-          for (int fy = ry.x; fy <= ry.y; ++fy)
-            for (int fx = rx.x; fx <= rx.y; ++fx)
-              out.refined.push_back(std::uint32_t(fx) | (std::uint32_t(fy) << 10) | (std::uint32_t(fz) << 20) |
-                                    (fresh ? kMaskFineFresh : 0u));
+        if (refined) appendFineVoxelsUnder(ranges, cs.dims, {x, y, z}, fresh ? kMaskFineFresh : 0u, out.refined);
       }
   tbb::parallel_sort(out.refined.begin(), out.refined.end());
   out.state = std::move(state);

@@ -225,11 +225,7 @@ RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& cs, const
     std::vector<std::uint32_t> local;
     for (auto it = leaf.cbeginValueOn(); it; ++it) {
       const openvdb::Coord c = it.getCoord();
-      const glm::ivec2 rx = ranges[c.x()], ry = ranges[cs.dims.x + c.y()], rz = ranges[cs.dims.x + cs.dims.y + c.z()];
-      for (int z = rz.x; z <= rz.y; ++z)
-        for (int y = ry.x; y <= ry.y; ++y)
-          for (int x = rx.x; x <= rx.y; ++x)
-            local.push_back(std::uint32_t(x) | (std::uint32_t(y) << 10) | (std::uint32_t(z) << 20));
+      appendFineVoxelsUnder(ranges, cs.dims, {c.x(), c.y(), c.z()}, 0u, local);
     }
     std::lock_guard<std::mutex> lock(m);
     mask.fineVoxels.insert(mask.fineVoxels.end(), local.begin(), local.end());
@@ -402,11 +398,7 @@ RayMask SdfPipeline::rayMask() const {
   const glm::ivec3 cd = mCoarseSpec.dims;
   for (const auto& [index, value] : voxels) {
     const glm::ivec3 c(int(index % cd.x), int(index / cd.x % cd.y), int(index / cd.x / cd.y));
-    const glm::ivec2 rx = ranges[c.x], ry = ranges[cd.x + c.y], rz = ranges[cd.x + cd.y + c.z];
-    for (int z = rz.x; z <= rz.y; ++z)
-      for (int y = ry.x; y <= ry.y; ++y)
-        for (int x = rx.x; x <= rx.y; ++x)
-          mask.fineVoxels.push_back(std::uint32_t(x) | (std::uint32_t(y) << 10) | (std::uint32_t(z) << 20));
+    appendFineVoxelsUnder(ranges, cd, c, 0u, mask.fineVoxels);
   }
   tbb::parallel_sort(mask.fineVoxels.begin(), mask.fineVoxels.end());
   if (mCoarseSpec.voxelSize >= minVdbVoxelSize()) {

@@ -180,6 +180,7 @@ MeshBvhs buildMeshBvhs(const Scene& scene, int maxLeafSize) {
       out.triangleIds.push_back(t);
     }
     out.roots.push_back(nodeBase);
+    out.firstTriangles.push_back(triBase);
     out.meshLo.push_back(mlo);
     out.meshHi.push_back(mhi);
   }

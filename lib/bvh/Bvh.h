@@ -18,6 +18,7 @@ struct MeshBvhs {
   std::vector<glm::vec4> corners;        ///< 3 per triangle, object space, in leaf order
   std::vector<std::uint32_t> triangleIds; ///< original triangle index of each leaf-ordered triangle
   std::vector<std::uint32_t> roots;      ///< root node of each mesh
+  std::vector<std::uint32_t> firstTriangles; ///< each mesh's first leaf-ordered triangle (its corners from 3x that)
   std::vector<glm::vec3> meshLo, meshHi; ///< object-space bounds of each mesh
 };
 

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <type_traits>
 #include <vector>
@@ -291,6 +293,16 @@ void upload(const VulkanContext& ctx, const Buffer& dst, const void* data, std::
   const VkBufferCopy region{0, 0, bytes};
   vkCmdCopyBuffer(cmd.handle(), staging.handle(), dst.handle(), 1, &region);
   cmd.submitAndWait();
+}
+
+void recordUpload(VkCommandBuffer cmd, const Buffer& dst, const void* data, std::size_t bytes) {
+  if (bytes > dst.size() || bytes % 4)
+    throw Error(fmt::format("recorded upload of {} bytes into buffer '{}' of {} (must fit and be a multiple of 4)",
+                            bytes, dst.name(), dst.size()));
+  constexpr std::size_t kPiece = 65536; // vkCmdUpdateBuffer's limit per call
+  const auto* bytesIn = static_cast<const std::uint8_t*>(data);
+  for (std::size_t offset = 0; offset < bytes; offset += kPiece)
+    vkCmdUpdateBuffer(cmd, dst.handle(), offset, std::min(kPiece, bytes - offset), bytesIn + offset);
 }
 
 void download(const VulkanContext& ctx, const Buffer& src, void* data, std::size_t bytes) {

@@ -180,6 +180,11 @@ void upload(const VulkanContext& ctx, const Buffer& dst, const void* data, std::
 /// @note For inputs re-sent whenever they change (BVHs, masks): the buffer is reallocated only when it grows.
 void reserveAndUpload(const VulkanContext& ctx, Buffer& b, const void* data, std::size_t bytes,
                       VkBufferUsageFlags usage, const std::string& name);
+/// @brief Record into @a cmd a copy of @a bytes of host data into @a dst (vkCmdUpdateBuffer, in pieces of at
+///        most 64 KiB): the data travels inside the command buffer, so a frame's small inputs (transforms) need no
+///        staging buffer and no wait. Later reads need a barrier (computeBarrier).
+/// @throw Error when @a bytes is not a multiple of 4 or exceeds the buffer.
+void recordUpload(VkCommandBuffer cmd, const Buffer& dst, const void* data, std::size_t bytes);
 /// @brief Copy @a bytes of @a src into host memory (through a staging buffer when it is device memory).
 void download(const VulkanContext& ctx, const Buffer& src, void* data, std::size_t bytes);
 

@@ -79,4 +79,26 @@ SceneGeometry buildSceneGeometry(const Scene& scene, double time, const glm::dve
   return geo;
 }
 
+void checkInstancePlacement(const Scene& scene, const std::vector<Bounds>& meshBounds, double time) {
+  for (const Instance& inst : scene.instances) {
+    const Bounds& box = meshBounds.at(inst.mesh);
+    if (box.empty()) continue;
+    const glm::dmat4 m = inst.matrixAt(time);
+    // Every vertex lies in its mesh's box, so its image lies in the hull of the corners' images.
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec4 p((corner & 1 ? box.max : box.min).x, (corner & 2 ? box.max : box.min).y,
+                         (corner & 4 ? box.max : box.min).z, 1.0);
+      const glm::dvec3 world(m * p);
+      if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z))
+        throw Error(fmt::format("{}: instance '{}' moves its mesh's bounds to a non-finite position at time {}",
+                                scene.path, inst.name, time));
+      const double far = std::max({std::abs(world.x), std::abs(world.y), std::abs(world.z)});
+      if (far > kMaxCoordinate)
+        throw Error(fmt::format("{}: instance '{}' moves its mesh's bounds to the coordinate {:g} at time {}, beyond "
+                                "the ±{:g} rtsdf supports (float precision): scale the scene down", scene.path,
+                                inst.name, far, time, kMaxCoordinate));
+    }
+  }
+}
+
 } // namespace rtsdf

@@ -47,4 +47,10 @@ std::vector<glm::vec4> triangleCorners(const SceneGeometry& geometry);
 /// @throw Error when a transform turns coordinates non-finite or leaves an instance no triangle.
 SceneGeometry buildSceneGeometry(const Scene& scene, double time = 0.0, const glm::dvec3& origin = glm::dvec3(0.0));
 
+/// @brief Check that every instance of @a scene keeps its vertices finite and within ±kMaxCoordinate at @a time,
+///        from the 8 corners of its mesh's box (@a meshBounds, per mesh: positionBounds): the host's cost grows with
+///        the instances, not their triangles. For frames whose triangles the GPU places (SdfPipeline).
+/// @throw Error naming the scene and the instance when a box corner is non-finite or beyond ±kMaxCoordinate.
+void checkInstancePlacement(const Scene& scene, const std::vector<Bounds>& meshBounds, double time);
+
 } // namespace rtsdf

@@ -30,6 +30,17 @@ VoxelizeParams voxelizeParams(const GridSpec& spec, std::uint32_t triangleCount)
   return p;
 }
 
+std::vector<glm::vec4> placeInstanceCorners(const std::vector<glm::vec4>& corners,
+                                            const std::vector<VoxelizeInstance>& instances) {
+  std::vector<glm::vec4> out;
+  for (const VoxelizeInstance& inst : instances)
+    for (std::uint32_t t = inst.firstTriangle; t < inst.firstTriangle + inst.triangleCount; ++t)
+      for (int c = 0; c < 3; ++c)
+        out.emplace_back(transformToFrame(inst.objectToFrame[0], inst.objectToFrame[1], inst.objectToFrame[2],
+                                          glm::vec3(corners.at(3 * std::size_t(t) + c))), 1.0f);
+  return out;
+}
+
 std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec) {
   checkDims(spec.dims);
   const std::size_t tris = corners.size() / 3;

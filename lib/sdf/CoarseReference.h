@@ -15,6 +15,11 @@ namespace rtsdf {
 /// @brief The grid as the GPU sees it (float origin and 1/h).
 gpu::shared::VoxelizeParams voxelizeParams(const GridSpec& spec, std::uint32_t triangleCount);
 
+/// @brief The triangles' corners in the instances' frame, each placed as the GPU places it (transformToFrame):
+///        the CPU reference of VoxelizePass's input. @a corners: 3 per mesh triangle, in its mesh's space.
+std::vector<glm::vec4> placeInstanceCorners(const std::vector<glm::vec4>& corners,
+                                            const std::vector<gpu::shared::VoxelizeInstance>& instances);
+
 /// @brief Seeds of the triangles (3 world-space corners each, w ignored): kNoSeed or the voxel's packed
 ///        coordinate, x fastest. @note Dims must be at most kMaxSeedAxis per axis.
 std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec);

@@ -11,16 +11,27 @@
 namespace rtsdf {
 using namespace gpu::shared;
 
+VoxelizePass::VoxelizePass(const gpu::VulkanContext& ctx)
+    : ComputePass(ctx, "voxelize.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)),
+      mChunks(ctx, "voxelize_chunks.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)) {}
+
 void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
   vkCmdFillBuffer(cmd, out.seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
+  // x: one invocation per triangle; y and z: raised by voxelize_chunks.comp from 0 (no triangle touches the grid).
+  const std::uint32_t groups[3] = {gpu::groupsFor(params.shader.triangleCount, 64), 0u, 0u};
+  gpu::recordUpload(cmd, out.dispatch, groups, sizeof(groups));
   gpu::computeBarrier(cmd);
+  if (!params.shader.triangleCount) return;
   std::array<gpu::Binding, kVoxelizeBindingCount> b;
-  b[kVoxelizeBindingCorners] = &in.corners;
+  b[kVoxelizeBindingCorners] = &in.triangles.corners;
+  b[kVoxelizeBindingInstances] = &in.triangles.instances;
   b[kVoxelizeBindingSeeds] = &out.seeds;
-  if (params.shader.triangleCount)
-    mPipeline.dispatch(cmd, b, &params.shader, {gpu::groupsFor(params.shader.triangleCount, 64), params.maxChunks, 1});
+  b[kVoxelizeBindingDispatch] = &out.dispatch;
+  mChunks.dispatch(cmd, b, &params.shader, {groups[0], 1, 1});
+  gpu::computeBarrier(cmd);
+  mPipeline.dispatchIndirect(cmd, b, &params.shader, out.dispatch);
 }
 
 void JumpFloodPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
@@ -87,6 +98,13 @@ float emptySceneDistance(const GridSpec& spec) { return float(glm::length(glm::d
 CoarseSdfBuilder::CoarseSdfBuilder(const gpu::VulkanContext& ctx)
     : mCtx(ctx), mVoxelize(ctx), mJumpFlood(ctx), mExactEdt(ctx), mDistance(ctx), mProfiler(ctx) {}
 
+VoxelizeInstance identityInstance(std::uint32_t triangleCount) {
+  VoxelizeInstance inst{};
+  for (int r = 0; r < 3; ++r) inst.objectToFrame[r][r] = 1.0f;
+  inst.triangleCount = triangleCount;
+  return inst;
+}
+
 CoarseSdf CoarseSdfBuilder::build(const SceneGeometry& geometry, const GridSpec& spec, const CoarseSdfSettings& settings,
                                   bool keepSeeds) {
   // The corners are relative to the geometry's frame: so is the grid they are voxelized on.
@@ -95,33 +113,33 @@ CoarseSdf CoarseSdfBuilder::build(const SceneGeometry& geometry, const GridSpec&
   return out;
 }
 
-CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const std::vector<glm::vec4>& corners, const GridSpec& spec,
+CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& triangles, const GridSpec& spec,
                                                      const CoarseSdfSettings& settings) {
   const glm::ivec3 dims = spec.dims;
   if (glm::any(glm::greaterThan(dims, glm::ivec3(kMaxSeedAxis))))
     throw Error(fmt::format("coarse SDF: grid {}x{}x{} exceeds the {} voxels per axis that seeds can address",
                             dims.x, dims.y, dims.z, kMaxSeedAxis));
-  if (corners.size() % 3) throw Error("coarse SDF: triangle corners must come in threes");
+  // One invocation per triangle along x, in groups of 64: the most groups any device runs along x.
+  constexpr std::uint64_t kMaxTriangles = std::uint64_t(kVoxelizeMaxChunkGroups) * 64;
+  if (triangles.triangleCount > kMaxTriangles)
+    throw Error(fmt::format("coarse SDF: {} triangles are more than the {} one voxelization dispatch addresses",
+                            triangles.triangleCount, kMaxTriangles));
+  if (triangles.triangleCount && !triangles.instanceCount)
+    throw Error("coarse SDF: triangles without an instance to place them");
   const std::uint64_t voxels = spec.voxelCount();
-  const std::uint32_t tris = std::uint32_t(corners.size() / 3);
   Prepared p;
-  p.voxelize.shader = voxelizeParams(spec, tris);
-  const VoxelizeParams& vp = p.voxelize.shader;
-  // The most chunks any triangle's voxel range needs: the second dispatch dimension of VoxelizePass.
-  for (std::uint32_t t = 0; t < tris; ++t) {
-    const vec3 t0 = toVoxelSpace(glm::vec3(corners[3 * t]), vp.originInvH);
-    const vec3 t1 = toVoxelSpace(glm::vec3(corners[3 * t + 1]), vp.originInvH);
-    const vec3 t2 = toVoxelSpace(glm::vec3(corners[3 * t + 2]), vp.originInvH);
-    const glm::ivec3 n = voxelRangeHi(t0, t1, t2, dims) - voxelRangeLo(t0, t1, t2) + 1;
-    if (n.x > 0 && n.y > 0 && n.z > 0)
-      p.voxelize.maxChunks = std::max(p.voxelize.maxChunks, gpu::groupsFor(std::uint64_t(n.x) * n.y * n.z, vp.chunkSize));
-  }
+  p.voxelize.shader = voxelizeParams(spec, triangles.triangleCount);
+  p.voxelize.shader.instanceCount = triangles.instanceCount;
+  if (settings.maxChunkGroups < kVoxelizeMinChunkGroups || settings.maxChunkGroups > kVoxelizeMaxChunkGroups)
+    throw Error(fmt::format("coarse SDF: {} chunk groups are outside [{}, {}]", settings.maxChunkGroups,
+                            kVoxelizeMinChunkGroups, kVoxelizeMaxChunkGroups));
+  p.voxelize.shader.maxChunkGroups = settings.maxChunkGroups;
 
   using gpu::Buffer;
   // Kept between builds: a frame loop allocates them once.
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  gpu::reserve(mCtx, mCorners, corners.size() * sizeof(glm::vec4), storage, Buffer::Memory::Device, "triangle corners");
-  upload(mCtx, mCorners, corners.data(), corners.size() * sizeof(glm::vec4));
+  gpu::reserve(mCtx, mDispatch, 3 * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Device,
+               "voxelize dispatch");
   gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / transform A");
   gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "transform B");
   gpu::reserve(mCtx, mDistanceBuf, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
@@ -135,11 +153,23 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const std::vector<glm::vec4
   return p;
 }
 
+InstancedTriangles CoarseSdfBuilder::uploadWorldCorners(const std::vector<glm::vec4>& corners) {
+  if (corners.size() % 3) throw Error("coarse SDF: triangle corners must come in threes");
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  gpu::reserve(mCtx, mCorners, corners.size() * sizeof(glm::vec4), storage, gpu::Buffer::Memory::Device,
+               "triangle corners");
+  upload(mCtx, mCorners, corners.data(), corners.size() * sizeof(glm::vec4));
+  const auto tris = std::uint32_t(corners.size() / 3);
+  const VoxelizeInstance identity = identityInstance(tris);
+  gpu::reserveAndUpload(mCtx, mIdentityInstance, &identity, sizeof(identity), storage, "identity instance");
+  return {mCorners, mIdentityInstance, 1u, tris};
+}
+
 const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler,
-                                                  const Prepared& p) const {
+                                                  const InstancedTriangles& triangles, const Prepared& p) const {
   const bool exact = !isJumpFlooding(p.flood.variant);
   const gpu::Buffer& nearest = exact ? mSeedsB : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
-  mVoxelize.execute(cmd, profiler, {mCorners}, {mSeedsA}, p.voxelize);
+  mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch}, p.voxelize);
   if (exact)
     mExactEdt.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, {p.flood.dims});
   else
@@ -148,30 +178,38 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
   return nearest;
 }
 
-float CoarseSdfBuilder::record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const SceneGeometry& geometry,
+float CoarseSdfBuilder::record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                                const GridSpec& spec, const CoarseSdfSettings& settings) {
-  const Prepared p = prepare(triangleCorners(geometry), spec.inFrame(geometry.origin), settings);
-  recordPasses(cmd, profiler, p);
+  const Prepared p = prepare(triangles, spec, settings);
+  recordPasses(cmd, profiler, triangles, p);
   return p.beta;
 }
 
 CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const GridSpec& spec,
                                   const CoarseSdfSettings& settings, bool keepSeeds) {
-  const Prepared p = prepare(corners, spec, settings);
+  const InstancedTriangles triangles = uploadWorldCorners(corners);
+  if (!keepSeeds) return build(triangles, spec, settings);
+  const Prepared p = prepare(triangles, spec, settings);
+  gpu::CommandBuffer cmd(mCtx);
+  mVoxelize.execute(cmd.handle(), nullptr, {triangles}, {mSeedsA, mDispatch}, p.voxelize);
+  cmd.submitAndWait();
+  std::vector<std::uint32_t> seeds(spec.voxelCount());
+  download(mCtx, mSeedsA, seeds.data(), seeds.size() * 4);
+  CoarseSdf out = build(triangles, spec, settings);
+  out.seeds = std::move(seeds);
+  return out;
+}
+
+CoarseSdf CoarseSdfBuilder::build(const InstancedTriangles& triangles, const GridSpec& spec,
+                                  const CoarseSdfSettings& settings) {
+  const Prepared p = prepare(triangles, spec, settings);
   const std::uint64_t voxels = spec.voxelCount();
   CoarseSdf out;
   out.spec = spec;
   out.beta = p.beta;
-  if (keepSeeds) {
-    gpu::CommandBuffer cmd(mCtx);
-    mVoxelize.execute(cmd.handle(), nullptr, {mCorners}, {mSeedsA}, p.voxelize);
-    cmd.submitAndWait();
-    out.seeds.resize(voxels);
-    download(mCtx, mSeedsA, out.seeds.data(), voxels * 4);
-  }
   gpu::CommandBuffer cmd(mCtx);
   mProfiler.reset(cmd.handle());
-  const gpu::Buffer& nearest = recordPasses(cmd.handle(), &mProfiler, p);
+  const gpu::Buffer& nearest = recordPasses(cmd.handle(), &mProfiler, triangles, p);
   cmd.submitAndWait();
   out.passMs = mProfiler.results();
   out.distance.resize(voxels);

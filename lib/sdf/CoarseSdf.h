@@ -21,21 +21,34 @@ namespace rtsdf {
 
 // The passes have the shape of gpu/ComputePass.h; buffers are bound at the indices gpu/shared/CoarseSdf.h names.
 
+/// @brief Triangles placed by instance transforms on the GPU: what VoxelizePass reads. A list of world-space
+///        triangles is one instance with the identity transform.
+struct InstancedTriangles {
+  const gpu::Buffer& corners;       ///< 3 x vec4 per mesh triangle, in its mesh's space
+  const gpu::Buffer& instances;     ///< gpu::shared::VoxelizeInstance per instance, by firstInstanceTriangle
+  std::uint32_t instanceCount = 0;
+  std::uint32_t triangleCount = 0;  ///< every instance's triangles together
+};
+
 /// @brief VoxelizePass: conservative triangle/voxel overlap. Output: seeds (kNoSeed, or the voxel's own packed
-///        coordinate where a triangle touches its box).
+///        coordinate where a triangle touches its box). Two dispatches: voxelize_chunks.comp finds the most chunks
+///        (params.shader.chunkSize voxels) any triangle's range needs and writes it into @a dispatch; voxelize.comp
+///        runs indirectly from it. The host neither transforms nor scans a triangle.
 class VoxelizePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "VoxelizePass";
-  struct Inputs { const gpu::Buffer& corners; }; ///< 3 x vec4 per triangle, world space
-  struct Outputs { const gpu::Buffer& seeds; };
-  struct Params {
-    gpu::shared::VoxelizeParams shader;
-    std::uint32_t maxChunks = 1; ///< the most chunks (shader.chunkSize voxels each) any triangle's range needs
+  struct Inputs { InstancedTriangles triangles; };
+  struct Outputs {
+    const gpu::Buffer& seeds;
+    const gpu::Buffer& dispatch; ///< 3 uints, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT: voxelize.comp's group counts
   };
-  explicit VoxelizePass(const gpu::VulkanContext& ctx)
-      : ComputePass(ctx, "voxelize.comp", gpu::shared::kVoxelizeBindingCount, sizeof(gpu::shared::VoxelizeParams)) {}
+  struct Params { gpu::shared::VoxelizeParams shader; };
+  explicit VoxelizePass(const gpu::VulkanContext& ctx);
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
+
+private:
+  gpu::ComputePipeline mChunks; // voxelize_chunks.comp
 };
 
 /// @brief JumpFloodPass: 3D jump flooding, ping-ponging between the seeds and a scratch buffer. The nearest
@@ -93,6 +106,9 @@ struct CoarseSdfSettings {
   double beta = -1.0;
   /// Read the nearest seeds back (tests, benchmarks); the pipeline needs only the distances.
   bool readNearest = true;
+  /// The most work groups VoxelizePass runs along y (kVoxelizeMinChunkGroups to kVoxelizeMaxChunkGroups, which
+  /// every device allows): the chunks of a larger range go in layers along z. Lower only to test the layers.
+  std::uint32_t maxChunkGroups = gpu::shared::kVoxelizeMaxChunkGroups;
 };
 
 /// @brief A coarse SDF read back from the GPU, with the time of each pass.
@@ -116,13 +132,16 @@ public:
   /// @brief The same on raw triangle corners (3 per triangle; an empty list gives an empty scene).
   CoarseSdf build(const std::vector<glm::vec4>& corners, const GridSpec& spec, const CoarseSdfSettings& settings,
                   bool keepSeeds = false);
-  /// @brief Record the three passes into @a cmd without reading anything back (the triangle corners are uploaded
-  ///        first, by a transfer of their own): the coarse SDF is left in distanceBuffer() for later passes of
-  ///        @a cmd. Scopes go to @a profiler (null: none), which the caller reset on @a cmd.
+  /// @brief The same on triangles placed on the GPU (@a spec in the instances' frame).
+  CoarseSdf build(const InstancedTriangles& triangles, const GridSpec& spec, const CoarseSdfSettings& settings);
+  /// @brief Record the three passes into @a cmd without reading anything back or waiting: the coarse SDF is left
+  ///        in distanceBuffer() for later passes of @a cmd. Scopes go to @a profiler (null: none), which the caller
+  ///        reset on @a cmd. The host's cost does not depend on the triangles or the voxels.
+  /// @param spec the grid in the instances' frame.
   /// @return beta as applied (scene units).
   /// @throw Error as build() does.
-  float record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const SceneGeometry& geometry, const GridSpec& spec,
-               const CoarseSdfSettings& settings);
+  float record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
+               const GridSpec& spec, const CoarseSdfSettings& settings);
   /// @brief The last build's coarse SDF on the GPU (x fastest), valid until the next build: later passes
   ///        read it in place instead of uploading the read-back copy again.
   const gpu::Buffer& distanceBuffer() const { return mDistanceBuf; }
@@ -134,18 +153,24 @@ private:
     gpu::shared::CoarseDistanceParams distance{};
     float beta = 0.0f;
   };
-  /// Check the grid, size the buffers and upload the corners: everything the passes need but the recording.
-  Prepared prepare(const std::vector<glm::vec4>& corners, const GridSpec& spec, const CoarseSdfSettings& settings);
+  /// Check the grid and size the buffers: everything the passes need but the triangles and the recording.
+  Prepared prepare(const InstancedTriangles& triangles, const GridSpec& spec, const CoarseSdfSettings& settings);
+  /// Upload world-space corners as one instance with the identity transform.
+  InstancedTriangles uploadWorldCorners(const std::vector<glm::vec4>& corners);
   /// Record voxelize, transform and distance; returns the buffer that holds the nearest seeds.
-  const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Prepared& p) const;
+  const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
+                                  const Prepared& p) const;
   const gpu::VulkanContext& mCtx;
-  gpu::Buffer mCorners, mSeedsA, mSeedsB, mDistanceBuf;
+  gpu::Buffer mCorners, mIdentityInstance, mDispatch, mSeedsA, mSeedsB, mDistanceBuf;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;
   ExactEdtPass mExactEdt;
   CoarseDistancePass mDistance;
   gpu::GpuProfiler mProfiler;
 };
+
+/// @brief The identity placement of @a triangleCount world-space triangles (what build() on corners uploads).
+gpu::shared::VoxelizeInstance identityInstance(std::uint32_t triangleCount);
 
 /// @brief GPU milliseconds of the nearest-seed transform in @a times: ExactEdtPass or JumpFloodPass, whichever ran.
 inline double coarseTransformMs(const PassTimes& times) {

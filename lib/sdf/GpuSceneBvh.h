@@ -1,12 +1,14 @@
 #pragma once
 /// @file GpuSceneBvh.h
-/// @brief The scene's two-level BVH in GPU buffers: bottom levels uploaded once, the top level re-uploaded
-///        whenever the instances move. Every shader that includes bvh_traverse.glsl reads them at the bindings
+/// @brief The scene on the GPU: its two-level BVH (bottom levels uploaded once, the top level re-sent whenever the
+///        instances move) and the placement of every instance's triangles for VoxelizePass (the same mesh-space
+///        corners and transforms). Every shader that includes bvh_traverse.glsl reads the BVH at the bindings
 ///        gpu/shared/Bvh.h names (kBvhBinding*).
 #include "bvh/Bvh.h"
 #include "gpu/Resources.h"
 #include "gpu/shared/Bvh.h"
 #include "scene/Scene.h"
+#include "sdf/CoarseSdf.h"
 
 #include <array>
 
@@ -19,8 +21,16 @@ public:
   ///        of a shader that traverses this BVH is in world - frameOrigin.
   GpuSceneBvh(const gpu::VulkanContext& ctx, const Scene& scene, const glm::dvec3& frameOrigin = glm::dvec3(0.0));
   /// @brief Rebuild and upload the top level for the instance transforms at @a time seconds (no-op when the
-  ///        time is the one last uploaded).
+  ///        time is the one last uploaded), waiting for the upload.
   void update(double time);
+  /// @brief The same recorded into @a cmd (vkCmdUpdateBuffer: no staging buffer, no wait), between barriers that
+  ///        order it after the earlier passes that read the top level and before the later ones. The host's work
+  ///        grows with the instances only.
+  void recordUpdate(VkCommandBuffer cmd, double time);
+  /// @brief Every instance's triangles for VoxelizePass, placed by the transforms of the last update.
+  InstancedTriangles instancedTriangles() const;
+  /// @brief The host copy of instancedTriangles()'s instances (for the CPU reference, placeInstanceCorners).
+  const std::vector<gpu::shared::VoxelizeInstance>& voxelizeInstances() const { return mVoxelizeInstances; }
   /// @brief Put the six buffers bvh_traverse.glsl reads at their bindings (kBvhBinding*) of a pass's set.
   template <std::size_t N> void bindTo(std::array<gpu::Binding, N>& set) const {
     using namespace gpu::shared;
@@ -46,7 +56,9 @@ private:
   InstanceBvh mTop;
   double mTime = 0.0;
   bool mHaveTop = false;
-  gpu::Buffer mBlasNodes, mCorners, mTriangleIds, mTlasNodes, mTlasSlots, mInstances;
+  std::uint32_t mTriangleCount = 0; ///< every instance's triangles together
+  std::vector<gpu::shared::VoxelizeInstance> mVoxelizeInstances;
+  gpu::Buffer mBlasNodes, mCorners, mTriangleIds, mTlasNodes, mTlasSlots, mInstances, mVoxelizeBuf;
 };
 
 } // namespace rtsdf

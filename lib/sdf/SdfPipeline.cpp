@@ -153,9 +153,8 @@ PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettin
   else { m.largestBuffer = coarseBuf; m.largestBufferName = "coarse SDF"; }
   // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel) and the refinement state (8 bytes per
   // voxel); fine SDF, votes and the list of voxels to refine; the BVH (nodes of 32 bytes, at most two per
-  // triangle, corners 48 bytes and ids 4 bytes per triangle) and the corners VoxelizePass reads (48 bytes per
-  // triangle).
-  m.deviceBytes = 7 * coarseBuf + 3 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
+  // triangle, corners 48 bytes and ids 4 bytes per triangle), whose mesh-space corners VoxelizePass also reads.
+  m.deviceBytes = 7 * coarseBuf + 3 * fineBuf + triangles * (64 + 48 + 4) + 4096;
   // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
   // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
   m.hostBytes = nc * 29 + nf * 16;
@@ -441,8 +440,8 @@ FrameStats SdfPipeline::runFrame(double time) {
   CoarseSdfSettings cs;
   cs.method = mSettings.coarseMethod;
   cs.beta = mSettings.beta;
-  const SceneGeometry geometry = buildSceneGeometry(mScene, time, frameOrigin());
-  mBvh->update(time);
+  // The host's work grows with the instances only: the GPU places their triangles.
+  checkInstancePlacement(mScene, mMeshBounds, time);
   // What moved since the previous frame (the first frame refines every voxel: all are new to the mask).
   mLastMovedBoxes = mFrame > 1 ? movedInstanceBoxes(mScene, mMeshBounds, mPreviousTime, time, frameOrigin())
                                : std::vector<gpu::shared::MovedBox>{};
@@ -452,10 +451,12 @@ FrameStats SdfPipeline::runFrame(double time) {
   // One command buffer for the whole frame: nothing is read back until it has finished.
   gpu::CommandBuffer cmd(mCtx);
   g.profiler.reset(cmd.handle());
-  // At most RTSDF_MAX_MOVED_BOXES x 32 bytes (8 KiB), written in order with the frame (barrier: recordMask's).
-  if (!moved.empty())
-    vkCmdUpdateBuffer(cmd.handle(), g.movedBoxes.handle(), 0, moved.size() * sizeof(moved[0]), moved.data());
-  g.coarse.record(cmd.handle(), &g.profiler, geometry, mCoarseSpec, cs);
+  gpu::computeBarrier(cmd.handle()); // the previous frame's passes are done with what this one overwrites
+  // The frame's only uploads, recorded with it: the moved boxes (at most RTSDF_MAX_MOVED_BOXES x 32 bytes; barrier:
+  // recordMask's) and the instance transforms (recordUpdate).
+  gpu::recordUpload(cmd.handle(), g.movedBoxes, moved.data(), moved.size() * sizeof(moved[0]));
+  mBvh->recordUpdate(cmd.handle(), time);
+  g.coarse.record(cmd.handle(), &g.profiler, mBvh->instancedTriangles(), mCoarseSpec.inFrame(frameOrigin()), cs);
   mLastMaskParams = maskParams(std::uint32_t(moved.size()));
   recordMask(cmd.handle(), mLastMaskParams);
   const RefineParams p = refineParams();

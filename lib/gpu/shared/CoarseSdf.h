@@ -11,10 +11,12 @@ RTSDF_SHARED_BEGIN
 #define RTSDF_JFA_GROUP_Y 8
 #define RTSDF_JFA_GROUP_Z 2
 
-/// Bindings of voxelize.comp, jump_flood.comp and coarse_distance.comp.
-const uint kVoxelizeBindingCorners = 0u;        // triangle corners, 3 per triangle, world space (read)
+/// Bindings of voxelize_chunks.comp, voxelize.comp, jump_flood.comp and coarse_distance.comp.
+const uint kVoxelizeBindingCorners = 0u;        // triangle corners, 3 per triangle, in their mesh's space (read)
 const uint kVoxelizeBindingSeeds = 1u;          // seeds (written where a triangle touches a voxel)
-const uint kVoxelizeBindingCount = 2u;
+const uint kVoxelizeBindingInstances = 2u;      // VoxelizeInstance per instance, by firstInstanceTriangle (read)
+const uint kVoxelizeBindingDispatch = 3u;       // voxelize.comp's indirect dispatch: y = the most chunks (atomicMax)
+const uint kVoxelizeBindingCount = 4u;
 const uint kJumpFloodBindingSrc = 0u;           // nearest seeds after the previous step
 const uint kJumpFloodBindingDst = 1u;           // nearest seeds after this step
 const uint kJumpFloodBindingCount = 2u;
@@ -30,14 +32,31 @@ const uint kNoSeed = 0xFFFFFFFFu;
 /// Seeds pack their voxel coordinates in 10 bits per axis: grids up to 1024 voxels per axis.
 const int kMaxSeedAxis = 1024;
 
-/// Push constants of voxelize.comp.
+/// Push constants of voxelize_chunks.comp and voxelize.comp.
 struct VoxelizeParams {
-  vec4 originInvH;     // xyz: world corner of voxel (0,0,0), w: 1 / voxel size
+  vec4 originInvH;     // xyz: corner of voxel (0,0,0) in the instances' frame, w: 1 / voxel size
   ivec4 dims;          // xyz: voxels per axis
-  uint triangleCount;
+  uint triangleCount;  // every instance's triangles together
   uint chunkSize;      // voxels of a triangle's range handled by one invocation (keeps loops short)
-  uint pad0, pad1;
+  uint instanceCount;
+  uint maxChunkGroups; // the most groups voxelize.comp runs along y (<= kVoxelizeMaxChunkGroups)
 };
+
+/// One placed mesh for the voxelization: its transform and where its triangles lie, so the GPU transforms
+/// mesh-space corners itself (the host uploads transforms, never triangles, per frame).
+struct VoxelizeInstance {
+  vec4 objectToFrame[3];      // rows of the 3x4 matrix into the grid's frame (the BVH's objectToWorld)
+  uint firstTriangle;         // its mesh's first triangle in the corner buffer
+  uint triangleCount;
+  uint firstInstanceTriangle; // its first triangle among all instances' triangles (ascending by instance)
+  uint pad0;
+};
+
+/// The most work groups a dispatch may count along y on any device (Vulkan's minimum of
+/// maxComputeWorkGroupCount): voxelize.comp takes the chunks of larger ranges in layers along z.
+const uint kVoxelizeMaxChunkGroups = 65535u;
+/// The fewest groups along y a caller may ask for: 1024^3 / 4096 chunks in layers of 8 stay within 65535 along z.
+const uint kVoxelizeMinChunkGroups = 8u;
 
 /// Push constants of jump_flood.comp.
 struct JumpFloodParams {
@@ -134,6 +153,23 @@ RTSDF_FN ivec3 voxelRangeLo(vec3 t0, vec3 t1, vec3 t2) {
 }
 RTSDF_FN ivec3 voxelRangeHi(vec3 t0, vec3 t1, vec3 t2, ivec3 dims) {
   return min(ivec3(floor(max(t0, max(t1, t2)))) + ivec3(1), dims - ivec3(1));
+}
+
+/// A mesh-space point in the instances' frame: rows r0..r2 of a 3x4 matrix, the sums in one fixed order
+/// without fused multiply-add, so the GPU and the CPU reference place every corner alike.
+RTSDF_FN vec3 transformToFrame(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
+  RTSDF_PRECISE float x = ((r0.x * p.x + r0.y * p.y) + r0.z * p.z) + r0.w;
+  RTSDF_PRECISE float y = ((r1.x * p.x + r1.y * p.y) + r1.z * p.z) + r1.w;
+  RTSDF_PRECISE float z = ((r2.x * p.x + r2.y * p.y) + r2.z * p.z) + r2.w;
+  return vec3(x, y, z);
+}
+
+/// The chunks of @a chunkSize voxels that the range of the triangle with voxel-space corners t0..t2 needs.
+RTSDF_FN uint voxelRangeChunks(vec3 t0, vec3 t1, vec3 t2, ivec3 dims, uint chunkSize) {
+  ivec3 n = voxelRangeHi(t0, t1, t2, dims) - voxelRangeLo(t0, t1, t2) + ivec3(1);
+  if (n.x <= 0 || n.y <= 0 || n.z <= 0) return 0u;
+  uint voxels = uint(n.x) * uint(n.y) * uint(n.z); // at most 1024^3: fits
+  return (voxels + chunkSize - 1u) / chunkSize;
 }
 
 /// Whether voxel @a v overlaps the triangle with voxel-space corners t0..t2.

@@ -1,20 +1,21 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// VoxelizePass: every voxel whose box a triangle touches becomes a seed (its own packed coordinate).
-// One invocation per (triangle, chunk of chunkSize voxels of the triangle's voxel range), dispatched indirectly
-// with voxelize_chunks.comp's count of chunks along y and z (chunk = z * groups along y + y); empty voxels keep
-// kNoSeed. Loops stay short on purpose: lavapipe cut off a single loop of ~100k iterations (lost writes), and an
+// VoxelizePass, second dispatch: every voxel whose box a triangle touches becomes a seed (its own packed
+// coordinate). One invocation per (triangle as voxelize_chunks.comp placed it, chunk of chunkSize voxels of its
+// voxel range), dispatched indirectly with voxelize_chunks.comp's count of chunks along y and z (chunk = z * groups
+// along y + y); empty voxels keep kNoSeed. Loops stay short on purpose: lavapipe cut off a single loop of ~100k iterations (lost writes), and an
 // invocation that strided through several chunks lost writes too, so each runs at most one chunk.
-#include "voxelize_instances.glsl"
+#include "gpu/shared/CoarseSdf.h"
 
 layout(local_size_x = 64) in;
+layout(push_constant) uniform Push { VoxelizeParams params; };
+layout(std430, binding = kVoxelizeBindingPlaced) readonly buffer Placed { vec4 placed[]; }; // voxel space, 3 each
 layout(std430, binding = kVoxelizeBindingSeeds) buffer Seeds { uint seeds[]; };
 
 void main() {
   uint g = gl_GlobalInvocationID.x;
   if (g >= params.triangleCount) return;
-  vec3 t0, t1, t2;
-  instanceTriangle(g, t0, t1, t2);
+  vec3 t0 = placed[3u * g].xyz, t1 = placed[3u * g + 1u].xyz, t2 = placed[3u * g + 2u].xyz;
   ivec3 lo = voxelRangeLo(t0, t1, t2);
   ivec3 n = voxelRangeHi(t0, t1, t2, params.dims.xyz) - lo + ivec3(1);
   int total = (n.x > 0 && n.y > 0 && n.z > 0) ? n.x * n.y * n.z : 0;

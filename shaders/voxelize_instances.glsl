@@ -1,5 +1,5 @@
-// The triangles of every instance, as voxelize_chunks.comp and voxelize.comp read them: mesh-space corners
-// placed by their instance's transform on the GPU. Invocation x takes one triangle of all instances together.
+// The triangles of every instance as voxelize_chunks.comp places them: mesh-space corners moved by their
+// instance's transform on the GPU, then into voxel space. Invocation x takes one triangle of all instances.
 #include "gpu/shared/CoarseSdf.h"
 
 layout(push_constant) uniform Push { VoxelizeParams params; };
@@ -8,7 +8,7 @@ layout(std430, binding = kVoxelizeBindingInstances) readonly buffer Instances { 
 
 // The voxel-space corners of triangle g (< params.triangleCount) of all instances together: its instance is the
 // last whose firstInstanceTriangle <= g (a binary search: instances are few, their triangles many).
-void instanceTriangle(uint g, out vec3 t0, out vec3 t1, out vec3 t2) {
+void placeInstanceTriangle(uint g, out vec3 t0, out vec3 t1, out vec3 t2) {
   uint lo = 0u, hi = params.instanceCount - 1u;
   while (lo < hi) {
     uint mid = (lo + hi + 1u) / 2u;

@@ -68,15 +68,24 @@ CommandBuffer::CommandBuffer(const VulkanContext& ctx) : mCtx(&ctx) {
   ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   ai.commandBufferCount = 1;
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkAllocateCommandBuffers(ctx.device(), &ai, &mCmd), "allocating a command buffer");
   mFence.create(ctx, vkCreateFence, fci, "creating a fence");
+  begin();
+}
+
+CommandBuffer::~CommandBuffer() {
+  // The pool must not be destroyed while the GPU runs its buffer; an error here has nowhere to go.
+  if (mPending && mFence.get() != VK_NULL_HANDLE) vkWaitForFences(mCtx->device(), 1, mFence.address(), VK_TRUE, std::uint64_t(600e9));
+}
+
+void CommandBuffer::begin() {
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(mCmd, &bi), "beginning a command buffer");
   mRecording = true;
 }
 
-void CommandBuffer::submitAndWait(double timeoutSeconds) {
+void CommandBuffer::submit() {
   if (!mRecording) throw Error("command buffer submitted twice");
   mRecording = false;
   check(vkEndCommandBuffer(mCmd), "ending a command buffer");
@@ -84,11 +93,29 @@ void CommandBuffer::submitAndWait(double timeoutSeconds) {
   si.commandBufferCount = 1;
   si.pCommandBuffers = &mCmd;
   check(vkQueueSubmit(mCtx->queue(), 1, &si, mFence.get()), "submitting to the compute queue");
+  mPending = true;
+}
+
+void CommandBuffer::wait(double timeoutSeconds) {
+  if (!mPending) return;
   const VkResult r =
       vkWaitForFences(mCtx->device(), 1, mFence.address(), VK_TRUE, std::uint64_t(timeoutSeconds * 1e9));
   if (r == VK_TIMEOUT)
     throw VulkanError(r, fmt::format("waiting for the GPU ({} s without completion)", timeoutSeconds));
   check(r, "waiting for the GPU");
+  mPending = false;
+}
+
+void CommandBuffer::submitAndWait(double timeoutSeconds) {
+  submit();
+  wait(timeoutSeconds);
+}
+
+void CommandBuffer::restart() {
+  wait(); // a pool whose buffer is pending must not be reset; a recording one may (the buffer returns to initial)
+  check(vkResetFences(mCtx->device(), 1, mFence.address()), "resetting a fence");
+  check(vkResetCommandPool(mCtx->device(), mPool.get(), 0), "resetting a command pool");
+  begin();
 }
 
 // ------------------------------------------------------------------------------------- ComputePipeline

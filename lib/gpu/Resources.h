@@ -95,22 +95,39 @@ struct Binding {
   const SampledVolume* volume = nullptr;
 };
 
-/// @brief A primary command buffer from its own pool, begun on construction; submit() waits for it. Move-only.
+/// @brief A primary command buffer from its own pool, begun on construction. submitAndWait() for one-off work;
+///        submit(), wait() and restart() for a frame loop that records into one buffer frame after frame without
+///        waiting inside the frame. Destruction waits for a pending submission. Move-only.
 class CommandBuffer {
 public:
   explicit CommandBuffer(const VulkanContext& ctx);
+  ~CommandBuffer();
+  CommandBuffer(CommandBuffer&&) = default;
+  CommandBuffer& operator=(CommandBuffer&&) = default;
 
   VkCommandBuffer handle() const { return mCmd; }
   /// @brief End recording, submit to the context's queue and wait (with a timeout, never forever).
   /// @throw VulkanError on failure or when the GPU does not finish within @a timeoutSeconds.
   void submitAndWait(double timeoutSeconds = 600.0);
+  /// @brief End recording and submit to the context's queue without waiting.
+  /// @throw Error when not recording; VulkanError on failure.
+  void submit();
+  /// @brief Wait for the last submit() to finish (no-op when none is pending).
+  /// @throw VulkanError on failure or when the GPU does not finish within @a timeoutSeconds.
+  void wait(double timeoutSeconds = 600.0);
+  /// @brief Whether a submission has not been waited for.
+  bool pending() const { return mPending; }
+  /// @brief Wait for the last submission, then begin recording again (the pool's memory is reused).
+  void restart();
 
 private:
+  void begin();
   const VulkanContext* mCtx = nullptr;
   UniqueHandle<vkDestroyCommandPool> mPool; // destroyed last; frees mCmd (recording or not)
   VkCommandBuffer mCmd = VK_NULL_HANDLE;    // owned by mPool
   UniqueHandle<vkDestroyFence> mFence;
   bool mRecording = false;
+  bool mPending = false;
 };
 
 /// @brief A compute pipeline from an embedded shader whose bindings 0..n-1 are storage buffers (or, where

@@ -29,6 +29,7 @@ void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   b[kVoxelizeBindingInstances] = &in.triangles.instances;
   b[kVoxelizeBindingSeeds] = &out.seeds;
   b[kVoxelizeBindingDispatch] = &out.dispatch;
+  b[kVoxelizeBindingPlaced] = &out.placed;
   mChunks.dispatch(cmd, b, &params.shader, {groups[0], 1, 1});
   gpu::computeBarrier(cmd);
   mPipeline.dispatchIndirect(cmd, b, &params.shader, out.dispatch);
@@ -140,6 +141,8 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& t
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   gpu::reserve(mCtx, mDispatch, 3 * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Device,
                "voxelize dispatch");
+  gpu::reserve(mCtx, mPlaced, std::uint64_t(triangles.triangleCount) * 3 * sizeof(glm::vec4), storage,
+               Buffer::Memory::Device, "placed triangles");
   gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / transform A");
   gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "transform B");
   gpu::reserve(mCtx, mDistanceBuf, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
@@ -169,7 +172,7 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
                                                   const InstancedTriangles& triangles, const Prepared& p) const {
   const bool exact = !isJumpFlooding(p.flood.variant);
   const gpu::Buffer& nearest = exact ? mSeedsB : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
-  mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch}, p.voxelize);
+  mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced}, p.voxelize);
   if (exact)
     mExactEdt.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, {p.flood.dims});
   else
@@ -191,7 +194,7 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
   if (!keepSeeds) return build(triangles, spec, settings);
   const Prepared p = prepare(triangles, spec, settings);
   gpu::CommandBuffer cmd(mCtx);
-  mVoxelize.execute(cmd.handle(), nullptr, {triangles}, {mSeedsA, mDispatch}, p.voxelize);
+  mVoxelize.execute(cmd.handle(), nullptr, {triangles}, {mSeedsA, mDispatch, mPlaced}, p.voxelize);
   cmd.submitAndWait();
   std::vector<std::uint32_t> seeds(spec.voxelCount());
   download(mCtx, mSeedsA, seeds.data(), seeds.size() * 4);

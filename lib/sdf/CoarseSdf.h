@@ -31,9 +31,9 @@ struct InstancedTriangles {
 };
 
 /// @brief VoxelizePass: conservative triangle/voxel overlap. Output: seeds (kNoSeed, or the voxel's own packed
-///        coordinate where a triangle touches its box). Two dispatches: voxelize_chunks.comp finds the most chunks
-///        (params.shader.chunkSize voxels) any triangle's range needs and writes it into @a dispatch; voxelize.comp
-///        runs indirectly from it. The host neither transforms nor scans a triangle.
+///        coordinate where a triangle touches its box). Two dispatches: voxelize_chunks.comp places every triangle in
+///        voxel space and finds the most chunks (params.shader.chunkSize voxels) any triangle's range needs, written
+///        into @a dispatch; voxelize.comp runs indirectly from it. The host neither transforms nor scans a triangle.
 class VoxelizePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "VoxelizePass";
@@ -41,6 +41,7 @@ public:
   struct Outputs {
     const gpu::Buffer& seeds;
     const gpu::Buffer& dispatch; ///< 3 uints, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT: voxelize.comp's group counts
+    const gpu::Buffer& placed;   ///< scratch: 3 x vec4 per triangle (its corners in voxel space)
   };
   struct Params { gpu::shared::VoxelizeParams shader; };
   explicit VoxelizePass(const gpu::VulkanContext& ctx);
@@ -161,7 +162,7 @@ private:
   const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                                   const Prepared& p) const;
   const gpu::VulkanContext& mCtx;
-  gpu::Buffer mCorners, mIdentityInstance, mDispatch, mSeedsA, mSeedsB, mDistanceBuf;
+  gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mSeedsA, mSeedsB, mDistanceBuf;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;
   ExactEdtPass mExactEdt;

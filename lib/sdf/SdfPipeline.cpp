@@ -153,8 +153,9 @@ PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettin
   else { m.largestBuffer = coarseBuf; m.largestBufferName = "coarse SDF"; }
   // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel) and the refinement state (8 bytes per
   // voxel); fine SDF, votes and the list of voxels to refine; the BVH (nodes of 32 bytes, at most two per
-  // triangle, corners 48 bytes and ids 4 bytes per triangle), whose mesh-space corners VoxelizePass also reads.
-  m.deviceBytes = 7 * coarseBuf + 3 * fineBuf + triangles * (64 + 48 + 4) + 4096;
+  // triangle, corners 48 bytes and ids 4 bytes per triangle), whose mesh-space corners VoxelizePass places in
+  // voxel space (48 bytes per triangle).
+  m.deviceBytes = 7 * coarseBuf + 3 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
   // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
   // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
   m.hostBytes = nc * 29 + nf * 16;
@@ -244,6 +245,7 @@ struct SdfPipeline::Gpu {
   UpsamplePass upsample;
   std::unique_ptr<RefinePass> refine; // RayRefinePass or ClosestRefinePass, by the mode
   gpu::GpuProfiler profiler;
+  gpu::CommandBuffer frameCmd;        // every frame's, restarted per frame (its pool's memory is reused)
   Buffer fine, votes;                 // per fine voxel: the SDF (the refinement's history under the mask), votes
   Buffer coarseState;                 // per coarse voxel: last frame in the band, refinements in a row
   Buffer movedBoxes;                  // MovedBox per moving instance, written into the frame's command buffer
@@ -255,7 +257,7 @@ struct SdfPipeline::Gpu {
       : coarse(ctx), compact(ctx), maskDispatch(ctx), upsample(ctx),
         refine(mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
                                         : std::make_unique<ClosestRefinePass>(ctx)),
-        profiler(ctx) {}
+        profiler(ctx), frameCmd(ctx) {}
 };
 
 namespace {
@@ -309,7 +311,13 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   cmd.submitAndWait();
 }
 
-SdfPipeline::~SdfPipeline() = default;
+SdfPipeline::~SdfPipeline() {
+  // The buffers must outlive a frame still on the GPU; a failed wait has nowhere to go.
+  try {
+    if (mGpu) mGpu->frameCmd.wait();
+  } catch (const std::exception&) {
+  }
+}
 
 gpu::shared::MaskParams SdfPipeline::maskParams(std::uint32_t movedBoxes) const {
   gpu::shared::MaskParams p{};
@@ -352,6 +360,7 @@ void SdfPipeline::recordCountsReadback(VkCommandBuffer cmd) const {
 }
 
 SdfPipeline::MaskCounts SdfPipeline::maskCounts() const {
+  waitForFrame();
   std::uint32_t words[gpu::shared::kMaskCountWords];
   std::memcpy(words, mGpu->countsReadback.mapped(), sizeof(words));
   MaskCounts n;
@@ -374,6 +383,7 @@ std::vector<std::uint32_t> SdfPipeline::refinedVoxels() const {
 }
 
 std::vector<glm::uvec2> SdfPipeline::coarseState() const {
+  waitForFrame();
   std::vector<glm::uvec2> state(mCoarseSpec.voxelCount());
   download(mCtx, mGpu->coarseState, state.data(), state.size() * 8);
   return state;
@@ -414,6 +424,7 @@ RayMask SdfPipeline::rayMask() const {
 }
 
 std::vector<float> SdfPipeline::coarseField() const {
+  waitForFrame();
   std::vector<float> out(mFrame ? mCoarseSpec.voxelCount() : 0);
   download(mCtx, mGpu->coarse.distanceBuffer(), out.data(), out.size() * 4);
   return out;
@@ -431,57 +442,76 @@ RefineParams SdfPipeline::refineParams() const {
 }
 
 FrameStats SdfPipeline::runFrame(double time) {
+  submitFrame(time);
+  return finishFrame();
+}
+
+void SdfPipeline::submitFrame(double time) {
   using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
-  FrameStats stats;
-  stats.time = time;
-  ++mFrame;
   Gpu& g = *mGpu;
+  g.frameCmd.wait(); // one frame in flight: the previous one's buffers are this one's
+  const auto t0 = Clock::now();
+  // The host's work grows with the instances only: the GPU places their triangles.
+  checkInstancePlacement(mScene, mMeshBounds, time);
+  ++mFrame;
+  mSubmitted = FrameStats{};
+  mSubmitted.time = time;
   CoarseSdfSettings cs;
   cs.method = mSettings.coarseMethod;
   cs.beta = mSettings.beta;
-  // The host's work grows with the instances only: the GPU places their triangles.
-  checkInstancePlacement(mScene, mMeshBounds, time);
   // What moved since the previous frame (the first frame refines every voxel: all are new to the mask).
   mLastMovedBoxes = mFrame > 1 ? movedInstanceBoxes(mScene, mMeshBounds, mPreviousTime, time, frameOrigin())
                                : std::vector<gpu::shared::MovedBox>{};
   const std::vector<gpu::shared::MovedBox>& moved = mLastMovedBoxes;
   mPreviousTime = time;
-  stats.movedInstances = moved.size();
-  // One command buffer for the whole frame: nothing is read back until it has finished.
-  gpu::CommandBuffer cmd(mCtx);
-  g.profiler.reset(cmd.handle());
-  gpu::computeBarrier(cmd.handle()); // the previous frame's passes are done with what this one overwrites
+  mSubmitted.movedInstances = moved.size();
+  // One command buffer for the whole frame, reused frame after frame: nothing is read back inside it.
+  g.frameCmd.restart();
+  const VkCommandBuffer cmd = g.frameCmd.handle();
+  g.profiler.reset(cmd);
+  gpu::computeBarrier(cmd); // the previous frame's passes are done with what this one overwrites
   // The frame's only uploads, recorded with it: the moved boxes (at most RTSDF_MAX_MOVED_BOXES x 32 bytes; barrier:
   // recordMask's) and the instance transforms (recordUpdate).
-  gpu::recordUpload(cmd.handle(), g.movedBoxes, moved.data(), moved.size() * sizeof(moved[0]));
-  mBvh->recordUpdate(cmd.handle(), time);
-  g.coarse.record(cmd.handle(), &g.profiler, mBvh->instancedTriangles(), mCoarseSpec.inFrame(frameOrigin()), cs);
+  gpu::recordUpload(cmd, g.movedBoxes, moved.data(), moved.size() * sizeof(moved[0]));
+  mBvh->recordUpdate(cmd, time);
+  g.coarse.record(cmd, &g.profiler, mBvh->instancedTriangles(), mCoarseSpec.inFrame(frameOrigin()), cs);
   mLastMaskParams = maskParams(std::uint32_t(moved.size()));
-  recordMask(cmd.handle(), mLastMaskParams);
+  recordMask(cmd, mLastMaskParams);
   const RefineParams p = refineParams();
-  g.upsample.execute(cmd.handle(), &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse}, {g.fine}, p);
+  g.upsample.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse}, {g.fine}, p);
   if (mSettings.band > 0.0)
-    g.refine->execute(cmd.handle(), &g.profiler, {*mBvh, g.mask, g.counts, g.coarse.distanceBuffer()},
-                      {g.fine, g.votes}, p);
-  recordCountsReadback(cmd.handle());
-  const auto t1 = Clock::now();
-  cmd.submitAndWait();
-  const auto t2 = Clock::now();
-  stats.passMs = g.profiler.results();
+    g.refine->execute(cmd, &g.profiler, {*mBvh, g.mask, g.counts, g.coarse.distanceBuffer()}, {g.fine, g.votes}, p);
+  recordCountsReadback(cmd);
+  g.frameCmd.submit();
+  mSubmitStart = t0;
+  mSubmitted.hostMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  mAwaitingFinish = true;
+}
+
+FrameStats SdfPipeline::finishFrame() {
+  using Clock = std::chrono::steady_clock;
+  if (!mAwaitingFinish) throw Error("SdfPipeline: finishFrame() without a submitted frame");
+  mAwaitingFinish = false;
+  mGpu->frameCmd.wait();
+  const auto t0 = Clock::now();
+  FrameStats stats = mSubmitted;
+  stats.passMs = mGpu->profiler.results();
   const MaskCounts counts = maskCounts();
   stats.maskFineVoxels = counts.maskedFine;
   stats.maskCoarseVoxels = counts.coarse;
   stats.refinedFineVoxels = counts.refinedFine;
-  const auto t3 = Clock::now();
-  stats.hostMs = std::chrono::duration<double, std::milli>((t1 - t0) + (t3 - t2)).count();
-  stats.wallMs = std::chrono::duration<double, std::milli>(t3 - t0).count();
+  const auto t1 = Clock::now();
+  stats.hostMs += std::chrono::duration<double, std::milli>(t1 - t0).count();
+  stats.wallMs = std::chrono::duration<double, std::milli>(t1 - mSubmitStart).count();
   return stats;
 }
+
+void SdfPipeline::waitForFrame() const { mGpu->frameCmd.wait(); }
 
 const gpu::Buffer& SdfPipeline::fineBuffer() const { return mGpu->fine; }
 
 std::vector<float> SdfPipeline::fineField() const {
+  waitForFrame();
   std::vector<float> out(mFineSpec.voxelCount());
   download(mCtx, mGpu->fine, out.data(), out.size() * 4);
   return out;

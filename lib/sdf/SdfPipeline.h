@@ -16,6 +16,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <chrono>
 #include <memory>
 #include <string>
 #include <utility>
@@ -168,10 +169,11 @@ struct FrameStats {
   std::uint64_t maskCoarseVoxels = 0, maskFineVoxels = 0;
   std::uint64_t refinedFineVoxels = 0; ///< masked fine voxels refined this frame (the others kept their value)
   std::uint64_t movedInstances = 0;    ///< instances whose transform changed since the previous frame
-  /// CPU time of the frame outside its wait for the GPU: the scene's triangles transformed and uploaded, the
-  /// BVH's top level, recording and submitting. The ray mask is compacted on the GPU: no mirror in the frame.
+  /// CPU time of the frame outside its wait for the GPU: the BVH's top level and the instance transforms,
+  /// recording, submitting, and reading the counts after the GPU finished. It grows with the instances, not with
+  /// their triangles or the voxels (the GPU places the triangles and compacts the ray mask).
   double hostMs = 0.0;
-  double wallMs = 0.0; ///< runFrame() from call to return: host work, submission and the wait for the GPU
+  double wallMs = 0.0; ///< submitFrame() to the return of finishFrame(): host work, submission and the GPU's work
   PassTimes passMs;      ///< GPU time per pass
   double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
   /// @brief The refinement pass's time, whichever mode ran (RayRefinePass or ClosestRefinePass).
@@ -193,8 +195,16 @@ public:
   ///        (MaskCompactPass, MaskDispatchPass), upsample, refinement dispatched indirectly by the mask's size
   ///        (incremental unless PipelineSettings::fullRecompute: the boxes the instances swept since the previous
   ///        frame, movedInstanceBoxes, are the frame's only upload besides the BVH's top level). Only the mask's
-  ///        counts (a few words) are read back, after the frame.
+  ///        counts (a few words) are read back, after the frame. submitFrame() then finishFrame().
   FrameStats runFrame(double time);
+  /// @brief Record and submit the frame at @a time seconds without waiting for the GPU (a frame loop's call: the
+  ///        host is free until the next frame). Waits first for the previous frame if it is still running (one
+  ///        frame in flight: frames share their buffers); that frame's statistics are then lost.
+  /// @throw Error when an instance leaves the supported coordinates at @a time (checkInstancePlacement).
+  void submitFrame(double time);
+  /// @brief Wait for the submitted frame and return its statistics (counts and pass times read back).
+  /// @throw Error when no frame was submitted since the last finishFrame().
+  FrameStats finishFrame();
   /// @brief The dense fine SDF of the last frame (x fastest), scene units (read back from the GPU).
   std::vector<float> fineField() const;
   /// @brief The last frame's coarse SDF (x fastest; read back from the GPU; empty before the first frame).
@@ -219,7 +229,7 @@ public:
   const glm::dvec3& frameOrigin() const { return mFineSpec.origin; }
   const GridSpec& fineSpec() const { return mFineSpec; }
   const PipelineSettings& settings() const { return mSettings; }
-  /// @brief The fine SDF on the GPU (dense, x fastest, fineSpec()), valid after runFrame().
+  /// @brief The fine SDF on the GPU (dense, x fastest, fineSpec()), valid after runFrame() or finishFrame().
   const gpu::Buffer& fineBuffer() const;
   /// @brief The scene's BVH on the GPU, its top level as of the last runFrame(), in the frame of frameOrigin().
   const GpuSceneBvh& bvh() const { return *mBvh; }
@@ -236,6 +246,8 @@ private:
   /// What the last frame's mask counted (from the readback).
   MaskCounts maskCounts() const;
   gpu::shared::RefineParams refineParams() const;
+  /// Wait for a submitted frame (the read-backs need its results).
+  void waitForFrame() const;
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   PipelineSettings mSettings;
@@ -246,6 +258,9 @@ private:
   gpu::shared::MaskParams mLastMaskParams{};
   std::vector<gpu::shared::MovedBox> mLastMovedBoxes;
   std::vector<Bounds> mMeshBounds; ///< per mesh, in its own space: the moving instances' boxes come from these
+  FrameStats mSubmitted;           ///< the submitted frame's statistics so far (host time of its recording)
+  bool mAwaitingFinish = false;    ///< a frame was submitted and finishFrame() has not read it
+  std::chrono::steady_clock::time_point mSubmitStart;
   std::unique_ptr<Gpu> mGpu;
 };
 

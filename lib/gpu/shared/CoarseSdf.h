@@ -16,7 +16,8 @@ const uint kVoxelizeBindingCorners = 0u;        // triangle corners, 3 per trian
 const uint kVoxelizeBindingSeeds = 1u;          // seeds (written where a triangle touches a voxel)
 const uint kVoxelizeBindingInstances = 2u;      // VoxelizeInstance per instance, by firstInstanceTriangle (read)
 const uint kVoxelizeBindingDispatch = 3u;       // voxelize.comp's indirect dispatch: y = the most chunks (atomicMax)
-const uint kVoxelizeBindingCount = 4u;
+const uint kVoxelizeBindingPlaced = 4u;         // every instance triangle's corners in voxel space (3 x vec4 each)
+const uint kVoxelizeBindingCount = 5u;
 const uint kJumpFloodBindingSrc = 0u;           // nearest seeds after the previous step
 const uint kJumpFloodBindingDst = 1u;           // nearest seeds after this step
 const uint kJumpFloodBindingCount = 2u;

@@ -424,6 +424,37 @@ TEST_F(Refine, IncrementalMatchesTheFullRecomputeOnTheOrbitingTeapot) {
   }
 }
 
+// A frame loop that submits without waiting (submitFrame, the next submitFrame waiting for the previous frame,
+// finishFrame later) computes what runFrame does, frame for frame; read-backs wait for a frame still on the GPU.
+TEST_F(Refine, SubmittedFramesEqualRunFrames) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  Bounds bounds;
+  for (int f = 0; f < 3; ++f) bounds.add(buildSceneGeometry(scene, f / 30.0).bounds);
+  PipelineSettings s;
+  s.coarseRes = 32;
+  s.fineRes = 64;
+  s.mode = RefineMode::Closest;
+  s.rays = 1;
+  SdfPipeline waited(*sCtx, scene, bounds, s), submitted(*sCtx, scene, bounds, s);
+  EXPECT_THROW(submitted.finishFrame(), Error);
+  FrameStats last;
+  for (int f = 0; f < 3; ++f) last = waited.runFrame(f / 30.0);
+  submitted.submitFrame(0.0);
+  const std::vector<float> first = submitted.fineField(); // waits for the frame
+  EXPECT_EQ(first.size(), submitted.fineSpec().voxelCount());
+  EXPECT_EQ(submitted.finishFrame().refinedFineVoxels, submitted.refinedVoxels().size());
+  submitted.submitFrame(1 / 30.0);
+  submitted.submitFrame(2 / 30.0); // waits for the second frame, whose statistics nobody reads
+  const FrameStats stats = submitted.finishFrame();
+  EXPECT_THROW(submitted.finishFrame(), Error);
+  EXPECT_EQ(stats.maskFineVoxels, last.maskFineVoxels);
+  EXPECT_EQ(stats.refinedFineVoxels, last.refinedFineVoxels);
+  EXPECT_GT(stats.refinedFineVoxels, 0u);
+  EXPECT_EQ(stats.movedInstances, last.movedInstances);
+  EXPECT_EQ(submitted.fineField(), waited.fineField());
+  EXPECT_GE(stats.wallMs, stats.hostMs);
+}
+
 TEST_F(Refine, ExtremesGiveFiniteFields) {
   const Scene scene = bunny();
   struct Case { const char* name; PipelineSettings s; int frames; };

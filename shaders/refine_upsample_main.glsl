@@ -4,10 +4,7 @@
 // refinement's values, which the refinement updates or keeps. One invocation per run of RTSDF_UPSAMPLE_RUN fine
 // voxels along z (neighbouring invocations: neighbouring x, so a group's writes are contiguous): the run keeps
 // the 2 x 2 x 2 coarse values of its cell and loads only the new z plane of 4 when it crosses into the next
-// coarse cell. With upsampleChangedOnly (incremental frames) a voxel is written only when one of its eight coarse
-// values differs, bit for bit, from the previous frame's: everywhere else it already holds this very value, so a
-// still scene writes nothing. A voxel that leaves the mask is written too: the coarse voxel whose slab holds it is
-// one of its eight, and its value changed, since it crossed |c| = d.
+// coarse cell.
 #include "gpu/shared/Refine.h"
 
 layout(local_size_x = RTSDF_UPSAMPLE_GROUP_X, local_size_y = RTSDF_UPSAMPLE_GROUP_Y, local_size_z = 1) in;
@@ -15,18 +12,8 @@ layout(push_constant) uniform Push { RefineParams params; };
 layout(std430, binding = kUpsampleBindingCoarse) readonly buffer Coarse { float coarse[]; };
 layout(std430, binding = kUpsampleBindingFine) writeonly buffer Fine { float fine[]; };
 layout(std430, binding = kUpsampleBindingFineToCoarse) readonly buffer FineToCoarse { int fineToCoarse[]; };
-layout(std430, binding = kUpsampleBindingPreviousCoarse) readonly buffer PreviousCoarse { float previousCoarse[]; };
 
 #include "coarse_upsample.glsl"
-
-// Whether plane z's values at the cell's x and y corners (@a now) differ from the previous frame's.
-bool planeChanged(ivec2 x01, ivec2 y01, int z, vec4 now) {
-  ivec3 d = params.coarseDims.xyz;
-  int r0 = (z * d.y + y01.x) * d.x, r1 = (z * d.y + y01.y) * d.x;
-  vec4 before = vec4(previousCoarse[r0 + x01.x], previousCoarse[r0 + x01.y], previousCoarse[r1 + x01.x],
-                     previousCoarse[r1 + x01.y]);
-  return any(notEqual(floatBitsToUint(now), floatBitsToUint(before)));
-}
 
 void main() {
   ivec3 fd = params.fineDims.xyz;
@@ -38,10 +25,8 @@ void main() {
   // The coarse row holding this column of fine voxels (the ray mask's slabs), when the band masks anything.
   ivec2 slab = ivec2(fineToCoarse[x], fineToCoarse[fd.x + y]);
   bool maskable = params.band > 0.0 && slab.x >= 0 && slab.y >= 0;
-  bool changedOnly = params.upsampleChangedOnly != 0u;
   int plane0 = -1, plane1 = -1;
   vec4 c0 = vec4(0.0), c1 = vec4(0.0); // planes i0.z and i1.z
-  bool changed0 = true, changed1 = true; // whether they differ from the previous frame's
   for (int z = zBegin; z < zEnd; ++z) {
     ivec3 v = ivec3(x, y, z);
     int slabZ = maskable ? fineToCoarse[fd.x + fd.y + z] : -1;
@@ -51,18 +36,13 @@ void main() {
     upsampleCell(v, i0, i1, t);
     ivec2 x01 = ivec2(i0.x, i1.x), y01 = ivec2(i0.y, i1.y);
     if (i0.z != plane0) {
-      bool reuse = i0.z == plane1;
-      c0 = reuse ? c1 : coarsePlane(x01, y01, i0.z);
-      changed0 = reuse ? changed1 : (!changedOnly || planeChanged(x01, y01, i0.z, c0));
+      c0 = i0.z == plane1 ? c1 : coarsePlane(x01, y01, i0.z);
       plane0 = i0.z;
     }
     if (i1.z != plane1) {
-      bool reuse = i1.z == plane0;
-      c1 = reuse ? c0 : coarsePlane(x01, y01, i1.z);
-      changed1 = reuse ? changed0 : (!changedOnly || planeChanged(x01, y01, i1.z, c1));
+      c1 = i1.z == plane0 ? c0 : coarsePlane(x01, y01, i1.z);
       plane1 = i1.z;
     }
-    if (!changed0 && !changed1) continue;
     fine[(v.z * fd.y + v.y) * fd.x + v.x] = trilinear(c0, c1, t);
   }
 }

@@ -188,7 +188,7 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
       for (int r = 0; r <= s.repeats; ++r) { // the first: warm-up
         gpu::CommandBuffer cmd(ctx);
         profiler.reset(cmd.handle());
-        pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer(), table, builder.distanceBuffer()}, {buf}, p);
+        pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer(), table}, {buf}, p);
         cmd.submitAndWait();
         if (r > 0) t.push_back(passTotal(profiler.results(), UpsamplePass::kName));
       }

@@ -145,9 +145,7 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& t
                Buffer::Memory::Device, "placed triangles");
   gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / transform A");
   gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "transform B");
-  // The two distance buffers alternate: this build writes the one the last build did not.
-  for (Buffer& b : mDistanceBufs) gpu::reserve(mCtx, b, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
-  mCurrent = 1 - mCurrent;
+  gpu::reserve(mCtx, mDistanceBuf, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
 
   p.beta = float(settings.beta >= 0.0 ? settings.beta : 0.5 * spec.voxelSize);
   p.distance.dims = glm::ivec4(dims, 0);
@@ -179,7 +177,7 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
     mExactEdt.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, {p.flood.dims});
   else
     mJumpFlood.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, p.flood);
-  mDistance.execute(cmd, profiler, {nearest}, {distanceBuffer()}, p.distance);
+  mDistance.execute(cmd, profiler, {nearest}, {mDistanceBuf}, p.distance);
   return nearest;
 }
 
@@ -222,7 +220,7 @@ CoarseSdf CoarseSdfBuilder::build(const InstancedTriangles& triangles, const Gri
     out.nearest.resize(voxels);
     download(mCtx, nearest, out.nearest.data(), voxels * 4);
   }
-  download(mCtx, distanceBuffer(), out.distance.data(), voxels * 4);
+  download(mCtx, mDistanceBuf, out.distance.data(), voxels * 4);
   return out;
 }
 

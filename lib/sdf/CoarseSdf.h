@@ -145,10 +145,7 @@ public:
                const GridSpec& spec, const CoarseSdfSettings& settings);
   /// @brief The last build's coarse SDF on the GPU (x fastest), valid until the next build: later passes
   ///        read it in place instead of uploading the read-back copy again.
-  const gpu::Buffer& distanceBuffer() const { return mDistanceBufs[mCurrent]; }
-  /// @brief The build's before the last (the two alternate), for passes that redo only what changed; its
-  ///        contents are undefined before the second build on the same grid.
-  const gpu::Buffer& previousDistanceBuffer() const { return mDistanceBufs[1 - mCurrent]; }
+  const gpu::Buffer& distanceBuffer() const { return mDistanceBuf; }
 
 private:
   struct Prepared {
@@ -161,14 +158,11 @@ private:
   Prepared prepare(const InstancedTriangles& triangles, const GridSpec& spec, const CoarseSdfSettings& settings);
   /// Upload world-space corners as one instance with the identity transform.
   InstancedTriangles uploadWorldCorners(const std::vector<glm::vec4>& corners);
-  /// Record voxelize, transform and distance (into the distance buffer prepare() chose); returns the buffer that
-  /// holds the nearest seeds.
+  /// Record voxelize, transform and distance; returns the buffer that holds the nearest seeds.
   const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                                   const Prepared& p) const;
   const gpu::VulkanContext& mCtx;
-  gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mSeedsA, mSeedsB;
-  gpu::Buffer mDistanceBufs[2];
-  int mCurrent = 0; ///< which of mDistanceBufs the last build wrote
+  gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mSeedsA, mSeedsB, mDistanceBuf;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;
   ExactEdtPass mExactEdt;

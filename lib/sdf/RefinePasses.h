@@ -83,12 +83,10 @@ public:
     PerVoxel ///< one voxel per invocation, 8 coarse loads each (the baseline the benchmark shows)
   };
   struct Inputs {
-    const gpu::Buffer& coarse;         ///< c_t, dense, x fastest
-    const gpu::Buffer& fineToCoarse;   ///< maskCoarseOfFine() of the two grids
-    const gpu::Buffer& previousCoarse; ///< c_{t-1} (read only with params.upsampleChangedOnly; else any buffer)
+    const gpu::Buffer& coarse;       ///< c_t, dense, x fastest
+    const gpu::Buffer& fineToCoarse; ///< maskCoarseOfFine() of the two grids
   };
-  /// Every fine voxel outside the mask written (with params.upsampleChangedOnly: those whose value changed).
-  struct Outputs { const gpu::Buffer& fine; };
+  struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel outside the mask written
   using Params = gpu::shared::RefineParams;     ///< grids of both levels
   explicit UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel = Kernel::Runs)
       : ComputePass(ctx, kernel == Kernel::Runs ? "refine_upsample.comp" : "refine_upsample_voxel.comp",

@@ -151,11 +151,11 @@ PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettin
   const std::uint64_t coarseBuf = nc * 4, fineBuf = nf * 4;
   if (fineBuf >= coarseBuf) { m.largestBuffer = fineBuf; m.largestBufferName = "fine SDF"; }
   else { m.largestBuffer = coarseBuf; m.largestBufferName = "coarse SDF"; }
-  // Seeds A/B, the coarse SDF and the previous frame's, the compacted band (8 bytes per voxel) and the refinement
-  // state (8 bytes per voxel); fine SDF, votes and the list of voxels to refine; the BVH (nodes of 32 bytes, at most two per
+  // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel) and the refinement state (8 bytes per
+  // voxel); fine SDF, votes and the list of voxels to refine; the BVH (nodes of 32 bytes, at most two per
   // triangle, corners 48 bytes and ids 4 bytes per triangle), whose mesh-space corners VoxelizePass places in
   // voxel space (48 bytes per triangle).
-  m.deviceBytes = 8 * coarseBuf + 3 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
+  m.deviceBytes = 7 * coarseBuf + 3 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
   // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
   // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
   m.hostBytes = nc * 29 + nf * 16;
@@ -438,8 +438,6 @@ RefineParams SdfPipeline::refineParams() const {
   p.seed = mSettings.seed;
   p.beta = float(mSettings.beta >= 0.0 ? mSettings.beta : 0.5 * mCoarseSpec.voxelSize);
   p.band = float(mSettings.band);
-  // Incremental frames rewrite only the fine voxels whose upsampled value changed; the paper's frame all of them.
-  p.upsampleChangedOnly = !mSettings.fullRecompute && mFrame > 1 ? 1u : 0u;
   return p;
 }
 
@@ -480,8 +478,7 @@ void SdfPipeline::submitFrame(double time) {
   mLastMaskParams = maskParams(std::uint32_t(moved.size()));
   recordMask(cmd, mLastMaskParams);
   const RefineParams p = refineParams();
-  g.upsample.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse, g.coarse.previousDistanceBuffer()},
-                     {g.fine}, p);
+  g.upsample.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse}, {g.fine}, p);
   if (mSettings.band > 0.0)
     g.refine->execute(cmd, &g.profiler, {*mBvh, g.mask, g.counts, g.coarse.distanceBuffer()}, {g.fine, g.votes}, p);
   recordCountsReadback(cmd);

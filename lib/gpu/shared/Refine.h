@@ -24,8 +24,7 @@ const uint kUpsampleBindingCoarse = 0u;       // coarse SDF c_t (read)
 const uint kUpsampleBindingFine = 1u;         // fine SDF: c_t upsampled, written outside the ray mask
 const uint kUpsampleBindingFineToCoarse = 2u; // int per fine index per axis (x entries, then y, then z): the coarse
                                               // voxel whose slab holds it (maskCoarseOfFine), -1: none
-const uint kUpsampleBindingPreviousCoarse = 3u; // the previous frame's c (read when upsampleChangedOnly)
-const uint kUpsampleBindingCount = 4u;
+const uint kUpsampleBindingCount = 3u;
 
 /// Work-group shape of mask_compact.comp (one invocation per coarse voxel).
 #define RTSDF_MASK_GROUP 4
@@ -140,9 +139,7 @@ struct RefineParams {
   uint seed;             // per-run random seed
   float beta;            // the coarse shell (closest mode widens its search by it)
   float band;            // upsample: > 0 leaves the fine voxels under band coarse voxels (|c| <= d) alone
-  uint upsampleChangedOnly; // upsample: 1 writes only where a coarse corner differs from the previous frame's or
-                            // the voxel left the mask; the fine SDF holds the previous frame's field elsewhere
-  uint pad1;
+  uint pad0, pad1;
 };
 
 /// The two uniform numbers in [0, 1) of ray @a ray of voxel @a voxel in frame @a frame.

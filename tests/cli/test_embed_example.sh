@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Package.EmbedExampleBuildsAgainstTheInstall: `cmake --install` this build into a temporary prefix, configure and
 # build examples/embed against it with find_package(rtsdf), run it on the default scene, and check that its .vdb
-# equals the command line's bake of the same frame and settings, voxel for voxel.
-# Usage: test_embed_example.sh SOURCE_DIR BUILD_DIR CXX_COMPILER "CXX_FLAGS" "LINKER_FLAGS"
+# equals the command line's bake of the same frame and settings, voxel for voxel; with PYTHON given (the build
+# has the Python module), the installed module imports from the prefix too.
+# Usage: test_embed_example.sh SOURCE_DIR BUILD_DIR CXX_COMPILER "CXX_FLAGS" "LINKER_FLAGS" [PYTHON]
 set -euo pipefail
-source_dir="$1" build_dir="$2" cxx="$3" cxx_flags="$4" link_flags="$5"
+source_dir="$1" build_dir="$2" cxx="$3" cxx_flags="$4" link_flags="$5" python="${6:-}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -33,4 +34,9 @@ rtsdf="$work/prefix/bin/rtsdf"
 "$rtsdf" compare "$work/embed.vdb" "$work/bake.vdb" | tee "$work/compare.log"
 grep -q "(0 only in A, 0 only in B)" "$work/compare.log" || fail "the active voxels differ from the bake's"
 grep -q "max 0.0000 voxels" "$work/compare.log" || fail "the values differ from the bake's"
+if [ -n "$python" ]; then
+  triangles="$(cd "$work" && PYTHONPATH="$work/prefix/lib/python3/dist-packages" "$python" -c \
+    "import rtsdf; print(rtsdf.__file__.startswith('$work/prefix'), rtsdf.load_scene('$scene').triangles)")"
+  [ "$triangles" = "True 4882" ] || fail "the installed Python module: $triangles"
+fi
 echo "PASS"

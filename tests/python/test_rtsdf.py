@@ -1,0 +1,132 @@
+"""The Python module against analytic distances, the command line's bakes, and bad input (ctest label python).
+
+Run by ctest with PYTHONPATH at the built module and RTSDF_BINARY at the command line.
+"""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import rtsdf
+
+DATA = os.environ.get("RTSDF_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "..", "data"))
+RTSDF = os.environ.get("RTSDF_BINARY", "rtsdf")
+
+
+def icosphere(levels):
+    """Unit sphere: an icosahedron split in four `levels` times, vertices pushed onto the sphere."""
+    t = (1.0 + 5.0 ** 0.5) / 2.0
+    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    verts = [np.array(p, float) / np.linalg.norm(p) for p in v]
+    faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+             (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+             (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    for _ in range(levels):
+        mid = {}
+
+        def midpoint(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in mid:
+                p = verts[a] + verts[b]
+                verts.append(p / np.linalg.norm(p))
+                mid[key] = len(verts) - 1
+            return mid[key]
+
+        faces = [f for a, b, c in faces
+                 for ab, bc, ca in [(midpoint(a, b), midpoint(b, c), midpoint(c, a))]
+                 for f in ((a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca))]
+    return np.array(verts), faces
+
+
+@pytest.fixture(scope="module")
+def sphere_obj(tmp_path_factory):
+    verts, faces = icosphere(4)
+    path = tmp_path_factory.mktemp("sphere") / "sphere.obj"
+    with open(path, "w") as f:
+        f.writelines(f"v {x:.9f} {y:.9f} {z:.9f}\n" for x, y, z in verts)
+        f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in faces)
+    return str(path)
+
+
+def test_sphere_distances_equal_the_analytic_ones(sphere_obj):
+    rng = np.random.default_rng(3)
+    points = rng.uniform(-2.0, 2.0, size=(4000, 3))
+    d = rtsdf.distance(sphere_obj, points)
+    assert d.shape == (4000,) and d.dtype == np.float32
+    analytic = np.linalg.norm(points, axis=1) - 1.0
+    # The mesh lies inside the sphere by at most its sagitta (edges of ~0.076 at 4 levels: 7.3e-4).
+    assert np.max(np.abs(d - analytic)) < 2e-3
+    assert np.all(np.sign(d[np.abs(analytic) > 2e-3]) == np.sign(analytic[np.abs(analytic) > 2e-3]))
+    scene = rtsdf.load_scene(sphere_obj)
+    assert scene.triangles == 20 * 4 ** 4
+    assert np.array_equal(rtsdf.distance(scene, points[:10]), d[:10])
+
+
+def test_bake_equals_the_command_line(tmp_path):
+    scene = os.path.join(DATA, "scenes", "bunny.json")
+    field = rtsdf.bake(scene, method="exact", res=40, band=0.1)
+    nx, ny, nz = field.values.shape
+    assert max(nx, ny, nz) >= 40 and field.values.dtype == np.float32
+    assert field.active.dtype == bool and field.active.shape == field.values.shape
+    assert 1000 < field.active.sum() < field.active.size
+    # Inside the band the values are the distances; outside it, +-band.
+    assert np.all(np.abs(field.values[field.active]) <= field.band + 1e-6)
+    assert np.all(np.abs(field.values[~field.active]) == pytest.approx(field.band))
+    # index [i, j, k] = x, y, z: voxel (i, j, k)'s centre is origin + (i + 0.5, j + 0.5, k + 0.5) * voxel_size.
+    i, j, k = np.unravel_index(np.argmin(np.where(field.active, field.values, np.inf)), field.values.shape)
+    centre = np.array(field.origin) + (np.array([i, j, k]) + 0.5) * field.voxel_size
+    assert rtsdf.distance(scene, centre[None, :])[0] == pytest.approx(field.values[i, j, k], abs=1e-5)
+    ours = tmp_path / "python.vdb"
+    field.write(str(ours))
+    cli = tmp_path / "cli.vdb"
+    subprocess.run([RTSDF, "-q", "bake", scene, "--method", "exact", "--res", "40", "--band", "0.1", "-o", str(cli)],
+                   check=True)
+    out = subprocess.run([RTSDF, "compare", str(ours), str(cli)], check=True, capture_output=True, text=True).stdout
+    assert "(0 only in A, 0 only in B)" in out and "max 0.0000 voxels" in out, out
+
+
+def test_rtsdf_bake_and_pipeline_frames():
+    scene = rtsdf.load_scene(os.path.join(DATA, "scenes", "default.json"))
+    # Grids over the scene at time 0 (one frame of bounds), as a bake at time 0 has them.
+    pipe = rtsdf.Pipeline(scene, frames=1, coarse=32, fine=64, refine="closest", rays=0)
+    first = pipe.frame(0.0)
+    second = pipe.frame(0.0)
+    assert first["mask_voxels"] > 1000 and first["refined_voxels"] == first["mask_voxels"]
+    assert second["refined_voxels"] == 0  # nothing moved, everything settled
+    assert "VoxelizePass" in second["pass_ms"]
+    fine = pipe.fine()
+    baked = rtsdf.bake(scene, method="rtsdf", res=64, coarse=32, refine="closest", rays=0, frames=1)
+    assert fine.values.shape == baked.values.shape
+    assert np.max(np.abs(fine.values[baked.active] - baked.values[baked.active])) < 1e-5
+
+
+def test_to_pyopenvdb():
+    pyopenvdb = pytest.importorskip("pyopenvdb")
+    field = rtsdf.bake(os.path.join(DATA, "scenes", "bunny.json"), res=24)
+    grid = field.to_pyopenvdb()
+    assert isinstance(grid, pyopenvdb.FloatGrid)
+    assert grid.activeVoxelCount() == int(field.active.sum())
+
+
+def test_bad_input_raises_the_documented_errors(tmp_path):
+    with pytest.raises(rtsdf.Error, match="missing.json"):
+        rtsdf.load_scene(str(tmp_path / "missing.json"))
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"rtsdf_scene": 1, "meshes": {}, "instances": [{"name": "a", "mesh": "nope"}]}))
+    with pytest.raises(rtsdf.Error, match="bad.json"):
+        rtsdf.bake(str(bad))
+    bunny = os.path.join(DATA, "scenes", "bunny.json")
+    with pytest.raises(rtsdf.SettingError, match="band"):
+        rtsdf.bake(bunny, band=-1.0)
+    with pytest.raises(rtsdf.SettingError, match="bake method"):
+        rtsdf.bake(bunny, method="magic")
+    with pytest.raises(TypeError, match="colour"):
+        rtsdf.bake(bunny, colour=3)
+    with pytest.raises(ValueError, match=r"\(N, 3\)"):
+        rtsdf.distance(bunny, np.zeros((4, 2)))
+    with pytest.raises(ValueError, match="not finite"):
+        rtsdf.distance(bunny, np.array([[0.0, np.nan, 0.0]]))
+    assert issubclass(rtsdf.SettingError, rtsdf.Error) and issubclass(rtsdf.Error, RuntimeError)

@@ -10,6 +10,7 @@
 #include "sdf/SdfPipeline.h"
 #include "util/EnumNames.h"
 #include "util/Error.h"
+#include "util/Log.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -183,6 +184,11 @@ PYBIND11_MODULE(rtsdf, m) {
   m.doc() = "rtsdf: signed distance fields of triangle-mesh scenes (exact, OpenVDB, GPU jump flooding / exact "
             "transform, and the RTSDF pipeline)";
   openvdb::initialize();
+  initLogging(-1); // a library in someone's program: warnings only, on stderr (set_verbosity says more)
+  m.def("set_verbosity", [](int level) {
+    spdlog::set_level(level < 0 ? spdlog::level::warn : level == 0 ? spdlog::level::info
+                                                     : level == 1 ? spdlog::level::debug : spdlog::level::trace);
+  }, py::arg("level"), "Log to stderr: -1 warnings only (the default), 0 info, 1 debug, 2 trace");
   static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
   static py::exception<SettingError> settingError(m, "SettingError", error.ptr());
   py::register_exception_translator([](std::exception_ptr p) {

@@ -103,6 +103,16 @@ def test_rtsdf_bake_and_pipeline_frames():
     assert np.max(np.abs(fine.values[baked.active] - baked.values[baked.active])) < 1e-5
 
 
+def test_log_is_quiet_unless_asked(capfd):
+    bunny = os.path.join(DATA, "scenes", "bunny.json")
+    rtsdf.bake(bunny, res=16)
+    assert "[info]" not in capfd.readouterr().err
+    rtsdf.set_verbosity(0)
+    rtsdf.bake(bunny, res=16)
+    rtsdf.set_verbosity(-1)
+    assert "[info]" in capfd.readouterr().err
+
+
 def test_to_pyopenvdb():
     pyopenvdb = pytest.importorskip("pyopenvdb")
     field = rtsdf.bake(os.path.join(DATA, "scenes", "bunny.json"), res=24)

@@ -11,6 +11,7 @@ packages=(
   libassimp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-dev pybind11-dev python3-numpy python3-pytest
+  libglfw3-dev libstb-dev xvfb xauth
   gnuplot-nox
   clang libclang-rt-14-dev
 )

@@ -18,7 +18,7 @@ LAYERS = [
     ["sdf"],
     ["render"],
     ["jobs"],
-    ["bench"],
+    ["bench", "view"],
 ]
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib")
 INCLUDE = re.compile(r'^\s*#\s*include\s*"([A-Za-z_]+)/')

@@ -176,23 +176,12 @@ void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
                                           "lateral probes' and umbra samples' turn)");
 }
 
-void bindRender(CLI::App& app, RenderCommand& c) {
-  RenderJobOptions& o = c.options;
-  RenderSettings& r = o.render;
-  CLI::App* cmd = app.add_subcommand(
-      "render", "Render the scene camera's view with soft shadows (SDF sphere tracing, shadow maps or ray-traced "
-                "truth) to a linear EXR (R, G, B and each light's visibility) and an sRGB PNG");
-  cmd->add_option("scene", o.scene, "Scene (.json) with a camera and lights")->required();
-  cmd->add_option("-o,--output", c.output, "Output .exr (written atomically)")->required();
-  cmd->add_option("--png", c.png, "Output .png (default: the .exr's name with .png)");
+/// The picture's flags, shared by render and view: shadows, size, SDF march, shadow maps, TAA, truth, pipeline.
+void bindRenderSettings(CLI::App* cmd, RenderSettings& r, std::string& device) {
   addEnum(cmd, "--shadows", r.technique, "sdf: sphere tracing of the RTSDF fine SDF; shadowmap: depth maps with "
                                          "PCF; raytraced: distributed ray tracing on the CPU (the truth)");
   cmd->add_option("--width", r.width, "Image width in pixels")->check(inRange(1, 16384))->capture_default_str();
   cmd->add_option("--height", r.height, "Image height in pixels")->check(inRange(1, 16384))->capture_default_str();
-  cmd->add_option("--frames", o.frames, "Frames rendered (SDF refinement and TAA accumulate); the last one is "
-                                        "written")->check(inRange(1, 100000))->capture_default_str();
-  cmd->add_option("--fps", o.fps, "Frames per second of scene time")->check(positive())->capture_default_str();
-  cmd->add_option("-t,--time", o.time, "Scene time of the written frame in seconds")->capture_default_str();
   bindSdfShadows(cmd, r.sdf);
   cmd->add_option("--shadow-map-res", r.shadowMap.resolution, "Shadow map texels per side (per cube face)")
       ->check(inRange(1, 8192))->capture_default_str();
@@ -205,12 +194,53 @@ void bindRender(CLI::App& app, RenderCommand& c) {
       ->capture_default_str();
   cmd->add_option("--samples", r.rayTraced.samples, "Ray-traced shadows: samples per pixel and light")
       ->check(inRange(1, 65536))->capture_default_str();
-  cmd->add_flag("--compare", o.compare, "Also ray trace the truth and print the visibility RMSE and FLIP of the "
-                                        "picture");
   cmd->add_option("-d,--band", r.pipeline.band, "SDF ray-mask band d in scene units")->check(atLeast(0.0))
       ->capture_default_str();
-  bindPipeline(cmd, r.pipeline, o.device);
+  bindPipeline(cmd, r.pipeline, device);
+}
+
+void bindRender(CLI::App& app, RenderCommand& c) {
+  RenderJobOptions& o = c.options;
+  RenderSettings& r = o.render;
+  CLI::App* cmd = app.add_subcommand(
+      "render", "Render the scene camera's view with soft shadows (SDF sphere tracing, shadow maps or ray-traced "
+                "truth) to a linear EXR (R, G, B and each light's visibility) and an sRGB PNG");
+  cmd->add_option("scene", o.scene, "Scene (.json) with a camera and lights")->required();
+  cmd->add_option("-o,--output", c.output, "Output .exr (written atomically)")->required();
+  cmd->add_option("--png", c.png, "Output .png (default: the .exr's name with .png)");
+  cmd->add_option("--frames", o.frames, "Frames rendered (SDF refinement and TAA accumulate); the last one is "
+                                        "written")->check(inRange(1, 100000))->capture_default_str();
+  cmd->add_option("--fps", o.fps, "Frames per second of scene time")->check(positive())->capture_default_str();
+  cmd->add_option("-t,--time", o.time, "Scene time of the written frame in seconds")->capture_default_str();
+  cmd->add_flag("--compare", o.compare, "Also ray trace the truth and print the visibility RMSE and FLIP of the "
+                                        "picture");
+  bindRenderSettings(cmd, r, o.device);
   // The ray tracer's random seed follows the pipeline's.
+  cmd->callback([&r] { r.rayTraced.seed = r.pipeline.seed; });
+}
+
+void bindView(CLI::App& app, ViewOptions& o) {
+  RenderSettings& r = o.render;
+  CLI::App* cmd = app.add_subcommand(
+      "view", "Open a window on the scene with its soft shadows as the instances animate. Drag: orbit; wheel: zoom; "
+              "1/2/3: sdf/shadowmap/raytraced shadows; V: shaded, SDF slice or ray mask; Up/Down: the slice; "
+              "X/D/A (Shift: down): rays x, band d, alpha; M: closest/rays refinement; R: scene camera; Space: pause; "
+              "Esc: quit");
+  cmd->add_option("scene", o.scene, "Scene (.json) with a camera and lights")->required();
+  cmd->add_option("--frames", o.frames, "Show this many frames at fixed steps of 1/fps ending at --time (the "
+                                        "frames render renders), then close; 0: until the window is closed")
+      ->check(inRange(0, 1000000))->capture_default_str();
+  cmd->add_option("--fps", o.fps, "Frames per second of scene time with --frames")->check(positive())
+      ->capture_default_str();
+  cmd->add_option("-t,--time", o.time, "Scene time of the last frame with --frames")->capture_default_str();
+  cmd->add_option("--screenshot", o.screenshot, "Write the last frame's picture to this .png");
+  addEnum(cmd, "--view", o.view, "What the picture shows first: the shaded scene, a horizontal slice of the fine "
+                                 "SDF, or the ray mask on that slice");
+  cmd->add_option("--slice-height", o.sliceHeight, "World height (y) of the slice (default: the scene's middle)");
+  cmd->add_flag("!--no-overlay", o.overlay, "No line of text (settings, pass times, frame rate) at the top");
+  cmd->add_option("--keys", o.keys, "Key presses replayed one per frame (a letter presses its key, upper case with "
+                                    "Shift; + - move the slice, < > turn the camera)");
+  bindRenderSettings(cmd, r, o.device);
   cmd->callback([&r] { r.rayTraced.seed = r.pipeline.seed; });
 }
 
@@ -290,6 +320,7 @@ void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet) {
   bindBake(app, c.bake);
   bindAnimate(app, c.animate);
   bindRender(app, c.render);
+  bindView(app, c.view);
   app.add_subcommand("info", "Print versions, Vulkan devices with their limits, and embedded shaders");
   bindCompare(app, c.compare);
   bindBench(app, c.bench);
@@ -308,7 +339,8 @@ std::string flagOf(const std::string& setting) {
       {"samples", "--samples"}, {"error band", "--error-band"}, {"repeats", "--repeats"},
       {"truth samples", "--truth-samples"}, {"band fraction", "--band-fraction"}, {"output folder", "--out"},
       {"device", "--device"}, {"anchor", "--against"}, {"scene", "--scene"}, {"settle frames", "--settle-frames"},
-      {"refresh period", "--refresh-period"}};
+      {"refresh period", "--refresh-period"}, {"slice height", "--slice-height"}, {"keys", "--keys"},
+      {"view", "--view"}};
   const auto it = flags.find(setting);
   return it == flags.end() ? setting : it->second;
 }

@@ -8,6 +8,7 @@
 #include "jobs/Bake.h"
 #include "jobs/Compare.h"
 #include "jobs/RenderJob.h"
+#include "view/Viewer.h"
 
 #include <CLI/CLI.hpp>
 
@@ -52,6 +53,7 @@ struct Commands {
   RenderCommand render;
   BenchCommand bench;
   CompareCommand compare;
+  ViewOptions view;
 };
 
 /// @brief Add the subcommands and global flags to @a app, bound onto @a c, @a verbosity and @a quiet.

@@ -72,6 +72,13 @@ int runRender(const RenderCommand& c) {
   return 0;
 }
 
+int runView(const ViewOptions& o) {
+  const ViewResult r = runViewer(o, terminalJobControl());
+  fmt::print("{} frame(s), {:.1f} ms per frame\n{}\n", r.frames, r.meanFrameMs, r.lastLine);
+  if (!o.screenshot.empty() && r.frames > 0) fmt::print("wrote {}\n", o.screenshot);
+  return 0;
+}
+
 int runBench(const BenchCommand& c) {
   if (c.sweep.empty()) {
     fmt::print("{}", bench::runBenchSuite(c.suite, terminalJobControl()));
@@ -114,6 +121,7 @@ int run(const Commands& c) {
   if (c.which == "bake") return runBake(c.bake);
   if (c.which == "animate") return runAnimate(c.animate);
   if (c.which == "render") return runRender(c.render);
+  if (c.which == "view") return runView(c.view);
   if (c.which == "bench") return runBench(c.bench);
   if (c.which == "compare") return runCompare(c.compare);
   const SystemInfo info = systemInfo();

@@ -85,13 +85,22 @@ void CommandBuffer::begin() {
   mRecording = true;
 }
 
-void CommandBuffer::submit() {
+void CommandBuffer::submit(VkSemaphore wait, VkPipelineStageFlags waitStage, VkSemaphore signal) {
   if (!mRecording) throw Error("command buffer submitted twice");
   mRecording = false;
   check(vkEndCommandBuffer(mCmd), "ending a command buffer");
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &mCmd;
+  if (wait != VK_NULL_HANDLE) {
+    si.waitSemaphoreCount = 1;
+    si.pWaitSemaphores = &wait;
+    si.pWaitDstStageMask = &waitStage;
+  }
+  if (signal != VK_NULL_HANDLE) {
+    si.signalSemaphoreCount = 1;
+    si.pSignalSemaphores = &signal;
+  }
   check(vkQueueSubmit(mCtx->queue(), 1, &si, mFence.get()), "submitting to the compute queue");
   mPending = true;
 }

@@ -110,13 +110,18 @@ public:
   /// @throw VulkanError on failure or when the GPU does not finish within @a timeoutSeconds.
   void submitAndWait(double timeoutSeconds = 600.0);
   /// @brief End recording and submit to the context's queue without waiting.
+  /// @param wait, waitStage a semaphore the work waits for at that stage (a swapchain image's acquisition);
+  /// @param signal a semaphore signalled when the work is done (the image's presentation waits for it).
   /// @throw Error when not recording; VulkanError on failure.
-  void submit();
+  void submit(VkSemaphore wait = VK_NULL_HANDLE, VkPipelineStageFlags waitStage = 0,
+              VkSemaphore signal = VK_NULL_HANDLE);
   /// @brief Wait for the last submit() to finish (no-op when none is pending).
   /// @throw VulkanError on failure or when the GPU does not finish within @a timeoutSeconds.
   void wait(double timeoutSeconds = 600.0);
   /// @brief Whether a submission has not been waited for.
   bool pending() const { return mPending; }
+  /// @brief Whether commands can be recorded (begun, not yet submitted).
+  bool recording() const { return mRecording; }
   /// @brief Wait for the last submission, then begin recording again (the pool's memory is reused).
   void restart();
 

@@ -49,7 +49,8 @@ bool layerAvailable(const char* name) {
   return false;
 }
 
-VkInstance createInstance(bool validation, bool sync, const VkDebugUtilsMessengerCreateInfoEXT* messenger) {
+VkInstance createInstance(bool validation, bool sync, const std::vector<std::string>& extra,
+                          const VkDebugUtilsMessengerCreateInfoEXT* messenger) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "rtsdf";
   app.pEngineName = "rtsdf";
@@ -62,6 +63,7 @@ VkInstance createInstance(bool validation, bool sync, const VkDebugUtilsMessenge
     layers.push_back(kValidationLayer);
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
   }
+  for (const std::string& e : extra) extensions.push_back(e.c_str());
   sync = sync && validation;
   VkValidationFeatureEnableEXT syncFeature = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
   VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
@@ -153,7 +155,7 @@ bool ContextOptions::validationRequestedByEnvironment() {
 }
 
 std::vector<DeviceInfo> listDevices() {
-  VkInstance instance = createInstance(false, false, nullptr);
+  VkInstance instance = createInstance(false, false, {}, nullptr);
   std::vector<DeviceInfo> out;
   try {
     const auto devices = physicalDevices(instance);
@@ -206,7 +208,8 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
       return VK_FALSE;
     };
     mci.pUserData = mMessages;
-    mInstance = createInstance(options.validation, options.syncValidation, options.validation ? &mci : nullptr);
+    mInstance = createInstance(options.validation, options.syncValidation, options.instanceExtensions,
+                               options.validation ? &mci : nullptr);
     if (options.validation) {
       auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
           vkGetInstanceProcAddr(mInstance, "vkCreateDebugUtilsMessengerEXT"));
@@ -233,14 +236,21 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
     vkEnumerateDeviceExtensionProperties(mPhysical, nullptr, &next, nullptr);
     std::vector<VkExtensionProperties> exts(next);
     vkEnumerateDeviceExtensionProperties(mPhysical, nullptr, &next, exts.data());
-    const bool push = std::any_of(exts.begin(), exts.end(), [](const VkExtensionProperties& e) {
-      return std::strcmp(e.extensionName, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME) == 0;
-    });
-    if (!push)
+    auto has = [&exts](const std::string& name) {
+      return std::any_of(exts.begin(), exts.end(), [&name](const VkExtensionProperties& e) {
+        return name == e.extensionName;
+      });
+    };
+    if (!has(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
       throw VulkanError(VK_ERROR_EXTENSION_NOT_PRESENT,
                         fmt::format("enabling {} on {} (rtsdf binds buffers with push descriptors)",
                                     VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME, mInfo.name));
-    const char* deviceExtensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    std::vector<const char*> deviceExtensions = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    for (const std::string& e : options.deviceExtensions) {
+      if (!has(e))
+        throw VulkanError(VK_ERROR_EXTENSION_NOT_PRESENT, fmt::format("enabling {} on {}", e, mInfo.name));
+      deviceExtensions.push_back(e.c_str());
+    }
 
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -250,8 +260,8 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
-    dci.enabledExtensionCount = 1;
-    dci.ppEnabledExtensionNames = deviceExtensions;
+    dci.enabledExtensionCount = std::uint32_t(deviceExtensions.size());
+    dci.ppEnabledExtensionNames = deviceExtensions.data();
     check(vkCreateDevice(mPhysical, &dci, nullptr, &mDevice), fmt::format("creating a device on {}", mInfo.name).c_str());
     vkGetDeviceQueue(mDevice, mQueueFamily, 0, &mQueue);
     mPushDescriptorSet = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(

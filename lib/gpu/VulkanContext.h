@@ -40,6 +40,10 @@ struct ContextOptions {
   bool validation = validationRequestedByEnvironment();
   /// With validation, also synchronization validation. Default: RTSDF_SYNC_VALIDATION=1 (a CI step).
   bool syncValidation = syncValidationRequestedByEnvironment();
+  /// Instance extensions to enable besides rtsdf's own (a window's surface extensions, for a swapchain).
+  std::vector<std::string> instanceExtensions;
+  /// Device extensions to enable besides rtsdf's own (VK_KHR_swapchain); a device without one is refused.
+  std::vector<std::string> deviceExtensions;
   static bool validationRequestedByEnvironment();
   static bool syncValidationRequestedByEnvironment();
 };

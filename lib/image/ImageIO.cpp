@@ -123,6 +123,27 @@ Image readExr(const fs::path& path) {
 
 // ---------------------------------------------------------------------------------------------- PNG
 
+void writePng(const fs::path& path, const PngPixels& pixels) {
+  if (pixels.width <= 0 || pixels.height <= 0 ||
+      pixels.rgb.size() != std::size_t(pixels.width) * std::size_t(pixels.height) * 3)
+    throw Error(fmt::format("{}: cannot write PNG: {} bytes for {}x{} RGB pixels", path.string(), pixels.rgb.size(),
+                            pixels.width, pixels.height));
+  const std::vector<std::uint8_t>& rgb = pixels.rgb;
+  writeFileAtomically(path, [&](const fs::path& tmp) {
+    png_image png;
+    std::memset(&png, 0, sizeof(png));
+    png.version = PNG_IMAGE_VERSION;
+    png.width = png_uint_32(pixels.width);
+    png.height = png_uint_32(pixels.height);
+    png.format = PNG_FORMAT_RGB; // 8-bit sRGB: libpng writes an sRGB chunk
+    if (!png_image_write_to_file(&png, tmp.c_str(), 0, rgb.data(), png_int_32(3 * pixels.width), nullptr)) {
+      const std::string message = png.message;
+      png_image_free(&png);
+      throw Error(fmt::format("{}: cannot write PNG: {}", path.string(), message));
+    }
+  });
+}
+
 void writePng(const fs::path& path, const Image& image, const std::string& r, const std::string& g,
               const std::string& b) {
   const std::string* names[3] = {&r, &g, &b};
@@ -141,19 +162,7 @@ void writePng(const fs::path& path, const Image& image, const std::string& r, co
     for (int c = 0; c < 3; ++c)
       rgb[3 * i + c] = std::uint8_t(std::lround(linearToSrgb((*src[c])[i]) * 255.0f));
 
-  writeFileAtomically(path, [&](const fs::path& tmp) {
-    png_image png;
-    std::memset(&png, 0, sizeof(png));
-    png.version = PNG_IMAGE_VERSION;
-    png.width = png_uint_32(image.width());
-    png.height = png_uint_32(image.height());
-    png.format = PNG_FORMAT_RGB; // 8-bit sRGB: libpng writes an sRGB chunk
-    if (!png_image_write_to_file(&png, tmp.c_str(), 0, rgb.data(), png_int_32(3 * image.width()), nullptr)) {
-      const std::string message = png.message;
-      png_image_free(&png);
-      throw Error(fmt::format("{}: cannot write PNG: {}", path.string(), message));
-    }
-  });
+  writePng(path, PngPixels{image.width(), image.height(), std::move(rgb)});
 }
 
 PngPixels readPng(const fs::path& path) {

@@ -22,6 +22,12 @@ void writeExr(const std::filesystem::path& path, const Image& image);
 /// @throw Error naming the file when it is missing or malformed, or uses subsampled channels.
 Image readExr(const std::filesystem::path& path);
 
+/// @brief An 8-bit RGB raster: width*height pixels, 3 bytes each, x fastest, row 0 at the top.
+struct PngPixels {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+};
+
 /// @brief Write an 8-bit sRGB PNG (libpng) of channels @a r, @a g, @a b: linear values, clamped to [0, 1],
 ///        encoded with the sRGB transfer function and rounded to the nearest byte.
 /// @note Pass the same name three times for a grey image. Atomic, like writeExr.
@@ -29,11 +35,10 @@ Image readExr(const std::filesystem::path& path);
 void writePng(const std::filesystem::path& path, const Image& image, const std::string& r = "R",
               const std::string& g = "G", const std::string& b = "B");
 
-/// @brief An 8-bit RGB raster: width*height pixels, 3 bytes each, x fastest, row 0 at the top.
-struct PngPixels {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgb;
-};
+/// @brief Write 8-bit sRGB-encoded bytes as they are (a picture composed on the GPU).
+/// @note Atomic, like writeExr.
+/// @throw Error naming the file: a size that does not match the bytes, I/O failure.
+void writePng(const std::filesystem::path& path, const PngPixels& pixels);
 
 /// @brief Read a PNG as 8-bit RGB bytes (for tests and comparisons). Grey, palette and alpha images are
 ///        converted by libpng's simplified API (alpha is composited onto black).

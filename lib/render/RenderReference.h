@@ -2,6 +2,7 @@
 /// @file RenderReference.h
 /// @brief CPU references of the renderer's GPU passes, evaluating the same shared functions
 ///        (gpu/shared/Render.h) so the tests can compare GPU and CPU results on real scenes.
+#include "gpu/shared/Compose.h"
 #include "render/RenderTypes.h"
 #include "scene/SceneGeometry.h"
 
@@ -26,5 +27,14 @@ LightVisibility shadowMapLookupCpu(const GBuffer& gbuffer, const std::vector<flo
 
 /// @brief One TaaPass step on the CPU: @a history (light-major, updated in place) from @a current.
 void taaCpu(const LightVisibility& current, LightVisibility& history, const gpu::shared::TaaParams& params);
+
+/// @brief ComposePass on the CPU: the packed pixels of @a params's view of @a gbuffer and @a visibility.
+/// @param fine, coarse the dense SDFs on the grids of @a params (read by the slice and mask views only).
+/// @param overlay the text strip: params.fineDims.w rows of coverage bytes (0: none), x fastest.
+std::vector<std::uint32_t> composePixelsCpu(const GBuffer& gbuffer, const LightVisibility& visibility,
+                                            const std::vector<gpu::shared::GpuLight>& lights,
+                                            const std::vector<float>& fine, const std::vector<float>& coarse,
+                                            const std::vector<std::uint8_t>& overlay,
+                                            const gpu::shared::ComposeParams& params);
 
 } // namespace rtsdf

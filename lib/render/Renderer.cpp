@@ -1,5 +1,6 @@
 #include "render/Renderer.h"
 
+#include "gpu/shared/Compose.h"
 #include "image/ImageMetrics.h"
 #include "scene/SceneGeometry.h"
 #include "image/ImageIO.h"
@@ -234,6 +235,14 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   return out;
 }
 
+void Renderer::setCamera(const Camera& camera) {
+  mCamera = makeCameraParams(camera, mSettings.width, mSettings.height, mFrameOrigin);
+}
+
+const GpuGBuffer& Renderer::gpuGBuffer() const { return mGpu->gbuffer; }
+const Buffer& Renderer::gpuVisibility() const { return mSettings.taa.enabled ? mGpu->history : mGpu->visibility; }
+const Buffer& Renderer::gpuLightBuffer() const { return mGpu->lights; }
+
 std::vector<float> Renderer::shadowMapDepths() const {
   if (!mGpu->depth) return {};
   std::vector<float> d(mGpu->depth.size() / 4);
@@ -262,16 +271,6 @@ RenderedFrame renderRayTraced(const Scene& scene, double time, const RenderSetti
   return out;
 }
 
-namespace {
-glm::vec3 instanceAlbedo(int instance) {
-  if (instance < 0) return glm::vec3(0.0f);
-  // A soft palette: different instances are told apart, none too dark for shadows to show.
-  static const glm::vec3 palette[] = {{0.80f, 0.78f, 0.74f}, {0.70f, 0.55f, 0.45f}, {0.55f, 0.65f, 0.75f},
-                                      {0.60f, 0.72f, 0.55f}, {0.78f, 0.70f, 0.50f}, {0.68f, 0.60f, 0.72f}};
-  return palette[std::size_t(instance) % 6];
-}
-} // namespace
-
 std::vector<std::uint8_t> litSideMask(const Scene& scene, const GBuffer& g, std::size_t light) {
   const auto lights = makeGpuLights(scene.lights, g.origin);
   const sh::GpuLight& l = lights.at(light);
@@ -291,27 +290,14 @@ Image composeImage(const Scene& scene, const RenderedFrame& frame) {
   Image img(g.width, g.height);
   const auto lights = makeGpuLights(scene.lights, g.origin);
   std::vector<float> r(g.pixelCount()), gr(g.pixelCount()), b(g.pixelCount());
-  const glm::vec3 ambient(0.06f, 0.065f, 0.075f), sky(0.35f, 0.42f, 0.52f);
   for (std::size_t i = 0; i < g.pixelCount(); ++i) {
-    glm::vec3 c = sky;
+    // The lighting of compose.comp (gpu/shared/Compose.h), so the window shows what render writes.
+    glm::vec3 c = sh::skyColor();
     if (g.hit(i)) {
-      const glm::vec3 p(g.position[i]), n(g.normal[i]);
-      glm::vec3 e = ambient;
-      for (std::size_t l = 0; l < lights.size(); ++l) {
-        const sh::GpuLight& L = lights[l];
-        glm::vec3 dir;
-        float atten = 1.0f;
-        if (std::uint32_t(L.position.w) == sh::kLightDirectional) {
-          dir = glm::vec3(L.position);
-        } else {
-          const glm::vec3 d = glm::vec3(L.position) - p;
-          const float d2 = std::max(glm::dot(d, d), 1e-8f);
-          dir = d / std::sqrt(d2);
-          atten = 1.0f / d2;
-        }
-        e += glm::vec3(L.color) * (std::max(0.0f, glm::dot(n, dir)) * atten * frame.visibility[l][i]);
-      }
-      c = instanceAlbedo(int(g.normal[i].w)) * e;
+      glm::vec3 e = sh::ambientLight();
+      for (std::size_t l = 0; l < lights.size(); ++l)
+        e += sh::lightIrradiance(lights[l], glm::vec3(g.position[i]), glm::vec3(g.normal[i]), frame.visibility[l][i]);
+      c = sh::instanceAlbedo(int(g.normal[i].w)) * e;
     }
     r[i] = c.r;
     gr[i] = c.g;

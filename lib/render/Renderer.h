@@ -132,6 +132,16 @@ public:
   RenderedFrame renderFrame(double time, bool readBack = true);
 
   const SdfPipeline* sdfPipeline() const { return mSdf.get(); }
+  /// @brief Render the next frames from @a camera (an orbiting viewer's); the TAA history is kept.
+  /// @throw Error when the camera is degenerate.
+  void setCamera(const Camera& camera);
+  /// @brief The camera as the GPU passes see it (relative to frameOrigin()).
+  const gpu::shared::CameraParams& cameraParams() const { return mCamera; }
+  /// @brief The last frame on the GPU, for passes that follow it (ComposePass): the G-buffer, the visibility
+  ///        shown (after TAA when it is on; light-major) and the lights (in the frame of frameOrigin()).
+  const GpuGBuffer& gpuGBuffer() const;
+  const gpu::Buffer& gpuVisibility() const;
+  const gpu::Buffer& gpuLightBuffer() const;
   /// @brief The world point the GPU passes measure from (the SDF's frameOrigin(), or the corner of the bounds
   ///        with shadow maps): G-buffer positions, lights and every pass parameter are relative to it.
   const glm::dvec3& frameOrigin() const { return mFrameOrigin; }

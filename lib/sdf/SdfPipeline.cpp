@@ -509,6 +509,7 @@ FrameStats SdfPipeline::finishFrame() {
 void SdfPipeline::waitForFrame() const { mGpu->frameCmd.wait(); }
 
 const gpu::Buffer& SdfPipeline::fineBuffer() const { return mGpu->fine; }
+const gpu::Buffer& SdfPipeline::coarseBuffer() const { return mGpu->coarse.distanceBuffer(); }
 
 std::vector<float> SdfPipeline::fineField() const {
   waitForFrame();

@@ -231,6 +231,8 @@ public:
   const PipelineSettings& settings() const { return mSettings; }
   /// @brief The fine SDF on the GPU (dense, x fastest, fineSpec()), valid after runFrame() or finishFrame().
   const gpu::Buffer& fineBuffer() const;
+  /// @brief The coarse SDF on the GPU (dense, x fastest, coarseSpec()), valid after runFrame() or finishFrame().
+  const gpu::Buffer& coarseBuffer() const;
   /// @brief The scene's BVH on the GPU, its top level as of the last runFrame(), in the frame of frameOrigin().
   const GpuSceneBvh& bvh() const { return *mBvh; }
 

@@ -15,8 +15,9 @@ tar -C "$work/unpacked" -xzf "$work/rtsdf.tar.gz"
 bundle="$(realpath "$work"/unpacked/rtsdf-*)"
 [ -x "$bundle/bin/rtsdf" ] || fail "the tarball has no rtsdf-*/bin/rtsdf"
 
-# What the loader would resolve, with nothing in the environment: only the runtimes may come from the system.
-runtimes='^(linux-vdso|ld-linux|libc|libm|libstdc\+\+|libgcc_s)\.so'
+# What the loader would resolve, with nothing in the environment: only the runtimes may come from the system
+# (glibc's libraries, which bundle.sh leaves to the machine, libstdc++ and libgcc_s).
+runtimes='^(linux-vdso|ld-linux|libc|libm|libpthread|libdl|librt|libresolv|libutil|libstdc\+\+|libgcc_s)\.so'
 resolved="$(cd "$work" && env -i PATH=/usr/bin:/bin ldd "$bundle/bin/rtsdf")"
 echo "$resolved"
 while read -r soname arrow path _; do

@@ -797,3 +797,83 @@ TEST_F(Render, BadSettingsAndScenesAreClearErrors) {
   EXPECT_THROW(renderRayTraced(scene, 0.0, small(ShadowTechnique::RayTraced)), Error);
 }
 
+
+namespace {
+/// Byte @a c (0 R, 1 G, 2 B) of packed pixel @a p in @a order.
+int channelOf(std::uint32_t p, int c, std::uint32_t order) {
+  const int shift = 8 * (order == sh::kComposeBgra ? 2 - c : c);
+  return int((p >> shift) & 0xFFu);
+}
+} // namespace
+
+// ComposePass against composePixelsCpu on the default scene's SDF frame, in each view (the slice through the
+// table and the bunny), both byte orders and with a strip of text; and its shaded picture against the bytes
+// `render` writes (composeImage, displayImage, writePng's rounding). GPU exp/pow may round the last bit
+// differently: one step of 255 at most.
+TEST_F(Render, ComposePassEqualsItsCpuReference) {
+  const Scene scene = defaultScene();
+  const int w = 320, h = 180;
+  Renderer r(*sCtx, scene, boundsOf(scene), small(ShadowTechnique::Sdf, w, h));
+  const RenderedFrame frame = r.renderFrame(0.0);
+  const SdfPipeline& sdf = *r.sdfPipeline();
+  const std::vector<float> fine = sdf.fineField(), coarse = sdf.coarseField();
+  const GridSpec f = sdf.fineSpec().inFrame(r.frameOrigin()), c = sdf.coarseSpec().inFrame(r.frameOrigin());
+  const int rows = 12;
+  std::vector<std::uint8_t> text(std::size_t(w) * rows, 0);
+  for (std::size_t i = 0; i < text.size(); ++i) text[i] = (i / 3 + i / std::size_t(w)) % 5 == 0;
+  std::vector<std::uint32_t> packed((text.size() + 3) / 4, 0u);
+  for (std::size_t i = 0; i < text.size(); ++i) packed[i / 4] |= std::uint32_t(text[i]) << (8 * (i % 4));
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  gpu::Buffer overlay(*sCtx, packed.size() * 4, storage, gpu::Buffer::Memory::Device, "overlay");
+  upload(*sCtx, overlay, packed.data(), packed.size() * 4);
+  gpu::Buffer pixels(*sCtx, std::size_t(w) * h * 4, storage, gpu::Buffer::Memory::Device, "pixels");
+  ComposePass pass(*sCtx);
+  std::vector<std::uint32_t> shaded;
+  for (std::uint32_t view : {sh::kViewShaded, sh::kViewSlice, sh::kViewMask}) {
+    SCOPED_TRACE(fmt::format("view {}", view));
+    sh::ComposeParams p{};
+    p.camera = r.cameraParams();
+    p.image = glm::ivec4(w, h, int(scene.lights.size()), int(view));
+    p.fineDims = glm::ivec4(f.dims, view == sh::kViewShaded ? 0 : rows);
+    p.fineOriginH = glm::vec4(glm::vec3(f.origin), float(f.voxelSize));
+    p.coarseDims = glm::ivec4(c.dims, int(view == sh::kViewMask ? sh::kComposeBgra : sh::kComposeRgba));
+    p.coarseOriginH = glm::vec4(glm::vec3(c.origin), float(c.voxelSize));
+    const double middle = boundsOf(scene).center().y - r.frameOrigin().y; // the viewer's default slice
+    p.slice = glm::vec4(float(middle), 0.1f, 0.1f, 0.0f);
+    gpu::CommandBuffer cmd(*sCtx);
+    pass.execute(cmd.handle(), nullptr,
+                 {r.gpuGBuffer(), r.gpuVisibility(), r.gpuLightBuffer(), sdf.fineBuffer(), sdf.coarseBuffer(), overlay},
+                 {pixels}, p);
+    cmd.submitAndWait();
+    std::vector<std::uint32_t> gpuPixels(std::size_t(w) * h);
+    download(*sCtx, pixels, gpuPixels.data(), gpuPixels.size() * 4);
+    const std::vector<std::uint32_t> cpu =
+        composePixelsCpu(frame.gbuffer, frame.visibility, r.gpuLights(), fine, coarse, text, p);
+    const std::uint32_t order = std::uint32_t(p.coarseDims.w);
+    int worst = 0;
+    std::size_t differ = 0, changed = 0;
+    for (std::size_t i = 0; i < cpu.size(); ++i) {
+      for (int ch = 0; ch < 3; ++ch)
+        worst = std::max(worst, std::abs(channelOf(gpuPixels[i], ch, order) - channelOf(cpu[i], ch, order)));
+      differ += gpuPixels[i] != cpu[i];
+      ASSERT_EQ(gpuPixels[i] >> 24, 255u);
+      if (!shaded.empty() && i >= std::size_t(w) * rows)
+        for (int ch = 0; ch < 3; ++ch)
+          changed += channelOf(gpuPixels[i], ch, order) != channelOf(shaded[i], ch, sh::kComposeRgba);
+    }
+    EXPECT_LE(worst, 1);
+    EXPECT_LT(double(differ), 0.02 * double(cpu.size()));
+    if (view == sh::kViewShaded) {
+      shaded = gpuPixels;
+      const Image display = displayImage(composeImage(scene, frame));
+      for (std::size_t i = 0; i < cpu.size(); ++i)
+        for (int ch = 0; ch < 3; ++ch) {
+          const float linear = display.channel(ch == 0 ? "R" : ch == 1 ? "G" : "B")[i];
+          const int written = int(std::lround(linearToSrgb(linear) * 255.0f));
+          ASSERT_LE(std::abs(channelOf(gpuPixels[i], ch, order) - written), 1) << "pixel " << i;
+        }
+    } else {
+      EXPECT_GT(changed, cpu.size() / 10) << "the slice plane covers too little of the picture";
+    }
+  }
+}

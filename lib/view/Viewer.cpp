@@ -139,6 +139,8 @@ private:
   int mWidth = 0, mHeight = 0;
   std::unique_ptr<Renderer> mRenderer; // the GPU techniques; null for the ray-traced truth
   std::unique_ptr<ComposePass> mCompose;
+  std::unique_ptr<gpu::GpuProfiler> mProfiler; // ComposePass's time, read once its frame is done
+  bool mComposed = false;
   UploadedFrame mUploaded;
   Buffer mPixels, mOverlay, mEmpty;
   std::string mLine;
@@ -176,6 +178,7 @@ ViewSession::ViewSession(const ViewOptions& o, Scene scene)
   mState.sliceHeight = std::isnan(o.sliceHeight) ? mBounds.center().y : o.sliceHeight;
   mState.sliceStep = std::max(mBounds.extent().y, 1e-6) / 50.0;
   mCompose = std::make_unique<ComposePass>(*mCtx);
+  mProfiler = std::make_unique<gpu::GpuProfiler>(*mCtx);
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   const std::size_t pixels = std::size_t(mWidth) * std::size_t(mHeight);
   mPixels = Buffer(*mCtx, pixels * 4, storage, Buffer::Memory::Device, "viewer pixels");
@@ -256,7 +259,9 @@ void ViewSession::recordCompose(VkCommandBuffer cmd, const sh::ComposeParams& pa
   const GpuGBuffer& g = mRenderer ? mRenderer->gpuGBuffer() : mUploaded.gbuffer;
   const Buffer& vis = mRenderer ? mRenderer->gpuVisibility() : mUploaded.visibility;
   const Buffer& lights = mRenderer ? mRenderer->gpuLightBuffer() : mUploaded.lights;
-  mCompose->execute(cmd, nullptr,
+  mProfiler->reset(cmd);
+  mComposed = true;
+  mCompose->execute(cmd, mProfiler.get(),
                     {g, vis, lights, sdf ? sdf->fineBuffer() : mEmpty, sdf ? sdf->coarseBuffer() : mEmpty, mOverlay},
                     {mPixels}, params);
 }
@@ -264,6 +269,7 @@ void ViewSession::recordCompose(VkCommandBuffer cmd, const sh::ComposeParams& pa
 void ViewSession::showFrame(double time, double wallMs) {
   // One frame in flight: the renderer writes the buffers the previous picture read.
   mSwapchain->waitForFrame();
+  const PassTimes composed = mComposed ? mProfiler->results() : PassTimes{};
   if (mRenderer) {
     mRenderer->setCamera(camera());
     mPassMs = mRenderer->renderFrame(time, false).passMs;
@@ -286,6 +292,7 @@ void ViewSession::showFrame(double time, double wallMs) {
     gpu::reserveAndUpload(*mCtx, mUploaded.lights, lights.data(), lights.size() * sizeof(sh::GpuLight), storage,
                           "truth lights");
   }
+  mPassMs.insert(mPassMs.end(), composed.begin(), composed.end()); // the previous picture's: its time is known now
   mLine = statusLine(wallMs);
   const sh::ComposeParams params = composeParams();
   mSwapchain->present([&](VkCommandBuffer cmd) { recordCompose(cmd, params); }, mPixels);

@@ -84,6 +84,7 @@ void applySettings(const py::kwargs& kw, PipelineSettings& p, BakeOptions* bake,
     else if (k == "refine") p.mode = parseEnum<RefineMode>(value.cast<std::string>());
     else if (k == "coarse_method") p.coarseMethod = parseEnum<CoarseMethod>(value.cast<std::string>());
     else if (k == "full_recompute") p.fullRecompute = value.cast<bool>();
+    else if (k == "fine_storage") p.fineStorage = parseEnum<FineStorage>(value.cast<std::string>());
     else if (k == "device") device = value.cast<std::string>();
     else if (bake && k == "time") bake->time = value.cast<double>();
     else if (bake && k == "frames") bake->frames = value.cast<int>();
@@ -236,7 +237,7 @@ PYBIND11_MODULE(rtsdf, m) {
   m.def("bake", &bakeField, py::arg("scene"), py::arg("method") = "exact", py::arg("res") = 128,
         py::arg("band") = 0.1,
         "Bake a scene's SDF: method exact|openvdb|jfa|rtsdf, res voxels across its longest side, band d; settings: "
-        "coarse, fine, rays, alpha, beta, padding, seed, refine, coarse_method, full_recompute, device, time, frames, "
+        "coarse, fine, rays, alpha, beta, padding, seed, refine, coarse_method, full_recompute, fine_storage, device, time, frames, "
         "full_domain, sign");
   m.def("distance", &distances, py::arg("scene"), py::arg("points"), py::arg("time") = 0.0,
         "Exact signed distances (negative inside) of an (N, 3) array of points to a scene or mesh file");

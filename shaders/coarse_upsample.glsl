@@ -1,18 +1,22 @@
 // The coarse SDF trilinearly upsampled at a fine voxel's centre: upsampleCoarse() (sdf/RefineReference.cpp), the
-// same weights and order of lerps. The includer declares RefineParams params and the buffer coarse[] first.
+// same weights and order of lerps. The includer declares the buffer coarse[] and a RefineParams named params (or
+// RTSDF_UPSAMPLE_PARAMS) first.
+#ifndef RTSDF_UPSAMPLE_PARAMS
+#define RTSDF_UPSAMPLE_PARAMS params
+#endif
 
 // Coarse values of plane z at the cell's x and y corners: (x0 y0, x1 y0, x0 y1, x1 y1).
 vec4 coarsePlane(ivec2 x01, ivec2 y01, int z) {
-  ivec3 d = params.coarseDims.xyz;
+  ivec3 d = RTSDF_UPSAMPLE_PARAMS.coarseDims.xyz;
   int r0 = (z * d.y + y01.x) * d.x, r1 = (z * d.y + y01.y) * d.x;
   return vec4(coarse[r0 + x01.x], coarse[r0 + x01.y], coarse[r1 + x01.x], coarse[r1 + x01.y]);
 }
 
 // The cell of fine voxel v: its lower and upper coarse corners (clamped at the borders) and the weights.
 void upsampleCell(ivec3 v, out ivec3 i0, out ivec3 i1, out vec3 t) {
-  ivec3 cd = params.coarseDims.xyz;
-  vec3 p = params.fineOriginH.xyz + (vec3(v) + 0.5) * params.fineOriginH.w;
-  vec3 g = (p - params.coarseOriginInvH.xyz) * params.coarseOriginInvH.w - 0.5;
+  ivec3 cd = RTSDF_UPSAMPLE_PARAMS.coarseDims.xyz;
+  vec3 p = RTSDF_UPSAMPLE_PARAMS.fineOriginH.xyz + (vec3(v) + 0.5) * RTSDF_UPSAMPLE_PARAMS.fineOriginH.w;
+  vec3 g = (p - RTSDF_UPSAMPLE_PARAMS.coarseOriginInvH.xyz) * RTSDF_UPSAMPLE_PARAMS.coarseOriginInvH.w - 0.5;
   i0 = clamp(ivec3(floor(g)), ivec3(0), cd - 1);
   i1 = min(i0 + 1, cd - 1);
   t = clamp(g - vec3(i0), 0.0, 1.0);

@@ -5,29 +5,32 @@
 //   front/back-face hits, decayed by alpha, vote for the sign (more back-face hits: inside).
 //   closest mode: f_t = exact distance by closest-point traversal; sign from the ray votes when x > 0,
 //   else from the side of the closest triangle.
-// The list holds the voxels MaskCompactPass chose to refine this frame (the others keep their values); a voxel new
-// to the mask (kMaskFineFresh) restarts from c_t, the others blend with their last value, which fine[] holds.
+// The list holds the coarse voxels MaskCompactPass chose to refine this frame (the others keep their values);
+// each is expanded into the fine voxels under it (maskFineRanges): refineParts invocations per coarse voxel, one
+// per (x, y) of its fine run, each walking the run along z (a short loop: at most the fine/coarse ratio + 1). A
+// voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with their last value, which the
+// brick pool holds (the sparse fine state); a voxel whose brick found no slot (a full pool) is left alone.
 #include "gpu/shared/Bvh.h"
 #include "gpu/shared/Refine.h"
 
 layout(local_size_x = RTSDF_REFINE_GROUP) in;
 layout(push_constant) uniform Push { RefineParams params; };
 #include "bvh_bindings.glsl"
-layout(std430, binding = kRefineBindingMask) readonly buffer Mask { uint mask[]; };
-layout(std430, binding = kRefineBindingFine) buffer Fine { float fine[]; };
-layout(std430, binding = kRefineBindingVotes) buffer Votes { uint votes[]; };
+layout(std430, binding = kRefineBindingRefineList) readonly buffer RefineList { uint refineList[]; };
 layout(std430, binding = kRefineBindingMaskCounts) readonly buffer MaskCounts { uint maskCounts[]; };
 layout(std430, binding = kRefineBindingCoarse) readonly buffer Coarse { float coarse[]; };
+layout(std430, binding = kRefineBindingFineRanges) readonly buffer FineRanges { ivec2 fineRanges[]; };
+layout(std430, binding = kRefineBindingBrickSlots) readonly buffer BrickSlots { uint brickSlots[]; };
+#define RTSDF_VALUE_PAGES kRefineBindingValuePages
+#define RTSDF_VOTE_PAGES kRefineBindingVotePages
+#include "brick_pool.glsl"
 
 #include "coarse_upsample.glsl"
 
 #include "bvh_traverse.glsl"
 
-void main() {
-  uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  if (k >= maskCounts[kMaskCountFine]) return;
-  uint packed = mask[k];
-  ivec3 v = ivec3(int(packed & 1023u), int((packed >> 10) & 1023u), int((packed >> 20) & 1023u));
+// Refine fine voxel v (fresh: new to the mask) in its brick slot at offset local.
+void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
   ivec3 fd = params.fineDims.xyz;
   uint i = uint((v.z * fd.y + v.y) * fd.x + v.x);
   vec3 p = params.fineOriginH.xyz + (vec3(v) + 0.5) * params.fineOriginH.w;
@@ -36,9 +39,8 @@ void main() {
   // its diagonal, and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays,
   // which can only over-estimate, could never lower f.)
   float c = upsampleCoarseAt(v) + params.beta + 0.8660254 / params.coarseOriginInvH.w;
-  bool fresh = (packed & kMaskFineFresh) != 0u;
-  float bound = fresh ? c : params.alpha * abs(fine[i]) + (1.0 - params.alpha) * c;
-  vec2 vote = fresh ? vec2(0.0) : params.alpha * unpackHalf2x16(votes[i]);
+  float bound = fresh ? c : params.alpha * abs(loadValue(slot, local)) + (1.0 - params.alpha) * c;
+  vec2 vote = fresh ? vec2(0.0) : params.alpha * unpackHalf2x16(loadVotes(slot, local));
 
   // Rays are not cut short: the nearest hit of a ray from inside a closed surface is always a back face and
   // from outside always a front face, so every hit votes right. (A reach of twice the bound left deep
@@ -73,6 +75,27 @@ void main() {
   f = min(bound, nearest);
   inside = vote.y > vote.x;
 #endif
-  fine[i] = inside ? -f : f;
-  votes[i] = packHalf2x16(min(vote, vec2(60000.0)));
+  storeValue(slot, local, inside ? -f : f);
+  storeVotes(slot, local, packHalf2x16(min(vote, vec2(60000.0))));
+}
+
+void main() {
+  uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+  uint parts = params.refineParts;
+  uint e = k / parts, part = k % parts;
+  if (e >= maskCounts[kMaskCountRefineList]) return;
+  uint entry = refineList[e];
+  uint ci = entry & kMaskFineCoords;
+  bool fresh = (entry & kMaskFineFresh) != 0u;
+  ivec3 cd = params.coarseDims.xyz;
+  ivec3 c = ivec3(int(ci % uint(cd.x)), int(ci / uint(cd.x) % uint(cd.y)), int(ci / uint(cd.x * cd.y)));
+  ivec2 rx = fineRanges[c.x], ry = fineRanges[cd.x + c.y], rz = fineRanges[cd.x + cd.y + c.z];
+  uint runX = uint(params.brickDims.w);
+  int x = rx.x + int(part % runX), y = ry.x + int(part / runX);
+  if (x > rx.y || y > ry.y) return;
+  for (int z = rz.x; z <= rz.y; ++z) {
+    ivec3 v = ivec3(x, y, z);
+    uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    if (slot != kNoBrick) refineVoxel(v, fresh, slot, brickLocalOf(v));
+  }
 }

@@ -93,6 +93,13 @@ void bindPipeline(CLI::App* cmd, PipelineSettings& p, std::string& device) {
   cmd->add_option("--device", device, "Vulkan device by index or name (see 'rtsdf info')");
 }
 
+/// Where the fine SDF lives (bake and animate: they read it back; render's shading samples it densely).
+void bindFineStorage(CLI::App* cmd, FineStorage& f) {
+  addEnum(cmd, "--fine-storage", f, "dense: the bricks under the band and a dense fine SDF resolved every frame (what "
+                                    "shading samples); sparse: the bricks only (memory grows with the band, not the "
+                                    "grid: size L on small devices)");
+}
+
 void bindBake(CLI::App& app, BakeCommand& c) {
   BakeOptions& o = c.options;
   CLI::App* cmd = app.add_subcommand("bake", "Build the signed distance field of a scene and write it as a .vdb");
@@ -116,6 +123,7 @@ void bindBake(CLI::App& app, BakeCommand& c) {
   addEnum(cmd, "--sign", o.sign, "Sign rule of the exact method: auto (pseudo-normal for closed meshes, winding "
                                  "number for open ones), pseudonormal, winding");
   bindPipeline(cmd, o.pipeline, o.device);
+  bindFineStorage(cmd, o.pipeline.fineStorage);
   cmd->add_option("--frames", o.frames, "Frames of refinement to accumulate (method rtsdf)")
       ->check(inRange(1, 100000))->capture_default_str();
   cmd->add_flag("--allow-empty", o.allowEmpty, "Write the level set even when no voxel is active (else an error)");
@@ -140,6 +148,7 @@ void bindAnimate(CLI::App& app, AnimateCommand& c) {
   cmd->add_option("-d,--band", o.pipeline.band, "Band d in scene units")->check(atLeast(0.0))
       ->capture_default_str();
   bindPipeline(cmd, o.pipeline, o.device);
+  bindFineStorage(cmd, o.pipeline.fineStorage);
 }
 
 void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
@@ -148,8 +157,9 @@ void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
                                          "shadow boundary), umbra (--light-samples centered marches towards "
                                          "jittered points of the light, averaged: the SDF-simulated umbra)");
   addEnum(cmd, "--sdf-sampling", s.sampling, "How the SDF march reads the fine SDF: texture (a 3D texture, hardware "
-                                             "trilinear filtering, one fetch per step) or buffer (filtered in the "
-                                             "shader like the CPU reference, eight fetches)");
+                                             "trilinear filtering, one fetch per step), buffer (filtered in the "
+                                             "shader like the CPU reference, eight fetches) or bricks (no dense "
+                                             "fine SDF: the brick pool and the coarse SDF, eight fetches)");
   cmd->add_option("--epsilon", s.epsilonVoxels, "SDF hit threshold and march start in fine voxels (>= 1)")
       ->check(inRange(1.0, 64.0))->capture_default_str();
   cmd->add_option("--bias", s.biasVoxels, "Subtracted from SDF samples, in fine voxels: against leaks through thin "
@@ -276,6 +286,7 @@ void bindBench(CLI::App& app, BenchCommand& c) {
   cmd->add_flag("--still", s.still, "Frame suite: every frame at time 0 (a static scene)");
   cmd->add_flag("--full-recompute", s.fullRecompute, "Frame suite: refine every masked voxel every frame (the "
                                                      "paper's frame, the anchor of incremental refinement)");
+  bindFineStorage(cmd, s.fineStorage);
   cmd->add_option("--csv", s.csv, "Frame suite: write one CSV row per frame to this file");
   cmd->add_option("--device", s.device, "Vulkan device by index or name (GPU suites and --sweep)");
   cmd->add_option("--sweep", c.sweep,
@@ -340,7 +351,7 @@ std::string flagOf(const std::string& setting) {
       {"truth samples", "--truth-samples"}, {"band fraction", "--band-fraction"}, {"output folder", "--out"},
       {"device", "--device"}, {"anchor", "--against"}, {"scene", "--scene"}, {"settle frames", "--settle-frames"},
       {"refresh period", "--refresh-period"}, {"slice height", "--slice-height"}, {"keys", "--keys"},
-      {"view", "--view"}};
+      {"view", "--view"}, {"fine storage", "--fine-storage"}};
   const auto it = flags.find(setting);
   return it == flags.end() ? setting : it->second;
 }

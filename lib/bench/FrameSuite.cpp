@@ -29,11 +29,11 @@ template <class Get> double medianAfterFirst(const std::vector<FrameRow>& rows, 
 
 std::string frameCsv(const std::vector<FrameRow>& rows) {
   std::string csv = "frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,mean_abs_error_voxels,wrong_sign_pct,"
-                    "peak_mib,time\n";
+                    "peak_mib,time,active_bricks,pool_bricks,overflow_bricks,device_mib\n";
   for (const FrameRow& r : rows)
-    csv += fmt::format("{},{:.4f},{:.4f},{:.4f},{},{},{:.6f},{:.6f},{:.1f},{:.6g}\n", r.frame, r.hostMs, r.gpuMs,
-                       r.wallMs, r.maskVoxels, r.refinedVoxels, r.meanAbsErrorVoxels, r.wrongSignPct, r.peakMiB,
-                       r.time);
+    csv += fmt::format("{},{:.4f},{:.4f},{:.4f},{},{},{:.6f},{:.6f},{:.1f},{:.6g},{},{},{},{:.1f}\n", r.frame, r.hostMs,
+                       r.gpuMs, r.wallMs, r.maskVoxels, r.refinedVoxels, r.meanAbsErrorVoxels, r.wrongSignPct, r.peakMiB,
+                       r.time, r.activeBricks, r.poolBricks, r.overflowBricks, r.deviceMiB);
   return csv;
 }
 
@@ -48,6 +48,7 @@ std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control
   a.pipeline.mode = s.refine;
   a.pipeline.rays = s.rays;
   a.pipeline.fullRecompute = s.fullRecompute;
+  a.pipeline.fineStorage = s.fineStorage;
   resetPeakResidentMemory();
   std::vector<FrameRow> rows;
   animate(a, control, [&](const AnimateFrame& f) {
@@ -59,6 +60,10 @@ std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control
     r.wallMs = f.stats.wallMs;
     r.maskVoxels = f.stats.maskFineVoxels;
     r.refinedVoxels = f.stats.refinedFineVoxels;
+    r.activeBricks = f.stats.activeBricks;
+    r.poolBricks = f.stats.poolBricks;
+    r.overflowBricks = f.stats.overflowBricks;
+    r.deviceMiB = mib(f.stats.deviceBytes);
     r.meanAbsErrorVoxels = f.error.meanAbs;
     r.wrongSignPct = 100.0 * f.error.signErrorRate();
     r.peakMiB = mib(peakResidentMemory());
@@ -72,15 +77,17 @@ std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control
 std::string frameReport(const BenchOptions& s, const std::vector<FrameRow>& rows) {
   const auto [coarse, fine] = frameSizeResolutions(s.frameSize);
   std::string md = fmt::format("## Frames: {}, size {} (coarse {} / fine {}), {} refinement ({}), x = {}, d = 0.1, "
-                               "alpha = 0.95, {}\n\n",
+                               "alpha = 0.95, {}, fine storage {}\n\n",
                                s.scenes.empty() ? std::string("default.json") : s.scenes.front(), toString(s.frameSize),
                                coarse, fine, toString(s.refine), s.fullRecompute ? "full recompute" : "incremental",
                                s.rays,
-                               s.still ? "static (every frame at time 0)" : "animated at 30 fps");
+                               s.still ? "static (every frame at time 0)" : "animated at 30 fps",
+                               toString(s.fineStorage));
   md += "Medians of frames 2..N (the first frame allocates and warms up):\n\n";
   md += "| host (ms) | GPU (ms) | wall (ms) | mask voxels | refined voxels | mean abs error (voxels) | wrong sign | "
-        "peak MiB |\n|---|---|---|---|---|---|---|---|\n";
-  md += fmt::format("| {:.3f} | {:.1f} | {:.1f} | {:.0f} | {:.0f} | {:.4f} | {:.4f}% | {:.0f} |\n\n",
+        "peak MiB | device MiB | active bricks | pool bricks |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  md += fmt::format("| {:.3f} | {:.1f} | {:.1f} | {:.0f} | {:.0f} | {:.4f} | {:.4f}% | {:.0f} | {:.0f} | {:.0f} | {} "
+                    "|\n\n",
                     medianAfterFirst(rows, [](const FrameRow& r) { return r.hostMs; }),
                     medianAfterFirst(rows, [](const FrameRow& r) { return r.gpuMs; }),
                     medianAfterFirst(rows, [](const FrameRow& r) { return r.wallMs; }),
@@ -88,7 +95,9 @@ std::string frameReport(const BenchOptions& s, const std::vector<FrameRow>& rows
                     medianAfterFirst(rows, [](const FrameRow& r) { return double(r.refinedVoxels); }),
                     medianAfterFirst(rows, [](const FrameRow& r) { return r.meanAbsErrorVoxels; }),
                     medianAfterFirst(rows, [](const FrameRow& r) { return r.wrongSignPct; }),
-                    rows.empty() ? 0.0 : rows.back().peakMiB);
+                    rows.empty() ? 0.0 : rows.back().peakMiB, rows.empty() ? 0.0 : rows.back().deviceMiB,
+                    medianAfterFirst(rows, [](const FrameRow& r) { return double(r.activeBricks); }),
+                    rows.empty() ? 0 : rows.back().poolBricks);
   md += "| frame | time (s) | host (ms) | GPU (ms) | wall (ms) | mask voxels | refined voxels | mean abs error "
         "(voxels) | wrong sign |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const FrameRow& r : rows)

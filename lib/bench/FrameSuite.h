@@ -23,10 +23,15 @@ struct FrameRow {
   double meanAbsErrorVoxels = 0.0;   ///< |fine - exact| over the band (|exact| <= fineLevelSetBand), fine voxels
   double wrongSignPct = 0.0;         ///< voxels of the band whose sign differs from the exact one, percent
   double peakMiB = 0.0;              ///< the process's peak resident memory since the suite began
+  std::uint64_t activeBricks = 0;    ///< bricks of the sparse fine state under the band
+  std::uint64_t poolBricks = 0;      ///< the brick pool's capacity
+  std::uint64_t overflowBricks = 0;  ///< bricks under the band that found no slot (the next frame regrows the pool)
+  double deviceMiB = 0.0;            ///< the pipeline's device buffers (FrameStats::deviceBytes)
 };
 
 /// @brief The frame suite's CSV: the header `frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,
-///        mean_abs_error_voxels,wrong_sign_pct,peak_mib,time` and one line per row.
+///        mean_abs_error_voxels,wrong_sign_pct,peak_mib,time,active_bricks,pool_bricks,overflow_bricks,device_mib` and
+///        one line per row.
 std::string frameCsv(const std::vector<FrameRow>& rows);
 
 /// @brief Run the frame suite of @a options (options.scenes: one scene; options.frameSize, frames, refine,

@@ -177,6 +177,9 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
     gpu::Buffer table;
     gpu::reserveAndUpload(ctx, table, fineToCoarse.data(), fineToCoarse.size() * sizeof(int),
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "fine-to-coarse table");
+    // Band 0: no brick is read; the bindings still need buffers.
+    const gpu::Buffer none(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device, "no bricks");
+    const BrickPages noPool{{&none, &none, &none, &none}, {&none, &none, &none, &none}};
     std::vector<float> out[2];
     double ms[2];
     int k = 0;
@@ -188,7 +191,7 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
       for (int r = 0; r <= s.repeats; ++r) { // the first: warm-up
         gpu::CommandBuffer cmd(ctx);
         profiler.reset(cmd.handle());
-        pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer(), table}, {buf}, p);
+        pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer(), table, none, noPool}, {buf}, p);
         cmd.submitAndWait();
         if (r > 0) t.push_back(passTotal(profiler.results(), UpsamplePass::kName));
       }
@@ -337,9 +340,11 @@ std::string renderSize(const gpu::VulkanContext& ctx, const BenchOptions& s, con
   std::string md = fmt::format("### {} at {}x{}\n\n", fs::path(path).filename().string(), size.x, size.y);
   md += "| technique | pass | GPU ms (median) |\n|---|---|---|\n";
   ErrorRows errors;
-  // SDF shadows both ways of sampling the field (hardware-filtered 3D texture, shader-filtered buffer).
+  // SDF shadows every way of sampling the field (hardware-filtered 3D texture, shader-filtered dense buffer, the
+  // sparse brick pool with no dense copy).
   for (const auto& [t, sampling] : {std::pair{ShadowTechnique::Sdf, SdfSampling::Texture},
                                     std::pair{ShadowTechnique::Sdf, SdfSampling::Buffer},
+                                    std::pair{ShadowTechnique::Sdf, SdfSampling::Bricks},
                                     std::pair{ShadowTechnique::ShadowMap, SdfSampling::Texture}}) {
     rs.technique = t;
     rs.sdf.sampling = sampling;

@@ -47,6 +47,8 @@ std::vector<VkDescriptorType> sdfShadowTextureBindings() {
 SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra)
     : mBufferPipeline(ctx, umbra ? "sdf_shadow_umbra_buffer.comp" : "sdf_shadow_buffer.comp", kSdfShadowBindingCount,
                       sizeof(SdfShadowParams)),
+      mBrickPipeline(ctx, umbra ? "sdf_shadow_umbra_bricks.comp" : "sdf_shadow_bricks.comp",
+                     kSdfShadowBindingBrickCount, sizeof(SdfShadowParams)),
       mUmbra(umbra) {
   if (gpu::SampledVolume::supported(ctx))
     mTexturePipeline = gpu::ComputePipeline(ctx, umbra ? "sdf_shadow_umbra.comp" : "sdf_shadow.comp",
@@ -74,6 +76,16 @@ void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
     gpu::ProfileScope scope(profiler, cmd, kName);
     b[kSdfShadowBindingField] = in.texture;
     mTexturePipeline.dispatch(cmd, b, &params, groups);
+  } else if (in.bricks) {
+    gpu::ProfileScope scope(profiler, cmd, kName);
+    std::array<gpu::Binding, kSdfShadowBindingBrickCount> bb;
+    std::copy(b.begin(), b.end(), bb.begin());
+    bb[kSdfShadowBindingField] = &in.bricks->coarse;
+    bb[kSdfShadowBindingBrickSlots] = &in.bricks->slots;
+    bb[kSdfShadowBindingBrickParams] = &in.bricks->params;
+    for (std::uint32_t k = 0; k < RTSDF_BRICK_PAGES; ++k)
+      bb[kSdfShadowBindingValuePages + k] = in.bricks->pool.values[k];
+    mBrickPipeline.dispatch(cmd, bb, &params, groups);
   } else {
     gpu::ProfileScope scope(profiler, cmd, kName);
     b[kSdfShadowBindingField] = &in.field;

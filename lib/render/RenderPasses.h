@@ -10,6 +10,7 @@
 #include "gpu/shared/Render.h"
 #include "gpu/shared/RenderBindings.h"
 #include "sdf/GpuSceneBvh.h"
+#include "sdf/SdfPipeline.h"
 
 namespace rtsdf {
 
@@ -44,13 +45,16 @@ public:
   static constexpr const char* kCopyName = "FineSdfTextureCopy"; ///< the fine buffer into the 3D texture
   struct Inputs {
     const GpuGBuffer& gbuffer;
-    /// Dense fine SDF (x fastest) on the grid of Params::gridOriginH / gridDims.
+    /// Dense fine SDF (x fastest) on the grid of Params::gridOriginH / gridDims (unread when @a bricks is given).
     const gpu::Buffer& field;
     /// Where given, @a field is first copied into it and the march samples it with hardware trilinear
     /// filtering (one fetch per step); null: the march filters @a field itself, exactly as the CPU reference
     /// does (eight fetches per step).
     const gpu::SampledVolume* texture;
     const gpu::Buffer& lights;
+    /// Where given (and no texture), the march fetches the fine SDF from the brick pool and the coarse SDF
+    /// (SdfPipeline::brickField(): the same values as the dense resolve), eight fetches per step.
+    const GpuBrickField* bricks = nullptr;
   };
   struct Outputs { const gpu::Buffer& visibility; }; ///< params.gridDims.w * width * height floats, light-major
   using Params = gpu::shared::SdfShadowParams;
@@ -64,7 +68,7 @@ public:
                const Params& params) const;
 
 private:
-  gpu::ComputePipeline mTexturePipeline, mBufferPipeline;
+  gpu::ComputePipeline mTexturePipeline, mBufferPipeline, mBrickPipeline;
   bool mUmbra = false;
 };
 

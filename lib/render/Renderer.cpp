@@ -126,8 +126,12 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     mFrameOrigin = sdfBounds.empty() ? glm::dvec3(0.0) : sdfBounds.min;
   mCamera = makeCameraParams(scene.camera, settings.width, settings.height, mFrameOrigin);
   mLights = makeGpuLights(scene.lights, mFrameOrigin);
-  if (settings.technique == ShadowTechnique::Sdf)
-    mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, settings.pipeline);
+  if (settings.technique == ShadowTechnique::Sdf) {
+    // Sampling the bricks needs no dense fine SDF; the other ways sample one.
+    PipelineSettings ps = settings.pipeline;
+    ps.fineStorage = settings.sdf.sampling == SdfSampling::Bricks ? FineStorage::Sparse : FineStorage::Dense;
+    mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, ps);
+  }
   const bool umbra = settings.technique == ShadowTechnique::Sdf && settings.sdf.penumbra == PenumbraEstimate::Umbra;
   mGpu = std::make_unique<Gpu>(ctx, umbra);
   const std::size_t pixels = std::size_t(settings.width) * std::size_t(settings.height);
@@ -212,8 +216,14 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   if (mSdf) {
     mSdfParams.image.z = mFrame;
     const gpu::SampledVolume* texture = mSampling == SdfSampling::Texture ? &g.fineTexture : nullptr;
-    g.sdfShadowPass.execute(cmd.handle(), &g.profiler, {g.gbuffer, mSdf->fineBuffer(), texture, g.lights},
-                            {g.visibility}, mSdfParams);
+    if (mSampling == SdfSampling::Bricks) {
+      const GpuBrickField bricks = mSdf->brickField();
+      g.sdfShadowPass.execute(cmd.handle(), &g.profiler, {g.gbuffer, bricks.coarse, nullptr, g.lights, &bricks},
+                              {g.visibility}, mSdfParams);
+    } else {
+      g.sdfShadowPass.execute(cmd.handle(), &g.profiler, {g.gbuffer, mSdf->fineBuffer(), texture, g.lights},
+                              {g.visibility}, mSdfParams);
+    }
   } else {
     g.shadowMapPass.execute(cmd.handle(), &g.profiler, {*bvh, g.gbuffer, g.lights, g.maps}, {g.depth, g.visibility},
                             mMapParams);

@@ -49,12 +49,15 @@ template <> struct EnumNames<PenumbraEstimate> {
 enum class SdfSampling {
   Texture, ///< a 3D texture with hardware trilinear filtering: one fetch per step (the fine buffer is copied
            ///< into it each frame); falls back to Buffer where the device cannot filter R32_SFLOAT
-  Buffer   ///< the dense buffer, filtered in the shader exactly as the CPU reference does: eight fetches per step
+  Buffer,  ///< the dense buffer, filtered in the shader exactly as the CPU reference does: eight fetches per step
+  Bricks   ///< no dense fine SDF at all: the pipeline keeps it sparse (FineStorage::Sparse) and the march fetches
+           ///< the brick pool through the brick slots, the coarse SDF upsampled outside the bricks (the same values
+           ///< as Buffer, bit for bit); eight fetches per step, each one or two loads in a brick, nine outside
 };
 template <> struct EnumNames<SdfSampling> {
   static constexpr const char* kSetting = "SDF sampling";
-  static constexpr std::pair<const char*, SdfSampling> kValues[] = {{"texture", SdfSampling::Texture},
-                                                                    {"buffer", SdfSampling::Buffer}};
+  static constexpr std::pair<const char*, SdfSampling> kValues[] = {
+      {"texture", SdfSampling::Texture}, {"buffer", SdfSampling::Buffer}, {"bricks", SdfSampling::Bricks}};
 };
 
 /// @brief SDF shadow settings (lengths in scene units unless stated).

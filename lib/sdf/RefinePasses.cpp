@@ -36,6 +36,18 @@ void appendFineVoxelsUnder(const std::vector<glm::ivec2>& ranges, const glm::ive
         out.push_back(std::uint32_t(x) | (std::uint32_t(y) << 10) | (std::uint32_t(z) << 20) | flags);
 }
 
+glm::ivec3 longestFineRuns(const GridSpec& coarse, const GridSpec& fine) {
+  const std::vector<glm::ivec2> ranges = maskFineRanges(coarse, fine);
+  glm::ivec3 longest(0);
+  std::size_t offset = 0;
+  for (int a = 0; a < 3; ++a) {
+    for (int i = 0; i < coarse.dims[a]; ++i)
+      longest[a] = std::max(longest[a], ranges[offset + i].y - ranges[offset + i].x + 1);
+    offset += coarse.dims[a];
+  }
+  return longest;
+}
+
 std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine) {
   const std::vector<glm::ivec2> ranges = maskFineRanges(coarse, fine);
   std::vector<int> table(std::size_t(fine.dims.x) + fine.dims.y + fine.dims.z, -1);
@@ -56,7 +68,8 @@ void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, c
   b[kMaskBindingCounts] = &out.counts;
   b[kMaskBindingCoarse] = &in.coarse;
   b[kMaskBindingFineRanges] = &in.fineRanges;
-  b[kMaskBindingFineList] = &out.fineList;
+  b[kMaskBindingRefineList] = &out.refineList;
+  b[kMaskBindingBrickNeeded] = &out.brickNeeded;
   b[kMaskBindingCoarseList] = &out.coarseList;
   b[kMaskBindingCoarseState] = &out.coarseState;
   b[kMaskBindingMovedBoxes] = &in.movedBoxes;
@@ -68,9 +81,51 @@ void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, c
 }
 
 void MaskDispatchPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs&, const Outputs& out,
-                               const Params&) const {
+                               const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
-  mPipeline.dispatch(cmd, {&out.counts}, nullptr, {1, 1, 1});
+  mPipeline.dispatch(cmd, {&out.counts}, &params, {1, 1, 1});
+  gpu::computeBarrier(cmd);
+}
+
+void BrickAllocPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                             const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kBrickBindingCount> b;
+  b[kBrickBindingCounts] = &out.counts;
+  b[kBrickBindingNeeded] = &in.needed;
+  b[kBrickBindingSlots] = &out.slots;
+  b[kBrickBindingFree] = &out.freeStack;
+  b[kBrickBindingOwners] = &out.owners;
+  // Pushes and pops in separate dispatches, each finished before the next reads the stack.
+  for (std::uint32_t phase : {RTSDF_BRICK_FREE, RTSDF_BRICK_TAKE, RTSDF_BRICK_SETTLE}) {
+    Params p = params;
+    p.phase = phase;
+    mPipeline.dispatch(cmd, b, &p, {phase == RTSDF_BRICK_SETTLE ? 1u : gpu::groupsFor(p.bricks, RTSDF_BRICK_GROUP),
+                                    1, 1});
+    gpu::computeBarrier(cmd);
+  }
+}
+
+namespace {
+static_assert(RTSDF_BRICK_PAGES == 4, "brick_pool.glsl declares four pages");
+template <std::size_t N> void bindPages(std::array<gpu::Binding, N>& b, std::uint32_t first,
+                                        const gpu::Buffer* const (&pages)[RTSDF_BRICK_PAGES]) {
+  for (std::uint32_t k = 0; k < RTSDF_BRICK_PAGES; ++k) b[first + k] = pages[k];
+}
+} // namespace
+
+void BrickFillPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                            const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kBrickFillBindingCount> b;
+  b[kBrickFillBindingCoarse] = &in.coarse;
+  b[kBrickFillBindingFineToCoarse] = &in.fineToCoarse;
+  b[kBrickFillBindingOwners] = &in.owners;
+  bindPages(b, kBrickFillBindingValuePages, out.pool.values);
+  // One invocation per voxel of each slot, in groups: at most 65535 along x, the rest along y.
+  const glm::uvec3 groups = refineDispatch(std::uint32_t(params.fineDims.w) * kBrickVoxels);
+  static_assert(RTSDF_BRICK_FILL_GROUP == RTSDF_REFINE_GROUP, "the fill's dispatch is refineDispatch's");
+  if (groups.x) mPipeline.dispatch(cmd, b, &params, groups);
   gpu::computeBarrier(cmd);
 }
 
@@ -81,6 +136,8 @@ void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   b[kUpsampleBindingCoarse] = &in.coarse;
   b[kUpsampleBindingFine] = &out.fine;
   b[kUpsampleBindingFineToCoarse] = &in.fineToCoarse;
+  b[kUpsampleBindingBrickSlots] = &in.brickSlots;
+  bindPages(b, kUpsampleBindingValuePages, in.pool.values);
   const glm::ivec3 d = params.fineDims;
   mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(d.x, RTSDF_UPSAMPLE_GROUP_X), gpu::groupsFor(d.y, RTSDF_UPSAMPLE_GROUP_Y),
@@ -93,11 +150,13 @@ void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const 
   gpu::ProfileScope scope(profiler, cmd, mName);
   std::array<gpu::Binding, kRefineBindingCount> b;
   in.bvh.bindTo(b);
-  b[kRefineBindingMask] = &in.mask;
-  b[kRefineBindingFine] = &out.fine;
-  b[kRefineBindingVotes] = &out.votes;
+  b[kRefineBindingRefineList] = &in.refineList;
   b[kRefineBindingMaskCounts] = &in.counts;
   b[kRefineBindingCoarse] = &in.coarse;
+  b[kRefineBindingFineRanges] = &in.fineRanges;
+  b[kRefineBindingBrickSlots] = &in.brickSlots;
+  bindPages(b, kRefineBindingValuePages, out.pool.values);
+  bindPages(b, kRefineBindingVotePages, out.pool.votes);
   mPipeline.dispatchIndirect(cmd, b, &params, in.counts);
   gpu::computeBarrier(cmd);
 }

@@ -35,11 +35,15 @@ void appendFineVoxelsUnder(const std::vector<glm::ivec2>& ranges, const glm::ive
 ///        axis a whose slab holds fine index j (-1 where none does). UpsamplePass finds the ray mask's voxels with it.
 std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine);
 
+/// @brief The longest run of fine voxels under one coarse voxel along each axis (maskFineRanges of the grids).
+glm::ivec3 longestFineRuns(const GridSpec& coarse, const GridSpec& fine);
+
 /// @brief MaskCompactPass (mask_compact.comp): the ray mask on the GPU. Appends every coarse voxel with |c| <= d
-///        (index and value) to the coarse list and, when they are to be refined this frame (gpu::shared::
-///        refinesThisFrame, which advances the voxel's state), the fine voxels under it (packed 10 bits per axis,
-///        kMaskFineFresh when new to the band) to the fine list, in no order; counts both lists and every fine voxel
-///        under the band in the counts buffer (gpu/shared/Refine.h's kMaskCount* words, which must be zero before).
+///        (index and value) to the coarse list, stamps the bricks holding the fine voxels under it with the frame
+///        number and, when they are to be refined this frame (gpu::shared::refinesThisFrame, which advances the
+///        voxel's state), appends the voxel (kMaskFineFresh when new to the band) to the refine list, in no order;
+///        counts both lists, the fine voxels refined and every fine voxel under the band in the counts buffer
+///        (gpu/shared/Refine.h's kMaskCount* words, which must be zero before).
 class MaskCompactPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "MaskCompactPass";
@@ -48,9 +52,10 @@ public:
     const gpu::Buffer& fineRanges; ///< maskFineRanges() of the two grids
     const gpu::Buffer& movedBoxes; ///< MovedBox per instance that moved (params.movedBoxes of them)
   };
-  /// @a coarseState: (last frame in the band, refinements in a row) per coarse voxel, read and advanced.
-  struct Outputs { const gpu::Buffer &counts, &fineList, &coarseList, &coarseState; };
-  using Params = gpu::shared::MaskParams; ///< fineCapacity / coarseCapacity: entries the lists hold
+  /// @a coarseState: (last frame in the band, refinements in a row) per coarse voxel, read and advanced;
+  /// @a brickNeeded: per brick, the last frame a band voxel lay in it.
+  struct Outputs { const gpu::Buffer &counts, &refineList, &coarseList, &coarseState, &brickNeeded; };
+  using Params = gpu::shared::MaskParams; ///< refineCapacity / coarseCapacity: entries the lists hold
   explicit MaskCompactPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "mask_compact.comp", gpu::shared::kMaskBindingCount, sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
@@ -58,22 +63,70 @@ public:
 };
 
 /// @brief MaskDispatchPass (mask_dispatch.comp): one invocation writes the refinement's indirect dispatch
-///        (gpu::shared::refineDispatch) from the fine voxels MaskCompactPass counted, at offset 0 of the counts
-///        buffer, which therefore needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT.
+///        (gpu::shared::refineDispatch of params.brickDims.w invocations per coarse voxel of the refine list), at
+///        offset 0 of the counts buffer, which therefore needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT.
 class MaskDispatchPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "MaskDispatchPass";
   struct Inputs {};
   struct Outputs { const gpu::Buffer& counts; };
-  struct Params {};
-  explicit MaskDispatchPass(const gpu::VulkanContext& ctx) : ComputePass(ctx, "mask_dispatch.comp", 1, 0) {}
+  using Params = gpu::shared::MaskParams;
+  explicit MaskDispatchPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "mask_dispatch.comp", 1, sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 };
 
-/// @brief UpsamplePass: fine[v] = the coarse SDF trilinearly interpolated at fine voxel v's centre, for every fine
-///        voxel outside the ray mask (params.band > 0: the voxels under a coarse voxel with |c| <= band keep their
-///        values; params.band = 0: every voxel).
+/// @brief BrickAllocPass (brick_alloc.comp): the brick pool's slots follow the ray mask on the GPU. A brick that
+///        MaskCompactPass stamped this frame keeps its slot or takes one off the free stack; a brick it did not
+///        stamp gives its slot back. Slots are assigned in no particular order; a needed brick finds none only when
+///        the stack is empty (kBrickCountOverflow counts those). The counts' per-frame words
+///        (kBrickCountActive, kBrickCountAllocated, kBrickCountOverflow) must be zero before.
+class BrickAllocPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "BrickAllocPass";
+  struct Inputs { const gpu::Buffer& needed; };  ///< per brick: the last frame it was needed
+  /// kBrickCount* words; per brick its slot (kNoBrick: none); the free stack (kBrickCountFreeTop entries); per slot
+  /// its brick (kNoBrick: free).
+  struct Outputs { const gpu::Buffer &counts, &slots, &freeStack, &owners; };
+  using Params = gpu::shared::BrickParams;       ///< bricks and frame (phase: set by execute)
+  explicit BrickAllocPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "brick_alloc.comp", gpu::shared::kBrickBindingCount, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
+/// @brief The brick pool's storage: RTSDF_BRICK_PAGES pages of values (float) and of sign votes (two halves),
+///        each of pageBricks bricks; pages beyond the pool's capacity are bound to a small placeholder.
+struct BrickPages {
+  const gpu::Buffer* values[RTSDF_BRICK_PAGES];
+  const gpu::Buffer* votes[RTSDF_BRICK_PAGES];
+};
+
+/// @brief BrickFillPass (brick_fill.comp): after the refinement, the fine voxels of every slotted brick that are not
+///        under the band get the coarse SDF upsampled (UpsamplePass's value): the pool then holds the fine SDF
+///        wherever a brick has a slot, and shading can sample it sparsely (the coarse SDF upsampled elsewhere).
+///        Work grows with the pool (params.fineDims.w bricks), not the grid.
+class BrickFillPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "BrickFillPass";
+  struct Inputs {
+    const gpu::Buffer& coarse;       ///< c_t, dense, x fastest
+    const gpu::Buffer& fineToCoarse; ///< maskCoarseOfFine() of the two grids
+    const gpu::Buffer& owners;       ///< per slot: its brick (kNoBrick: free)
+  };
+  struct Outputs { const BrickPages& pool; };   ///< the values written outside the band (votes unused)
+  using Params = gpu::shared::RefineParams;     ///< grids, band, brickDims, pageBricks, fineDims.w: pool capacity
+  explicit BrickFillPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "brick_fill.comp", gpu::shared::kBrickFillBindingCount, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
+/// @brief UpsamplePass: the dense fine SDF resolved from the sparse state. fine[v] = the coarse SDF trilinearly
+///        interpolated at fine voxel v's centre for every fine voxel outside the ray mask; the voxels under a coarse
+///        voxel with |c| <= params.band take their brick's value (the upsampled one where the brick has no slot).
+///        params.band = 0: every voxel is upsampled.
 class UpsamplePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "UpsamplePass";
@@ -85,8 +138,10 @@ public:
   struct Inputs {
     const gpu::Buffer& coarse;       ///< c_t, dense, x fastest
     const gpu::Buffer& fineToCoarse; ///< maskCoarseOfFine() of the two grids
+    const gpu::Buffer& brickSlots;   ///< per brick: its slot in the pool (kNoBrick: none)
+    const BrickPages& pool;          ///< the bricks' values (votes unused)
   };
-  struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel outside the mask written
+  struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel written
   using Params = gpu::shared::RefineParams;     ///< grids of both levels
   explicit UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel = Kernel::Runs)
       : ComputePass(ctx, kernel == Kernel::Runs ? "refine_upsample.comp" : "refine_upsample_voxel.comp",
@@ -104,13 +159,15 @@ private:
 class RefinePass : gpu::ComputePass {
 public:
   struct Inputs {
-    const GpuSceneBvh& bvh;       ///< top level as of this frame
-    const gpu::Buffer& mask;      ///< MaskCompactPass's fine list: the voxels to refine this frame
-    const gpu::Buffer& counts;    ///< MaskCompactPass's counts, indirect dispatch included (MaskDispatchPass)
-    const gpu::Buffer& coarse;    ///< c_t, dense, x fastest: upsampled at each voxel for its bound
+    const GpuSceneBvh& bvh;         ///< top level as of this frame
+    const gpu::Buffer& refineList;  ///< MaskCompactPass's refine list: the coarse voxels to refine this frame
+    const gpu::Buffer& counts;      ///< MaskCompactPass's counts, indirect dispatch included (MaskDispatchPass)
+    const gpu::Buffer& coarse;      ///< c_t, dense, x fastest: upsampled at each voxel for its bound
+    const gpu::Buffer& fineRanges;  ///< maskFineRanges() of the two grids
+    const gpu::Buffer& brickSlots;  ///< per brick: its slot in the pool (kNoBrick: left alone)
   };
-  /// Per fine voxel: the SDF (in: f_{t-1} where not fresh; out: f_t, signed) and its decayed sign votes.
-  struct Outputs { const gpu::Buffer &fine, &votes; };
+  /// Per fine voxel, in its brick: the SDF (in: f_{t-1} where not fresh; out: f_t, signed) and its decayed votes.
+  struct Outputs { const BrickPages& pool; };
   using Params = gpu::shared::RefineParams;
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;

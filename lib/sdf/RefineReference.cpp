@@ -86,4 +86,47 @@ MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec&
   return out;
 }
 
+std::vector<std::uint32_t> bandBricksCpu(const std::vector<float>& coarse, const GridSpec& cs, const GridSpec& fs,
+                                         double band) {
+  std::vector<std::uint32_t> bricks;
+  if (band <= 0.0) return bricks;
+  const std::vector<glm::ivec2> ranges = maskFineRanges(cs, fs);
+  const glm::ivec3 bd = (fs.dims + (RTSDF_BRICK - 1)) / RTSDF_BRICK;
+  std::vector<char> needed(std::size_t(bd.x) * bd.y * bd.z, 0);
+  for (int z = 0; z < cs.dims.z; ++z)
+    for (int y = 0; y < cs.dims.y; ++y)
+      for (int x = 0; x < cs.dims.x; ++x) {
+        if (!(std::fabs(coarse[cs.linear(x, y, z)]) <= float(band))) continue;
+        const glm::ivec2 rx = ranges[x], ry = ranges[cs.dims.x + y], rz = ranges[cs.dims.x + cs.dims.y + z];
+        if (rx.x > rx.y || ry.x > ry.y || rz.x > rz.y) continue;
+        for (int bz = rz.x / RTSDF_BRICK; bz <= rz.y / RTSDF_BRICK; ++bz)
+          for (int by = ry.x / RTSDF_BRICK; by <= ry.y / RTSDF_BRICK; ++by)
+            for (int bx = rx.x / RTSDF_BRICK; bx <= rx.y / RTSDF_BRICK; ++bx)
+              needed[(std::size_t(bz) * bd.y + by) * bd.x + bx] = 1;
+      }
+  for (std::size_t b = 0; b < needed.size(); ++b)
+    if (needed[b]) bricks.push_back(std::uint32_t(b));
+  return bricks;
+}
+
+std::vector<float> resolveFineCpu(const std::vector<float>& coarse, const GridSpec& cs, const GridSpec& fs, float band,
+                                  const std::vector<std::uint32_t>& brickSlots, const std::vector<float>& poolValues) {
+  const std::vector<int> coarseOf = maskCoarseOfFine(cs, fs);
+  const glm::ivec3 bd = (fs.dims + (RTSDF_BRICK - 1)) / RTSDF_BRICK;
+  std::vector<float> out(fs.voxelCount());
+  tbb::parallel_for(0, fs.dims.z, [&](int z) {
+    for (int y = 0; y < fs.dims.y; ++y)
+      for (int x = 0; x < fs.dims.x; ++x) {
+        const glm::ivec3 v(x, y, z);
+        const glm::ivec3 c(coarseOf[x], coarseOf[fs.dims.x + y], coarseOf[fs.dims.x + fs.dims.y + z]);
+        const bool masked = band > 0.0f && c.x >= 0 && c.y >= 0 && c.z >= 0 &&
+                            std::fabs(coarse[cs.linear(c.x, c.y, c.z)]) <= band;
+        const std::uint32_t slot = masked ? brickSlots.at(brickIndexOf(v, bd)) : kNoBrick;
+        out[fs.linear(x, y, z)] = slot != kNoBrick ? poolValues.at(std::size_t(slot) * kBrickVoxels + brickLocalOf(v))
+                                                   : upsampleCoarse(coarse, cs, fs, v);
+      }
+  });
+  return out;
+}
+
 } // namespace rtsdf

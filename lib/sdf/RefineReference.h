@@ -40,4 +40,18 @@ MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec&
                                std::vector<glm::uvec2> state, const gpu::shared::MaskParams& p,
                                const std::vector<gpu::shared::MovedBox>& moved);
 
+/// @brief CPU reference of the bricks MaskCompactPass stamps: the linear indices (x fastest, bricks of RTSDF_BRICK^3
+///        fine voxels) of the bricks holding a fine voxel under a coarse voxel of @a coarse with |c| <= @a band
+///        (maskFineRanges), sorted. Empty for band <= 0.
+std::vector<std::uint32_t> bandBricksCpu(const std::vector<float>& coarse, const GridSpec& coarseSpec,
+                                         const GridSpec& fineSpec, double band);
+
+/// @brief CPU reference of UpsamplePass on the sparse state: the dense fine SDF (x fastest) from the coarse SDF
+///        @a coarse and the brick pool. A fine voxel under a coarse voxel with |c| <= @a band whose brick has a
+///        slot in @a brickSlots takes @a poolValues[slot * kBrickVoxels + its place in the brick]; every other
+///        voxel the coarse SDF upsampled (upsampleCoarse). The grids as the GPU sees them (the same floats).
+std::vector<float> resolveFineCpu(const std::vector<float>& coarse, const GridSpec& coarseSpec,
+                                  const GridSpec& fineSpec, float band, const std::vector<std::uint32_t>& brickSlots,
+                                  const std::vector<float>& poolValues);
+
 } // namespace rtsdf

@@ -3,6 +3,7 @@
 #include "grid/VdbIO.h"
 #include "gpu/shared/Refine.h"
 #include "sdf/RefinePasses.h"
+#include "sdf/RefineReference.h"
 #include "scene/SceneGeometry.h"
 #include "util/Error.h"
 #include "util/Memory.h"
@@ -36,6 +37,9 @@ void PipelineSettings::validate() const {
   if (settleFrames == 0 || settleFrames > 1000000)
     throw SettingError("settle frames", fmt::format("settle frames {} must be in [1, 1000000] (or < 0: by the "
                                                     "refinement mode)", settleFrames));
+  if (poolBricks < 0 || poolBricks > (std::int64_t(1) << 32))
+    throw SettingError("pool bricks", fmt::format("pool bricks {} must be in [0, 2^32] (0: sized by the first "
+                                                  "frame's band)", poolBricks));
   if (refreshPeriod > 1000000)
     throw SettingError("refresh period", fmt::format("refresh period {} must be in [0, 1000000] (or < 0: by the "
                                                      "refinement mode)", refreshPeriod));
@@ -148,14 +152,17 @@ PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettin
   PipelineMemory m;
   std::tie(m.coarse, m.fine) = pipelineGrids(bounds, s);
   const std::uint64_t nc = m.coarse.voxelCount(), nf = m.fine.voxelCount();
-  const std::uint64_t coarseBuf = nc * 4, fineBuf = nf * 4;
-  if (fineBuf >= coarseBuf) { m.largestBuffer = fineBuf; m.largestBufferName = "fine SDF"; }
-  else { m.largestBuffer = coarseBuf; m.largestBufferName = "coarse SDF"; }
-  // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel) and the refinement state (8 bytes per
-  // voxel); fine SDF, votes and the list of voxels to refine; the BVH (nodes of 32 bytes, at most two per
+  const bool dense = s.fineStorage == FineStorage::Dense;
+  const std::uint64_t coarseBuf = nc * 4, fineBuf = dense ? nf * 4 : 0;
+  if (fineBuf >= 2 * coarseBuf) { m.largestBuffer = fineBuf; m.largestBufferName = "fine SDF"; }
+  else { m.largestBuffer = 2 * coarseBuf; m.largestBufferName = "coarse band list"; }
+  const glm::uvec3 bricks = (glm::uvec3(m.fine.dims) + glm::uvec3(RTSDF_BRICK - 1)) / glm::uvec3(RTSDF_BRICK);
+  // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel), the refinement state (8 bytes per voxel) and
+  // the refine list; the dense fine SDF; per brick its stamp and slot; the BVH (nodes of 32 bytes, at most two per
   // triangle, corners 48 bytes and ids 4 bytes per triangle), whose mesh-space corners VoxelizePass places in
   // voxel space (48 bytes per triangle).
-  m.deviceBytes = 7 * coarseBuf + 3 * fineBuf + triangles * (64 + 48 + 4 + 48) + 4096;
+  m.deviceBytes = 8 * coarseBuf + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
+                  triangles * (64 + 48 + 4 + 48) + 4096;
   // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
   // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
   m.hostBytes = nc * 29 + nf * 16;
@@ -176,12 +183,14 @@ void checkPipelineMemory(const PipelineMemory& need, const MemoryLimits& limits)
   const std::string grids = fmt::format("coarse grid {}x{}x{}, fine grid {}x{}x{}", need.coarse.dims.x,
                                         need.coarse.dims.y, need.coarse.dims.z, need.fine.dims.x, need.fine.dims.y,
                                         need.fine.dims.z);
-  const char* lower = need.largestBufferName == "fine SDF" ? "fine resolution" : "coarse resolution";
+  const bool fine = need.largestBufferName == "fine SDF";
+  const char* lower = fine ? "fine resolution" : "coarse resolution";
   if (limits.maxStorageBufferRange && need.largestBuffer > limits.maxStorageBufferRange)
     throw SettingError(lower, fmt::format("SdfPipeline: {}: buffer '{}' needs {}, more than {}'s "
-                                          "maxStorageBufferRange of {}: lower the {}", grids, need.largestBufferName,
+                                          "maxStorageBufferRange of {}: lower the {}{}", grids, need.largestBufferName,
                                           mib(need.largestBuffer), limits.deviceName,
-                                          mib(limits.maxStorageBufferRange), lower));
+                                          mib(limits.maxStorageBufferRange), lower,
+                                          fine ? ", or keep the fine SDF sparse (fine storage 'sparse')" : ""));
   if (limits.deviceBytes && need.deviceBytes > limits.deviceBytes)
     throw SettingError("fine resolution", fmt::format("SdfPipeline: {}: the device buffers need {}, more than {}'s "
                                                       "{} heap: lower the fine (and coarse) resolution", grids,
@@ -242,73 +251,172 @@ struct SdfPipeline::Gpu {
   CoarseSdfBuilder coarse;
   MaskCompactPass compact;
   MaskDispatchPass maskDispatch;
+  BrickAllocPass brickAlloc;
+  BrickFillPass brickFill;
   UpsamplePass upsample;
   std::unique_ptr<RefinePass> refine; // RayRefinePass or ClosestRefinePass, by the mode
   gpu::GpuProfiler profiler;
   gpu::CommandBuffer frameCmd;        // every frame's, restarted per frame (its pool's memory is reused)
-  Buffer fine, votes;                 // per fine voxel: the SDF (the refinement's history under the mask), votes
+  Buffer fine;                        // the dense fine SDF (FineStorage::Dense only)
   Buffer coarseState;                 // per coarse voxel: last frame in the band, refinements in a row
   Buffer movedBoxes;                  // MovedBox per moving instance, written into the frame's command buffer
   Buffer fineRanges, fineToCoarse;    // maskFineRanges() and maskCoarseOfFine() of the grids, uploaded once
   Buffer counts;                      // the refinement's indirect dispatch, then the mask's counters
-  Buffer countsReadback;              // the counts, copied at the end of each frame for its statistics
-  Buffer mask, coarseList;            // the compacted fine voxels and coarse band voxels (band > 0 only)
+  Buffer countsReadback;              // the mask's and the bricks' counts, copied at the end of each frame
+  Buffer refineList, coarseList;      // the coarse voxels to refine and the coarse band voxels (band > 0 only)
+  // The sparse fine state: per brick the last frame it was needed and its slot; the free slots and their count;
+  // the pool's pages of values and votes (pages beyond the pool bound to the placeholder).
+  Buffer brickNeeded, brickSlots, brickFree, brickOwners, brickCounts, placeholder;
+  Buffer samplingParams; // the frame's RefineParams, for shading passes that sample the bricks (Sparse only)
+  Buffer values[RTSDF_BRICK_PAGES], votes[RTSDF_BRICK_PAGES];
   Gpu(const gpu::VulkanContext& ctx, RefineMode mode)
-      : coarse(ctx), compact(ctx), maskDispatch(ctx), upsample(ctx),
+      : coarse(ctx), compact(ctx), maskDispatch(ctx), brickAlloc(ctx), brickFill(ctx), upsample(ctx),
         refine(mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
                                         : std::make_unique<ClosestRefinePass>(ctx)),
         profiler(ctx), frameCmd(ctx) {}
+  BrickPages pages() const {
+    BrickPages p{};
+    for (int k = 0; k < RTSDF_BRICK_PAGES; ++k) {
+      p.values[k] = values[k] ? &values[k] : &placeholder;
+      p.votes[k] = votes[k] ? &votes[k] : &placeholder;
+    }
+    return p;
+  }
 };
 
 namespace {
 const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+const VkBufferUsageFlags kStorageFilled = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+const VkBufferUsageFlags kStorageRead = kStorageFilled | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+constexpr std::uint32_t kReadbackWords = gpu::shared::kMaskCountWords + gpu::shared::kBrickCountWords;
 } // namespace
 
 SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
                          const PipelineSettings& s)
     : mCtx(ctx), mScene(scene), mSettings(s) {
-  // Everything is checked before anything is allocated.
+  // Everything is checked before anything is allocated (the brick pool, sized by the first frame's band, then).
   std::uint64_t triangles = 0;
   for (const Instance& inst : scene.instances) triangles += scene.meshes.at(inst.mesh).triangles.size();
-  const PipelineMemory need = estimatePipelineMemory(bounds, s, triangles);
-  checkPipelineMemory(need, memoryLimits(ctx.info()));
-  mCoarseSpec = need.coarse;
-  mFineSpec = need.fine;
+  mMemory = estimatePipelineMemory(bounds, s, triangles);
+  checkPipelineMemory(mMemory, memoryLimits(ctx.info()));
+  mCoarseSpec = mMemory.coarse;
+  mFineSpec = mMemory.fine;
+  const glm::ivec3 longest = longestFineRuns(mCoarseSpec, mFineSpec);
+  // The refinement's invocations (refineParts per listed coarse voxel) are counted in 32 bits.
+  if (double(mCoarseSpec.voxelCount()) * longest.x * longest.y > 4294967295.0)
+    throw SettingError("coarse resolution", fmt::format("SdfPipeline: coarse grid {} over fine grid {}: too many "
+                                                        "refinement invocations; lower the fine resolution or raise "
+                                                        "the coarse one", mCoarseSpec.describe(),
+                                                        mFineSpec.describe()));
   mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, frameOrigin());
   mGpu = std::make_unique<Gpu>(ctx, s.mode);
-  const std::size_t fineBytes = mFineSpec.voxelCount() * 4;
-  mGpu->fine = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine SDF");
-  mGpu->votes = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "fine sign votes");
-  mGpu->coarseState = Buffer(ctx, mCoarseSpec.voxelCount() * 8, kStorage, Buffer::Memory::Device,
+  if (s.fineStorage == FineStorage::Dense)
+    mGpu->fine = Buffer(ctx, mFineSpec.voxelCount() * 4, kStorage, Buffer::Memory::Device, "fine SDF");
+  mGpu->coarseState = Buffer(ctx, mCoarseSpec.voxelCount() * 8, kStorageFilled, Buffer::Memory::Device,
                              "coarse refinement state");
   const std::vector<int> fineToCoarse = maskCoarseOfFine(mCoarseSpec, mFineSpec);
   gpu::reserveAndUpload(ctx, mGpu->fineToCoarse, fineToCoarse.data(), fineToCoarse.size() * sizeof(int), kStorage,
                         "ray mask fine-to-coarse table");
+  const std::vector<glm::ivec2> ranges = maskFineRanges(mCoarseSpec, mFineSpec);
+  gpu::reserveAndUpload(ctx, mGpu->fineRanges, ranges.data(), ranges.size() * sizeof(glm::ivec2), kStorage,
+                        "ray mask fine ranges");
   mGpu->movedBoxes = Buffer(ctx, RTSDF_MAX_MOVED_BOXES * sizeof(gpu::shared::MovedBox),
-                            kStorage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Device, "moved instance boxes");
+                            kStorageFilled, Buffer::Memory::Device, "moved instance boxes");
   for (const Mesh& mesh : scene.meshes) mMeshBounds.push_back(positionBounds(mesh));
   using gpu::shared::kMaskCountWords;
-  mGpu->counts = Buffer(ctx, kMaskCountWords * 4, kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                        VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Buffer::Memory::Device,
-                        "ray mask counts");
-  mGpu->countsReadback = Buffer(ctx, kMaskCountWords * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Host,
+  mGpu->counts = Buffer(ctx, kMaskCountWords * 4, kStorageRead | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                        Buffer::Memory::Device, "ray mask counts");
+  mGpu->countsReadback = Buffer(ctx, kReadbackWords * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Host,
                                 "ray mask counts (readback)");
+  const glm::ivec3 bd = brickDims();
+  const std::uint64_t bricks = std::uint64_t(bd.x) * bd.y * bd.z;
+  mGpu->brickNeeded = Buffer(ctx, bricks * 4, kStorageFilled, Buffer::Memory::Device, "brick stamps");
+  mGpu->brickSlots = Buffer(ctx, bricks * 4, kStorageRead, Buffer::Memory::Device, "brick slots");
+  mGpu->brickCounts = Buffer(ctx, gpu::shared::kBrickCountWords * 4, kStorageRead, Buffer::Memory::Device,
+                             "brick counts");
+  mGpu->placeholder = Buffer(ctx, 16, kStorage, Buffer::Memory::Device, "brick pool placeholder");
+  mGpu->samplingParams = Buffer(ctx, sizeof(RefineParams), kStorageFilled, Buffer::Memory::Device,
+                                "brick sampling parameters");
   if (s.band > 0.0) {
-    // Each fine voxel lies under one coarse voxel: the lists can never hold more than the grids.
-    const std::vector<glm::ivec2> ranges = maskFineRanges(mCoarseSpec, mFineSpec);
-    gpu::reserveAndUpload(ctx, mGpu->fineRanges, ranges.data(), ranges.size() * sizeof(glm::ivec2), kStorage,
-                          "ray mask fine ranges");
-    mGpu->mask = Buffer(ctx, fineBytes, kStorage, Buffer::Memory::Device, "ray mask (fine voxels)");
-    mGpu->coarseList = Buffer(ctx, mCoarseSpec.voxelCount() * 8, kStorage, Buffer::Memory::Device,
+    // Each coarse voxel is appended at most once to each list.
+    mGpu->refineList = Buffer(ctx, mCoarseSpec.voxelCount() * 4, kStorageRead, Buffer::Memory::Device,
+                              "refine list (coarse voxels)");
+    mGpu->coarseList = Buffer(ctx, mCoarseSpec.voxelCount() * 8, kStorageRead, Buffer::Memory::Device,
                               "ray mask (coarse voxels)");
   }
   gpu::CommandBuffer cmd(ctx);
+  vkCmdFillBuffer(cmd.handle(), mGpu->brickNeeded.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd.handle(), mGpu->brickSlots.handle(), 0, VK_WHOLE_SIZE, gpu::shared::kNoBrick);
+  vkCmdFillBuffer(cmd.handle(), mGpu->brickCounts.handle(), 0, VK_WHOLE_SIZE, 0u);
   // No voxel has been in the band: last frame + 1 must differ from the first frame number (1).
   vkCmdFillBuffer(cmd.handle(), mGpu->coarseState.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
-  vkCmdFillBuffer(cmd.handle(), mGpu->fine.handle(), 0, VK_WHOLE_SIZE, 0u);
-  vkCmdFillBuffer(cmd.handle(), mGpu->votes.handle(), 0, VK_WHOLE_SIZE, 0u);
+  if (mGpu->fine) vkCmdFillBuffer(cmd.handle(), mGpu->fine.handle(), 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cmd.handle(), mGpu->movedBoxes.handle(), 0, VK_WHOLE_SIZE, 0u);
   cmd.submitAndWait();
+}
+
+glm::ivec3 SdfPipeline::brickDims() const { return (mFineSpec.dims + (RTSDF_BRICK - 1)) / RTSDF_BRICK; }
+
+std::uint64_t SdfPipeline::firstPoolSize(double time) {
+  if (mSettings.band <= 0.0) return 0; // nothing is refined
+  checkInstancePlacement(mScene, mMeshBounds, time);
+  // The coarse SDF of the first frame, once more: the pool is sized by the bricks under its band.
+  gpu::CommandBuffer cmd(mCtx);
+  CoarseSdfSettings cs;
+  cs.method = mSettings.coarseMethod;
+  cs.beta = mSettings.beta;
+  mBvh->recordUpdate(cmd.handle(), time);
+  mGpu->coarse.record(cmd.handle(), nullptr, mBvh->instancedTriangles(), mCoarseSpec.inFrame(frameOrigin()), cs);
+  cmd.submitAndWait();
+  std::vector<float> coarse(mCoarseSpec.voxelCount());
+  download(mCtx, mGpu->coarse.distanceBuffer(), coarse.data(), coarse.size() * 4);
+  const std::uint64_t active = bandBricksCpu(coarse, mCoarseSpec, mFineSpec, mSettings.band).size();
+  return poolBricksFor(active, brickDims());
+}
+
+void SdfPipeline::allocatePool(std::uint64_t bricks) {
+  const std::uint64_t brickBytes = gpu::shared::kBrickVoxels * 4;
+  const std::uint64_t range = mCtx.info().maxStorageBufferRange;
+  mPageBricks = std::max<std::uint64_t>(1, std::min<std::uint64_t>(std::max<std::uint64_t>(bricks, 1),
+                                                                   range ? range / brickBytes : bricks));
+  mPageBricks = std::min<std::uint64_t>(mPageBricks, 0xFFFFFFFFu / gpu::shared::kBrickVoxels);
+  const std::uint64_t pages = (bricks + mPageBricks - 1) / mPageBricks;
+  PipelineMemory need = mMemory;
+  need.deviceBytes += bricks * (2 * brickBytes + 4);
+  if (pages > RTSDF_BRICK_PAGES)
+    throw SettingError("fine resolution", fmt::format("SdfPipeline: fine grid {}: the band needs {} bricks ({}), more "
+                                                      "than {} pages of {}'s maxStorageBufferRange: lower the fine "
+                                                      "resolution or the band", mFineSpec.describe(), bricks,
+                                                      mib(bricks * 2 * brickBytes), RTSDF_BRICK_PAGES,
+                                                      mCtx.info().name));
+  checkPipelineMemory(need, memoryLimits(mCtx.info()));
+  Gpu& g = *mGpu;
+  g.frameCmd.wait();
+  for (int k = 0; k < RTSDF_BRICK_PAGES; ++k) {
+    const std::uint64_t first = std::uint64_t(k) * mPageBricks;
+    const std::uint64_t n = first < bricks ? std::min(mPageBricks, bricks - first) : 0;
+    g.values[k] = n ? Buffer(mCtx, n * brickBytes, kStorageFilled, Buffer::Memory::Device,
+                             fmt::format("brick pool values {}", k)) : Buffer();
+    g.votes[k] = n ? Buffer(mCtx, n * brickBytes, kStorageFilled, Buffer::Memory::Device,
+                            fmt::format("brick pool votes {}", k)) : Buffer();
+  }
+  // Every slot free (the stack pops slot 0 first), no brick holding one, every coarse voxel new to the band.
+  std::vector<std::uint32_t> stack(std::max<std::uint64_t>(bricks, 1), 0u);
+  for (std::uint64_t k = 0; k < bricks; ++k) stack[k] = std::uint32_t(bricks - 1 - k);
+  gpu::reserveAndUpload(mCtx, g.brickFree, stack.data(), stack.size() * 4, kStorage, "brick free stack");
+  gpu::reserve(mCtx, g.brickOwners, stack.size() * 4, kStorageFilled, Buffer::Memory::Device, "brick owners");
+  const std::uint32_t counts[gpu::shared::kBrickCountWords] = {std::uint32_t(bricks), 0, 0, 0};
+  gpu::CommandBuffer cmd(mCtx);
+  gpu::recordUpload(cmd.handle(), g.brickCounts, counts, sizeof(counts));
+  vkCmdFillBuffer(cmd.handle(), g.brickSlots.handle(), 0, VK_WHOLE_SIZE, gpu::shared::kNoBrick);
+  vkCmdFillBuffer(cmd.handle(), g.brickOwners.handle(), 0, VK_WHOLE_SIZE, gpu::shared::kNoBrick);
+  vkCmdFillBuffer(cmd.handle(), g.coarseState.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+  for (int k = 0; k < RTSDF_BRICK_PAGES; ++k) {
+    if (g.values[k]) vkCmdFillBuffer(cmd.handle(), g.values[k].handle(), 0, VK_WHOLE_SIZE, 0u);
+    if (g.votes[k]) vkCmdFillBuffer(cmd.handle(), g.votes[k].handle(), 0, VK_WHOLE_SIZE, 0u);
+  }
+  cmd.submitAndWait();
+  mPoolBricks = bricks;
 }
 
 SdfPipeline::~SdfPipeline() {
@@ -323,7 +431,7 @@ gpu::shared::MaskParams SdfPipeline::maskParams(std::uint32_t movedBoxes) const 
   gpu::shared::MaskParams p{};
   p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
   p.band = float(mSettings.band);
-  p.fineCapacity = std::uint32_t(mGpu->mask.size() / 4);
+  p.refineCapacity = std::uint32_t(mGpu->refineList.size() / 4);
   p.coarseCapacity = std::uint32_t(mGpu->coarseList.size() / 8);
   p.frame = mFrame;
   const GridSpec coarse = mCoarseSpec.inFrame(frameOrigin());
@@ -335,23 +443,36 @@ gpu::shared::MaskParams SdfPipeline::maskParams(std::uint32_t movedBoxes) const 
   p.settleFrames = std::uint32_t(settleFramesFor(mSettings));
   p.refreshPeriod = std::uint32_t(refreshPeriodFor(mSettings));
   p.movedBoxes = movedBoxes;
+  const glm::ivec3 longest = longestFineRuns(mCoarseSpec, mFineSpec);
+  p.brickDims = glm::ivec4(brickDims(), longest.x * longest.y);
   return p;
 }
 
 void SdfPipeline::recordMask(VkCommandBuffer cmd, const gpu::shared::MaskParams& params) {
   Gpu& g = *mGpu;
   vkCmdFillBuffer(cmd, g.counts.handle(), 0, VK_WHOLE_SIZE, 0u);
+  // The brick counts' per-frame words (the free stack's top persists).
+  vkCmdFillBuffer(cmd, g.brickCounts.handle(), 4, (gpu::shared::kBrickCountWords - 1) * 4, 0u);
   gpu::computeBarrier(cmd);
   // d = 0 refines nothing (not even voxels with c = 0): the counts stay zero, and so does the dispatch.
-  if (mSettings.band > 0.0)
+  if (mSettings.band > 0.0) {
     g.compact.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineRanges, g.movedBoxes},
-                      {g.counts, g.mask, g.coarseList, g.coarseState}, params);
-  g.maskDispatch.execute(cmd, &g.profiler, {}, {g.counts}, {});
+                      {g.counts, g.refineList, g.coarseList, g.coarseState, g.brickNeeded}, params);
+    const glm::ivec3 bd = brickDims();
+    gpu::shared::BrickParams bp{};
+    bp.bricks = std::uint32_t(bd.x * bd.y * bd.z);
+    bp.frame = mFrame;
+    g.brickAlloc.execute(cmd, &g.profiler, {g.brickNeeded}, {g.brickCounts, g.brickSlots, g.brickFree, g.brickOwners},
+                         bp);
+  }
+  g.maskDispatch.execute(cmd, &g.profiler, {}, {g.counts}, params);
 }
 
 void SdfPipeline::recordCountsReadback(VkCommandBuffer cmd) const {
-  const VkBufferCopy region{0, 0, gpu::shared::kMaskCountWords * 4};
-  vkCmdCopyBuffer(cmd, mGpu->counts.handle(), mGpu->countsReadback.handle(), 1, &region);
+  const VkBufferCopy mask{0, 0, gpu::shared::kMaskCountWords * 4};
+  vkCmdCopyBuffer(cmd, mGpu->counts.handle(), mGpu->countsReadback.handle(), 1, &mask);
+  const VkBufferCopy bricks{0, gpu::shared::kMaskCountWords * 4, gpu::shared::kBrickCountWords * 4};
+  vkCmdCopyBuffer(cmd, mGpu->brickCounts.handle(), mGpu->countsReadback.handle(), 1, &bricks);
   VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
@@ -361,23 +482,39 @@ void SdfPipeline::recordCountsReadback(VkCommandBuffer cmd) const {
 
 SdfPipeline::MaskCounts SdfPipeline::maskCounts() const {
   waitForFrame();
-  std::uint32_t words[gpu::shared::kMaskCountWords];
+  std::uint32_t words[kReadbackWords];
   std::memcpy(words, mGpu->countsReadback.mapped(), sizeof(words));
+  using namespace gpu::shared;
   MaskCounts n;
-  n.refinedFine = words[gpu::shared::kMaskCountFine];
-  n.maskedFine = words[gpu::shared::kMaskCountMaskedFine];
-  n.coarse = words[gpu::shared::kMaskCountCoarse];
+  n.refinedFine = words[kMaskCountFine];
+  n.maskedFine = words[kMaskCountMaskedFine];
+  n.coarse = words[kMaskCountCoarse];
+  n.refineList = words[kMaskCountRefineList];
+  n.activeBricks = words[kMaskCountWords + kBrickCountActive];
+  n.overflowBricks = words[kMaskCountWords + kBrickCountOverflow];
   // Each fine voxel lies under one coarse voxel and each coarse voxel is appended once: more would be a bug.
-  if (n.refinedFine > n.maskedFine || n.maskedFine > mFineSpec.voxelCount() || n.coarse > mCoarseSpec.voxelCount())
-    throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine of {} under {} coarse voxels, more "
-                            "than the grids hold ({} and {})", n.refinedFine, n.maskedFine, n.coarse,
-                            mFineSpec.voxelCount(), mCoarseSpec.voxelCount()));
+  const glm::ivec3 bd = brickDims();
+  if (n.refinedFine > n.maskedFine || n.maskedFine > mFineSpec.voxelCount() || n.coarse > mCoarseSpec.voxelCount() ||
+      n.refineList > n.coarse || n.activeBricks > std::uint64_t(bd.x) * bd.y * bd.z ||
+      n.overflowBricks > n.activeBricks)
+    throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine of {} under {} coarse voxels ({} "
+                            "listed), {} bricks ({} without a slot), more than the grids hold ({}, {} and {})",
+                            n.refinedFine, n.maskedFine, n.coarse, n.refineList, n.activeBricks, n.overflowBricks,
+                            mFineSpec.voxelCount(), mCoarseSpec.voxelCount(), std::uint64_t(bd.x) * bd.y * bd.z));
   return n;
 }
 
 std::vector<std::uint32_t> SdfPipeline::refinedVoxels() const {
-  std::vector<std::uint32_t> list(mFrame && mSettings.band > 0.0 ? maskCounts().refinedFine : 0);
-  download(mCtx, mGpu->mask, list.data(), list.size() * 4);
+  std::vector<std::uint32_t> coarse(mFrame && mSettings.band > 0.0 ? maskCounts().refineList : 0);
+  download(mCtx, mGpu->refineList, coarse.data(), coarse.size() * 4);
+  const std::vector<glm::ivec2> ranges = maskFineRanges(mCoarseSpec, mFineSpec);
+  const glm::ivec3 cd = mCoarseSpec.dims;
+  std::vector<std::uint32_t> list;
+  for (std::uint32_t entry : coarse) {
+    const std::uint32_t i = entry & gpu::shared::kMaskFineCoords;
+    const glm::ivec3 c(int(i % cd.x), int(i / cd.x % cd.y), int(i / cd.x / cd.y));
+    appendFineVoxelsUnder(ranges, cd, c, entry & gpu::shared::kMaskFineFresh, list);
+  }
   tbb::parallel_sort(list.begin(), list.end());
   return list;
 }
@@ -438,6 +575,11 @@ RefineParams SdfPipeline::refineParams() const {
   p.seed = mSettings.seed;
   p.beta = float(mSettings.beta >= 0.0 ? mSettings.beta : 0.5 * mCoarseSpec.voxelSize);
   p.band = float(mSettings.band);
+  p.pageBricks = std::uint32_t(std::max<std::uint64_t>(mPageBricks, 1));
+  const glm::ivec3 longest = longestFineRuns(mCoarseSpec, mFineSpec);
+  p.refineParts = std::uint32_t(longest.x * longest.y);
+  p.brickDims = glm::ivec4(brickDims(), longest.x);
+  p.fineDims.w = int(mPoolBricks);
   return p;
 }
 
@@ -450,6 +592,16 @@ void SdfPipeline::submitFrame(double time) {
   using Clock = std::chrono::steady_clock;
   Gpu& g = *mGpu;
   g.frameCmd.wait(); // one frame in flight: the previous one's buffers are this one's
+  // The pool is sized by the first frame's band, and regrown after a frame that overflowed it (then every voxel
+  // starts over): one-off waits, outside the frame's host time.
+  if (mFrame == 0) {
+    const glm::ivec3 bd = brickDims();
+    allocatePool(mSettings.poolBricks > 0 ? std::min<std::uint64_t>(std::uint64_t(mSettings.poolBricks),
+                                                                    std::uint64_t(bd.x) * bd.y * bd.z)
+                                          : firstPoolSize(time));
+  }
+  else if (mGrowTo) allocatePool(mGrowTo);
+  mGrowTo = 0;
   const auto t0 = Clock::now();
   // The host's work grows with the instances only: the GPU places their triangles.
   checkInstancePlacement(mScene, mMeshBounds, time);
@@ -478,9 +630,18 @@ void SdfPipeline::submitFrame(double time) {
   mLastMaskParams = maskParams(std::uint32_t(moved.size()));
   recordMask(cmd, mLastMaskParams);
   const RefineParams p = refineParams();
-  g.upsample.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse}, {g.fine}, p);
+  const BrickPages pool = g.pages();
   if (mSettings.band > 0.0)
-    g.refine->execute(cmd, &g.profiler, {*mBvh, g.mask, g.counts, g.coarse.distanceBuffer()}, {g.fine, g.votes}, p);
+    g.refine->execute(cmd, &g.profiler,
+                      {*mBvh, g.refineList, g.counts, g.coarse.distanceBuffer(), g.fineRanges, g.brickSlots}, {pool}, p);
+  if (g.fine) {
+    g.upsample.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse, g.brickSlots, pool}, {g.fine}, p);
+  } else {
+    // The pool becomes the fine SDF wherever a brick has a slot; shading finds the grids in samplingParams.
+    g.brickFill.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse, g.brickOwners}, {pool}, p);
+    gpu::recordUpload(cmd, g.samplingParams, &p, sizeof(p));
+    gpu::computeBarrier(cmd);
+  }
   recordCountsReadback(cmd);
   g.frameCmd.submit();
   mSubmitStart = t0;
@@ -500,6 +661,11 @@ FrameStats SdfPipeline::finishFrame() {
   stats.maskFineVoxels = counts.maskedFine;
   stats.maskCoarseVoxels = counts.coarse;
   stats.refinedFineVoxels = counts.refinedFine;
+  stats.activeBricks = counts.activeBricks;
+  stats.overflowBricks = counts.overflowBricks;
+  stats.poolBricks = mPoolBricks;
+  stats.deviceBytes = mMemory.deviceBytes + mPoolBricks * (2 * gpu::shared::kBrickVoxels * 4 + 4);
+  if (counts.overflowBricks) mGrowTo = poolBricksFor(counts.activeBricks, brickDims());
   const auto t1 = Clock::now();
   stats.hostMs += std::chrono::duration<double, std::milli>(t1 - t0).count();
   stats.wallMs = std::chrono::duration<double, std::milli>(t1 - mSubmitStart).count();
@@ -508,14 +674,54 @@ FrameStats SdfPipeline::finishFrame() {
 
 void SdfPipeline::waitForFrame() const { mGpu->frameCmd.wait(); }
 
-const gpu::Buffer& SdfPipeline::fineBuffer() const { return mGpu->fine; }
+const gpu::Buffer& SdfPipeline::fineBuffer() const {
+  if (!mGpu->fine)
+    throw Error("SdfPipeline: the fine SDF is kept sparse (fine storage 'sparse'): there is no dense fine buffer");
+  return mGpu->fine;
+}
 const gpu::Buffer& SdfPipeline::coarseBuffer() const { return mGpu->coarse.distanceBuffer(); }
+
+GpuBrickField SdfPipeline::brickField() const {
+  if (mGpu->fine)
+    throw Error("SdfPipeline: the fine SDF is kept dense (fine storage 'dense'): its bricks hold only the band");
+  return {mGpu->coarse.distanceBuffer(), mGpu->brickSlots, mGpu->samplingParams, mGpu->pages()};
+}
+
+std::vector<std::uint32_t> SdfPipeline::brickSlots() const {
+  waitForFrame();
+  std::vector<std::uint32_t> slots(mGpu->brickSlots.size() / 4);
+  download(mCtx, mGpu->brickSlots, slots.data(), slots.size() * 4);
+  return slots;
+}
+
+std::vector<float> SdfPipeline::brickValues() const {
+  waitForFrame();
+  std::vector<float> values(mPoolBricks * gpu::shared::kBrickVoxels);
+  std::size_t at = 0;
+  for (const Buffer& page : mGpu->values) {
+    if (!page) continue;
+    download(mCtx, page, values.data() + at, page.size());
+    at += page.size() / 4;
+  }
+  return values;
+}
 
 std::vector<float> SdfPipeline::fineField() const {
   waitForFrame();
-  std::vector<float> out(mFineSpec.voxelCount());
-  download(mCtx, mGpu->fine, out.data(), out.size() * 4);
-  return out;
+  if (mGpu->fine) {
+    std::vector<float> out(mFineSpec.voxelCount());
+    download(mCtx, mGpu->fine, out.data(), out.size() * 4);
+    return out;
+  }
+  if (mFrame == 0) return std::vector<float>(mFineSpec.voxelCount(), 0.0f);
+  // The grids as the GPU sees them: the same upsampled values, bit for bit.
+  return resolveFineCpu(coarseField(), mCoarseSpec.inFrame(frameOrigin()), mFineSpec.inFrame(frameOrigin()),
+                        float(mSettings.band), brickSlots(), brickValues());
+}
+
+std::uint64_t poolBricksFor(std::uint64_t activeBricks, const glm::ivec3& brickDims) {
+  const std::uint64_t all = std::uint64_t(brickDims.x) * brickDims.y * brickDims.z;
+  return std::min(all, activeBricks + activeBricks / 2 + 64);
 }
 
 } // namespace rtsdf

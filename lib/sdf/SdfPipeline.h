@@ -11,6 +11,7 @@
 #include "scene/Scene.h"
 #include "sdf/CoarseSdf.h"
 #include "sdf/GpuSceneBvh.h"
+#include "sdf/RefinePasses.h"
 #include "util/EnumNames.h"
 #include "util/PassTimes.h"
 
@@ -35,6 +36,20 @@ template <> struct EnumNames<RefineMode> {
                                                                    {"closest", RefineMode::Closest}};
 };
 
+/// @brief Where the fine SDF lives on the GPU. Either way the refinement keeps its values, sign votes and history
+///        only in bricks of RTSDF_BRICK^3 fine voxels under the ray mask (the sparse fine state, a pool sized by the
+///        mask); outside the mask the fine SDF is the coarse one upsampled.
+enum class FineStorage {
+  Dense, ///< also a dense fine SDF, resolved from the coarse SDF and the bricks every frame (UpsamplePass), for
+         ///< shading passes that sample it (fineBuffer()); memory grows with the grid's volume
+  Sparse ///< the coarse SDF and the bricks only: memory grows with the band (surface area x band width)
+};
+template <> struct EnumNames<FineStorage> {
+  static constexpr const char* kSetting = "fine storage";
+  static constexpr std::pair<const char*, FineStorage> kValues[] = {{"dense", FineStorage::Dense},
+                                                                    {"sparse", FineStorage::Sparse}};
+};
+
 /// @brief Every knob of the pipeline (scene units for lengths).
 struct PipelineSettings {
   int coarseRes = 128;   ///< voxels across the scene for the coarse SDF
@@ -56,6 +71,10 @@ struct PipelineSettings {
   /// Incremental: a settled voxel is refined again once every this many frames (0: never, its value is kept);
   /// < 0: by the mode (refreshPeriodFor).
   int refreshPeriod = -1;
+  FineStorage fineStorage = FineStorage::Dense; ///< a dense fine SDF for shading, or only the bricks
+  /// The brick pool's capacity at the first frame; 0: sized by the first frame's band (poolBricksFor). A pool that
+  /// overflows is regrown from the next frame on.
+  std::int64_t poolBricks = 0;
   /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
   void validate() const;
 };
@@ -101,17 +120,19 @@ std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const Pipeline
 
 /// @brief What SdfPipeline would allocate for some settings and bounds, computed without allocating.
 ///
-/// Device buffers: per coarse voxel 28 bytes (seeds, jump-flood scratch, coarse SDF, the compacted coarse band,
-/// the refinement state); per fine voxel 12 bytes (fine SDF, which is also the refinement's history, sign votes,
-/// the list of voxels to refine: the GPU appends to it, so it is sized for every fine voxel); the BVH (about 100
-/// bytes per triangle). Host memory at its peak, when the results are read back (a frame itself reads back a few
-/// words): per coarse voxel 29 bytes (coarseField() and its staging copy; rayMask()'s coarse band, its staging
-/// copy and the OpenVDB mirror), per fine voxel 16 bytes (rayMask()'s list and fineField(), each with its staging
-/// copy).
+/// Device buffers: per coarse voxel 32 bytes (seeds, jump-flood scratch, coarse SDF, the compacted coarse band,
+/// the refinement state, the list of voxels to refine: the GPU appends to them, so they are sized for every
+/// voxel); per brick 8 bytes (stamp, slot); per fine voxel 4 bytes with FineStorage::Dense (the dense fine SDF);
+/// the BVH (about 160 bytes per triangle). Not counted: the brick pool (8 bytes per fine voxel of a brick under
+/// the band: values and sign votes), which the first frame sizes from the band and checks against the same
+/// limits (SdfPipeline::poolBricks()). Host memory at its peak, when the results are read back (a frame itself
+/// reads back a few words): per coarse voxel 29 bytes (coarseField() and its staging copy; rayMask()'s coarse
+/// band, its staging copy and the OpenVDB mirror), per fine voxel 16 bytes (rayMask()'s list and fineField(),
+/// each with its staging copy).
 struct PipelineMemory {
   GridSpec coarse, fine;          ///< the grids (pipelineGrids)
   std::uint64_t largestBuffer = 0;///< bytes of the largest single storage buffer
-  std::string largestBufferName;  ///< which one ("fine SDF" or "coarse SDF")
+  std::string largestBufferName;  ///< which one ("fine SDF" or "coarse band list")
   std::uint64_t deviceBytes = 0;  ///< every device buffer together
   std::uint64_t hostBytes = 0;    ///< host copies and staging buffers (peak of one frame)
   std::string describe() const;
@@ -163,11 +184,20 @@ struct RayMask {
 RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& coarseSpec, const GridSpec& fineSpec,
                      double band);
 
+/// @brief The brick pool's capacity for @a activeBricks bricks under the band: half as many again and 64 more (room
+///        for the band to grow as instances move before the pool must be regrown), at most every brick of a grid of
+///        @a brickDims bricks.
+std::uint64_t poolBricksFor(std::uint64_t activeBricks, const glm::ivec3& brickDims);
+
 /// @brief What one frame did and cost.
 struct FrameStats {
   double time = 0.0;
   std::uint64_t maskCoarseVoxels = 0, maskFineVoxels = 0;
   std::uint64_t refinedFineVoxels = 0; ///< masked fine voxels refined this frame (the others kept their value)
+  std::uint64_t activeBricks = 0;      ///< bricks holding fine voxels under the band (each has a pool slot...)
+  std::uint64_t overflowBricks = 0;    ///< ...but these: the pool was full; the next frame grows it and starts over
+  std::uint64_t poolBricks = 0;        ///< the pool's capacity this frame
+  std::uint64_t deviceBytes = 0;       ///< the pipeline's device buffers this frame (estimate and pool)
   std::uint64_t movedInstances = 0;    ///< instances whose transform changed since the previous frame
   /// CPU time of the frame outside its wait for the GPU: the BVH's top level and the instance transforms,
   /// recording, submitting, and reading the counts after the GPU finished. It grows with the instances, not with
@@ -178,6 +208,16 @@ struct FrameStats {
   double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
   /// @brief The refinement pass's time, whichever mode ran (RayRefinePass or ClosestRefinePass).
   double refineMs() const;
+};
+
+/// @brief The fine SDF as FineStorage::Sparse keeps it on the GPU, for shading passes that sample it without a dense
+///        copy: fine voxel v's value is the pool's where its brick has a slot (BrickFillPass filled the voxels
+///        outside the band), else the coarse SDF upsampled at v (coarse_upsample.glsl with @a params).
+struct GpuBrickField {
+  const gpu::Buffer& coarse; ///< c_t, dense, x fastest
+  const gpu::Buffer& slots;  ///< per brick (x fastest, params.brickDims): its slot, kNoBrick: none
+  const gpu::Buffer& params; ///< one gpu::shared::RefineParams: grids in the GPU's frame, brickDims, pageBricks
+  BrickPages pool;           ///< the values (votes unused)
 };
 
 /// @brief Runs frames of the pipeline for one scene on fixed grids (bounds given by the caller, e.g. the
@@ -205,16 +245,29 @@ public:
   /// @brief Wait for the submitted frame and return its statistics (counts and pass times read back).
   /// @throw Error when no frame was submitted since the last finishFrame().
   FrameStats finishFrame();
-  /// @brief The dense fine SDF of the last frame (x fastest), scene units (read back from the GPU).
+  /// @brief The dense fine SDF of the last frame (x fastest), scene units: read back from the GPU
+  ///        (FineStorage::Dense), or resolved on the host from the coarse SDF and the bricks read back (Sparse:
+  ///        resolveFineCpu, the same values bit for bit).
   std::vector<float> fineField() const;
+  /// @brief Per brick of the fine grid (x fastest, brickDims()): its slot in the pool, kNoBrick where it has none
+  ///        (read back).
+  std::vector<std::uint32_t> brickSlots() const;
+  /// @brief The pool's values, slot after slot (kBrickVoxels each; read back). With FineStorage::Sparse every voxel
+  ///        of a slotted brick holds the fine SDF (BrickFillPass); with Dense only those under the band do.
+  std::vector<float> brickValues() const;
+  /// @brief Bricks per axis of the fine grid.
+  glm::ivec3 brickDims() const;
+  /// @brief The pool's capacity in bricks (0 before the first frame sizes it).
+  std::uint64_t poolBricks() const { return mPoolBricks; }
   /// @brief The last frame's coarse SDF (x fastest; read back from the GPU; empty before the first frame).
   std::vector<float> coarseField() const;
   /// @brief The last frame's ray mask as the GPU compacted it, with its OpenVDB mirror built on demand from the
   ///        compacted band (no dense read-back): the same voxels as buildRayMask(coarseField(), ...), the fine
   ///        voxels sorted. Empty before the first frame or when d = 0.
   RayMask rayMask() const;
-  /// @brief The fine voxels the last frame refined (MaskCompactPass's list, read back and sorted): packed 10 bits
-  ///        per axis, with gpu::shared::kMaskFineFresh on those new to the band.
+  /// @brief The fine voxels the last frame refined (MaskCompactPass's refine list, read back, expanded into the
+  ///        fine voxels under each coarse voxel and sorted): packed 10 bits per axis, with
+  ///        gpu::shared::kMaskFineFresh on those new to the band.
   std::vector<std::uint32_t> refinedVoxels() const;
   /// @brief Per coarse voxel (x fastest): the last frame it was in the band and its refinements in a row (read back;
   ///        0xFFFFFFFF before it has been in the band).
@@ -230,7 +283,11 @@ public:
   const GridSpec& fineSpec() const { return mFineSpec; }
   const PipelineSettings& settings() const { return mSettings; }
   /// @brief The fine SDF on the GPU (dense, x fastest, fineSpec()), valid after runFrame() or finishFrame().
+  /// @throw Error with FineStorage::Sparse (there is none).
   const gpu::Buffer& fineBuffer() const;
+  /// @brief The fine SDF as the bricks hold it, valid after runFrame() or finishFrame().
+  /// @throw Error with FineStorage::Dense (the bricks then hold only the band: sample fineBuffer()).
+  GpuBrickField brickField() const;
   /// @brief The coarse SDF on the GPU (dense, x fastest, coarseSpec()), valid after runFrame() or finishFrame().
   const gpu::Buffer& coarseBuffer() const;
   /// @brief The scene's BVH on the GPU, its top level as of the last runFrame(), in the frame of frameOrigin().
@@ -244,12 +301,23 @@ private:
   void recordMask(VkCommandBuffer cmd, const gpu::shared::MaskParams& params);
   /// Record: the counts copied into the host-visible readback buffer, visible to the host after the frame.
   void recordCountsReadback(VkCommandBuffer cmd) const;
-  struct MaskCounts { std::uint32_t refinedFine = 0, maskedFine = 0, coarse = 0; };
+  struct MaskCounts {
+    std::uint32_t refinedFine = 0, maskedFine = 0, coarse = 0, refineList = 0;
+    std::uint32_t activeBricks = 0, overflowBricks = 0;
+  };
   /// What the last frame's mask counted (from the readback).
   MaskCounts maskCounts() const;
   gpu::shared::RefineParams refineParams() const;
   /// Wait for a submitted frame (the read-backs need its results).
   void waitForFrame() const;
+  /// The first frame's pool size: the bricks under the band of the coarse SDF at @a time, with headroom.
+  std::uint64_t firstPoolSize(double time);
+  /// (Re)allocate the pool for @a bricks bricks, every slot free, every coarse voxel new to the band.
+  /// @throw SettingError when it does not fit the device (checkPipelineMemory).
+  void allocatePool(std::uint64_t bricks);
+  PipelineMemory mMemory;          ///< the estimate checked at construction (the pool is added when sized)
+  std::uint64_t mPoolBricks = 0, mPageBricks = 0;
+  std::uint64_t mGrowTo = 0;       ///< > 0: the last frame overflowed; the next one reallocates the pool
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   PipelineSettings mSettings;

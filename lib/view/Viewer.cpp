@@ -42,6 +42,9 @@ void ViewOptions::validate() const {
   if (!std::isnan(sliceHeight)) requireFinite("slice height", sliceHeight);
   for (char c : keys) keyOfChar(c);
   render.validate();
+  if (render.sdf.sampling == SdfSampling::Bricks)
+    throw SettingError("SDF sampling", "SDF sampling 'bricks': the viewer's slice view reads the dense fine SDF; "
+                                       "sample it as 'texture' or 'buffer'");
 }
 
 std::pair<int, bool> keyOfChar(char c) {

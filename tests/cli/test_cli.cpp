@@ -240,7 +240,7 @@ TEST(Cli, BenchFrameSuiteWritesOneCsvRowPerFrame) {
   // Incremental runs with x = 0 settle after one refinement; the full recompute refines the whole mask.
   struct Case { const char* flags; bool still, full; };
   for (const Case& c : {Case{" --rays 0", false, false}, Case{" --rays 0 --still", true, false},
-                        Case{" --full-recompute", false, true}}) {
+                        Case{" --full-recompute", false, true}, Case{" --rays 0 --fine-storage sparse", false, false}}) {
     SCOPED_TRACE(c.flags);
     const bool still = c.still;
     const Result r = rtsdfCmd("bench " + scene + " --suite frame --size S --frames 3 --csv " + q(dir / "frames.csv") +
@@ -251,13 +251,13 @@ TEST(Cli, BenchFrameSuiteWritesOneCsvRowPerFrame) {
     std::string header, line;
     std::getline(csv, header);
     EXPECT_EQ(header, "frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,mean_abs_error_voxels,wrong_sign_pct,"
-                      "peak_mib,time");
+                      "peak_mib,time,active_bricks,pool_bricks,overflow_bricks,device_mib");
     std::vector<std::vector<double>> rows;
     while (std::getline(csv, line)) {
       std::vector<double> v;
       std::stringstream cells(line);
       for (std::string cell; std::getline(cells, cell, ',');) v.push_back(std::strtod(cell.c_str(), nullptr));
-      ASSERT_EQ(v.size(), 10u) << line;
+      ASSERT_EQ(v.size(), 14u) << line;
       rows.push_back(v);
     }
     ASSERT_EQ(rows.size(), 3u);
@@ -280,6 +280,11 @@ TEST(Cli, BenchFrameSuiteWritesOneCsvRowPerFrame) {
       } else {
         EXPECT_NEAR(v[9], i / 30.0, 1e-6);
       }
+      // Bricks of 512 voxels hold the mask, every one with a slot in the pool the first frame's band sized.
+      EXPECT_GE(v[10] * 512.0, v[4]) << line;
+      EXPECT_TRUE(v[11] >= v[10] && v[11] == std::floor(1.5 * rows[0][10]) + 64.0) << line;
+      EXPECT_EQ(v[12], 0.0) << line;
+      EXPECT_GT(v[13], 1.0) << line; // device MiB
     }
   }
 }

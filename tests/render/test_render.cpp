@@ -15,6 +15,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -114,6 +116,41 @@ TEST_F(Render, SdfShadowPassEqualsTheCpuMarch) {
     for (float v : cpu[0]) shadowed += v < 0.5f;
     EXPECT_GT(shadowed, 100u) << toString(p);
     EXPECT_LE(n, f.gbuffer.pixelCount() / 1000) << toString(p) << ": " << n << " pixels differ";
+  }
+}
+
+// SdfShadowPass sampling the sparse fine state (the brick pool and the coarse SDF) against sampling the dense
+// resolve: the same fetched values in the same filter, so the same visibility bit for bit, for every estimate
+// (the umbra's several marches included) and over frames of the orbiting teapot (bricks taken and given back).
+TEST_F(Render, SdfShadowPassFromBricksEqualsTheDenseBuffer) {
+  const Scene scene = defaultScene();
+  for (PenumbraEstimate p : {PenumbraEstimate::Centered, PenumbraEstimate::Umbra}) {
+    SCOPED_TRACE(toString(p));
+    RenderSettings s = small(ShadowTechnique::Sdf);
+    s.sdf.penumbra = p;
+    s.sdf.jitter = true;
+    s.pipeline.band = 0.05;
+    s.pipeline.rays = 0;
+    Bounds bounds;
+    for (int f = 0; f < 3; ++f) bounds.add(boundsOf(scene, 0.4 * f));
+    s.sdf.sampling = SdfSampling::Buffer;
+    Renderer dense(*sCtx, scene, bounds, s);
+    s.sdf.sampling = SdfSampling::Bricks;
+    Renderer sparse(*sCtx, scene, bounds, s);
+    EXPECT_EQ(sparse.sdfPipeline()->settings().fineStorage, FineStorage::Sparse);
+    for (int f = 0; f < 3; ++f) {
+      SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
+      const RenderedFrame a = dense.renderFrame(0.4 * f), b = sparse.renderFrame(0.4 * f);
+      EXPECT_EQ(a.passMs.empty(), false);
+      std::size_t differ = 0, shadowed = 0;
+      for (std::size_t i = 0; i < a.visibility[0].size(); ++i) {
+        differ += std::memcmp(&a.visibility[0][i], &b.visibility[0][i], 4) != 0;
+        shadowed += a.visibility[0][i] < 0.5f;
+      }
+      EXPECT_EQ(differ, 0u);
+      EXPECT_GT(shadowed, 100u);
+      EXPECT_EQ(dense.sdfPipeline()->fineField(), sparse.sdfPipeline()->fineField());
+    }
   }
 }
 

@@ -173,21 +173,25 @@ TEST_F(Refine, MaskDispatchPassWritesTheRefinementsGroups) {
   const gpu::Buffer counts(*sCtx, kMaskCountWords * 4,
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                            gpu::Buffer::Memory::Host, "counts");
-  for (std::uint32_t n : {0u, 1u, 64u, 65u, 64u * 65535u, 64u * 65535u + 1u, 16777216u}) {
+  // The refine list's coarse voxels times the invocations per coarse voxel (MaskParams::brickDims.w).
+  for (const auto [n, parts] : {std::pair{0u, 4u}, {1u, 1u}, {16u, 4u}, {65u, 1u}, {13u, 5u}, {64u * 65535u, 1u},
+                                {16u * 65535u + 1u, 4u}, {2097152u, 8u}}) {
     std::vector<std::uint32_t> words(kMaskCountWords, 0xDEADBEEFu);
-    words[kMaskCountFine] = n;
+    words[kMaskCountRefineList] = n;
     upload(*sCtx, counts, words.data(), words.size() * 4);
     gpu::CommandBuffer cmd(*sCtx);
-    pass.execute(cmd.handle(), nullptr, {}, {counts}, {});
+    MaskParams params{};
+    params.brickDims.w = int(parts);
+    pass.execute(cmd.handle(), nullptr, {}, {counts}, params);
     cmd.submitAndWait();
     download(*sCtx, counts, words.data(), words.size() * 4);
-    const glm::uvec3 want = refineDispatch(n);
+    const glm::uvec3 want = refineDispatch(n * parts);
     EXPECT_EQ(glm::uvec3(words[kMaskCountGroupsX], words[kMaskCountGroupsY], words[kMaskCountGroupsZ]), want) << n;
-    EXPECT_EQ(words[kMaskCountFine], n);
-    // Enough invocations for every voxel, and less than a group too many.
+    EXPECT_EQ(words[kMaskCountRefineList], n);
+    // Enough invocations for every part of every listed voxel, and less than a group too many.
     const std::uint64_t invocations = std::uint64_t(want.x) * want.y * want.z * RTSDF_REFINE_GROUP;
-    EXPECT_GE(invocations, n);
-    if (n) EXPECT_LT(invocations, n + std::uint64_t(want.x) * RTSDF_REFINE_GROUP);
+    EXPECT_GE(invocations, std::uint64_t(n) * parts);
+    if (n) EXPECT_LT(invocations, std::uint64_t(n) * parts + std::uint64_t(want.x) * RTSDF_REFINE_GROUP);
   }
 }
 
@@ -305,6 +309,27 @@ TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
     gpu::reserveAndUpload(*sCtx, table, fineToCoarse.data(), fineToCoarse.size() * sizeof(int),
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "fine-to-coarse table");
     const float band = float(2.0 * coarse.voxelSize), untouched = 12345.0f;
+    // A pool in two pages: every third band brick without a slot (a full pool), the others with distinct values.
+    const glm::ivec3 bd = (fine.dims + (RTSDF_BRICK - 1)) / RTSDF_BRICK;
+    std::vector<std::uint32_t> slots(std::size_t(bd.x) * bd.y * bd.z, gpu::shared::kNoBrick);
+    std::uint32_t used = 0;
+    const std::vector<std::uint32_t> bandBricks = bandBricksCpu(c, coarse, fine, band);
+    ASSERT_GT(bandBricks.size(), 8u);
+    for (std::size_t k = 0; k < bandBricks.size(); ++k)
+      if (k % 3 != 2) slots[bandBricks[k]] = used++;
+    std::vector<float> values(std::size_t(used) * gpu::shared::kBrickVoxels);
+    for (std::size_t k = 0; k < values.size(); ++k) values[k] = -1000.0f - float(k);
+    p.pageBricks = (used + 1) / 2;
+    p.brickDims = glm::ivec4(bd, 0);
+    gpu::Buffer slotBuf, pages[2], none(*sCtx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device,
+                                        "none");
+    gpu::reserveAndUpload(*sCtx, slotBuf, slots.data(), slots.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "slots");
+    gpu::reserveAndUpload(*sCtx, pages[0], values.data(), std::size_t(p.pageBricks) * gpu::shared::kBrickVoxels * 4,
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "page 0");
+    gpu::reserveAndUpload(*sCtx, pages[1], values.data() + std::size_t(p.pageBricks) * gpu::shared::kBrickVoxels,
+                          std::size_t(used - p.pageBricks) * gpu::shared::kBrickVoxels * 4,
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "page 1");
+    const BrickPages pool{{&pages[0], &pages[1], &none, &none}, {&none, &none, &none, &none}};
     std::vector<float> out[4]; // Runs, PerVoxel; then both with the band
     int k = 0;
     for (float b : {0.0f, band})
@@ -319,7 +344,7 @@ TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
         vkCmdFillBuffer(cmd.handle(), buf.handle(), 0, VK_WHOLE_SIZE, bits);
         gpu::computeBarrier(cmd.handle());
         p.band = b;
-        pass.execute(cmd.handle(), nullptr, {builder.distanceBuffer(), table}, {buf}, p);
+        pass.execute(cmd.handle(), nullptr, {builder.distanceBuffer(), table, slotBuf, pool}, {buf}, p);
         cmd.submitAndWait();
         out[k].resize(fine.voxelCount());
         gpu::download(*sCtx, buf, out[k].data(), out[k].size() * 4);
@@ -327,14 +352,19 @@ TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
       }
     EXPECT_EQ(out[0], out[1]);
     EXPECT_EQ(out[2], out[3]);
+    // Every voxel written: the band's from their bricks (or upsampled where the brick has no slot), the rest upsampled.
+    EXPECT_EQ(out[2], resolveFineCpu(c, coarse, fine, band, slots, values));
+    EXPECT_EQ(out[0], resolveFineCpu(c, coarse, fine, 0.0f, slots, values));
     const RayMask mask = buildRayMask(c, coarse, fine, band);
-    std::vector<char> masked(fine.voxelCount(), 0);
-    for (std::uint32_t v : mask.fineVoxels) masked[fine.linear(v & 1023u, (v >> 10) & 1023u, v >> 20)] = 1;
-    ASSERT_GT(mask.fineVoxels.size(), 1000u);
-    std::size_t wrong = 0;
-    for (std::size_t i = 0; i < masked.size(); ++i)
-      wrong += masked[i] ? out[2][i] != untouched : out[2][i] != out[0][i];
-    EXPECT_EQ(wrong, 0u);
+    std::size_t fromBricks = 0, upsampledInBand = 0;
+    for (std::uint32_t v : mask.fineVoxels) {
+      const std::size_t i = fine.linear(v & 1023u, (v >> 10) & 1023u, v >> 20);
+      fromBricks += out[2][i] <= -1000.0f;
+      upsampledInBand += out[2][i] == out[0][i];
+    }
+    EXPECT_GT(fromBricks, 1000u);
+    EXPECT_GT(upsampledInBand, 100u);
+    EXPECT_EQ(fromBricks + upsampledInBand, mask.fineVoxels.size());
     std::size_t differ = 0;
     for (int z = 0; z < fine.dims.z; ++z)
       for (int y = 0; y < fine.dims.y; ++y)
@@ -515,4 +545,140 @@ TEST_F(Refine, RejectsBadSettings) {
     f(s);
     EXPECT_THROW(SdfPipeline(*sCtx, scene, boundsOf(scene), s), Error);
   }
+}
+
+// The sparse fine state on the orbiting teapot: every frame the bricks holding a slot are exactly the bricks under
+// the band (bandBricksCpu of that frame's coarse SDF), their slots distinct and inside the pool, and a brick under
+// the band in two frames in a row keeps its slot (its history). With the fine SDF kept sparse, fineField() (the
+// host's resolve of the bricks) equals the dense pipeline's GPU resolve bit for bit, in rays mode too (random
+// numbers hashed by voxel, not by slot).
+TEST_F(Refine, BrickSlotsFollowTheBandAndSparseEqualsDense) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  for (RefineMode mode : {RefineMode::Closest, RefineMode::Rays}) {
+    SCOPED_TRACE(toString(mode));
+    PipelineSettings s;
+    s.coarseRes = 40;
+    s.fineRes = 80;
+    s.mode = mode;
+    s.rays = mode == RefineMode::Closest ? 1 : 4;
+    s.band = 0.04;        // about a coarse voxel: the orbiting teapot's band leaves bricks and enters others
+    s.poolBricks = 1000; // room for the band wherever the teapot goes (a regrown pool starts over: next test)
+    Bounds bounds;
+    const double fps = 2.0;
+    for (int f = 0; f < 5; ++f) bounds.add(buildSceneGeometry(scene, f / fps).bounds);
+    SdfPipeline dense(*sCtx, scene, bounds, s);
+    s.fineStorage = FineStorage::Sparse;
+    SdfPipeline sparse(*sCtx, scene, bounds, s);
+    EXPECT_THROW(sparse.fineBuffer(), Error);
+    std::vector<std::uint32_t> lastSlots;
+    std::uint64_t kept = 0, freed = 0, taken = 0;
+    for (int f = 0; f < 5; ++f) {
+      SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
+      const FrameStats a = dense.runFrame(f / fps), b = sparse.runFrame(f / fps);
+      const std::vector<std::uint32_t> band = bandBricksCpu(sparse.coarseField(), sparse.coarseSpec(),
+                                                            sparse.fineSpec(), s.band);
+      const std::vector<std::uint32_t> slots = sparse.brickSlots();
+      EXPECT_EQ(b.activeBricks, band.size());
+      EXPECT_EQ(b.overflowBricks, 0u);
+      EXPECT_EQ(b.poolBricks, sparse.poolBricks());
+      EXPECT_GE(sparse.poolBricks(), band.size());
+      std::vector<std::uint32_t> slotted, used;
+      for (std::uint32_t k = 0; k < slots.size() && !lastSlots.empty(); ++k) {
+        freed += lastSlots[k] != gpu::shared::kNoBrick && slots[k] == gpu::shared::kNoBrick;
+        taken += lastSlots[k] == gpu::shared::kNoBrick && slots[k] != gpu::shared::kNoBrick;
+      }
+      for (std::uint32_t k = 0; k < slots.size(); ++k)
+        if (slots[k] != gpu::shared::kNoBrick) {
+          slotted.push_back(k);
+          used.push_back(slots[k]);
+          if (!lastSlots.empty() && lastSlots[k] != gpu::shared::kNoBrick) {
+            EXPECT_EQ(slots[k], lastSlots[k]) << "brick " << k << " lost its slot";
+            ++kept;
+          }
+        }
+      EXPECT_TRUE(slotted == band) << slotted.size() << " bricks hold a slot, " << band.size() << " under the band";
+      std::sort(used.begin(), used.end());
+      EXPECT_TRUE(std::adjacent_find(used.begin(), used.end()) == used.end()) << "two bricks share a slot";
+      if (!used.empty()) EXPECT_LT(used.back(), sparse.poolBricks());
+      EXPECT_EQ(a.refinedFineVoxels, b.refinedFineVoxels);
+      const std::vector<float> fa = dense.fineField(), fb = sparse.fineField();
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < fa.size(); ++i) differ += std::memcmp(&fa[i], &fb[i], 4) != 0;
+      EXPECT_EQ(differ, 0u);
+      // BrickFillPass: with the fine SDF sparse, every voxel of a slotted brick holds the fine SDF (the dense
+      // resolve's value), the band's and the upsampled ones alike.
+      const std::vector<float> pool = sparse.brickValues();
+      const GridSpec& fs = sparse.fineSpec();
+      const glm::ivec3 bd = sparse.brickDims();
+      std::size_t filledWrong = 0, filled = 0;
+      for (int z = 0; z < fs.dims.z; ++z)
+        for (int y = 0; y < fs.dims.y; ++y)
+          for (int x = 0; x < fs.dims.x; ++x) {
+            const std::uint32_t slot = slots[gpu::shared::brickIndexOf({x, y, z}, bd)];
+            if (slot == gpu::shared::kNoBrick) continue;
+            const float v = pool[std::size_t(slot) * gpu::shared::kBrickVoxels + gpu::shared::brickLocalOf({x, y, z})];
+            ++filled;
+            filledWrong += std::memcmp(&v, &fa[fs.linear(x, y, z)], 4) != 0;
+          }
+      EXPECT_GT(filled, band.size() * 256);
+      EXPECT_EQ(filledWrong, 0u);
+      lastSlots = slots;
+    }
+    EXPECT_GT(kept, 100u);
+    EXPECT_GT(freed, 0u); // the teapot left bricks...
+    EXPECT_GT(taken, 0u); // ...and entered others
+  }
+}
+
+// A pool too small for the band: the first frame leaves the bricks it cannot hold unrefined (the coarse SDF
+// upsampled there, exactly as the host's resolve says) and counts them; the next frame regrows the pool and starts
+// over, giving the very field of a pipeline whose pool was large enough (closest mode: exact, history-free).
+TEST_F(Refine, AFullBrickPoolIsRegrownTheNextFrame) {
+  const Scene scene = bunny();
+  PipelineSettings s;
+  s.coarseRes = 32;
+  s.fineRes = 64;
+  s.mode = RefineMode::Closest;
+  s.rays = 0;
+  SdfPipeline roomy(*sCtx, scene, boundsOf(scene), s);
+  s.poolBricks = 10;
+  SdfPipeline tight(*sCtx, scene, boundsOf(scene), s);
+  const FrameStats first = tight.runFrame(0.0);
+  roomy.runFrame(0.0);
+  EXPECT_EQ(first.poolBricks, 10u);
+  ASSERT_GT(first.activeBricks, 10u);
+  EXPECT_EQ(first.overflowBricks, first.activeBricks - 10u);
+  EXPECT_EQ(tight.fineField(), resolveFineCpu(tight.coarseField(), tight.coarseSpec().inFrame(tight.frameOrigin()),
+                                              tight.fineSpec().inFrame(tight.frameOrigin()), float(s.band),
+                                              tight.brickSlots(), tight.brickValues()));
+  EXPECT_NE(tight.fineField(), roomy.fineField());
+  const FrameStats second = tight.runFrame(0.0);
+  roomy.runFrame(0.0);
+  EXPECT_EQ(second.poolBricks, poolBricksFor(first.activeBricks, tight.brickDims()));
+  EXPECT_EQ(second.overflowBricks, 0u);
+  EXPECT_EQ(second.refinedFineVoxels, second.maskFineVoxels); // started over: every voxel new to the band
+  EXPECT_EQ(tight.fineField(), roomy.fineField());
+}
+
+// Size L (coarse 256 / fine 512) on the default scene fits lavapipe's 128 MiB buffers only sparse: the dense fine
+// SDF alone is over 200 MiB and is refused before anything is allocated, naming the way out.
+TEST_F(Refine, SizeLFitsOnlySparse) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  PipelineSettings s;
+  s.coarseRes = 256;
+  s.fineRes = 512;
+  const Bounds bounds = boundsOf(scene);
+  MemoryLimits limits = memoryLimits(sCtx->info());
+  limits.maxStorageBufferRange = 128ull << 20;
+  try {
+    checkPipelineMemory(estimatePipelineMemory(bounds, s), limits);
+    ADD_FAILURE() << "a dense fine SDF at L fitted a 128 MiB buffer";
+  } catch (const SettingError& e) {
+    EXPECT_EQ(e.setting(), "fine resolution");
+    EXPECT_NE(std::string(e.what()).find("sparse"), std::string::npos) << e.what();
+  }
+  s.fineStorage = FineStorage::Sparse;
+  const PipelineMemory sparse = estimatePipelineMemory(bounds, s);
+  EXPECT_NO_THROW(checkPipelineMemory(sparse, limits));
+  EXPECT_LE(sparse.largestBuffer, 128ull << 20);
 }

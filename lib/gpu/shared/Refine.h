@@ -11,6 +11,65 @@ RTSDF_SHARED_BEGIN
 #define RTSDF_REFINE_RAYS 0    // the paper: x random rays per voxel per frame, nearest hit, decayed history
 #define RTSDF_REFINE_CLOSEST 1 // exact closest-point distance through the same BVH, deterministic
 
+/// The sparse fine state: the fine grid is cut into bricks of RTSDF_BRICK^3 voxels; only bricks under the ray
+/// mask hold a slot of the brick pool, where the refinement keeps its values (the history) and sign votes.
+#define RTSDF_BRICK 8
+const uint kBrickVoxels = 512u;        // RTSDF_BRICK^3
+const uint kNoBrick = 0xFFFFFFFFu;     // a brick without a slot
+/// The pool is split into pages of pageBricks bricks, one storage buffer each (a single buffer is bounded by
+/// maxStorageBufferRange: 128 MiB on lavapipe, 65536 bricks of floats).
+#define RTSDF_BRICK_PAGES 4
+/// Work-group size of brick_alloc.comp (one invocation per brick).
+#define RTSDF_BRICK_GROUP 64
+
+/// Word indices of the brick counts buffer (BrickAllocPass). kBrickCountFreeTop persists from frame to frame;
+/// the others are reset to 0 before each frame's allocation.
+const uint kBrickCountFreeTop = 0u;   // slots on the free stack
+const uint kBrickCountActive = 1u;    // bricks under the ray mask this frame
+const uint kBrickCountAllocated = 2u; // slots taken from the free stack this frame (or asked for beyond it)
+const uint kBrickCountOverflow = 3u;  // bricks under the ray mask left without a slot (the pool was full)
+const uint kBrickCountWords = 4u;
+
+/// Bindings of brick_alloc.comp.
+const uint kBrickBindingCounts = 0u; // kBrickCount* words
+const uint kBrickBindingNeeded = 1u; // uint per brick: the last frame a band voxel lay in it (MaskCompactPass)
+const uint kBrickBindingSlots = 2u;  // uint per brick: its slot, kNoBrick: none
+const uint kBrickBindingFree = 3u;   // the free stack of slots, kBrickCountFreeTop of them
+const uint kBrickBindingOwners = 4u; // uint per slot: the brick holding it, kNoBrick: free
+const uint kBrickBindingCount = 5u;
+
+/// Work-group size of brick_fill.comp (one invocation per voxel of a slot).
+#define RTSDF_BRICK_FILL_GROUP 64
+
+/// Bindings of brick_fill.comp (BrickFillPass): the fine voxels of a slotted brick outside the band get the coarse
+/// SDF upsampled, so that the pool holds the fine SDF wherever a brick has a slot.
+const uint kBrickFillBindingCoarse = 0u;       // coarse SDF c_t
+const uint kBrickFillBindingFineToCoarse = 1u; // maskCoarseOfFine()
+const uint kBrickFillBindingOwners = 2u;       // uint per slot: its brick
+const uint kBrickFillBindingValuePages = 3u;   // RTSDF_BRICK_PAGES pages of the pool's values
+const uint kBrickFillBindingCount = 3u + RTSDF_BRICK_PAGES;
+
+/// Push constants of brick_alloc.comp.
+struct BrickParams {
+  uint bricks; // bricks in the grid
+  uint frame;  // frame number (1, 2, ...)
+  uint phase;  // RTSDF_BRICK_FREE, RTSDF_BRICK_TAKE or RTSDF_BRICK_SETTLE
+  uint pad0;
+};
+#define RTSDF_BRICK_FREE 0u   // per brick: a slot whose brick is no longer needed goes back on the free stack
+#define RTSDF_BRICK_TAKE 1u   // per brick: a needed brick without a slot takes one off the stack (or overflows)
+#define RTSDF_BRICK_SETTLE 2u // one invocation: the stack's top lowered by the slots taken
+
+/// The brick holding fine voxel @a v (bricks x fastest, @a brickDims per axis), and @a v's place in it.
+RTSDF_FN uint brickIndexOf(ivec3 v, ivec3 brickDims) {
+  ivec3 b = v / RTSDF_BRICK;
+  return uint((b.z * brickDims.y + b.y) * brickDims.x + b.x);
+}
+RTSDF_FN uint brickLocalOf(ivec3 v) {
+  ivec3 l = v % RTSDF_BRICK;
+  return uint((l.z * RTSDF_BRICK + l.y) * RTSDF_BRICK + l.x);
+}
+
 /// Work-group shape of refine_upsample.comp (x fastest in memory; one invocation per run along z).
 #define RTSDF_UPSAMPLE_GROUP_X 32
 #define RTSDF_UPSAMPLE_GROUP_Y 2
@@ -19,12 +78,15 @@ RTSDF_SHARED_BEGIN
 /// Work-group size of the refinement shaders (one invocation per masked fine voxel).
 #define RTSDF_REFINE_GROUP 64
 
-/// Bindings of refine_upsample.comp.
+/// Bindings of refine_upsample.comp: the brick pool's value pages follow at kUpsampleBindingValuePages + page.
 const uint kUpsampleBindingCoarse = 0u;       // coarse SDF c_t (read)
-const uint kUpsampleBindingFine = 1u;         // fine SDF: c_t upsampled, written outside the ray mask
+const uint kUpsampleBindingFine = 1u;         // the dense fine SDF: c_t upsampled outside the ray mask, the bricks'
+                                              // values under it
 const uint kUpsampleBindingFineToCoarse = 2u; // int per fine index per axis (x entries, then y, then z): the coarse
                                               // voxel whose slab holds it (maskCoarseOfFine), -1: none
-const uint kUpsampleBindingCount = 3u;
+const uint kUpsampleBindingBrickSlots = 3u;   // uint per brick: its slot in the pool, kNoBrick: none
+const uint kUpsampleBindingValuePages = 4u;   // RTSDF_BRICK_PAGES pages of the pool's values
+const uint kUpsampleBindingCount = 4u + RTSDF_BRICK_PAGES;
 
 /// Work-group shape of mask_compact.comp (one invocation per coarse voxel).
 #define RTSDF_MASK_GROUP 4
@@ -34,13 +96,16 @@ const uint kMaskBindingCounts = 0u;      // MaskCounts words: the refinement's i
 const uint kMaskBindingCoarse = 1u;      // coarse SDF c_t (read)
 const uint kMaskBindingFineRanges = 2u;  // ivec2 per coarse index per axis (x entries, then y, then z): the fine
                                          // voxels [lo, hi] whose centres lie in that coarse slab
-const uint kMaskBindingFineList = 3u;    // appended: the fine voxels to refine, packed (kMaskFine*), in no order
+const uint kMaskBindingRefineList = 3u;  // appended: the coarse voxels whose fine voxels are refined this frame,
+                                         // linear index | kMaskFineFresh when new to the band, in no order
 const uint kMaskBindingCoarseList = 4u;  // appended: (coarse linear index, floatBitsToUint(c)) per band voxel
 const uint kMaskBindingCoarseState = 5u; // uvec2 per coarse voxel: (last frame in the band, refinements in a row)
 const uint kMaskBindingMovedBoxes = 6u;  // MovedBox per instance that moved since the previous frame
-const uint kMaskBindingCount = 7u;
+const uint kMaskBindingBrickNeeded = 7u; // uint per brick: set to the frame number where a band voxel lies in it
+const uint kMaskBindingCount = 8u;
 
-/// A fine-list entry: x | y << 10 | z << 20, and kMaskFineFresh when the voxel is new to the mask (no history).
+/// A fine-list entry (SdfPipeline::refinedVoxels): x | y << 10 | z << 20; a refine-list entry: a coarse linear index.
+/// Either or-ed with kMaskFineFresh when the voxel is new to the mask (no history).
 const uint kMaskFineCoords = 0x3FFFFFFFu;
 const uint kMaskFineFresh = 0x40000000u;
 
@@ -49,9 +114,10 @@ const uint kMaskFineFresh = 0x40000000u;
 const uint kMaskCountGroupsX = 0u;
 const uint kMaskCountGroupsY = 1u;
 const uint kMaskCountGroupsZ = 2u;
-const uint kMaskCountFine = 3u;       // fine voxels appended: those refined this frame
+const uint kMaskCountFine = 3u;       // fine voxels under the coarse voxels of the refine list: those refined
 const uint kMaskCountCoarse = 4u;     // coarse band voxels appended
 const uint kMaskCountMaskedFine = 5u; // fine voxels under the band, refined or kept
+const uint kMaskCountRefineList = 6u; // coarse voxels appended to the refine list
 const uint kMaskCountWords = 8u;
 
 /// Moving instances' boxes MaskCompactPass reads (more are merged into the last one).
@@ -68,7 +134,7 @@ struct MovedBox {
 struct MaskParams {
   ivec4 coarseDims;    // xyz: coarse voxels per axis
   float band;          // d: a coarse voxel is in the band when |c| <= d (the CPU mirror's float comparison)
-  uint fineCapacity;   // entries the fine list holds (appends beyond it are counted, not written)
+  uint refineCapacity; // entries the refine list holds (appends beyond it are counted, not written)
   uint coarseCapacity; // entries the coarse list holds
   uint frame;          // frame number (1, 2, ...)
   vec4 coarseOriginH;  // xyz: corner of coarse voxel (0,0,0) in the GPU's frame, w: coarse voxel size
@@ -76,6 +142,7 @@ struct MaskParams {
   uint settleFrames;   // refinements in a row after which a voxel is settled; 0: refine every band voxel
   uint refreshPeriod;  // a settled voxel is refined again once every this many frames; 0: never
   uint movedBoxes;     // MovedBox entries this frame
+  ivec4 brickDims;     // xyz: bricks per axis; w: the refinement's invocations per coarse voxel (refineParts)
 };
 
 /// Incremental refinement, decided per coarse band voxel for all the fine voxels under it: whether they are
@@ -110,27 +177,30 @@ RTSDF_FN bool movedWithinReach(MaskParams p, ivec3 v, float c, MovedBox b) {
   return dot(gap, gap) <= reach * reach;
 }
 
-/// The indirect dispatch of @a fineVoxels voxels in groups of RTSDF_REFINE_GROUP: at most 65535 groups along
-/// x, the rest along y (the refinement flattens them); no groups at all for an empty mask.
-RTSDF_FN uvec3 refineDispatch(uint fineVoxels) {
-  uint groups = fineVoxels / uint(RTSDF_REFINE_GROUP) + (fineVoxels % uint(RTSDF_REFINE_GROUP) != 0u ? 1u : 0u);
+/// The indirect dispatch of @a invocations refinement invocations in groups of RTSDF_REFINE_GROUP: at most 65535
+/// groups along x, the rest along y (the refinement flattens them); no groups at all for an empty mask.
+RTSDF_FN uvec3 refineDispatch(uint invocations) {
+  uint groups = invocations / uint(RTSDF_REFINE_GROUP) + (invocations % uint(RTSDF_REFINE_GROUP) != 0u ? 1u : 0u);
   if (groups == 0u) return uvec3(0u, 0u, 1u);
   uint gx = min(groups, 65535u);
   return uvec3(gx, (groups + gx - 1u) / gx, 1u);
 }
 
-/// Bindings of refine_rays.comp and refine_closest.comp: the scene BVH (Bvh.h's kBvhBinding*), then these.
-const uint kRefineBindingMask = kBvhBindingCount + 0u;       // the fine voxels to refine (MaskCompactPass's list)
-const uint kRefineBindingFine = kBvhBindingCount + 1u;       // in: f_{t-1} signed (not fresh); out: f_t signed
-const uint kRefineBindingVotes = kBvhBindingCount + 2u;      // decayed (front, back) hits, two halves
-const uint kRefineBindingMaskCounts = kBvhBindingCount + 3u; // MaskCounts words: the list's size at kMaskCountFine
-const uint kRefineBindingCoarse = kBvhBindingCount + 4u;     // coarse SDF c_t (upsampled for the bound)
-const uint kRefineBindingCount = kBvhBindingCount + 5u;
+/// Bindings of refine_rays.comp and refine_closest.comp: the scene BVH (Bvh.h's kBvhBinding*), then these, then
+/// the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page).
+const uint kRefineBindingRefineList = kBvhBindingCount + 0u; // the coarse voxels to refine (MaskCompactPass's list)
+const uint kRefineBindingMaskCounts = kBvhBindingCount + 1u; // MaskCounts words: the list's size
+const uint kRefineBindingCoarse = kBvhBindingCount + 2u;     // coarse SDF c_t (upsampled for the bound)
+const uint kRefineBindingFineRanges = kBvhBindingCount + 3u; // maskFineRanges(): the fine voxels of a coarse voxel
+const uint kRefineBindingBrickSlots = kBvhBindingCount + 4u; // uint per brick: its slot in the pool
+const uint kRefineBindingValuePages = kBvhBindingCount + 5u; // in: f_{t-1} signed (not fresh); out: f_t signed
+const uint kRefineBindingVotePages = kRefineBindingValuePages + RTSDF_BRICK_PAGES; // decayed (front, back) hits
+const uint kRefineBindingCount = kRefineBindingVotePages + RTSDF_BRICK_PAGES;
 
 /// Push constants of refine_upsample.comp and the refinement shaders.
 struct RefineParams {
   vec4 fineOriginH;      // xyz: world corner of fine voxel (0,0,0), w: fine voxel size
-  ivec4 fineDims;        // xyz: fine voxels per axis, w: unused (the mask's size is read on the GPU)
+  ivec4 fineDims;        // xyz: fine voxels per axis, w: the brick pool's capacity (bricks)
   vec4 coarseOriginInvH; // xyz: world corner of coarse voxel (0,0,0), w: 1 / coarse voxel size
   ivec4 coarseDims;      // xyz: coarse voxels per axis
   float alpha;           // history decay
@@ -138,8 +208,10 @@ struct RefineParams {
   uint frame;            // frame number (1, 2, ...)
   uint seed;             // per-run random seed
   float beta;            // the coarse shell (closest mode widens its search by it)
-  float band;            // upsample: > 0 leaves the fine voxels under band coarse voxels (|c| <= d) alone
-  uint pad0, pad1;
+  float band;            // upsample: > 0 reads the fine voxels under band coarse voxels (|c| <= d) from the bricks
+  uint pageBricks;       // bricks per page of the pool
+  uint refineParts;      // refinement invocations per coarse voxel of the list (maxLen.x * maxLen.y)
+  ivec4 brickDims;       // xyz: bricks per axis; w: the longest run of fine voxels under a coarse voxel along x
 };
 
 /// The two uniform numbers in [0, 1) of ray @a ray of voxel @a voxel in frame @a frame.

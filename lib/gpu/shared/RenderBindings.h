@@ -11,13 +11,19 @@ const uint kGBufferBindingPositions = kBvhBindingCount + 0u;
 const uint kGBufferBindingNormals = kBvhBindingCount + 1u;
 const uint kGBufferBindingCount = kBvhBindingCount + 2u;
 
-/// sdf_shadow.comp (field: a sampled 3D texture) and sdf_shadow_buffer.comp (field: a storage buffer).
+/// sdf_shadow.comp (field: a sampled 3D texture), sdf_shadow_buffer.comp (field: a storage buffer) and
+/// sdf_shadow_bricks.comp (field: the coarse SDF, with the brick pool's slots, parameters and value pages after
+/// kSdfShadowBindingCount: the fine SDF as SdfPipeline's sparse state holds it).
 const uint kSdfShadowBindingPositions = 0u;
 const uint kSdfShadowBindingNormals = 1u;
 const uint kSdfShadowBindingField = 2u;
 const uint kSdfShadowBindingLights = 3u;
 const uint kSdfShadowBindingVisibility = 4u;
 const uint kSdfShadowBindingCount = 5u;
+const uint kSdfShadowBindingBrickSlots = kSdfShadowBindingCount + 0u;  // uint per brick: its slot
+const uint kSdfShadowBindingBrickParams = kSdfShadowBindingCount + 1u; // one RefineParams: grids, bricks, pages
+const uint kSdfShadowBindingValuePages = kSdfShadowBindingCount + 2u;  // RTSDF_BRICK_PAGES pages of the values
+const uint kSdfShadowBindingBrickCount = kSdfShadowBindingCount + 6u;
 
 /// shadow_map.comp: the scene BVH, then the lights and the depth maps it writes.
 const uint kShadowMapBindingLights = kBvhBindingCount + 0u;

@@ -1,0 +1,49 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// BrickAllocPass: the brick pool's slots follow the ray mask, on the GPU. MaskCompactPass stamped the bricks
+// under the band with the frame number; then three dispatches of this shader (params.phase):
+//   FREE   one invocation per brick: a slotted brick not stamped this frame pushes its slot on the free stack;
+//   TAKE   one invocation per brick: a stamped brick without a slot pops one (its history starts fresh: every
+//          band voxel in it is new to the band, since a voxel in the band last frame kept its brick), or, with
+//          the stack empty, counts an overflow and stays without;
+//   SETTLE one invocation: the stack's top lowered by the slots taken.
+// Each slot also knows its brick (owners), for the passes that visit the pool slot by slot.
+// A slot is pushed and popped in different dispatches, so the stack needs no lock.
+#include "gpu/shared/Refine.h"
+
+layout(local_size_x = RTSDF_BRICK_GROUP) in;
+layout(push_constant) uniform Push { BrickParams params; };
+layout(std430, binding = kBrickBindingCounts) buffer Counts { uint counts[]; };
+layout(std430, binding = kBrickBindingNeeded) readonly buffer Needed { uint needed[]; };
+layout(std430, binding = kBrickBindingSlots) buffer Slots { uint slots[]; };
+layout(std430, binding = kBrickBindingFree) buffer FreeStack { uint freeStack[]; };
+layout(std430, binding = kBrickBindingOwners) buffer Owners { uint owners[]; };
+
+void main() {
+  if (params.phase == RTSDF_BRICK_SETTLE) { // one work group: its first invocation alone
+    if (gl_GlobalInvocationID.x == 0u)
+      counts[kBrickCountFreeTop] -= min(counts[kBrickCountAllocated], counts[kBrickCountFreeTop]);
+    return;
+  }
+  uint b = gl_GlobalInvocationID.x;
+  if (b >= params.bricks) return;
+  bool isNeeded = needed[b] == params.frame;
+  uint slot = slots[b];
+  if (params.phase == RTSDF_BRICK_FREE) {
+    if (isNeeded) atomicAdd(counts[kBrickCountActive], 1u);
+    if (slot != kNoBrick && !isNeeded) {
+      freeStack[atomicAdd(counts[kBrickCountFreeTop], 1u)] = slot;
+      slots[b] = kNoBrick;
+      owners[slot] = kNoBrick;
+    }
+    return;
+  }
+  if (!isNeeded || slot != kNoBrick) return;
+  uint top = counts[kBrickCountFreeTop]; // unchanged during this dispatch
+  uint k = atomicAdd(counts[kBrickCountAllocated], 1u);
+  if (k < top) {
+    slot = freeStack[top - 1u - k];
+    slots[b] = slot;
+    owners[slot] = b;
+  } else atomicAdd(counts[kBrickCountOverflow], 1u);
+}

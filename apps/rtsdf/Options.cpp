@@ -351,7 +351,7 @@ std::string flagOf(const std::string& setting) {
       {"truth samples", "--truth-samples"}, {"band fraction", "--band-fraction"}, {"output folder", "--out"},
       {"device", "--device"}, {"anchor", "--against"}, {"scene", "--scene"}, {"settle frames", "--settle-frames"},
       {"refresh period", "--refresh-period"}, {"slice height", "--slice-height"}, {"keys", "--keys"},
-      {"view", "--view"}, {"fine storage", "--fine-storage"}};
+      {"view", "--view"}, {"fine storage", "--fine-storage"}, {"SDF sampling", "--sdf-sampling"}};
   const auto it = flags.find(setting);
   return it == flags.end() ? setting : it->second;
 }

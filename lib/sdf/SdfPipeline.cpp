@@ -301,9 +301,9 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   checkPipelineMemory(mMemory, memoryLimits(ctx.info()));
   mCoarseSpec = mMemory.coarse;
   mFineSpec = mMemory.fine;
-  const glm::ivec3 longest = longestFineRuns(mCoarseSpec, mFineSpec);
+  mLongestRuns = longestFineRuns(mCoarseSpec, mFineSpec);
   // The refinement's invocations (refineParts per listed coarse voxel) are counted in 32 bits.
-  if (double(mCoarseSpec.voxelCount()) * longest.x * longest.y > 4294967295.0)
+  if (double(mCoarseSpec.voxelCount()) * mLongestRuns.x * mLongestRuns.y > 4294967295.0)
     throw SettingError("coarse resolution", fmt::format("SdfPipeline: coarse grid {} over fine grid {}: too many "
                                                         "refinement invocations; lower the fine resolution or raise "
                                                         "the coarse one", mCoarseSpec.describe(),
@@ -443,8 +443,7 @@ gpu::shared::MaskParams SdfPipeline::maskParams(std::uint32_t movedBoxes) const 
   p.settleFrames = std::uint32_t(settleFramesFor(mSettings));
   p.refreshPeriod = std::uint32_t(refreshPeriodFor(mSettings));
   p.movedBoxes = movedBoxes;
-  const glm::ivec3 longest = longestFineRuns(mCoarseSpec, mFineSpec);
-  p.brickDims = glm::ivec4(brickDims(), longest.x * longest.y);
+  p.brickDims = glm::ivec4(brickDims(), mLongestRuns.x * mLongestRuns.y);
   return p;
 }
 
@@ -576,9 +575,8 @@ RefineParams SdfPipeline::refineParams() const {
   p.beta = float(mSettings.beta >= 0.0 ? mSettings.beta : 0.5 * mCoarseSpec.voxelSize);
   p.band = float(mSettings.band);
   p.pageBricks = std::uint32_t(std::max<std::uint64_t>(mPageBricks, 1));
-  const glm::ivec3 longest = longestFineRuns(mCoarseSpec, mFineSpec);
-  p.refineParts = std::uint32_t(longest.x * longest.y);
-  p.brickDims = glm::ivec4(brickDims(), longest.x);
+  p.refineParts = std::uint32_t(mLongestRuns.x * mLongestRuns.y);
+  p.brickDims = glm::ivec4(brickDims(), mLongestRuns.x);
   p.fineDims.w = int(mPoolBricks);
   return p;
 }
@@ -592,6 +590,10 @@ void SdfPipeline::submitFrame(double time) {
   using Clock = std::chrono::steady_clock;
   Gpu& g = *mGpu;
   g.frameCmd.wait(); // one frame in flight: the previous one's buffers are this one's
+  if (mAwaitingFinish) { // its statistics are lost, but not a full pool
+    const MaskCounts n = maskCounts();
+    if (n.overflowBricks) mGrowTo = poolBricksFor(n.activeBricks, brickDims());
+  }
   // The pool is sized by the first frame's band, and regrown after a frame that overflowed it (then every voxel
   // starts over): one-off waits, outside the frame's host time.
   if (mFrame == 0) {

@@ -318,6 +318,7 @@ private:
   PipelineMemory mMemory;          ///< the estimate checked at construction (the pool is added when sized)
   std::uint64_t mPoolBricks = 0, mPageBricks = 0;
   std::uint64_t mGrowTo = 0;       ///< > 0: the last frame overflowed; the next one reallocates the pool
+  glm::ivec3 mLongestRuns{0};      ///< longestFineRuns of the grids
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   PipelineSettings mSettings;

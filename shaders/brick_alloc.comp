@@ -7,7 +7,6 @@
 //          band voxel in it is new to the band, since a voxel in the band last frame kept its brick), or, with
 //          the stack empty, counts an overflow and stays without;
 //   SETTLE one invocation: the stack's top lowered by the slots taken.
-// Each slot also knows its brick (owners), for the passes that visit the pool slot by slot.
 // A slot is pushed and popped in different dispatches, so the stack needs no lock.
 #include "gpu/shared/Refine.h"
 
@@ -17,7 +16,6 @@ layout(std430, binding = kBrickBindingCounts) buffer Counts { uint counts[]; };
 layout(std430, binding = kBrickBindingNeeded) readonly buffer Needed { uint needed[]; };
 layout(std430, binding = kBrickBindingSlots) buffer Slots { uint slots[]; };
 layout(std430, binding = kBrickBindingFree) buffer FreeStack { uint freeStack[]; };
-layout(std430, binding = kBrickBindingOwners) buffer Owners { uint owners[]; };
 
 void main() {
   if (params.phase == RTSDF_BRICK_SETTLE) { // one work group: its first invocation alone
@@ -34,16 +32,12 @@ void main() {
     if (slot != kNoBrick && !isNeeded) {
       freeStack[atomicAdd(counts[kBrickCountFreeTop], 1u)] = slot;
       slots[b] = kNoBrick;
-      owners[slot] = kNoBrick;
     }
     return;
   }
   if (!isNeeded || slot != kNoBrick) return;
   uint top = counts[kBrickCountFreeTop]; // unchanged during this dispatch
   uint k = atomicAdd(counts[kBrickCountAllocated], 1u);
-  if (k < top) {
-    slot = freeStack[top - 1u - k];
-    slots[b] = slot;
-    owners[slot] = b;
-  } else atomicAdd(counts[kBrickCountOverflow], 1u);
+  if (k < top) slots[b] = freeStack[top - 1u - k];
+  else atomicAdd(counts[kBrickCountOverflow], 1u);
 }

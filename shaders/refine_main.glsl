@@ -9,7 +9,8 @@
 // each is expanded into the fine voxels under it (maskFineRanges): refineParts invocations per coarse voxel, one
 // per (x, y) of its fine run, each walking the run along z (a short loop: at most the fine/coarse ratio + 1). A
 // voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with their last value, which the
-// brick pool holds (the sparse fine state); a voxel whose brick found no slot (a full pool) is left alone.
+// brick pool holds (the sparse fine state), and so, with FineStorage::Dense, does the dense fine SDF; a voxel whose
+// brick found no slot (a full pool) is left alone.
 #include "gpu/shared/Bvh.h"
 #include "gpu/shared/Refine.h"
 
@@ -21,6 +22,7 @@ layout(std430, binding = kRefineBindingMaskCounts) readonly buffer MaskCounts { 
 layout(std430, binding = kRefineBindingCoarse) readonly buffer Coarse { float coarse[]; };
 layout(std430, binding = kRefineBindingFineRanges) readonly buffer FineRanges { ivec2 fineRanges[]; };
 layout(std430, binding = kRefineBindingBrickSlots) readonly buffer BrickSlots { uint brickSlots[]; };
+layout(std430, binding = kRefineBindingDense) writeonly buffer Dense { float dense[]; };
 #define RTSDF_VALUE_PAGES kRefineBindingValuePages
 #define RTSDF_VOTE_PAGES kRefineBindingVotePages
 #include "brick_pool.glsl"
@@ -76,6 +78,7 @@ void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
   inside = vote.y > vote.x;
 #endif
   storeValue(slot, local, inside ? -f : f);
+  if (params.coarseDims.w != 0) dense[i] = inside ? -f : f;
   storeVotes(slot, local, packHalf2x16(min(vote, vec2(60000.0))));
 }
 

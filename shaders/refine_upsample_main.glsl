@@ -1,7 +1,9 @@
-// UpsamplePass's body (the includer defines RTSDF_UPSAMPLE_RUN): the dense fine SDF, resolved after the
-// refinement from the sparse state: every fine voxel outside the ray mask gets the coarse SDF c_t trilinearly
-// upsampled; voxels under a band coarse voxel (|c| <= d, found through the fine-to-coarse tables: the mask's own
-// slabs) get the refinement's value from their brick (upsampled too where their brick found no slot: a full pool). One invocation per run of RTSDF_UPSAMPLE_RUN fine
+// UpsamplePass's body (the includer defines RTSDF_UPSAMPLE_RUN): the dense fine SDF after the refinement (which
+// writes its values both into the bricks and here, FineStorage::Dense): every fine voxel outside the ray mask
+// gets the coarse SDF c_t trilinearly upsampled. Voxels under a band coarse voxel (|c| <= d, found through the
+// fine-to-coarse tables: the mask's own slabs) whose brick has a slot are left alone: they hold the refinement's
+// value, of this frame or kept from an earlier one; where the brick found no slot (a full pool) they are
+// upsampled too. One invocation per run of RTSDF_UPSAMPLE_RUN fine
 // voxels along z (neighbouring invocations: neighbouring x, so a group's writes are contiguous): the run keeps
 // the 2 x 2 x 2 coarse values of its cell and loads only the new z plane of 4 when it crosses into the next
 // coarse cell.
@@ -13,9 +15,6 @@ layout(std430, binding = kUpsampleBindingCoarse) readonly buffer Coarse { float 
 layout(std430, binding = kUpsampleBindingFine) writeonly buffer Fine { float fine[]; };
 layout(std430, binding = kUpsampleBindingFineToCoarse) readonly buffer FineToCoarse { int fineToCoarse[]; };
 layout(std430, binding = kUpsampleBindingBrickSlots) readonly buffer BrickSlots { uint brickSlots[]; };
-#define RTSDF_VALUE_PAGES kUpsampleBindingValuePages
-#define RTSDF_POOL_READONLY
-#include "brick_pool.glsl"
 
 #include "coarse_upsample.glsl"
 
@@ -34,13 +33,9 @@ void main() {
   for (int z = zBegin; z < zEnd; ++z) {
     ivec3 v = ivec3(x, y, z);
     int slabZ = maskable ? fineToCoarse[fd.x + fd.y + z] : -1;
-    if (slabZ >= 0 && abs(coarse[(slabZ * cd.y + slab.y) * cd.x + slab.x]) <= params.band) {
-      uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
-      if (slot != kNoBrick) {
-        fine[(v.z * fd.y + v.y) * fd.x + v.x] = loadValue(slot, brickLocalOf(v));
-        continue;
-      }
-    }
+    if (slabZ >= 0 && abs(coarse[(slabZ * cd.y + slab.y) * cd.x + slab.x]) <= params.band &&
+        brickSlots[brickIndexOf(v, params.brickDims.xyz)] != kNoBrick)
+      continue;
     ivec3 i0, i1;
     vec3 t;
     upsampleCell(v, i0, i1, t);

@@ -177,9 +177,8 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
     gpu::Buffer table;
     gpu::reserveAndUpload(ctx, table, fineToCoarse.data(), fineToCoarse.size() * sizeof(int),
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "fine-to-coarse table");
-    // Band 0: no brick is read; the bindings still need buffers.
+    // Band 0: no brick slot is read; the binding still needs a buffer.
     const gpu::Buffer none(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device, "no bricks");
-    const BrickPages noPool{{&none, &none, &none, &none}, {&none, &none, &none, &none}};
     std::vector<float> out[2];
     double ms[2];
     int k = 0;
@@ -191,7 +190,7 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
       for (int r = 0; r <= s.repeats; ++r) { // the first: warm-up
         gpu::CommandBuffer cmd(ctx);
         profiler.reset(cmd.handle());
-        pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer(), table, none, noPool}, {buf}, p);
+        pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer(), table, none}, {buf}, p);
         cmd.submitAndWait();
         if (r > 0) t.push_back(passTotal(profiler.results(), UpsamplePass::kName));
       }

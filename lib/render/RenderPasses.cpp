@@ -83,6 +83,7 @@ void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
     bb[kSdfShadowBindingField] = &in.bricks->coarse;
     bb[kSdfShadowBindingBrickSlots] = &in.bricks->slots;
     bb[kSdfShadowBindingBrickParams] = &in.bricks->params;
+    bb[kSdfShadowBindingFineToCoarse] = &in.bricks->fineToCoarse;
     for (std::uint32_t k = 0; k < RTSDF_BRICK_PAGES; ++k)
       bb[kSdfShadowBindingValuePages + k] = in.bricks->pool.values[k];
     mBrickPipeline.dispatch(cmd, bb, &params, groups);

@@ -53,7 +53,7 @@ public:
     const gpu::SampledVolume* texture;
     const gpu::Buffer& lights;
     /// Where given (and no texture), the march fetches the fine SDF from the brick pool and the coarse SDF
-    /// (SdfPipeline::brickField(): the same values as the dense resolve), eight fetches per step.
+    /// (SdfPipeline::brickField(): the same values as the dense fine SDF), eight fetches per step.
     const GpuBrickField* bricks = nullptr;
   };
   struct Outputs { const gpu::Buffer& visibility; }; ///< params.gridDims.w * width * height floats, light-major

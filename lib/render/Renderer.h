@@ -51,8 +51,9 @@ enum class SdfSampling {
            ///< into it each frame); falls back to Buffer where the device cannot filter R32_SFLOAT
   Buffer,  ///< the dense buffer, filtered in the shader exactly as the CPU reference does: eight fetches per step
   Bricks   ///< no dense fine SDF at all: the pipeline keeps it sparse (FineStorage::Sparse) and the march fetches
-           ///< the brick pool through the brick slots, the coarse SDF upsampled outside the bricks (the same values
-           ///< as Buffer, bit for bit); eight fetches per step, each one or two loads in a brick, nine outside
+           ///< the brick pool through the brick slots under the band, the coarse SDF upsampled elsewhere (the same
+           ///< values as Buffer, bit for bit); eight fetches per step, each up to six loads under the band, nine
+           ///< elsewhere
 };
 template <> struct EnumNames<SdfSampling> {
   static constexpr const char* kSetting = "SDF sampling";

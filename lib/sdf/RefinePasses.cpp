@@ -95,7 +95,6 @@ void BrickAllocPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
   b[kBrickBindingNeeded] = &in.needed;
   b[kBrickBindingSlots] = &out.slots;
   b[kBrickBindingFree] = &out.freeStack;
-  b[kBrickBindingOwners] = &out.owners;
   // Pushes and pops in separate dispatches, each finished before the next reads the stack.
   for (std::uint32_t phase : {RTSDF_BRICK_FREE, RTSDF_BRICK_TAKE, RTSDF_BRICK_SETTLE}) {
     Params p = params;
@@ -114,21 +113,6 @@ template <std::size_t N> void bindPages(std::array<gpu::Binding, N>& b, std::uin
 }
 } // namespace
 
-void BrickFillPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
-                            const Params& params) const {
-  gpu::ProfileScope scope(profiler, cmd, kName);
-  std::array<gpu::Binding, kBrickFillBindingCount> b;
-  b[kBrickFillBindingCoarse] = &in.coarse;
-  b[kBrickFillBindingFineToCoarse] = &in.fineToCoarse;
-  b[kBrickFillBindingOwners] = &in.owners;
-  bindPages(b, kBrickFillBindingValuePages, out.pool.values);
-  // One invocation per voxel of each slot, in groups: at most 65535 along x, the rest along y.
-  const glm::uvec3 groups = refineDispatch(std::uint32_t(params.fineDims.w) * kBrickVoxels);
-  static_assert(RTSDF_BRICK_FILL_GROUP == RTSDF_REFINE_GROUP, "the fill's dispatch is refineDispatch's");
-  if (groups.x) mPipeline.dispatch(cmd, b, &params, groups);
-  gpu::computeBarrier(cmd);
-}
-
 void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
@@ -137,7 +121,6 @@ void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   b[kUpsampleBindingFine] = &out.fine;
   b[kUpsampleBindingFineToCoarse] = &in.fineToCoarse;
   b[kUpsampleBindingBrickSlots] = &in.brickSlots;
-  bindPages(b, kUpsampleBindingValuePages, in.pool.values);
   const glm::ivec3 d = params.fineDims;
   mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(d.x, RTSDF_UPSAMPLE_GROUP_X), gpu::groupsFor(d.y, RTSDF_UPSAMPLE_GROUP_Y),
@@ -155,6 +138,7 @@ void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const 
   b[kRefineBindingCoarse] = &in.coarse;
   b[kRefineBindingFineRanges] = &in.fineRanges;
   b[kRefineBindingBrickSlots] = &in.brickSlots;
+  b[kRefineBindingDense] = &out.dense;
   bindPages(b, kRefineBindingValuePages, out.pool.values);
   bindPages(b, kRefineBindingVotePages, out.pool.votes);
   mPipeline.dispatchIndirect(cmd, b, &params, in.counts);

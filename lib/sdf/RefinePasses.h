@@ -86,9 +86,8 @@ class BrickAllocPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "BrickAllocPass";
   struct Inputs { const gpu::Buffer& needed; };  ///< per brick: the last frame it was needed
-  /// kBrickCount* words; per brick its slot (kNoBrick: none); the free stack (kBrickCountFreeTop entries); per slot
-  /// its brick (kNoBrick: free).
-  struct Outputs { const gpu::Buffer &counts, &slots, &freeStack, &owners; };
+  /// kBrickCount* words; per brick its slot (kNoBrick: none); the free stack (kBrickCountFreeTop entries).
+  struct Outputs { const gpu::Buffer &counts, &slots, &freeStack; };
   using Params = gpu::shared::BrickParams;       ///< bricks and frame (phase: set by execute)
   explicit BrickAllocPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "brick_alloc.comp", gpu::shared::kBrickBindingCount, sizeof(Params)) {}
@@ -103,30 +102,11 @@ struct BrickPages {
   const gpu::Buffer* votes[RTSDF_BRICK_PAGES];
 };
 
-/// @brief BrickFillPass (brick_fill.comp): after the refinement, the fine voxels of every slotted brick that are not
-///        under the band get the coarse SDF upsampled (UpsamplePass's value): the pool then holds the fine SDF
-///        wherever a brick has a slot, and shading can sample it sparsely (the coarse SDF upsampled elsewhere).
-///        Work grows with the pool (params.fineDims.w bricks), not the grid.
-class BrickFillPass : gpu::ComputePass {
-public:
-  static constexpr const char* kName = "BrickFillPass";
-  struct Inputs {
-    const gpu::Buffer& coarse;       ///< c_t, dense, x fastest
-    const gpu::Buffer& fineToCoarse; ///< maskCoarseOfFine() of the two grids
-    const gpu::Buffer& owners;       ///< per slot: its brick (kNoBrick: free)
-  };
-  struct Outputs { const BrickPages& pool; };   ///< the values written outside the band (votes unused)
-  using Params = gpu::shared::RefineParams;     ///< grids, band, brickDims, pageBricks, fineDims.w: pool capacity
-  explicit BrickFillPass(const gpu::VulkanContext& ctx)
-      : ComputePass(ctx, "brick_fill.comp", gpu::shared::kBrickFillBindingCount, sizeof(Params)) {}
-  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
-               const Params& params) const;
-};
-
-/// @brief UpsamplePass: the dense fine SDF resolved from the sparse state. fine[v] = the coarse SDF trilinearly
-///        interpolated at fine voxel v's centre for every fine voxel outside the ray mask; the voxels under a coarse
-///        voxel with |c| <= params.band take their brick's value (the upsampled one where the brick has no slot).
-///        params.band = 0: every voxel is upsampled.
+/// @brief UpsamplePass: the dense fine SDF after the refinement (which writes it too under the mask). fine[v] = the
+///        coarse SDF trilinearly interpolated at fine voxel v's centre for every fine voxel outside the ray mask; the
+///        voxels under a coarse voxel with |c| <= params.band whose brick has a slot keep their values (the
+///        refinement's); where the brick has none (a full pool) they are upsampled too. params.band = 0: every
+///        voxel is upsampled.
 class UpsamplePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "UpsamplePass";
@@ -139,9 +119,8 @@ public:
     const gpu::Buffer& coarse;       ///< c_t, dense, x fastest
     const gpu::Buffer& fineToCoarse; ///< maskCoarseOfFine() of the two grids
     const gpu::Buffer& brickSlots;   ///< per brick: its slot in the pool (kNoBrick: none)
-    const BrickPages& pool;          ///< the bricks' values (votes unused)
   };
-  struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel written
+  struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel but the slotted ones under the band written
   using Params = gpu::shared::RefineParams;     ///< grids of both levels
   explicit UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel = Kernel::Runs)
       : ComputePass(ctx, kernel == Kernel::Runs ? "refine_upsample.comp" : "refine_upsample_voxel.comp",
@@ -166,8 +145,9 @@ public:
     const gpu::Buffer& fineRanges;  ///< maskFineRanges() of the two grids
     const gpu::Buffer& brickSlots;  ///< per brick: its slot in the pool (kNoBrick: left alone)
   };
-  /// Per fine voxel, in its brick: the SDF (in: f_{t-1} where not fresh; out: f_t, signed) and its decayed votes.
-  struct Outputs { const BrickPages& pool; };
+  /// Per fine voxel, in its brick: the SDF (in: f_{t-1} where not fresh; out: f_t, signed) and its decayed votes;
+  /// @a dense: f_t also written into the dense fine SDF where params.coarseDims.w != 0 (else a placeholder).
+  struct Outputs { const BrickPages& pool; const gpu::Buffer& dense; };
   using Params = gpu::shared::RefineParams;
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;

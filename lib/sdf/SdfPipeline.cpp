@@ -252,7 +252,6 @@ struct SdfPipeline::Gpu {
   MaskCompactPass compact;
   MaskDispatchPass maskDispatch;
   BrickAllocPass brickAlloc;
-  BrickFillPass brickFill;
   UpsamplePass upsample;
   std::unique_ptr<RefinePass> refine; // RayRefinePass or ClosestRefinePass, by the mode
   gpu::GpuProfiler profiler;
@@ -266,11 +265,11 @@ struct SdfPipeline::Gpu {
   Buffer refineList, coarseList;      // the coarse voxels to refine and the coarse band voxels (band > 0 only)
   // The sparse fine state: per brick the last frame it was needed and its slot; the free slots and their count;
   // the pool's pages of values and votes (pages beyond the pool bound to the placeholder).
-  Buffer brickNeeded, brickSlots, brickFree, brickOwners, brickCounts, placeholder;
+  Buffer brickNeeded, brickSlots, brickFree, brickCounts, placeholder;
   Buffer samplingParams; // the frame's RefineParams, for shading passes that sample the bricks (Sparse only)
   Buffer values[RTSDF_BRICK_PAGES], votes[RTSDF_BRICK_PAGES];
   Gpu(const gpu::VulkanContext& ctx, RefineMode mode)
-      : coarse(ctx), compact(ctx), maskDispatch(ctx), brickAlloc(ctx), brickFill(ctx), upsample(ctx),
+      : coarse(ctx), compact(ctx), maskDispatch(ctx), brickAlloc(ctx), upsample(ctx),
         refine(mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
                                         : std::make_unique<ClosestRefinePass>(ctx)),
         profiler(ctx), frameCmd(ctx) {}
@@ -404,12 +403,10 @@ void SdfPipeline::allocatePool(std::uint64_t bricks) {
   std::vector<std::uint32_t> stack(std::max<std::uint64_t>(bricks, 1), 0u);
   for (std::uint64_t k = 0; k < bricks; ++k) stack[k] = std::uint32_t(bricks - 1 - k);
   gpu::reserveAndUpload(mCtx, g.brickFree, stack.data(), stack.size() * 4, kStorage, "brick free stack");
-  gpu::reserve(mCtx, g.brickOwners, stack.size() * 4, kStorageFilled, Buffer::Memory::Device, "brick owners");
   const std::uint32_t counts[gpu::shared::kBrickCountWords] = {std::uint32_t(bricks), 0, 0, 0};
   gpu::CommandBuffer cmd(mCtx);
   gpu::recordUpload(cmd.handle(), g.brickCounts, counts, sizeof(counts));
   vkCmdFillBuffer(cmd.handle(), g.brickSlots.handle(), 0, VK_WHOLE_SIZE, gpu::shared::kNoBrick);
-  vkCmdFillBuffer(cmd.handle(), g.brickOwners.handle(), 0, VK_WHOLE_SIZE, gpu::shared::kNoBrick);
   vkCmdFillBuffer(cmd.handle(), g.coarseState.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
   for (int k = 0; k < RTSDF_BRICK_PAGES; ++k) {
     if (g.values[k]) vkCmdFillBuffer(cmd.handle(), g.values[k].handle(), 0, VK_WHOLE_SIZE, 0u);
@@ -461,8 +458,7 @@ void SdfPipeline::recordMask(VkCommandBuffer cmd, const gpu::shared::MaskParams&
     gpu::shared::BrickParams bp{};
     bp.bricks = std::uint32_t(bd.x * bd.y * bd.z);
     bp.frame = mFrame;
-    g.brickAlloc.execute(cmd, &g.profiler, {g.brickNeeded}, {g.brickCounts, g.brickSlots, g.brickFree, g.brickOwners},
-                         bp);
+    g.brickAlloc.execute(cmd, &g.profiler, {g.brickNeeded}, {g.brickCounts, g.brickSlots, g.brickFree}, bp);
   }
   g.maskDispatch.execute(cmd, &g.profiler, {}, {g.counts}, params);
 }
@@ -578,6 +574,7 @@ RefineParams SdfPipeline::refineParams() const {
   p.refineParts = std::uint32_t(mLongestRuns.x * mLongestRuns.y);
   p.brickDims = glm::ivec4(brickDims(), mLongestRuns.x);
   p.fineDims.w = int(mPoolBricks);
+  p.coarseDims.w = mGpu->fine ? 1 : 0; // the refinement writes the dense copy too
   return p;
 }
 
@@ -635,15 +632,13 @@ void SdfPipeline::submitFrame(double time) {
   const BrickPages pool = g.pages();
   if (mSettings.band > 0.0)
     g.refine->execute(cmd, &g.profiler,
-                      {*mBvh, g.refineList, g.counts, g.coarse.distanceBuffer(), g.fineRanges, g.brickSlots}, {pool}, p);
-  if (g.fine) {
-    g.upsample.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse, g.brickSlots, pool}, {g.fine}, p);
-  } else {
-    // The pool becomes the fine SDF wherever a brick has a slot; shading finds the grids in samplingParams.
-    g.brickFill.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse, g.brickOwners}, {pool}, p);
-    gpu::recordUpload(cmd, g.samplingParams, &p, sizeof(p));
-    gpu::computeBarrier(cmd);
-  }
+                      {*mBvh, g.refineList, g.counts, g.coarse.distanceBuffer(), g.fineRanges, g.brickSlots},
+                      {pool, g.fine ? g.fine : g.placeholder}, p);
+  if (g.fine)
+    g.upsample.execute(cmd, &g.profiler, {g.coarse.distanceBuffer(), g.fineToCoarse, g.brickSlots}, {g.fine}, p);
+  // Shading that samples the bricks finds the grids here.
+  gpu::recordUpload(cmd, g.samplingParams, &p, sizeof(p));
+  gpu::computeBarrier(cmd);
   recordCountsReadback(cmd);
   g.frameCmd.submit();
   mSubmitStart = t0;
@@ -686,7 +681,7 @@ const gpu::Buffer& SdfPipeline::coarseBuffer() const { return mGpu->coarse.dista
 GpuBrickField SdfPipeline::brickField() const {
   if (mGpu->fine)
     throw Error("SdfPipeline: the fine SDF is kept dense (fine storage 'dense'): its bricks hold only the band");
-  return {mGpu->coarse.distanceBuffer(), mGpu->brickSlots, mGpu->samplingParams, mGpu->pages()};
+  return {mGpu->coarse.distanceBuffer(), mGpu->fineToCoarse, mGpu->brickSlots, mGpu->samplingParams, mGpu->pages()};
 }
 
 std::vector<std::uint32_t> SdfPipeline::brickSlots() const {

@@ -211,10 +211,12 @@ struct FrameStats {
 };
 
 /// @brief The fine SDF as FineStorage::Sparse keeps it on the GPU, for shading passes that sample it without a dense
-///        copy: fine voxel v's value is the pool's where its brick has a slot (BrickFillPass filled the voxels
-///        outside the band), else the coarse SDF upsampled at v (coarse_upsample.glsl with @a params).
+///        copy: fine voxel v's value is the pool's where v lies under the band (|c| <= d at its coarse slab,
+///        @a fineToCoarse) and its brick has a slot, else the coarse SDF upsampled at v (coarse_upsample.glsl with
+///        @a params): resolveFineCpu's values.
 struct GpuBrickField {
-  const gpu::Buffer& coarse; ///< c_t, dense, x fastest
+  const gpu::Buffer& coarse;       ///< c_t, dense, x fastest
+  const gpu::Buffer& fineToCoarse; ///< maskCoarseOfFine() of the grids
   const gpu::Buffer& slots;  ///< per brick (x fastest, params.brickDims): its slot, kNoBrick: none
   const gpu::Buffer& params; ///< one gpu::shared::RefineParams: grids in the GPU's frame, brickDims, pageBricks
   BrickPages pool;           ///< the values (votes unused)
@@ -252,8 +254,8 @@ public:
   /// @brief Per brick of the fine grid (x fastest, brickDims()): its slot in the pool, kNoBrick where it has none
   ///        (read back).
   std::vector<std::uint32_t> brickSlots() const;
-  /// @brief The pool's values, slot after slot (kBrickVoxels each; read back). With FineStorage::Sparse every voxel
-  ///        of a slotted brick holds the fine SDF (BrickFillPass); with Dense only those under the band do.
+  /// @brief The pool's values, slot after slot (kBrickVoxels each; read back): the refinement's, for the voxels
+  ///        of a slotted brick under the band (the others hold nothing meaningful).
   std::vector<float> brickValues() const;
   /// @brief Bricks per axis of the fine grid.
   glm::ivec3 brickDims() const;
@@ -286,7 +288,7 @@ public:
   /// @throw Error with FineStorage::Sparse (there is none).
   const gpu::Buffer& fineBuffer() const;
   /// @brief The fine SDF as the bricks hold it, valid after runFrame() or finishFrame().
-  /// @throw Error with FineStorage::Dense (the bricks then hold only the band: sample fineBuffer()).
+  /// @throw Error with FineStorage::Dense (sample fineBuffer()).
   GpuBrickField brickField() const;
   /// @brief The coarse SDF on the GPU (dense, x fastest, coarseSpec()), valid after runFrame() or finishFrame().
   const gpu::Buffer& coarseBuffer() const;

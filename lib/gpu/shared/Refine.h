@@ -35,19 +35,7 @@ const uint kBrickBindingCounts = 0u; // kBrickCount* words
 const uint kBrickBindingNeeded = 1u; // uint per brick: the last frame a band voxel lay in it (MaskCompactPass)
 const uint kBrickBindingSlots = 2u;  // uint per brick: its slot, kNoBrick: none
 const uint kBrickBindingFree = 3u;   // the free stack of slots, kBrickCountFreeTop of them
-const uint kBrickBindingOwners = 4u; // uint per slot: the brick holding it, kNoBrick: free
-const uint kBrickBindingCount = 5u;
-
-/// Work-group size of brick_fill.comp (one invocation per voxel of a slot).
-#define RTSDF_BRICK_FILL_GROUP 64
-
-/// Bindings of brick_fill.comp (BrickFillPass): the fine voxels of a slotted brick outside the band get the coarse
-/// SDF upsampled, so that the pool holds the fine SDF wherever a brick has a slot.
-const uint kBrickFillBindingCoarse = 0u;       // coarse SDF c_t
-const uint kBrickFillBindingFineToCoarse = 1u; // maskCoarseOfFine()
-const uint kBrickFillBindingOwners = 2u;       // uint per slot: its brick
-const uint kBrickFillBindingValuePages = 3u;   // RTSDF_BRICK_PAGES pages of the pool's values
-const uint kBrickFillBindingCount = 3u + RTSDF_BRICK_PAGES;
+const uint kBrickBindingCount = 4u;
 
 /// Push constants of brick_alloc.comp.
 struct BrickParams {
@@ -78,15 +66,14 @@ RTSDF_FN uint brickLocalOf(ivec3 v) {
 /// Work-group size of the refinement shaders (one invocation per masked fine voxel).
 #define RTSDF_REFINE_GROUP 64
 
-/// Bindings of refine_upsample.comp: the brick pool's value pages follow at kUpsampleBindingValuePages + page.
+/// Bindings of refine_upsample.comp.
 const uint kUpsampleBindingCoarse = 0u;       // coarse SDF c_t (read)
-const uint kUpsampleBindingFine = 1u;         // the dense fine SDF: c_t upsampled outside the ray mask, the bricks'
-                                              // values under it
+const uint kUpsampleBindingFine = 1u;         // the dense fine SDF: c_t upsampled outside the ray mask (the
+                                              // refinement wrote the masked voxels whose bricks have a slot)
 const uint kUpsampleBindingFineToCoarse = 2u; // int per fine index per axis (x entries, then y, then z): the coarse
                                               // voxel whose slab holds it (maskCoarseOfFine), -1: none
 const uint kUpsampleBindingBrickSlots = 3u;   // uint per brick: its slot in the pool, kNoBrick: none
-const uint kUpsampleBindingValuePages = 4u;   // RTSDF_BRICK_PAGES pages of the pool's values
-const uint kUpsampleBindingCount = 4u + RTSDF_BRICK_PAGES;
+const uint kUpsampleBindingCount = 4u;
 
 /// Work-group shape of mask_compact.comp (one invocation per coarse voxel).
 #define RTSDF_MASK_GROUP 4
@@ -193,7 +180,9 @@ const uint kRefineBindingMaskCounts = kBvhBindingCount + 1u; // MaskCounts words
 const uint kRefineBindingCoarse = kBvhBindingCount + 2u;     // coarse SDF c_t (upsampled for the bound)
 const uint kRefineBindingFineRanges = kBvhBindingCount + 3u; // maskFineRanges(): the fine voxels of a coarse voxel
 const uint kRefineBindingBrickSlots = kBvhBindingCount + 4u; // uint per brick: its slot in the pool
-const uint kRefineBindingValuePages = kBvhBindingCount + 5u; // in: f_{t-1} signed (not fresh); out: f_t signed
+const uint kRefineBindingDense = kBvhBindingCount + 5u;      // the dense fine SDF: f_t also written here when
+                                                             // coarseDims.w != 0 (FineStorage::Dense)
+const uint kRefineBindingValuePages = kBvhBindingCount + 6u; // in: f_{t-1} signed (not fresh); out: f_t signed
 const uint kRefineBindingVotePages = kRefineBindingValuePages + RTSDF_BRICK_PAGES; // decayed (front, back) hits
 const uint kRefineBindingCount = kRefineBindingVotePages + RTSDF_BRICK_PAGES;
 
@@ -202,7 +191,7 @@ struct RefineParams {
   vec4 fineOriginH;      // xyz: world corner of fine voxel (0,0,0), w: fine voxel size
   ivec4 fineDims;        // xyz: fine voxels per axis, w: the brick pool's capacity (bricks)
   vec4 coarseOriginInvH; // xyz: world corner of coarse voxel (0,0,0), w: 1 / coarse voxel size
-  ivec4 coarseDims;      // xyz: coarse voxels per axis
+  ivec4 coarseDims;      // xyz: coarse voxels per axis; w: refinement: != 0 writes the dense fine SDF too
   float alpha;           // history decay
   uint rays;             // x, rays per masked voxel per frame
   uint frame;            // frame number (1, 2, ...)

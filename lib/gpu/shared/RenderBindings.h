@@ -12,8 +12,8 @@ const uint kGBufferBindingNormals = kBvhBindingCount + 1u;
 const uint kGBufferBindingCount = kBvhBindingCount + 2u;
 
 /// sdf_shadow.comp (field: a sampled 3D texture), sdf_shadow_buffer.comp (field: a storage buffer) and
-/// sdf_shadow_bricks.comp (field: the coarse SDF, with the brick pool's slots, parameters and value pages after
-/// kSdfShadowBindingCount: the fine SDF as SdfPipeline's sparse state holds it).
+/// sdf_shadow_bricks.comp (field: the coarse SDF, with the brick pool's slots, parameters, value pages and the
+/// fine-to-coarse tables after kSdfShadowBindingCount: the fine SDF as SdfPipeline's sparse state holds it).
 const uint kSdfShadowBindingPositions = 0u;
 const uint kSdfShadowBindingNormals = 1u;
 const uint kSdfShadowBindingField = 2u;
@@ -23,7 +23,8 @@ const uint kSdfShadowBindingCount = 5u;
 const uint kSdfShadowBindingBrickSlots = kSdfShadowBindingCount + 0u;  // uint per brick: its slot
 const uint kSdfShadowBindingBrickParams = kSdfShadowBindingCount + 1u; // one RefineParams: grids, bricks, pages
 const uint kSdfShadowBindingValuePages = kSdfShadowBindingCount + 2u;  // RTSDF_BRICK_PAGES pages of the values
-const uint kSdfShadowBindingBrickCount = kSdfShadowBindingCount + 6u;
+const uint kSdfShadowBindingFineToCoarse = kSdfShadowBindingCount + 6u; // maskCoarseOfFine(): the band test
+const uint kSdfShadowBindingBrickCount = kSdfShadowBindingCount + 7u;
 
 /// shadow_map.comp: the scene BVH, then the lights and the depth maps it writes.
 const uint kShadowMapBindingLights = kBvhBindingCount + 0u;

@@ -12,30 +12,36 @@
 #endif
 #define RTSDF_POOL_PAGE(KIND, TYPE, BASE, N) \
   layout(std430, binding = BASE + N) RTSDF_POOL_ACCESS buffer KIND##Page##N { TYPE KIND##N[]; };
-RTSDF_POOL_PAGE(values, float, RTSDF_VALUE_PAGES, 0)
-RTSDF_POOL_PAGE(values, float, RTSDF_VALUE_PAGES, 1)
-RTSDF_POOL_PAGE(values, float, RTSDF_VALUE_PAGES, 2)
-RTSDF_POOL_PAGE(values, float, RTSDF_VALUE_PAGES, 3)
 
 // Where fine value @a local of brick slot @a slot lies in its page.
 uint poolOffset(uint slot, uint local) { return (slot % RTSDF_POOL_PARAMS.pageBricks) * kBrickVoxels + local; }
 
-float loadValue(uint slot, uint local) {
-  uint page = slot / RTSDF_POOL_PARAMS.pageBricks, at = poolOffset(slot, local);
-  if (page == 0u) return values0[at];
-  if (page == 1u) return values1[at];
-  if (page == 2u) return values2[at];
-  return values3[at];
-}
+// LOAD(slot, local) reads pages KIND0..3 of TYPE.
+#define RTSDF_POOL_LOAD(KIND, TYPE, LOAD)                                       \
+  TYPE LOAD(uint slot, uint local) {                                            \
+    uint page = slot / RTSDF_POOL_PARAMS.pageBricks, at = poolOffset(slot, local); \
+    if (page == 0u) return KIND##0[at];                                         \
+    if (page == 1u) return KIND##1[at];                                         \
+    if (page == 2u) return KIND##2[at];                                         \
+    return KIND##3[at];                                                         \
+  }
+// STORE(slot, local, v) writes them.
+#define RTSDF_POOL_STORE(KIND, TYPE, STORE)                                     \
+  void STORE(uint slot, uint local, TYPE v) {                                   \
+    uint page = slot / RTSDF_POOL_PARAMS.pageBricks, at = poolOffset(slot, local); \
+    if (page == 0u) KIND##0[at] = v;                                            \
+    else if (page == 1u) KIND##1[at] = v;                                       \
+    else if (page == 2u) KIND##2[at] = v;                                       \
+    else KIND##3[at] = v;                                                       \
+  }
 
+RTSDF_POOL_PAGE(values, float, RTSDF_VALUE_PAGES, 0)
+RTSDF_POOL_PAGE(values, float, RTSDF_VALUE_PAGES, 1)
+RTSDF_POOL_PAGE(values, float, RTSDF_VALUE_PAGES, 2)
+RTSDF_POOL_PAGE(values, float, RTSDF_VALUE_PAGES, 3)
+RTSDF_POOL_LOAD(values, float, loadValue)
 #ifndef RTSDF_POOL_READONLY
-void storeValue(uint slot, uint local, float v) {
-  uint page = slot / RTSDF_POOL_PARAMS.pageBricks, at = poolOffset(slot, local);
-  if (page == 0u) values0[at] = v;
-  else if (page == 1u) values1[at] = v;
-  else if (page == 2u) values2[at] = v;
-  else values3[at] = v;
-}
+RTSDF_POOL_STORE(values, float, storeValue)
 #endif
 
 #ifdef RTSDF_VOTE_PAGES
@@ -43,20 +49,6 @@ RTSDF_POOL_PAGE(votes, uint, RTSDF_VOTE_PAGES, 0)
 RTSDF_POOL_PAGE(votes, uint, RTSDF_VOTE_PAGES, 1)
 RTSDF_POOL_PAGE(votes, uint, RTSDF_VOTE_PAGES, 2)
 RTSDF_POOL_PAGE(votes, uint, RTSDF_VOTE_PAGES, 3)
-
-uint loadVotes(uint slot, uint local) {
-  uint page = slot / RTSDF_POOL_PARAMS.pageBricks, at = poolOffset(slot, local);
-  if (page == 0u) return votes0[at];
-  if (page == 1u) return votes1[at];
-  if (page == 2u) return votes2[at];
-  return votes3[at];
-}
-
-void storeVotes(uint slot, uint local, uint v) {
-  uint page = slot / RTSDF_POOL_PARAMS.pageBricks, at = poolOffset(slot, local);
-  if (page == 0u) votes0[at] = v;
-  else if (page == 1u) votes1[at] = v;
-  else if (page == 2u) votes2[at] = v;
-  else votes3[at] = v;
-}
+RTSDF_POOL_LOAD(votes, uint, loadVotes)
+RTSDF_POOL_STORE(votes, uint, storeVotes)
 #endif

@@ -101,6 +101,10 @@ def test_rtsdf_bake_and_pipeline_frames():
     baked = rtsdf.bake(scene, method="rtsdf", res=64, coarse=32, refine="closest", rays=0, frames=1)
     assert fine.values.shape == baked.values.shape
     assert np.max(np.abs(fine.values[baked.active] - baked.values[baked.active])) < 1e-5
+    # Only the bricks under the band on the GPU: the same field, resolved on the host.
+    sparse = rtsdf.Pipeline(scene, frames=1, coarse=32, fine=64, refine="closest", rays=0, fine_storage="sparse")
+    sparse.frame(0.0)
+    assert np.array_equal(sparse.fine().values, fine.values)
 
 
 def test_log_is_quiet_unless_asked(capfd):

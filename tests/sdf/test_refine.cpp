@@ -53,6 +53,16 @@ MaskedError measure(const SdfPipeline& pipe, const Scene& scene, double time, do
 
 Scene bunny() { return loadScene(test::dataPath("scenes/bunny.json")); }
 
+/// Closest-mode settings at coarse 32 / fine 64 with @a rays sign rays.
+PipelineSettings closestAt32(int rays) {
+  PipelineSettings s;
+  s.coarseRes = 32;
+  s.fineRes = 64;
+  s.mode = RefineMode::Closest;
+  s.rays = rays;
+  return s;
+}
+
 Bounds boundsOf(const Scene& s) { return buildSceneGeometry(s, 0.0).bounds; }
 
 } // namespace
@@ -197,11 +207,7 @@ TEST_F(Refine, MaskDispatchPassWritesTheRefinementsGroups) {
 
 TEST_F(Refine, ClosestModeIsTheExactDistanceInTheMask) {
   const Scene scene = bunny();
-  PipelineSettings s;
-  s.coarseRes = 32;
-  s.fineRes = 64;
-  s.mode = RefineMode::Closest;
-  s.rays = 16;
+  PipelineSettings s = closestAt32(16);
   SdfPipeline pipe(*sCtx, scene, boundsOf(scene), s);
   pipe.runFrame(0.0);
   const MaskedError e = measure(pipe, scene, 0.0, 1e-5);
@@ -610,11 +616,7 @@ TEST_F(Refine, BrickSlotsFollowTheBandAndSparseEqualsDense) {
 // over, giving the very field of a pipeline whose pool was large enough (closest mode: exact, history-free).
 TEST_F(Refine, AFullBrickPoolIsRegrownTheNextFrame) {
   const Scene scene = bunny();
-  PipelineSettings s;
-  s.coarseRes = 32;
-  s.fineRes = 64;
-  s.mode = RefineMode::Closest;
-  s.rays = 0;
+  PipelineSettings s = closestAt32(0);
   SdfPipeline roomy(*sCtx, scene, boundsOf(scene), s);
   s.poolBricks = 10;
   SdfPipeline tight(*sCtx, scene, boundsOf(scene), s);

@@ -373,6 +373,21 @@ std::uint64_t SdfPipeline::firstPoolSize(double time) {
   return poolBricksFor(active, brickDims());
 }
 
+void SdfPipeline::preparePool(double time) {
+  if (mAwaitingFinish) { // the previous frame's statistics are lost, but not a full pool
+    const MaskCounts n = maskCounts();
+    if (n.overflowBricks) mGrowTo = poolBricksFor(n.activeBricks, brickDims());
+  }
+  const glm::ivec3 bd = brickDims();
+  if (mFrame == 0)
+    allocatePool(mSettings.poolBricks > 0 ? std::min<std::uint64_t>(std::uint64_t(mSettings.poolBricks),
+                                                                    std::uint64_t(bd.x) * bd.y * bd.z)
+                                          : firstPoolSize(time));
+  else if (mGrowTo)
+    allocatePool(mGrowTo);
+  mGrowTo = 0;
+}
+
 void SdfPipeline::allocatePool(std::uint64_t bricks) {
   const std::uint64_t brickBytes = gpu::shared::kBrickVoxels * 4;
   const std::uint64_t range = mCtx.info().maxStorageBufferRange;
@@ -587,20 +602,7 @@ void SdfPipeline::submitFrame(double time) {
   using Clock = std::chrono::steady_clock;
   Gpu& g = *mGpu;
   g.frameCmd.wait(); // one frame in flight: the previous one's buffers are this one's
-  if (mAwaitingFinish) { // its statistics are lost, but not a full pool
-    const MaskCounts n = maskCounts();
-    if (n.overflowBricks) mGrowTo = poolBricksFor(n.activeBricks, brickDims());
-  }
-  // The pool is sized by the first frame's band, and regrown after a frame that overflowed it (then every voxel
-  // starts over): one-off waits, outside the frame's host time.
-  if (mFrame == 0) {
-    const glm::ivec3 bd = brickDims();
-    allocatePool(mSettings.poolBricks > 0 ? std::min<std::uint64_t>(std::uint64_t(mSettings.poolBricks),
-                                                                    std::uint64_t(bd.x) * bd.y * bd.z)
-                                          : firstPoolSize(time));
-  }
-  else if (mGrowTo) allocatePool(mGrowTo);
-  mGrowTo = 0;
+  preparePool(time);
   const auto t0 = Clock::now();
   // The host's work grows with the instances only: the GPU places their triangles.
   checkInstancePlacement(mScene, mMeshBounds, time);

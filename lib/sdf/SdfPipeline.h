@@ -312,6 +312,10 @@ private:
   gpu::shared::RefineParams refineParams() const;
   /// Wait for a submitted frame (the read-backs need its results).
   void waitForFrame() const;
+  /// Before a frame at @a time: the pool sized by the first frame's band (PipelineSettings::poolBricks where given),
+  /// or regrown after a frame that overflowed it (then every voxel starts over). One-off waits, outside the frame's
+  /// host time.
+  void preparePool(double time);
   /// The first frame's pool size: the bricks under the band of the coarse SDF at @a time, with headroom.
   std::uint64_t firstPoolSize(double time);
   /// (Re)allocate the pool for @a bricks bricks, every slot free, every coarse voxel new to the band.

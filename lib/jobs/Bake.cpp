@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace rtsdf {
@@ -190,11 +191,14 @@ namespace {
 std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::path& output) {
   const PipelineSettings& p = o.pipeline;
   const FrameStats& st = r.lastFrame;
+  // Every pass that ran, in recording order, a pass recorded several times once with its total.
   std::string passes;
-  for (const char* n : {VoxelizePass::kName, coarseTransformPass(p.coarseMethod), CoarseDistancePass::kName,
-                        MaskCompactPass::kName, UpsamplePass::kName,
-                        p.mode == RefineMode::Rays ? RayRefinePass::kName : ClosestRefinePass::kName})
-    passes += fmt::format("{} {:.1f} ms, ", n, st.passTotal(n));
+  std::vector<std::string> seen;
+  for (const auto& entry : st.passMs) {
+    if (std::find(seen.begin(), seen.end(), entry.first) != seen.end()) continue;
+    seen.push_back(entry.first);
+    passes += fmt::format("{} {:.1f} ms, ", entry.first, st.passTotal(entry.first));
+  }
   std::string t = fmt::format("scene      {}\n", o.scene);
   t += fmt::format("method     rtsdf ({} refinement, x = {}, alpha = {}, {} frames, {})\n", toString(p.mode), p.rays,
                    p.alpha, o.frames, toString(p.coarseMethod));

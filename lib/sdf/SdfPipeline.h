@@ -40,8 +40,8 @@ template <> struct EnumNames<RefineMode> {
 ///        only in bricks of RTSDF_BRICK^3 fine voxels under the ray mask (the sparse fine state, a pool sized by the
 ///        mask); outside the mask the fine SDF is the coarse one upsampled.
 enum class FineStorage {
-  Dense, ///< also a dense fine SDF, resolved from the coarse SDF and the bricks every frame (UpsamplePass), for
-         ///< shading passes that sample it (fineBuffer()); memory grows with the grid's volume
+  Dense, ///< also a dense fine SDF (the refinement writes it under the band, UpsamplePass elsewhere), for shading
+         ///< passes that sample it (fineBuffer()); memory grows with the grid's volume
   Sparse ///< the coarse SDF and the bricks only: memory grows with the band (surface area x band width)
 };
 template <> struct EnumNames<FineStorage> {
@@ -217,9 +217,9 @@ struct FrameStats {
 struct GpuBrickField {
   const gpu::Buffer& coarse;       ///< c_t, dense, x fastest
   const gpu::Buffer& fineToCoarse; ///< maskCoarseOfFine() of the grids
-  const gpu::Buffer& slots;  ///< per brick (x fastest, params.brickDims): its slot, kNoBrick: none
-  const gpu::Buffer& params; ///< one gpu::shared::RefineParams: grids in the GPU's frame, brickDims, pageBricks
-  BrickPages pool;           ///< the values (votes unused)
+  const gpu::Buffer& slots;        ///< per brick (x fastest, params.brickDims): its slot, kNoBrick: none
+  const gpu::Buffer& params;       ///< one gpu::shared::RefineParams: grids in the GPU's frame, brickDims, pageBricks
+  BrickPages pool;                 ///< the values (votes unused)
 };
 
 /// @brief Runs frames of the pipeline for one scene on fixed grids (bounds given by the caller, e.g. the

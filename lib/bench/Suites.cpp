@@ -72,10 +72,10 @@ std::string coarseSuite(const BenchOptions& s) {
   copt.validation = false;
   gpu::VulkanContext ctx(copt);
   CoarseSdfBuilder builder(ctx);
-  std::string md = fmt::format("GPU: {} ({}). GPU times: median of {} runs after one warm-up, from GPU timestamps. "
-                               "CPU times: median of {} runs (OpenVDB: 1 run). Transform: ExactEdtPass (edt) or "
-                               "JumpFloodPass.\n\n",
-                               ctx.info().name, ctx.info().typeName, s.repeats, s.repeats);
+  std::string md = fmt::format("GPU: {} ({}). GPU times: median of {} runs after one warm-up and {} s of warm-up "
+                               "runs, from GPU timestamps. CPU times: median of {} runs (OpenVDB: 1 run). Transform: "
+                               "ExactEdtPass (edt) or JumpFloodPass.\n\n",
+                               ctx.info().name, ctx.info().typeName, s.repeats, s.warmUpSeconds, s.repeats);
   md += "| scene | res | grid | method | voxelize (ms) | transform (ms) | distance (ms) | coarse SDF total (ms) | "
         "transform vs 1+jfa | CPU jump flood (ms) | CPU exact EDT (ms) | OpenVDB SDF (ms) | coarse / OpenVDB | voxels "
         "off vs EDT | max error (voxels) |\n";
@@ -98,7 +98,8 @@ std::string coarseSuite(const BenchOptions& s) {
       for (CoarseMethod m : {CoarseMethod::Edt, CoarseMethod::Jfa, CoarseMethod::OnePlusJfa, CoarseMethod::JfaPlusTwo}) {
         CoarseSdfSettings cs;
         cs.method = m;
-        builder.build(corners, spec, cs); // warm-up
+        builder.build(corners, spec, cs); // warm-up: pipelines and allocations
+        detail::warmUpGpu(s.warmUpSeconds, [&] { builder.build(corners, spec, cs); }); // and the GPU's clocks
         std::vector<double> vox, transform, dist;
         CoarseSdf last;
         for (int r = 0; r < s.repeats; ++r) {
@@ -135,10 +136,14 @@ struct RefinePoint {
 };
 
 RefinePoint runRefinePoint(const gpu::VulkanContext& ctx, const Scene& scene, const SceneGeometry& geo,
-                           const PipelineSettings& ps, int frames, double errorBand) {
+                           const PipelineSettings& ps, int frames, double errorBand, double warmUpSeconds) {
   // The paper's tables time its frame, every masked voxel refined (a static incremental frame refines none).
   PipelineSettings full = ps;
   full.fullRecompute = true;
+  if (warmUpSeconds > 0.0) { // the GPU's clocks, on a pipeline of its own: the measured one starts from nothing
+    SdfPipeline warm(ctx, scene, geo.bounds, full);
+    detail::warmUpGpu(warmUpSeconds, [&] { warm.runFrame(0.0); });
+  }
   SdfPipeline pipe(ctx, scene, geo.bounds, full);
   FrameStats st;
   for (int f = 0; f < frames; ++f) st = pipe.runFrame(0.0);
@@ -187,13 +192,16 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
       gpu::reserve(ctx, buf, f.voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device,
                    "fine SDF");
       std::vector<double> t;
-      for (int r = 0; r <= s.repeats; ++r) { // the first: warm-up
+      auto run = [&] {
         gpu::CommandBuffer cmd(ctx);
         profiler.reset(cmd.handle());
         pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer(), table, none}, {buf}, p);
         cmd.submitAndWait();
-        if (r > 0) t.push_back(passTotal(profiler.results(), UpsamplePass::kName));
-      }
+        return passTotal(profiler.results(), UpsamplePass::kName);
+      };
+      run(); // warm-up
+      detail::warmUpGpu(s.warmUpSeconds, run);
+      for (int r = 0; r < s.repeats; ++r) t.push_back(run());
       std::sort(t.begin(), t.end());
       ms[k] = t[t.size() / 2];
       out[k].resize(f.voxelCount());
@@ -216,10 +224,11 @@ std::string refineSuite(const BenchOptions& s) {
   copt.validation = false;
   gpu::VulkanContext ctx(copt);
   const int frames = 2;
-  std::string md = fmt::format("GPU: {} ({}). Each point runs {} frames (static scene); times are the last "
-                               "frame's GPU timestamps; errors are after the last frame, in fine voxels, over the "
-                               "fine voxels with |exact| <= 0.1 (scene units), signs on the surface excluded.\n\n",
-                               ctx.info().name, ctx.info().typeName, frames);
+  std::string md = fmt::format("GPU: {} ({}). Each point runs {} frames (static scene) after {} s of warm-up frames "
+                               "on a pipeline of its own; times are the last frame's GPU timestamps; errors are after "
+                               "the last frame, in fine voxels, over the fine voxels with |exact| <= 0.1 (scene "
+                               "units), signs on the surface excluded.\n\n",
+                               ctx.info().name, ctx.info().typeName, frames, s.warmUpSeconds);
   for (const std::string& path : s.scenes) {
     const Scene scene = loadScene(path);
     const SceneGeometry geo = buildSceneGeometry(scene, 0.0);
@@ -242,7 +251,7 @@ std::string refineSuite(const BenchOptions& s) {
         ps.mode = m.mode;
         ps.rays = m.rays;
         spdlog::info("bench refine {} {} {} x={}", name, size, toString(m.mode), m.rays);
-        const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1);
+        const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1, s.warmUpSeconds);
         md += fmt::format("| {} | {}/{} | {} | {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.3f} / {:.2f} | {:.3f}% | {:.0f} | "
                           "{:.2f} |\n",
                           size, coarse, fine, toString(m.mode), m.rays, r.mask, r.refineMs, r.totalMs, r.hostMs,
@@ -259,7 +268,7 @@ std::string refineSuite(const BenchOptions& s) {
         ps.band = d;
         ps.rays = x;
         spdlog::info("bench refine {} d={} x={}", name, d, x);
-        const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1);
+        const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1, s.warmUpSeconds);
         md += fmt::format("| {} | {} | {} | {:.1f} | {:.3f} / {:.2f} | {:.3f}% |\n", d >= 1e3 ? "inf" : fmt::format("{}", d), x,
                           r.mask, r.refineMs, r.error.meanAbs, r.error.maxAbs, 100.0 * r.error.signErrorRate());
       }
@@ -278,8 +287,13 @@ struct TechniqueTiming {
 };
 
 TechniqueTiming timeTechnique(const gpu::VulkanContext& ctx, const Scene& scene, const RenderSettings& rs,
-                              const std::string& name, int frames) {
-  Renderer r(ctx, scene, buildSceneGeometry(scene, 0.0).bounds, rs);
+                              const std::string& name, int frames, double warmUpSeconds) {
+  const Bounds bounds = buildSceneGeometry(scene, 0.0).bounds;
+  if (warmUpSeconds > 0.0) { // the GPU's clocks, on a renderer of its own: the measured frames' TAA history stays
+    Renderer warm(ctx, scene, bounds, rs);
+    detail::warmUpGpu(warmUpSeconds, [&] { warm.renderFrame(0.0, false); });
+  }
+  Renderer r(ctx, scene, bounds, rs);
   std::map<std::string, std::vector<double>> ms;
   std::vector<std::string> order;
   std::vector<double> totals;
@@ -349,7 +363,7 @@ std::string renderSize(const gpu::VulkanContext& ctx, const BenchOptions& s, con
     rs.sdf.sampling = sampling;
     const std::string name =
         t == ShadowTechnique::Sdf ? fmt::format("sdf ({})", toString(sampling)) : std::string(toString(t));
-    const TechniqueTiming timing = timeTechnique(ctx, scene, rs, name, frames);
+    const TechniqueTiming timing = timeTechnique(ctx, scene, rs, name, frames, s.warmUpSeconds);
     md += timing.rows;
     errors.emplace_back(name, compareWithTruth(scene, timing.last, truth), timing.totalMs);
     if (pictures && sampling == SdfSampling::Texture)
@@ -375,11 +389,12 @@ std::string renderSize(const gpu::VulkanContext& ctx, const BenchOptions& s, con
 std::string renderSuite(const BenchOptions& s) {
   gpu::VulkanContext ctx(detail::contextOptions(s.device));
   std::string md = fmt::format(
-      "GPU: {} ({}). GPU pass times: median over {} frames after {} warm-up frames (GPU timestamps). Error against "
+      "GPU: {} ({}). GPU pass times: median over {} frames after {} warm-up frames and {} s of frames on a renderer "
+      "of its own (GPU timestamps). Error against "
       "the ray-traced truth ({} samples per pixel) of the same frame: visibility mean |diff| over lit surfaces, "
       "RMSE in the truth's penumbra (0.02 < V < 0.98), mean |diff| in its umbra (V < 0.02), mean LDR-FLIP of the "
       "pictures.\n\n",
-      ctx.info().name, ctx.info().driver, 4, 2, 1024);
+      ctx.info().name, ctx.info().driver, 4, 2, s.warmUpSeconds, 1024);
   for (const std::string& path : s.scenes) {
     const Scene scene = loadScene(path);
     if (!scene.hasCamera || scene.lights.empty()) continue;
@@ -489,6 +504,7 @@ void BenchOptions::validate() const {
   if (suite == BenchSuite::Frame && scenes.size() > 1)
     throw SettingError("scenes", fmt::format("the frame suite runs on one scene, not {}", scenes.size()));
   requireInRange("band fraction", bandFraction, 1e-6, 10.0);
+  requireInRange("warm-up seconds", warmUpSeconds, 0.0, 60.0);
   for (int r : resolutions) requireInRange("resolution", r, 1, GridSpec::kMaxResolution);
 }
 

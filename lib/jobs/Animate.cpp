@@ -29,6 +29,7 @@ PipelineSettings AnimateOptions::defaultPipeline() {
 void AnimateOptions::validate() const {
   pipeline.validate();
   requireInRange("frames", frames, 1, 100000);
+  requireInRange("warm-up seconds", warmUpSeconds, 0.0, 60.0);
   if (!(fps > 0.0) || !std::isfinite(fps)) throw SettingError("fps", fmt::format("fps {} must be positive", fps));
   std::error_code ec;
   if (!vdbDir.empty() && !fs::is_directory(vdbDir, ec))
@@ -99,6 +100,12 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
   Bounds bounds;
   for (int f = 0; f < a.frames; ++f) bounds.add(buildSceneGeometry(scene, a.still ? 0.0 : f / a.fps).bounds);
   gpu::VulkanContext ctx(detail::contextOptions(a.device));
+  if (a.warmUpSeconds > 0.0) {
+    PipelineSettings full = a.pipeline;
+    full.fullRecompute = true;
+    SdfPipeline warm(ctx, scene, bounds, full);
+    detail::warmUpGpu(a.warmUpSeconds, [&] { warm.runFrame(0.0); });
+  }
   SdfPipeline pipe(ctx, scene, bounds, a.pipeline);
   spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
   openvdb::CoordBBox box;

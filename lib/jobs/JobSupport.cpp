@@ -29,6 +29,13 @@ void throwOnValidationErrors(const gpu::VulkanContext& ctx) {
                             ctx.lastValidationMessage()));
 }
 
+void warmUpGpu(double seconds, const std::function<void()>& gpuWork) {
+  if (!(seconds > 0.0)) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  do gpuWork();
+  while (secondsSince(t0) < seconds);
+}
+
 std::string bundledScene(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/scenes/" + name; }
 
 std::string bundledMesh(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/meshes/" + name; }

@@ -5,6 +5,7 @@
 #include "scene/Scene.h"
 
 #include <chrono>
+#include <functional>
 #include <string>
 
 namespace rtsdf::detail {
@@ -23,6 +24,14 @@ void throwOnValidationErrors(const gpu::VulkanContext& ctx);
 inline double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+/// @brief Run @a gpuWork (at least once) until @a seconds have passed, so that a GPU's clocks have risen before
+///        the frames that are timed.
+/// @note A discrete GPU idles at a fraction of its clock (an H100 at 345 of 1980 MHz after a few seconds of
+///       light load, measured) and takes a few hundred milliseconds of sustained work to come back up, so short
+///       timed runs after host-side work (an exact reference, an error measurement) read up to 6x too slow. A CPU
+///       device (lavapipe) has no such clocks: one run is all it costs there. @a seconds <= 0 runs nothing.
+void warmUpGpu(double seconds, const std::function<void()>& gpuWork);
 
 /// @brief The path of a bundled scene in the source tree's data/scenes (e.g. "default.json").
 std::string bundledScene(const std::string& name);

@@ -57,8 +57,8 @@ TEST(VdbIO, WriteReadRoundTripKeepsValuesClassTransformAndMetadata) {
     const GridSpec back = gridSpecOf(*read);
     EXPECT_EQ(back.dims, g.dims);
     EXPECT_DOUBLE_EQ(back.voxelSize, g.voxelSize);
-    const std::vector<float> values = levelSetToDense(*read, g);
-    for (std::size_t i = 0; i < values.size(); ++i) ASSERT_EQ(values[i], levelSetToDense(*grid, g)[i]);
+    const std::vector<float> values = levelSetToDense(*read, g), written = levelSetToDense(*grid, g);
+    for (std::size_t i = 0; i < values.size(); ++i) ASSERT_EQ(values[i], written[i]) << i;
     const auto all = readVdb(path);
     ASSERT_EQ(all.size(), 2u);
     const auto fog = std::find_if(all.begin(), all.end(), [](const auto& g) { return g->getName() == "density"; });

@@ -11,6 +11,7 @@
 #include "metrics/FieldError.h"
 #include "reference/ExactSdf.h"
 #include "reference/OpenVdbLevelSet.h"
+#include "render/RenderPasses.h"
 #include "render/Renderer.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
@@ -29,6 +30,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <map>
@@ -64,6 +66,26 @@ std::string cpuName() {
 
 namespace {
 
+constexpr std::uint32_t kChunkVoxels[] = {64, 256, 1024, 4096};
+
+/// One row of the coarse suite's chunk table: VoxelizePass's GPU time per kChunkVoxels on one scene and grid.
+std::string voxelizeChunkRow(CoarseSdfBuilder& builder, const BenchOptions& s, const std::string& scene, int res,
+                             const std::vector<glm::vec4>& corners, const GridSpec& spec) {
+  std::string row = fmt::format("| {} | {} |", scene, res);
+  for (std::uint32_t c : kChunkVoxels) {
+    CoarseSdfSettings cs;
+    cs.chunkVoxels = c;
+    cs.readNearest = false;
+    builder.build(corners, spec, cs);
+    detail::warmUpGpu(s.warmUpSeconds, [&] { builder.build(corners, spec, cs); });
+    std::vector<double> t;
+    for (int r = 0; r < s.repeats; ++r) t.push_back(builder.build(corners, spec, cs).passTotal(VoxelizePass::kName));
+    std::sort(t.begin(), t.end());
+    row += fmt::format(" {:.2f} |", t[t.size() / 2]);
+  }
+  return row + "\n";
+}
+
 /// The coarse-SDF suite: GPU pass times per coarse method (the exact transform and the jump-flooding variants)
 /// beside the CPU jump flooding, the CPU exact EDT of the same seeds and OpenVDB's full-domain
 /// meshToSignedDistanceField, at the same voxels; each method's errors against the exact EDT.
@@ -81,6 +103,15 @@ std::string coarseSuite(const BenchOptions& s) {
         "off vs EDT | max error (voxels) |\n";
   md += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto med = [](std::vector<double> x) { std::sort(x.begin(), x.end()); return x[x.size() / 2]; };
+  std::string chunks = fmt::format("\nVoxelizePass against the voxels each invocation tests (this device's default: "
+                                   "{}), GPU ms, median of {} runs after the warm-up:\n\n| scene | res |",
+                                   ctx.info().typeName == "cpu" ? gpu::shared::kVoxelizeChunkVoxelsCpu
+                                                                : gpu::shared::kVoxelizeChunkVoxelsGpu,
+                                   s.repeats);
+  for (std::uint32_t c : kChunkVoxels) chunks += fmt::format(" {} |", c);
+  chunks += "\n|---|---|";
+  for (std::size_t i = 0; i < std::size(kChunkVoxels); ++i) chunks += "---|";
+  chunks += "\n";
   for (const std::string& path : s.scenes) {
     const SceneGeometry geo = buildSceneGeometry(loadScene(path), 0.0);
     const auto corners = triangleCorners(geo);
@@ -110,6 +141,7 @@ std::string coarseSuite(const BenchOptions& s) {
         }
         rows.push_back({m, med(vox), med(transform), med(dist), compareWithExact(last.nearest, edt, spec.dims)});
       }
+      chunks += voxelizeChunkRow(builder, s, fs::path(path).filename().string(), res, corners, spec);
       const double anchor = rows[2].transform; // 1+jfa, the paper's
       for (const Row& r : rows) {
         const bool first = r.method == CoarseMethod::Edt;
@@ -124,7 +156,7 @@ std::string coarseSuite(const BenchOptions& s) {
       }
     }
   }
-  return md;
+  return md + chunks;
 }
 
 /// Time and error of one pipeline configuration: `frames` frames accumulated; the last frame's GPU passes,
@@ -216,6 +248,55 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
   return md;
 }
 
+/// VolumeFillPass at sizes S and M: the fine SDF into the shading's 3D texture by a copy command and by a compute
+/// shader (median GPU time of s.repeats after the warm-up), and whether the two textures agree bit for bit.
+std::string volumeFillTable(const gpu::VulkanContext& ctx, const SceneGeometry& geo, const BenchOptions& s) {
+  if (!gpu::SampledVolume::storageSupported(ctx)) return "(this device cannot store to R32F 3D textures)\n";
+  std::string md = "| size | fine grid | copy command (ms) | compute shader (ms) | compute / copy | textures differ |\n"
+                   "|---|---|---|---|---|---|\n";
+  const VolumeFillPass fill(ctx);
+  gpu::GpuProfiler profiler(ctx);
+  for (const auto& [size, coarseRes, fineRes] : {std::tuple<const char*, int, int>{"S", 64, 128}, {"M", 128, 256}}) {
+    PipelineSettings ps;
+    ps.coarseRes = coarseRes;
+    ps.fineRes = fineRes;
+    const GridSpec f = pipelineGrids(geo.bounds, ps).second;
+    std::vector<float> field(f.voxelCount());
+    for (std::size_t i = 0; i < field.size(); ++i) field[i] = float(i % 1021) * 0.01f - 5.0f;
+    gpu::Buffer src, back;
+    gpu::reserveAndUpload(ctx, src, field.data(), field.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "fine SDF");
+    gpu::reserve(ctx, back, field.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device, "back");
+    const gpu::SampledVolume texture(ctx, glm::uvec3(f.dims), "fine SDF texture");
+    double ms[2];
+    std::size_t differ = 0;
+    for (int k = 0; k < 2; ++k) {
+      const auto method = k ? VolumeFillPass::Method::Compute : VolumeFillPass::Method::Transfer;
+      auto run = [&] {
+        gpu::CommandBuffer cmd(ctx);
+        profiler.reset(cmd.handle());
+        fill.execute(cmd.handle(), &profiler, {src}, {texture}, method);
+        cmd.submitAndWait();
+        return passTotal(profiler.results(), VolumeFillPass::kName);
+      };
+      run(); // warm-up
+      detail::warmUpGpu(s.warmUpSeconds, run);
+      std::vector<double> t;
+      for (int r = 0; r < s.repeats; ++r) t.push_back(run());
+      std::sort(t.begin(), t.end());
+      ms[k] = t[t.size() / 2];
+      gpu::CommandBuffer cmd(ctx);
+      texture.copyTo(cmd.handle(), back);
+      cmd.submitAndWait();
+      std::vector<float> out(field.size());
+      gpu::download(ctx, back, out.data(), out.size() * 4);
+      for (std::size_t i = 0; i < out.size(); ++i) differ += std::memcmp(&out[i], &field[i], 4) != 0;
+    }
+    md += fmt::format("| {} | {}x{}x{} | {:.2f} | {:.2f} | {:.3f} | {} |\n", size, f.dims.x, f.dims.y, f.dims.z, ms[0],
+                      ms[1], ms[1] / ms[0], differ);
+  }
+  return md;
+}
+
 /// The refinement suite: the paper's tables (ray-trace pass time for x at sizes S and M; band d x rays)
 /// with the error against the exact field beside each time, and OpenVDB's meshToLevelSet at the fine
 /// resolution and band as the anchor.
@@ -234,6 +315,8 @@ std::string refineSuite(const BenchOptions& s) {
     const SceneGeometry geo = buildSceneGeometry(scene, 0.0);
     const std::string name = fs::path(path).filename().string();
     md += fmt::format("### {}: UpsamplePass\n\n", name) + upsampleTable(ctx, geo, s) + "\n";
+    md += fmt::format("### {}: the fine SDF into the shading's 3D texture (FineSdfTextureCopy)\n\n", name) +
+          volumeFillTable(ctx, geo, s) + "\n";
     md += fmt::format("### {}: sizes x rays (d = 0.1, alpha = 0.95, exact coarse transform)\n\n", name);
     md += "| size | coarse/fine | mode | x | mask voxels | RayRefinePass (ms) | all passes (ms) | host CPU (ms) | "
           "mean / max abs error | wrong sign | OpenVDB meshToLevelSet (ms) | refine / OpenVDB |\n";

@@ -138,7 +138,8 @@ ComputePipeline::ComputePipeline(const VulkanContext& ctx, const std::string& sh
                                  std::vector<VkDescriptorType> types, std::uint32_t pushConstantBytes)
     : mCtx(&ctx), mName(shader), mTypes(std::move(types)), mPushBytes(pushConstantBytes) {
   for (VkDescriptorType t : mTypes)
-    if (t != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER && t != VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)
+    if (t != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER && t != VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER &&
+        t != VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)
       throw Error(fmt::format("{}: unsupported descriptor type {}", shader, int(t)));
   mModule.reset(ctx, ctx.createShaderModule(shader));
   const std::uint32_t n = std::uint32_t(mTypes.size());
@@ -193,7 +194,10 @@ void ComputePipeline::record(VkCommandBuffer cmd, const Binding* bindings, std::
       w.pBufferInfo = &buffers[i];
     } else {
       if (!b.volume || !*b.volume) throw Error(fmt::format("{}: binding {} needs a sampled volume", mName, i));
-      images[i] = {b.volume->sampler(), b.volume->view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+      images[i] = mTypes[i] == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                      ? VkDescriptorImageInfo{VK_NULL_HANDLE, b.volume->view(), VK_IMAGE_LAYOUT_GENERAL}
+                      : VkDescriptorImageInfo{b.volume->sampler(), b.volume->view(),
+                                              VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
       w.pImageInfo = &images[i];
     }
     writes.push_back(w);
@@ -217,6 +221,12 @@ bool SampledVolume::supported(const VulkanContext& ctx) {
   return (fp.optimalTilingFeatures & need) == need;
 }
 
+bool SampledVolume::storageSupported(const VulkanContext& ctx) {
+  VkFormatProperties fp;
+  vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), VK_FORMAT_R32_SFLOAT, &fp);
+  return supported(ctx) && (fp.optimalTilingFeatures & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);
+}
+
 SampledVolume::SampledVolume(const VulkanContext& ctx, glm::uvec3 dims, std::string name)
     : mDims(dims), mName(std::move(name)) {
   const std::uint32_t limit = ctx.info().maxImageDimension3D;
@@ -234,7 +244,9 @@ SampledVolume::SampledVolume(const VulkanContext& ctx, glm::uvec3 dims, std::str
   ci.arrayLayers = 1;
   ci.samples = VK_SAMPLE_COUNT_1_BIT;
   ci.tiling = VK_IMAGE_TILING_OPTIMAL;
-  ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  mStorage = storageSupported(ctx);
+  ci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+             (mStorage ? VK_IMAGE_USAGE_STORAGE_BIT : 0);
   ci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   // On a throw below, the members already made are destroyed (and uncounted) by their UniqueHandles.
@@ -294,6 +306,69 @@ void SampledVolume::copyFrom(VkCommandBuffer cmd, const Buffer& src) const {
   ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 0,
                        nullptr, 1, &ib);
+}
+
+void SampledVolume::copyTo(VkCommandBuffer cmd, const Buffer& dst) const {
+  const VkDeviceSize bytes = VkDeviceSize(mDims.x) * mDims.y * mDims.z * sizeof(float);
+  if (dst.size() < bytes)
+    throw Error(fmt::format("volume '{}': buffer '{}' holds {} bytes, the volume needs {}", mName, dst.name(),
+                            dst.size(), bytes));
+  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  ib.srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  ib.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  ib.oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  ib.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  ib.image = mImage.get();
+  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &ib);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {mDims.x, mDims.y, mDims.z};
+  vkCmdCopyImageToBuffer(cmd, mImage.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst.handle(), 1, &region);
+  ib.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  ib.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER}; // the buffer's new contents, for later reads and transfers
+  mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                       0, 1, &mb, 0, nullptr, 1, &ib);
+}
+
+void SampledVolume::beginShaderWrite(VkCommandBuffer cmd) const {
+  if (!mStorage) throw Error(fmt::format("volume '{}': made without storage use, shaders cannot write it", mName));
+  // Earlier writes of whatever the shaders read (a buffer) before they read it; the image's old contents, read
+  // by earlier shaders, are discarded: UNDEFINED -> GENERAL after those reads.
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  ib.srcAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  ib.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  ib.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  ib.image = mImage.get();
+  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, nullptr, 1, &ib);
+}
+
+void SampledVolume::endShaderWrite(VkCommandBuffer cmd) const {
+  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  ib.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  ib.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+  ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  ib.image = mImage.get();
+  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr,
+                       0, nullptr, 1, &ib);
 }
 
 void computeBarrier(VkCommandBuffer cmd) {

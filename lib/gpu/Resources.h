@@ -67,8 +67,23 @@ public:
   /// @throw Error when @a src is smaller than the texture.
   void copyFrom(VkCommandBuffer cmd, const Buffer& src) const;
 
+  /// @brief Record: make the texture writable by later compute shaders as a storage image (layout GENERAL; its
+  ///        old contents, read by earlier shaders, are discarded), after earlier shader and transfer writes.
+  /// @throw Error when the texture was made without storage use (see storageSupported).
+  void beginShaderWrite(VkCommandBuffer cmd) const;
+  /// @brief Record: the compute shaders' writes done, make the texture ready for sampling by later ones.
+  void endShaderWrite(VkCommandBuffer cmd) const;
+
+  /// @brief Record: copy the texture (ready for sampling: after copyFrom or endShaderWrite) into @a dst, x
+  ///        fastest, for tests and read-back; the texture stays ready for sampling.
+  /// @throw Error when @a dst is smaller than the texture.
+  void copyTo(VkCommandBuffer cmd, const Buffer& dst) const;
+
   /// @brief Whether @a ctx's device filters R32_SFLOAT 3D textures linearly.
   static bool supported(const VulkanContext& ctx);
+  /// @brief Whether @a ctx's device also stores to R32_SFLOAT 3D textures from shaders (then every volume
+  ///        is made for storage use too).
+  static bool storageSupported(const VulkanContext& ctx);
 
   VkImageView view() const { return mView.get(); }
   VkSampler sampler() const { return mSampler.get(); }
@@ -84,9 +99,11 @@ private:
   UniqueHandle<vkDestroySampler> mSampler;
   glm::uvec3 mDims{0};
   std::string mName;
+  bool mStorage = false;
 };
 
-/// @brief What a compute pipeline binds at one binding: a storage buffer or a sampled volume.
+/// @brief What a compute pipeline binds at one binding: a storage buffer, or a volume (sampled, or a storage
+///        image where the pipeline's layout says VK_DESCRIPTOR_TYPE_STORAGE_IMAGE).
 struct Binding {
   Binding() = default;                           ///< unset: a dispatch with an unset binding throws
   Binding(const Buffer* b) : buffer(b) {}        // NOLINT(google-explicit-constructor): {&a, &b} lists
@@ -144,8 +161,9 @@ public:
   /// @brief Bindings 0..storageBuffers-1 are all storage buffers.
   ComputePipeline(const VulkanContext& ctx, const std::string& shader, std::uint32_t storageBuffers,
                   std::uint32_t pushConstantBytes);
-  /// @brief Binding i has descriptor type @a bindings[i]: VK_DESCRIPTOR_TYPE_STORAGE_BUFFER or
-  ///        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER (a SampledVolume).
+  /// @brief Binding i has descriptor type @a bindings[i]: VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  ///        VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER (a SampledVolume, sampled) or VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+  ///        (a SampledVolume between beginShaderWrite and endShaderWrite).
   ComputePipeline(const VulkanContext& ctx, const std::string& shader, std::vector<VkDescriptorType> bindings,
                   std::uint32_t pushConstantBytes);
 

@@ -44,12 +44,44 @@ std::vector<VkDescriptorType> sdfShadowTextureBindings() {
 }
 } // namespace
 
+VolumeFillPass::VolumeFillPass(const gpu::VulkanContext& ctx) {
+  if (gpu::SampledVolume::storageSupported(ctx)) {
+    std::vector<VkDescriptorType> types(kVolumeFillBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    types[kVolumeFillBindingTexture] = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    mCompute = gpu::ComputePipeline(ctx, "volume_fill.comp", types, sizeof(glm::ivec4));
+  }
+}
+
+VolumeFillPass::Method VolumeFillPass::defaultMethod(const gpu::VulkanContext& ctx) {
+  return gpu::SampledVolume::storageSupported(ctx) && ctx.info().typeName != "cpu" ? Method::Compute
+                                                                                   : Method::Transfer;
+}
+
+void VolumeFillPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                             Method method) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  if (method == Method::Transfer) return out.texture.copyFrom(cmd, in.field);
+  if (mCompute.name().empty())
+    throw Error("VolumeFillPass: this device cannot store to R32_SFLOAT 3D textures (use the transfer method)");
+  const glm::uvec3 d = out.texture.dims();
+  if (in.field.size() < VkDeviceSize(d.x) * d.y * d.z * sizeof(float))
+    throw Error(fmt::format("VolumeFillPass: buffer '{}' holds {} bytes, texture '{}' needs {}", in.field.name(),
+                            in.field.size(), out.texture.name(), VkDeviceSize(d.x) * d.y * d.z * sizeof(float)));
+  out.texture.beginShaderWrite(cmd);
+  const glm::ivec4 dims(glm::ivec3(d), 0);
+  std::array<gpu::Binding, kVolumeFillBindingCount> b;
+  b[kVolumeFillBindingField] = &in.field;
+  b[kVolumeFillBindingTexture] = &out.texture;
+  mCompute.dispatch(cmd, b, &dims, {gpu::groupsFor(d.x, 64), d.y, d.z});
+  out.texture.endShaderWrite(cmd);
+}
+
 SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra)
     : mBufferPipeline(ctx, umbra ? "sdf_shadow_umbra_buffer.comp" : "sdf_shadow_buffer.comp", kSdfShadowBindingCount,
                       sizeof(SdfShadowParams)),
       mBrickPipeline(ctx, umbra ? "sdf_shadow_umbra_bricks.comp" : "sdf_shadow_bricks.comp",
                      kSdfShadowBindingBrickCount, sizeof(SdfShadowParams)),
-      mUmbra(umbra) {
+      mFill(ctx), mFillMethod(VolumeFillPass::defaultMethod(ctx)), mUmbra(umbra) {
   if (gpu::SampledVolume::supported(ctx))
     mTexturePipeline = gpu::ComputePipeline(ctx, umbra ? "sdf_shadow_umbra.comp" : "sdf_shadow.comp",
                                             sdfShadowTextureBindings(), sizeof(SdfShadowParams));
@@ -69,10 +101,7 @@ void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
   if (in.texture) {
     if (mTexturePipeline.name().empty())
       throw Error("SdfShadowPass: this device cannot sample the fine SDF as a filtered 3D texture");
-    {
-      gpu::ProfileScope scope(profiler, cmd, kCopyName);
-      in.texture->copyFrom(cmd, in.field);
-    }
+    mFill.execute(cmd, profiler, {in.field}, {*in.texture}, mFillMethod);
     gpu::ProfileScope scope(profiler, cmd, kName);
     b[kSdfShadowBindingField] = in.texture;
     mTexturePipeline.dispatch(cmd, b, &params, groups);

@@ -38,11 +38,33 @@ public:
                const Params& camera) const;
 };
 
+/// @brief The dense fine SDF into the 3D texture that SdfShadowPass samples with hardware filtering.
+class VolumeFillPass {
+public:
+  static constexpr const char* kName = "FineSdfTextureCopy";
+  /// How the texels are written: a copy command (vkCmdCopyBufferToImage), or a compute shader's stores.
+  enum class Method { Transfer, Compute };
+  struct Inputs { const gpu::Buffer& field; }; ///< texture.dims() floats, x fastest
+  struct Outputs { const gpu::SampledVolume& texture; };
+  using Params = Method;
+  explicit VolumeFillPass(const gpu::VulkanContext& ctx);
+  /// @brief Compute where the device stores to R32F 3D textures and is no CPU device (lavapipe copies faster
+  ///        than it runs shaders: measured in docs/results.md), else Transfer.
+  static Method defaultMethod(const gpu::VulkanContext& ctx);
+  /// @throw Error when @a method is Compute and the device cannot store to the texture, or when the field is
+  ///        smaller than the texture.
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               Method method) const;
+
+private:
+  gpu::ComputePipeline mCompute; ///< empty where SampledVolume::storageSupported is false
+};
+
 /// @brief SDF soft shadows: per pixel and light, sphere tracing of the fine SDF towards the light.
 class SdfShadowPass {
 public:
   static constexpr const char* kName = "SdfShadowPass";
-  static constexpr const char* kCopyName = "FineSdfTextureCopy"; ///< the fine buffer into the 3D texture
+  static constexpr const char* kCopyName = VolumeFillPass::kName; ///< the fine buffer into the 3D texture
   struct Inputs {
     const GpuGBuffer& gbuffer;
     /// Dense fine SDF (x fastest) on the grid of Params::gridOriginH / gridDims (unread when @a bricks is given).
@@ -69,6 +91,8 @@ public:
 
 private:
   gpu::ComputePipeline mTexturePipeline, mBufferPipeline, mBrickPipeline;
+  VolumeFillPass mFill;
+  VolumeFillPass::Method mFillMethod;
   bool mUmbra = false;
 };
 

@@ -26,7 +26,7 @@ VoxelizeParams voxelizeParams(const GridSpec& spec, std::uint32_t triangleCount)
   p.originInvH = glm::vec4(glm::vec3(spec.origin), float(1.0 / spec.voxelSize));
   p.dims = glm::ivec4(spec.dims, 0);
   p.triangleCount = triangleCount;
-  p.chunkSize = 4096;
+  p.chunkSize = kVoxelizeChunkVoxelsCpu; // the GPU's: CoarseSdfBuilder picks it per device
   return p;
 }
 

@@ -114,6 +114,23 @@ CoarseSdf CoarseSdfBuilder::build(const SceneGeometry& geometry, const GridSpec&
   return out;
 }
 
+namespace {
+
+/// CoarseSdfSettings::chunkVoxels resolved for a device and a grid of @a voxels.
+std::uint32_t voxelizeChunkVoxels(const CoarseSdfSettings& settings, bool cpuDevice, std::uint64_t voxels) {
+  if (settings.chunkVoxels && (settings.chunkVoxels < 16 || settings.chunkVoxels > 65536))
+    throw Error(fmt::format("coarse SDF: {} voxels per voxelization invocation are outside [16, 65536]",
+                            settings.chunkVoxels));
+  std::uint64_t chunk = settings.chunkVoxels ? settings.chunkVoxels
+                                             : (cpuDevice ? kVoxelizeChunkVoxelsCpu : kVoxelizeChunkVoxelsGpu);
+  // A triangle's range lies inside the grid: its chunks must fit the groups along y times the layers along z.
+  const std::uint64_t maxChunks = std::uint64_t(settings.maxChunkGroups) * kVoxelizeMaxChunkGroups;
+  while ((voxels + chunk - 1) / chunk > maxChunks) chunk *= 2;
+  return std::uint32_t(chunk);
+}
+
+} // namespace
+
 CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& triangles, const GridSpec& spec,
                                                      const CoarseSdfSettings& settings) {
   const glm::ivec3 dims = spec.dims;
@@ -135,6 +152,7 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& t
     throw Error(fmt::format("coarse SDF: {} chunk groups are outside [{}, {}]", settings.maxChunkGroups,
                             kVoxelizeMinChunkGroups, kVoxelizeMaxChunkGroups));
   p.voxelize.shader.maxChunkGroups = settings.maxChunkGroups;
+  p.voxelize.shader.chunkSize = voxelizeChunkVoxels(settings, mCtx.info().typeName == "cpu", voxels);
 
   using gpu::Buffer;
   // Kept between builds: a frame loop allocates them once.

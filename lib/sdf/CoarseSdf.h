@@ -110,6 +110,11 @@ struct CoarseSdfSettings {
   /// The most work groups VoxelizePass runs along y (kVoxelizeMinChunkGroups to kVoxelizeMaxChunkGroups, which
   /// every device allows): the chunks of a larger range go in layers along z. Lower only to test the layers.
   std::uint32_t maxChunkGroups = gpu::shared::kVoxelizeMaxChunkGroups;
+  /// Voxels of a triangle's range that one VoxelizePass invocation tests (16 to 65536); 0: the device's
+  /// default, kVoxelizeChunkVoxelsCpu on a CPU device (lavapipe: every invocation costs, loops are cheap) and
+  /// kVoxelizeChunkVoxelsGpu on a GPU (one long loop stalls the whole pass). Raised (doubled) where a grid's
+  /// chunks would not fit maxChunkGroups x 65535 work groups.
+  std::uint32_t chunkVoxels = 0;
 };
 
 /// @brief A coarse SDF read back from the GPU, with the time of each pass.

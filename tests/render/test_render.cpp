@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <random>
 
 using namespace rtsdf;
 namespace sh = rtsdf::gpu::shared;
@@ -402,6 +403,40 @@ TEST_F(Render, SdfShadowPassFromA3dTextureMatchesTheCpuMarch) {
   gpu::CommandBuffer cmd(*sCtx);
   gpu::shared::SdfShadowParams params{};
   EXPECT_THROW(texturePass.dispatch(cmd.handle(), {&b, &b, &b, &b, &b}, &params, {1, 1, 1}), Error);
+  cmd.submitAndWait();
+}
+
+// VolumeFillPass: the 3D texture holds the dense field bit for bit by either method (a copy command, or the compute
+// shader a GPU uses by default), each into a texture of its own; a field smaller than the texture is refused.
+TEST_F(Render, VolumeFillPassCopiesTheFieldBitForBitEitherWay) {
+  ASSERT_TRUE(gpu::SampledVolume::storageSupported(*sCtx)) << sCtx->info().name << " cannot store to R32F 3D textures";
+  const glm::uvec3 dims(37, 5, 23); // not a multiple of the 64-wide work groups along x
+  std::vector<float> field(std::size_t(dims.x) * dims.y * dims.z);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> value(-2.0f, 2.0f);
+  for (float& v : field) v = value(rng);
+  gpu::Buffer src, back;
+  gpu::reserveAndUpload(*sCtx, src, field.data(), field.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "field");
+  gpu::reserve(*sCtx, back, field.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device, "back");
+  const VolumeFillPass fill(*sCtx);
+  for (VolumeFillPass::Method m : {VolumeFillPass::Method::Compute, VolumeFillPass::Method::Transfer}) {
+    SCOPED_TRACE(m == VolumeFillPass::Method::Compute ? "compute" : "transfer");
+    const gpu::SampledVolume texture(*sCtx, dims, "texture");
+    gpu::CommandBuffer cmd(*sCtx);
+    vkCmdFillBuffer(cmd.handle(), back.handle(), 0, VK_WHOLE_SIZE, 0u);
+    gpu::computeBarrier(cmd.handle());
+    fill.execute(cmd.handle(), nullptr, {src}, {texture}, m);
+    texture.copyTo(cmd.handle(), back);
+    cmd.submitAndWait();
+    std::vector<float> out(field.size());
+    gpu::download(*sCtx, back, out.data(), out.size() * 4);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < field.size(); ++i) differ += std::memcmp(&out[i], &field[i], 4) != 0;
+    EXPECT_EQ(differ, 0u);
+  }
+  const gpu::SampledVolume larger(*sCtx, dims + glm::uvec3(1), "larger");
+  gpu::CommandBuffer cmd(*sCtx);
+  EXPECT_THROW(fill.execute(cmd.handle(), nullptr, {src}, {larger}, VolumeFillPass::Method::Compute), Error);
   cmd.submitAndWait();
 }
 

@@ -35,10 +35,12 @@ protected:
 
   /// GPU and CPU on the same triangles and grid: seeds and nearest seeds identical, distances within rounding.
   static void expectGpuEqualsCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec, CoarseMethod method,
-                                 std::uint32_t maxChunkGroups = gpu::shared::kVoxelizeMaxChunkGroups) {
+                                 std::uint32_t maxChunkGroups = gpu::shared::kVoxelizeMaxChunkGroups,
+                                 std::uint32_t chunkVoxels = 0) {
     CoarseSdfSettings s;
     s.method = method;
     s.maxChunkGroups = maxChunkGroups;
+    s.chunkVoxels = chunkVoxels;
     const CoarseSdf gpu = builder().build(corners, spec, s, true);
     const std::vector<std::uint32_t> seeds = voxelizeCpu(corners, spec);
     ASSERT_EQ(gpu.seeds.size(), seeds.size());
@@ -95,6 +97,10 @@ TEST_F(CoarseSdfGpu, DefaultSceneEqualsCpuForEveryVariant) {
     SCOPED_TRACE(toString(v));
     expectGpuEqualsCpu(triangleCorners(geo), spec, v);
   }
+  // A GPU's chunks (CI runs lavapipe, a CPU device, whose default is longer chunks).
+  SCOPED_TRACE("GPU chunks");
+  expectGpuEqualsCpu(triangleCorners(geo), spec, CoarseMethod::Edt, gpu::shared::kVoxelizeMaxChunkGroups,
+                     gpu::shared::kVoxelizeChunkVoxelsGpu);
 }
 
 TEST_F(CoarseSdfGpu, BunnyEqualsCpuAt128) {
@@ -207,6 +213,10 @@ TEST_F(CoarseSdfGpu, HugeTrianglesAreVoxelizedCompletely) {
   // on a larger grid): the chunks go in layers along z (an earlier version that strided through them in one
   // invocation lost a third of these seeds on lavapipe).
   expectGpuEqualsCpu(quad, spec, CoarseMethod::Edt, gpu::shared::kVoxelizeMinChunkGroups);
+  // The shortest chunks (16 voxels: ~17k chunks per triangle, 2110 layers along z) and a GPU's.
+  expectGpuEqualsCpu(quad, spec, CoarseMethod::Edt, gpu::shared::kVoxelizeMinChunkGroups, 16);
+  expectGpuEqualsCpu(quad, spec, CoarseMethod::Edt, gpu::shared::kVoxelizeMaxChunkGroups,
+                     gpu::shared::kVoxelizeChunkVoxelsGpu);
 }
 
 // The pipeline's frames voxelize mesh-space triangles placed by their instances' transforms on the GPU: its

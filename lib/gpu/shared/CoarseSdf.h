@@ -59,6 +59,11 @@ const uint kVoxelizeMaxChunkGroups = 65535u;
 /// The fewest groups along y a caller may ask for: 1024^3 / 4096 chunks in layers of 8 stay within 65535 along z.
 const uint kVoxelizeMinChunkGroups = 8u;
 
+/// Voxels per VoxelizePass invocation by default: on a CPU device (lavapipe) and on a GPU. An H100 spent 2.15 ms
+/// of a 2.5 ms frame voxelizing the default scene with 4096: its floor's few invocations looped alone.
+const uint kVoxelizeChunkVoxelsCpu = 4096u;
+const uint kVoxelizeChunkVoxelsGpu = 256u;
+
 /// Push constants of jump_flood.comp.
 struct JumpFloodParams {
   ivec4 dims;

@@ -26,6 +26,11 @@ const uint kSdfShadowBindingValuePages = kSdfShadowBindingCount + 2u;  // RTSDF_
 const uint kSdfShadowBindingFineToCoarse = kSdfShadowBindingCount + 6u; // maskCoarseOfFine(): the band test
 const uint kSdfShadowBindingBrickCount = kSdfShadowBindingCount + 7u;
 
+/// volume_fill.comp: the dense fine SDF (x fastest) into the 3D texture the march samples (a storage image).
+const uint kVolumeFillBindingField = 0u;
+const uint kVolumeFillBindingTexture = 1u;
+const uint kVolumeFillBindingCount = 2u;
+
 /// shadow_map.comp: the scene BVH, then the lights and the depth maps it writes.
 const uint kShadowMapBindingLights = kBvhBindingCount + 0u;
 const uint kShadowMapBindingDepth = kBvhBindingCount + 1u;

@@ -66,7 +66,7 @@ std::string cpuName() {
 
 namespace {
 
-constexpr std::uint32_t kChunkVoxels[] = {64, 256, 1024, 4096};
+constexpr std::uint32_t kChunkVoxels[] = {16, 32, 64, 256, 1024, 4096};
 
 /// One row of the coarse suite's chunk table: VoxelizePass's GPU time per kChunkVoxels on one scene and grid.
 std::string voxelizeChunkRow(CoarseSdfBuilder& builder, const BenchOptions& s, const std::string& scene, int res,

@@ -60,9 +60,10 @@ const uint kVoxelizeMaxChunkGroups = 65535u;
 const uint kVoxelizeMinChunkGroups = 8u;
 
 /// Voxels per VoxelizePass invocation by default: on a CPU device (lavapipe) and on a GPU. An H100 spent 2.15 ms
-/// of a 2.5 ms frame voxelizing the default scene with 4096: its floor's few invocations looped alone.
+/// of a 2.5 ms frame voxelizing the default scene with 4096: its floor's few invocations looped alone; of 64,
+/// 256, 1024 and 4096, 64 was the fastest there and 4096 on lavapipe (docs/results.md).
 const uint kVoxelizeChunkVoxelsCpu = 4096u;
-const uint kVoxelizeChunkVoxelsGpu = 256u;
+const uint kVoxelizeChunkVoxelsGpu = 64u;
 
 /// Push constants of jump_flood.comp.
 struct JumpFloodParams {

@@ -212,6 +212,22 @@ void ComputePipeline::record(VkCommandBuffer cmd, const Binding* bindings, std::
 
 // ---------------------------------------------------------------------------------------------- SampledVolume
 
+namespace {
+/// A layout change of a whole single-level colour image, with the accesses it orders.
+VkImageMemoryBarrier imageBarrier(VkImage image, VkAccessFlags src, VkAccessFlags dst, VkImageLayout from,
+                                  VkImageLayout to) {
+  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  ib.srcAccessMask = src;
+  ib.dstAccessMask = dst;
+  ib.oldLayout = from;
+  ib.newLayout = to;
+  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  ib.image = image;
+  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  return ib;
+}
+} // namespace
+
 bool SampledVolume::supported(const VulkanContext& ctx) {
   VkFormatProperties fp;
   vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice(), VK_FORMAT_R32_SFLOAT, &fp);
@@ -286,24 +302,16 @@ void SampledVolume::copyFrom(VkCommandBuffer cmd, const Buffer& src) const {
   bb.srcQueueFamilyIndex = bb.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   bb.buffer = src.handle();
   bb.size = VK_WHOLE_SIZE;
-  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-  ib.srcAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  ib.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  ib.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  ib.image = mImage.get();
-  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkImageMemoryBarrier ib = imageBarrier(mImage.get(), VK_ACCESS_SHADER_READ_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                                         VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 1, &bb, 1, &ib);
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {mDims.x, mDims.y, mDims.z};
   vkCmdCopyBufferToImage(cmd, src.handle(), mImage.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-  ib.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  ib.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-  ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  ib = imageBarrier(mImage.get(), VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr, 0,
                        nullptr, 1, &ib);
 }
@@ -313,24 +321,17 @@ void SampledVolume::copyTo(VkCommandBuffer cmd, const Buffer& dst) const {
   if (dst.size() < bytes)
     throw Error(fmt::format("volume '{}': buffer '{}' holds {} bytes, the volume needs {}", mName, dst.name(),
                             dst.size(), bytes));
-  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-  ib.srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-  ib.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  ib.oldLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-  ib.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  ib.image = mImage.get();
-  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkImageMemoryBarrier ib = imageBarrier(
+      mImage.get(), VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+      VK_ACCESS_TRANSFER_READ_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &ib);
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {mDims.x, mDims.y, mDims.z};
   vkCmdCopyImageToBuffer(cmd, mImage.get(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst.handle(), 1, &region);
-  ib.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  ib.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+  ib = imageBarrier(mImage.get(), VK_ACCESS_TRANSFER_READ_BIT, VK_ACCESS_SHADER_READ_BIT,
+                    VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER}; // the buffer's new contents, for later reads and transfers
   mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_HOST_READ_BIT;
@@ -346,27 +347,15 @@ void SampledVolume::beginShaderWrite(VkCommandBuffer cmd) const {
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
   mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-  ib.srcAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  ib.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  ib.newLayout = VK_IMAGE_LAYOUT_GENERAL;
-  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  ib.image = mImage.get();
-  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  const VkImageMemoryBarrier ib = imageBarrier(mImage.get(), VK_ACCESS_SHADER_READ_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                                               VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, nullptr, 1, &ib);
 }
 
 void SampledVolume::endShaderWrite(VkCommandBuffer cmd) const {
-  VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-  ib.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  ib.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  ib.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
-  ib.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-  ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  ib.image = mImage.get();
-  ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  const VkImageMemoryBarrier ib = imageBarrier(mImage.get(), VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+                                               VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr,
                        0, nullptr, 1, &ib);
 }

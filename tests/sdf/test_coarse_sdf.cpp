@@ -10,6 +10,7 @@
 #include "scene/SceneLoader.h"
 #include "sdf/CoarseSdf.h"
 #include "sdf/GpuSceneBvh.h"
+#include "util/Error.h"
 
 #include <gtest/gtest.h>
 
@@ -217,6 +218,9 @@ TEST_F(CoarseSdfGpu, HugeTrianglesAreVoxelizedCompletely) {
   expectGpuEqualsCpu(quad, spec, CoarseMethod::Edt, gpu::shared::kVoxelizeMinChunkGroups, 16);
   expectGpuEqualsCpu(quad, spec, CoarseMethod::Edt, gpu::shared::kVoxelizeMaxChunkGroups,
                      gpu::shared::kVoxelizeChunkVoxelsGpu);
+  CoarseSdfSettings shortest;
+  shortest.chunkVoxels = 8; // below 16: refused, naming the setting's value
+  EXPECT_THROW(builder().build(quad, spec, shortest), Error);
 }
 
 // The pipeline's frames voxelize mesh-space triangles placed by their instances' transforms on the GPU: its

@@ -11,8 +11,14 @@
 #include "scene/SceneLoader.h"
 #include "sdf/CoarseSdf.h"
 #include "sdf/RefinePasses.h"
+#include "jobs/JobSupport.h"
 
 #include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <thread>
 
 using namespace rtsdf;
 using rtsdf::test::TempDir;
@@ -98,6 +104,35 @@ TEST(Jobs, BadSettingsNameTheSettingAndNoFlag) {
     } catch (const SettingError& e) {
       EXPECT_EQ(e.setting(), c.setting) << e.what();
       EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << "names a flag: " << e.what();
+    }
+  }
+}
+
+// The warm-up runs nothing for 0 s, else its work at least once and until the time has passed; the bench and
+// animate settings refuse a negative or absurd one, naming the setting.
+TEST(Jobs, WarmUpRunsUntilItsTimeHasPassedAndIsValidated) {
+  int runs = 0;
+  detail::warmUpGpu(0.0, [&] { ++runs; });
+  EXPECT_EQ(runs, 0);
+  detail::warmUpGpu(1e-9, [&] { ++runs; });
+  EXPECT_EQ(runs, 1);
+  const auto t0 = std::chrono::steady_clock::now();
+  detail::warmUpGpu(0.05, [&] { ++runs; std::this_thread::sleep_for(std::chrono::milliseconds(5)); });
+  EXPECT_GE(detail::secondsSince(t0), 0.05);
+  EXPECT_GE(runs, 2);
+  for (double bad : {-1.0, 61.0, std::nan("")}) {
+    bench::BenchOptions b;
+    b.warmUpSeconds = bad;
+    AnimateOptions a;
+    a.warmUpSeconds = bad;
+    for (const std::function<void()>& validate : {std::function<void()>([&] { b.validate(); }),
+                                                   std::function<void()>([&] { a.validate(); })}) {
+      try {
+        validate();
+        ADD_FAILURE() << bad << " was accepted";
+      } catch (const SettingError& e) {
+        EXPECT_EQ(e.setting(), "warm-up seconds") << e.what();
+      }
     }
   }
 }

@@ -288,7 +288,7 @@ void bindBench(CLI::App& app, BenchCommand& c) {
                                                      "paper's frame, the anchor of incremental refinement)");
   bindFineStorage(cmd, s.fineStorage);
   cmd->add_option("--csv", s.csv, "Frame suite: write one CSV row per frame to this file");
-  cmd->add_option("--warm-up", s.warmUpSeconds, "Seconds of untimed GPU work before each timed run (GPU suites), "
+  cmd->add_option("--warm-up", s.warmUpSeconds, "Seconds of untimed GPU work before each timed run (GPU suites, not --sweep), "
                                                 "so that a GPU's clocks have risen; 0: none")
       ->check(inRange(0.0, 60.0))->capture_default_str();
   cmd->add_option("--device", s.device, "Vulkan device by index or name (GPU suites and --sweep)");

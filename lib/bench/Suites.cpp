@@ -33,6 +33,7 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <thread>
 #include <tuple>
@@ -66,6 +67,17 @@ std::string cpuName() {
 
 namespace {
 
+/// The median GPU time of s.repeats runs of @a run (each returns its pass's milliseconds), after one run that
+/// pays for pipelines and allocations and s.warmUpSeconds of runs for the GPU's clocks.
+double warmMedianMs(const BenchOptions& s, const std::function<double()>& run) {
+  run();
+  detail::warmUpGpu(s.warmUpSeconds, run);
+  std::vector<double> t;
+  for (int r = 0; r < s.repeats; ++r) t.push_back(run());
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
 constexpr std::uint32_t kChunkVoxels[] = {16, 32, 64, 256, 1024, 4096};
 
 /// One row of the coarse suite's chunk table: VoxelizePass's GPU time per kChunkVoxels on one scene and grid.
@@ -76,12 +88,9 @@ std::string voxelizeChunkRow(CoarseSdfBuilder& builder, const BenchOptions& s, c
     CoarseSdfSettings cs;
     cs.chunkVoxels = c;
     cs.readNearest = false;
-    builder.build(corners, spec, cs);
-    detail::warmUpGpu(s.warmUpSeconds, [&] { builder.build(corners, spec, cs); });
-    std::vector<double> t;
-    for (int r = 0; r < s.repeats; ++r) t.push_back(builder.build(corners, spec, cs).passTotal(VoxelizePass::kName));
-    std::sort(t.begin(), t.end());
-    row += fmt::format(" {:.2f} |", t[t.size() / 2]);
+    row += fmt::format(" {:.2f} |", warmMedianMs(s, [&] {
+      return builder.build(corners, spec, cs).passTotal(VoxelizePass::kName);
+    }));
   }
   return row + "\n";
 }
@@ -172,10 +181,7 @@ RefinePoint runRefinePoint(const gpu::VulkanContext& ctx, const Scene& scene, co
   // The paper's tables time its frame, every masked voxel refined (a static incremental frame refines none).
   PipelineSettings full = ps;
   full.fullRecompute = true;
-  if (warmUpSeconds > 0.0) { // the GPU's clocks, on a pipeline of its own: the measured one starts from nothing
-    SdfPipeline warm(ctx, scene, geo.bounds, full);
-    detail::warmUpGpu(warmUpSeconds, [&] { warm.runFrame(0.0); });
-  }
+  detail::warmUpPipeline(ctx, scene, geo.bounds, full, warmUpSeconds);
   SdfPipeline pipe(ctx, scene, geo.bounds, full);
   FrameStats st;
   for (int f = 0; f < frames; ++f) st = pipe.runFrame(0.0);
@@ -223,19 +229,13 @@ std::string upsampleTable(const gpu::VulkanContext& ctx, const SceneGeometry& ge
       gpu::Buffer buf;
       gpu::reserve(ctx, buf, f.voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device,
                    "fine SDF");
-      std::vector<double> t;
-      auto run = [&] {
+      ms[k] = warmMedianMs(s, [&] {
         gpu::CommandBuffer cmd(ctx);
         profiler.reset(cmd.handle());
         pass->execute(cmd.handle(), &profiler, {builder.distanceBuffer(), table, none}, {buf}, p);
         cmd.submitAndWait();
         return passTotal(profiler.results(), UpsamplePass::kName);
-      };
-      run(); // warm-up
-      detail::warmUpGpu(s.warmUpSeconds, run);
-      for (int r = 0; r < s.repeats; ++r) t.push_back(run());
-      std::sort(t.begin(), t.end());
-      ms[k] = t[t.size() / 2];
+      });
       out[k].resize(f.voxelCount());
       gpu::download(ctx, buf, out[k].data(), out[k].size() * 4);
       ++k;
@@ -271,19 +271,13 @@ std::string volumeFillTable(const gpu::VulkanContext& ctx, const SceneGeometry& 
     std::size_t differ = 0;
     for (int k = 0; k < 2; ++k) {
       const auto method = k ? VolumeFillPass::Method::Compute : VolumeFillPass::Method::Transfer;
-      auto run = [&] {
+      ms[k] = warmMedianMs(s, [&] {
         gpu::CommandBuffer cmd(ctx);
         profiler.reset(cmd.handle());
         fill.execute(cmd.handle(), &profiler, {src}, {texture}, method);
         cmd.submitAndWait();
         return passTotal(profiler.results(), VolumeFillPass::kName);
-      };
-      run(); // warm-up
-      detail::warmUpGpu(s.warmUpSeconds, run);
-      std::vector<double> t;
-      for (int r = 0; r < s.repeats; ++r) t.push_back(run());
-      std::sort(t.begin(), t.end());
-      ms[k] = t[t.size() / 2];
+      });
       gpu::CommandBuffer cmd(ctx);
       texture.copyTo(cmd.handle(), back);
       cmd.submitAndWait();

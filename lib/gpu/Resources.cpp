@@ -193,7 +193,9 @@ void ComputePipeline::record(VkCommandBuffer cmd, const Binding* bindings, std::
       buffers[i] = {b.buffer->handle(), 0, VK_WHOLE_SIZE};
       w.pBufferInfo = &buffers[i];
     } else {
-      if (!b.volume || !*b.volume) throw Error(fmt::format("{}: binding {} needs a sampled volume", mName, i));
+      if (!b.volume || !*b.volume)
+        throw Error(fmt::format("{}: binding {} needs a volume ({})", mName, i,
+                                mTypes[i] == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE ? "a storage image" : "sampled"));
       images[i] = mTypes[i] == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
                       ? VkDescriptorImageInfo{VK_NULL_HANDLE, b.volume->view(), VK_IMAGE_LAYOUT_GENERAL}
                       : VkDescriptorImageInfo{b.volume->sampler(), b.volume->view(),

@@ -100,12 +100,7 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
   Bounds bounds;
   for (int f = 0; f < a.frames; ++f) bounds.add(buildSceneGeometry(scene, a.still ? 0.0 : f / a.fps).bounds);
   gpu::VulkanContext ctx(detail::contextOptions(a.device));
-  if (a.warmUpSeconds > 0.0) {
-    PipelineSettings full = a.pipeline;
-    full.fullRecompute = true;
-    SdfPipeline warm(ctx, scene, bounds, full);
-    detail::warmUpGpu(a.warmUpSeconds, [&] { warm.runFrame(0.0); });
-  }
+  detail::warmUpPipeline(ctx, scene, bounds, a.pipeline, a.warmUpSeconds);
   SdfPipeline pipe(ctx, scene, bounds, a.pipeline);
   spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
   openvdb::CoordBBox box;

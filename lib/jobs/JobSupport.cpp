@@ -1,5 +1,6 @@
 #include "jobs/JobSupport.h"
 
+#include "sdf/SdfPipeline.h"
 #include "util/Error.h"
 
 #include <fmt/format.h>
@@ -34,6 +35,15 @@ void warmUpGpu(double seconds, const std::function<void()>& gpuWork) {
   const auto t0 = std::chrono::steady_clock::now();
   do gpuWork();
   while (secondsSince(t0) < seconds);
+}
+
+void warmUpPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
+                    const PipelineSettings& settings, double seconds) {
+  if (!(seconds > 0.0)) return;
+  PipelineSettings full = settings;
+  full.fullRecompute = true; // every masked voxel refined: the most work a frame of these settings does
+  SdfPipeline warm(ctx, scene, bounds, full);
+  warmUpGpu(seconds, [&] { warm.runFrame(0.0); });
 }
 
 std::string bundledScene(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/scenes/" + name; }

@@ -8,6 +8,11 @@
 #include <functional>
 #include <string>
 
+namespace rtsdf {
+struct Bounds;
+struct PipelineSettings;
+} // namespace rtsdf
+
 namespace rtsdf::detail {
 
 /// @brief "N meshes (K open), M instances, T triangles, Z zero-area dropped".
@@ -32,6 +37,11 @@ inline double secondsSince(std::chrono::steady_clock::time_point t0) {
 ///       timed runs after host-side work (an exact reference, an error measurement) read up to 6x too slow. A CPU
 ///       device (lavapipe) has no such clocks: one run is all it costs there. @a seconds <= 0 runs nothing.
 void warmUpGpu(double seconds, const std::function<void()>& gpuWork);
+
+/// @brief warmUpGpu with full frames at time 0 of @a settings on an SdfPipeline of its own, destroyed after: the
+///        pipeline made next for measuring starts from nothing (its history, pool and frame count) on warm clocks.
+void warmUpPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
+                    const PipelineSettings& settings, double seconds);
 
 /// @brief The path of a bundled scene in the source tree's data/scenes (e.g. "default.json").
 std::string bundledScene(const std::string& name);

@@ -157,7 +157,7 @@ ChildRun runIn(const fs::path& dir, const std::vector<std::string>& args, const 
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     dup2(fd, 1);
     dup2(fd, 2);
-#ifndef __SANITIZE_ADDRESS__
+#ifndef RTSDF_SANITIZED_BINARY // ASan reserves terabytes of address space
     // A regression that believes a header's size fails here instead of taking the machine's memory.
     const rlimit as{8ull << 30, 8ull << 30};
     setrlimit(RLIMIT_AS, &as);

@@ -113,6 +113,38 @@ bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
   return found;
 }
 
+// Whether anything lies on o + t d for t in (0, tmax): any hit ends the walk (shadow rays need no nearest one).
+bool occludedWithin(vec3 o, vec3 d, float tmax) {
+  bool blocked = false;
+  vec3 invD = 1.0 / d;
+  RTSDF_TLAS_WALK_BEGIN(tn, blocked || isinf(rayBox(o, invD, tn.lo.xyz, tn.hi.xyz, 0.0, tmax)), inst)
+    vec3 oo = xformPoint(inst.worldToObject, o);
+    vec3 dd = xformVector(inst.worldToObject, d);
+    vec3 invDD = 1.0 / dd;
+    uint stack[RTSDF_BVH_STACK];
+    int sp = 0;
+    stack[sp++] = inst.blasRoot;
+    while (sp > 0 && !blocked) {
+      BvhNode n = blasNodes[stack[--sp]];
+      if (isinf(rayBox(oo, invDD, n.lo.xyz, n.hi.xyz, 0.0, tmax))) continue;
+      uint cnt = nodeCount(n);
+      if (cnt == 0u) {
+        stack[sp++] = nodeFirst(n) + 1u;
+        stack[sp++] = nodeFirst(n);
+        continue;
+      }
+      for (uint k = 0u; k < cnt && !blocked; ++k) {
+        uint tri = nodeFirst(n) + k;
+        float t = tmax;
+        bool front;
+        blocked = rayTriangle(oo, dd, corners[3u * tri].xyz, corners[3u * tri + 1u].xyz, corners[3u * tri + 2u].xyz,
+                              0.0, t, front);
+      }
+    }
+  RTSDF_TLAS_WALK_END
+  return blocked;
+}
+
 // Closest point on segment ab to p (a point when a == b).
 vec3 closestOnSegment(vec3 p, vec3 a, vec3 b) {
   vec3 ab = b - a;

@@ -1,7 +1,8 @@
 // SdfShadowPass's body, shared by its two variants (sdf_shadow.comp: the fine SDF as a 3D texture;
 // sdf_shadow_buffer.comp: as a dense buffer). Per pixel and light, sphere-trace the fine SDF towards the light
 // (sdfShadowMarch, or sdfShadowUmbra in the umbra variants, in gpu/shared/Render.h, shared with the CPU
-// reference). Visibility is written light-major.
+// reference). Visibility is written light-major; where the march found something within params.contactReach of
+// the receiver (its contact flag), marked by kContactPending for ContactShadowPass.
 #include "gpu/shared/Render.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -25,12 +26,15 @@ void main() {
     float v = 1.0;
     vec3 L;
     float tMax, w;
-    if (pos.w >= 0.0 && lightGeometry(lights[l], pos.xyz, lo, hi, L, tMax, w))
+    if (pos.w >= 0.0 && lightGeometry(lights[l], pos.xyz, lo, hi, L, tMax, w)) {
+      bool contact = false;
 #ifdef RTSDF_SHADOW_UMBRA
-      v = sdfShadowUmbra(params, pos.xyz, n, L, tMax, w, jitter);
+      v = sdfShadowUmbra(params, pos.xyz, n, L, tMax, w, jitter, contact);
 #else
-      v = sdfShadowMarch(params, params.penumbra, pos.xyz, n, L, tMax, w, jitter);
+      v = sdfShadowMarch(params, params.penumbra, pos.xyz, n, L, tMax, w, jitter, contact);
 #endif
+      if (contact && v > 0.0) v += kContactPending;
+    }
     visibility[uint(l) * pixels + i] = v;
   }
 }

@@ -182,8 +182,15 @@ void bindSdfShadows(CLI::App* cmd, SdfShadowSettings& s) {
   cmd->add_option("--light-samples", s.lightSamples,
                   "--penumbra umbra: marches per pixel, light and frame, each over its share of the light")
       ->check(inRange(1, 64))->capture_default_str();
+  cmd->add_option("--contact-rays", s.contactRays,
+                  "Short rays per pixel and light through the scene's BVH near the surface, where the SDF is too "
+                  "coarse to see (contacts, creases, gaps thinner than a voxel); traced only where the SDF shows "
+                  "something near the receiver (0: off)")
+      ->check(inRange(0, 64))->capture_default_str();
+  cmd->add_option("--contact-distance", s.contactVoxels, "How far the contact rays reach, in fine voxels")
+      ->check(inRange(0.0, 64.0))->capture_default_str();
   cmd->add_flag("!--no-jitter", s.jitter, "Do not jitter the SDF march's start per pixel and frame (nor the "
-                                          "lateral probes' and umbra samples' turn)");
+                                          "lateral probes', umbra samples' and contact rays' turn)");
 }
 
 /// The picture's flags, shared by render and view: shadows, size, SDF march, shadow maps, TAA, truth, pipeline.

@@ -1,7 +1,7 @@
 #pragma once
 /// @file RenderPasses.h
 /// @brief The renderer's GPU passes, each a small named unit (inputs, outputs, execute): GBufferPass,
-///        SdfShadowPass, ShadowMapPass, TaaPass, ComposePass.
+///        SdfShadowPass, ContactShadowPass, ShadowMapPass, TaaPass, ComposePass.
 ///        Their CPU references are in RenderReference.h.
 #include "gpu/ComputePass.h"
 #include "gpu/Profiler.h"
@@ -94,6 +94,29 @@ private:
   VolumeFillPass mFill;
   VolumeFillPass::Method mFillMethod;
   bool mUmbra = false;
+};
+
+/// @brief Contact shadows: per pixel and light, a few short rays through the scene's BVH over the first fine voxels
+///        off the surface, towards points of the light's disc; the SDF's visibility is lowered to the fraction of
+///        them that nothing blocks (what lies within a voxel of the receiver is below the SDF's resolution: a gap
+///        under a wall, a crease, the contact of two boxes). Runs after SdfShadowPass, in place; pixels already
+///        dark trace nothing.
+class ContactShadowPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "ContactShadowPass";
+  struct Inputs {
+    const GpuSceneBvh& bvh;
+    const GpuGBuffer& gbuffer;
+    const gpu::Buffer& lights;
+  };
+  struct Outputs { const gpu::Buffer& visibility; }; ///< in: SdfShadowPass's; out: lowered (light-major)
+  using Params = gpu::shared::ContactShadowParams;
+  explicit ContactShadowPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "contact_shadow.comp", gpu::shared::kContactShadowBindingCount, sizeof(Params)) {}
+  /// @throw Error when params.rays is 0 (the caller skips the pass instead) or the image size is not the
+  ///        G-buffer's.
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
 };
 
 /// @brief Shadow maps (the baseline games use): a depth map per light (orthographic for directional lights,

@@ -9,6 +9,7 @@ const float* gDepth = nullptr;
 #include "render/RenderReference.h"
 
 #include "reference/ExactSdf.h"
+#include "util/Error.h"
 
 #include <tbb/parallel_for.h>
 
@@ -33,13 +34,49 @@ LightVisibility sdfShadowsCpu(const GBuffer& g, const std::vector<float>& field,
         float tMax, w;
         const glm::vec3 p(g.position[i]), n(g.normal[i]);
         if (!sh::lightGeometry(lights[l], p, lo, hi, L, tMax, w)) continue;
-        vis[l][i] = params.penumbra == sh::kPenumbraUmbra
-                        ? sh::sdfShadowUmbra(params, p, n, L, tMax, w, jitter)
-                        : sh::sdfShadowMarch(params, params.penumbra, p, n, L, tMax, w, jitter);
+        float& v = vis[l][i];
+        bool contact = false;
+        v = params.penumbra == sh::kPenumbraUmbra
+                ? sh::sdfShadowUmbra(params, p, n, L, tMax, w, jitter, contact)
+                : sh::sdfShadowMarch(params, params.penumbra, p, n, L, tMax, w, jitter, contact);
+        if (contact && v > 0.0f) v += sh::kContactPending;
       }
     }
   });
   return vis;
+}
+
+void contactShadowsCpu(const SceneGeometry& geometry, const GBuffer& g, const std::vector<sh::GpuLight>& lights,
+                       const sh::ContactShadowParams& params, LightVisibility& visibility) {
+  if (params.image.x != g.width || params.image.y != g.height || visibility.size() != lights.size() ||
+      params.lights != lights.size())
+    throw Error("contact shadows: the parameters, lights and visibility do not match the G-buffer");
+  for (const auto& v : visibility)
+    if (v.size() != g.pixelCount()) throw Error("contact shadows: the visibility does not match the G-buffer");
+  if (params.rays == 0u || g.pixelCount() == 0) return;
+  const ExactDistanceField field(geometry);
+  const glm::vec3 far(3.0e38f);
+  tbb::parallel_for(std::size_t(0), g.pixelCount(), [&](std::size_t i) {
+    if (!g.hit(i)) return;
+    const glm::vec3 p(g.position[i]);
+    const glm::vec3 o = p + glm::vec3(g.normal[i]) * params.normalOffset;
+    const float turn = params.jitter * sh::pixelJitter(std::uint32_t(i), std::uint32_t(params.image.z),
+                                                       std::uint32_t(params.image.w) ^ 0x5bd1e995u);
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+      float& v = visibility[l][i];
+      glm::vec3 L;
+      float tMax = 0.0f, w = 0.0f;
+      if (v < sh::kContactPending || !sh::lightGeometry(lights[l], p, -far, far, L, tMax, w)) continue;
+      const float reach = std::min(params.distance, tMax);
+      std::uint32_t open = 0;
+      for (std::uint32_t k = 0; k < params.rays; ++k) {
+        float t = 0.0f;
+        bool front = false;
+        open += field.intersect(o, sh::lightDiscDirection(L, w, k, params.rays, turn), reach, t, front) ? 0u : 1u;
+      }
+      v = std::min(v - sh::kContactPending, float(open) / float(params.rays));
+    }
+  });
 }
 
 std::vector<float> shadowMapDepthsCpu(const SceneGeometry& geometry, const std::vector<sh::GpuLight>& lights,

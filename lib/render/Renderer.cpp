@@ -30,6 +30,8 @@ void RenderSettings::validate() const {
   requireFinite("normal offset", sdf.normalOffset);
   requireInRange("lateral probes", sdf.lateralProbes, 0, 64);
   requireInRange("light samples", sdf.lightSamples, 1, 64);
+  requireInRange("contact rays", sdf.contactRays, 0, 64);
+  requireInRange("contact distance", sdf.contactVoxels, 0.0, 64.0, " fine voxels");
   requireInRange("shadow map resolution", shadowMap.resolution, 1, 8192);
   requireInRange("PCF radius", shadowMap.pcfRadius, 0, 16);
   if (!(std::isfinite(shadowMap.depthBiasTexels) && shadowMap.depthBiasTexels >= 0.0))
@@ -101,6 +103,7 @@ LightVisibility downloadVisibility(const gpu::VulkanContext& ctx, const Buffer& 
 struct Renderer::Gpu {
   GBufferPass gbufferPass;
   SdfShadowPass sdfShadowPass;
+  ContactShadowPass contactShadowPass;
   ShadowMapPass shadowMapPass;
   TaaPass taaPass;
   gpu::GpuProfiler profiler;
@@ -108,7 +111,7 @@ struct Renderer::Gpu {
   Buffer lights, visibility, history, depth, maps;
   gpu::SampledVolume fineTexture; ///< SdfSampling::Texture: the fine SDF for hardware-filtered sampling
   Gpu(const gpu::VulkanContext& ctx, bool umbra)
-      : gbufferPass(ctx), sdfShadowPass(ctx, umbra), shadowMapPass(ctx), taaPass(ctx), profiler(ctx) {}
+      : gbufferPass(ctx), sdfShadowPass(ctx, umbra), contactShadowPass(ctx), shadowMapPass(ctx), taaPass(ctx), profiler(ctx) {}
 };
 
 Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& sdfBounds,
@@ -168,6 +171,16 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     p.jitter = settings.sdf.jitter ? 1.0f : 0.0f;
     p.lateralProbes = std::uint32_t(settings.sdf.lateralProbes);
     p.lightSamples = std::uint32_t(settings.sdf.lightSamples);
+    sh::ContactShadowParams& c = mContactParams;
+    c.image = p.image;
+    c.lights = std::uint32_t(mLights.size());
+    c.rays = settings.sdf.contactVoxels > 0.0 ? std::uint32_t(settings.sdf.contactRays) : 0u;
+    c.distance = float(settings.sdf.contactVoxels * f.voxelSize);
+    // As the truth's shadow rays start (rayTracedVisibility): 1e-4 of the scene off the surface, clear of the
+    // receiver's own triangle and still inside a gap a fraction of a voxel wide.
+    c.normalOffset = float(1e-4 * sdfBounds.maxExtent());
+    c.jitter = p.jitter;
+    p.contactReach = c.rays > 0u ? c.distance : 0.0f;
   } else {
     mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, mFrameOrigin);
     mMapParams = makeShadowMapParams(mLights, buildSceneGeometry(scene, 0.0, mFrameOrigin).bounds, settings.shadowMap,
@@ -224,6 +237,10 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
       g.sdfShadowPass.execute(cmd.handle(), &g.profiler, {g.gbuffer, mSdf->fineBuffer(), texture, g.lights},
                               {g.visibility}, mSdfParams);
     }
+    mContactParams.image.z = mFrame;
+    if (mContactParams.rays > 0u)
+      g.contactShadowPass.execute(cmd.handle(), &g.profiler, {*bvh, g.gbuffer, g.lights}, {g.visibility},
+                                  mContactParams);
   } else {
     g.shadowMapPass.execute(cmd.handle(), &g.profiler, {*bvh, g.gbuffer, g.lights, g.maps}, {g.depth, g.visibility},
                             mMapParams);

@@ -81,6 +81,11 @@ struct SdfShadowSettings {
   /// (the centre's signed distance alone, as before).
   int lateralProbes = 8;
   int lightSamples = 4; ///< umbra estimate: marches per pixel, light and frame
+  /// Contact rays (ContactShadowPass): short rays per pixel and light through the scene's BVH over the first
+  /// contactVoxels fine voxels off the surface, where the SDF is too coarse to see (gaps, creases, contacts);
+  /// the visibility is the smaller of the march's and theirs (docs/design.md). 0: off.
+  int contactRays = 4;
+  double contactVoxels = 4.0; ///< how far the contact rays reach, in fine voxels
   SdfSampling sampling = SdfSampling::Texture;
 };
 
@@ -155,6 +160,8 @@ public:
   SdfSampling sdfSampling() const { return mSampling; }
   /// @brief The SDF shadow parameters of the last frame (for the CPU reference).
   const gpu::shared::SdfShadowParams& sdfShadowParams() const { return mSdfParams; }
+  /// @brief The contact rays' parameters of the last frame (for the CPU reference; rays == 0: the pass is off).
+  const gpu::shared::ContactShadowParams& contactShadowParams() const { return mContactParams; }
   /// @brief The shadow maps' parameters (one per light) and their depths (after a ShadowMap frame).
   const std::vector<gpu::shared::ShadowMapParams>& shadowMapParams() const { return mMapParams; }
   std::vector<float> shadowMapDepths() const;
@@ -171,6 +178,7 @@ private:
   gpu::shared::CameraParams mCamera{};
   std::vector<gpu::shared::GpuLight> mLights;
   gpu::shared::SdfShadowParams mSdfParams{};
+  gpu::shared::ContactShadowParams mContactParams{};
   std::vector<gpu::shared::ShadowMapParams> mMapParams;
   std::unique_ptr<SdfPipeline> mSdf;
   SdfSampling mSampling = SdfSampling::Buffer;

@@ -16,8 +16,10 @@
   using glm::cos; using glm::sin;
 #define RTSDF_SHARED_END }
 #define RTSDF_OUT(T) T&
+#define RTSDF_INOUT(T) T&
 #else
 #define RTSDF_OUT(T) out T
+#define RTSDF_INOUT(T) inout T
 #define RTSDF_FN
 #define RTSDF_PRECISE precise
 #define RTSDF_SHARED_BEGIN

@@ -59,6 +59,23 @@ struct SdfShadowParams {
   uint lateralProbes; // centred and umbra: SDF samples around the cone where the ray came closest to an
                       // occluder (tells a plate crossing the whole cone from an edge; 0: off)
   uint lightSamples;  // umbra: marches per pixel, light and frame (>= 1)
+  float contactReach; // > 0: mark the pixels where something other than the receiver's own plane lies within
+                      // this distance (sdfShadowMarch's contact) for ContactShadowPass; 0: the pass does not run
+};
+
+/// SdfShadowPass adds this to the visibility of the pixels (and lights) whose contact rays ContactShadowPass is to
+/// trace; that pass takes it off again (the visibility itself is in [0, 1]).
+const float kContactPending = 2.0f;
+
+/// Push constants of contact_shadow.comp (ContactShadowPass) and its CPU reference (contactShadowsCpu).
+struct ContactShadowParams {
+  ivec4 image;        // x: width, y: height, z: frame number (the rays' turn), w: seed
+  uint lights;        // number of lights
+  uint rays;          // short rays per pixel and light (>= 1: the pass does not run with none)
+  float distance;     // how far the rays reach from the surface (scene units): the SDF's first voxels
+  float normalOffset; // the rays start this far off the surface along its normal (scene units)
+  float jitter;       // 0: the same rays every frame; 1: the pattern turned per pixel and frame (TAA averages)
+  float pad0, pad1, pad2;
 };
 
 /// Push constants of shadow_map.comp (build) and shadow_lookup.comp.
@@ -111,8 +128,6 @@ RTSDF_FN float sampleSdf(SdfShadowParams s, vec3 p) {
 }
 #endif
 
-#if defined(RTSDF_SDF_TEXTURE) || defined(RTSDF_SDF_FETCH)
-
 /// Distance along o + t d (d unit) at which the ray leaves the box [lo, hi] (0 when it starts outside and
 /// never enters: nothing to march through).
 RTSDF_FN float exitDistance(vec3 o, vec3 d, vec3 lo, vec3 hi) {
@@ -136,6 +151,39 @@ RTSDF_FN void perpendicularBasis(vec3 L, RTSDF_OUT(vec3) u, RTSDF_OUT(vec3) v) {
   u = normalize(cross(L, abs(L.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
   v = cross(L, u);
 }
+
+/// Direction towards light l from point p, the distance to march (tMax) and the tangent of its half-angle.
+/// Returns false when p is inside a sphere light (fully lit).
+RTSDF_FN bool lightGeometry(GpuLight l, vec3 p, vec3 gridLo, vec3 gridHi, RTSDF_OUT(vec3) L, RTSDF_OUT(float) tMax,
+                            RTSDF_OUT(float) w) {
+  if (uint(l.position.w) == kLightDirectional) {
+    L = vec3(l.position);
+    tMax = exitDistance(p, L, gridLo, gridHi);
+    w = l.size.x;
+    return true;
+  }
+  vec3 toC = vec3(l.position) - p;
+  float dist = length(toC);
+  float radius = l.size.x;
+  L = dist > 0.0f ? toC / dist : vec3(0.0f, 1.0f, 0.0f);
+  if (dist <= radius) { tMax = 0.0f; w = 0.0f; return false; }
+  tMax = min(dist - radius, exitDistance(p, L, gridLo, gridHi));
+  w = radius / sqrt(max(dist * dist - radius * radius, 1.0e-20f));
+  return true;
+}
+/// Direction k of @a count towards the disc of a light seen along unit L with a half-angle of tangent w: the
+/// k-th of count equal-area rings at its mid radius, azimuths on a golden-ratio (sunflower) spiral turned by
+/// turn01. The umbra estimate's marches and the contact rays spread over the light this way.
+RTSDF_FN vec3 lightDiscDirection(vec3 L, float w, uint k, uint count, float turn01) {
+  if (!(w > 0.0f)) return L;
+  vec3 u, v;
+  perpendicularBasis(L, u, v);
+  float radius = w * sqrt((float(k) + 0.5f) / float(count));
+  float phi = 6.28318531f * (float(k) * 0.618033989f + turn01);
+  return normalize(L + radius * (cos(phi) * u + sin(phi) * v));
+}
+
+#if defined(RTSDF_SDF_TEXTURE) || defined(RTSDF_SDF_FETCH)
 
 /// The signed distance (in light-disc radii, negative: covered) from the cone's axis to the edge of the occluder
 /// the centred march came closest to, from lateralProbes SDF samples around the cone there. The centre's own
@@ -178,11 +226,16 @@ RTSDF_FN float lateralEdgeDistance(SdfShadowParams s, vec3 o, vec3 L, float tApp
 /// tMax, for a light whose half-angle has tangent w (0: a point or parallel light, hard shadows).
 /// jitter01 in [0, 1) offsets the start. penumbra: kPenumbraClassic, Improved or Centered (the caller's
 /// choice rather than s.penumbra, so that the umbra estimate needs no modified copy of the parameters).
-/// Returns the light's visibility in [0, 1].
+/// Returns the light's visibility in [0, 1]. @a contact is set when a sample within s.contactReach of the start
+/// finds the field short of the distance to the receiver's own plane by an eighth of a voxel: something else lies
+/// that near (a crease, a contact, a gap under a wall), below what the field resolves, so ContactShadowPass is to
+/// trace it. On a flat open receiver the filtered field is that distance exactly, so the test is quiet there; on a
+/// convex one it is larger.
 RTSDF_FN float sdfShadowMarch(SdfShadowParams s, uint penumbra, vec3 p, vec3 n, vec3 L, float tMax, float w,
-                              float jitter01) {
+                              float jitter01, RTSDF_INOUT(bool) contact) {
   RTSDF_PRECISE vec3 o = p + n * s.normalOffset;
   RTSDF_PRECISE float t = s.epsilon * (1.0f + s.jitter * (jitter01 - 0.75f));
+  float ln = dot(L, n);
   float res = 1.0f;
   float ph = 1.0e30f;
   bool centered = penumbra == kPenumbraCentered;
@@ -192,6 +245,7 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, uint penumbra, vec3 p, vec3 n, 
   for (uint i = 0u; i < s.maxSteps; ++i) {
     if (t >= tMax) break;
     RTSDF_PRECISE float h = sampleSdf(s, o + L * t) - s.bias;
+    if (t <= s.contactReach && h + s.bias < s.normalOffset + t * ln - 0.125f * s.gridOriginH.w) contact = true;
     if (!centered && h < s.epsilon) return 0.0f; // the march hit a surface: umbra
     if (w > 0.0f) {
       if (penumbra == kPenumbraImproved) {
@@ -234,43 +288,20 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, uint penumbra, vec3 p, vec3 n, 
 /// that one cone crosses shadows its share whatever the others see.
 /// @note Its own shader variants (RTSDF_SHADOW_UMBRA): a second march loop in the one shader slowed the single
 ///       march by a quarter on lavapipe even where it never ran.
-RTSDF_FN float sdfShadowUmbra(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float tMax, float w, float jitter01) {
-  if (!(w > 0.0f)) return sdfShadowMarch(s, kPenumbraCentered, p, n, L, tMax, w, jitter01);
+RTSDF_FN float sdfShadowUmbra(SdfShadowParams s, vec3 p, vec3 n, vec3 L, float tMax, float w, float jitter01,
+                              RTSDF_INOUT(bool) contact) {
+  if (!(w > 0.0f)) return sdfShadowMarch(s, kPenumbraCentered, p, n, L, tMax, w, jitter01, contact);
   uint count = max(s.lightSamples, 1u);
   float wk = w / sqrt(float(count));
   // The spiral's turn: a second number from the pixel's jitter (24 bits, exact in a float and a uint).
   float turn = s.jitter * unitFloat(pcgHash(uint(jitter01 * 16777216.0f)));
-  vec3 u, v;
-  perpendicularBasis(L, u, v);
   float sum = 0.0f;
-  for (uint k = 0u; k < count; ++k) {
-    float radius = w * sqrt((float(k) + 0.5f) / float(count));
-    float phi = 6.28318531f * (float(k) * 0.618033989f + turn);
-    vec3 Lk = normalize(L + radius * (cos(phi) * u + sin(phi) * v));
-    sum += sdfShadowMarch(s, kPenumbraCentered, p, n, Lk, tMax, wk, jitter01);
-  }
+  for (uint k = 0u; k < count; ++k)
+    sum += sdfShadowMarch(s, kPenumbraCentered, p, n, lightDiscDirection(L, w, k, count, turn), tMax, wk, jitter01,
+                          contact);
   return sum / float(count);
 }
 
-/// Direction towards light l from point p, the distance to march (tMax) and the tangent of its half-angle.
-/// Returns false when p is inside a sphere light (fully lit).
-RTSDF_FN bool lightGeometry(GpuLight l, vec3 p, vec3 gridLo, vec3 gridHi, RTSDF_OUT(vec3) L, RTSDF_OUT(float) tMax,
-                            RTSDF_OUT(float) w) {
-  if (uint(l.position.w) == kLightDirectional) {
-    L = vec3(l.position);
-    tMax = exitDistance(p, L, gridLo, gridHi);
-    w = l.size.x;
-    return true;
-  }
-  vec3 toC = vec3(l.position) - p;
-  float dist = length(toC);
-  float radius = l.size.x;
-  L = dist > 0.0f ? toC / dist : vec3(0.0f, 1.0f, 0.0f);
-  if (dist <= radius) { tMax = 0.0f; w = 0.0f; return false; }
-  tMax = min(dist - radius, exitDistance(p, L, gridLo, gridHi));
-  w = radius / sqrt(max(dist * dist - radius * radius, 1.0e-20f));
-  return true;
-}
 #endif // RTSDF_SDF_TEXTURE || RTSDF_SDF_FETCH
 
 /// The pixel's jitter in [0, 1) for frame @a frame: the shared PCG hash's top 24 bits (exact in a float, so the

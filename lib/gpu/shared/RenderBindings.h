@@ -26,6 +26,14 @@ const uint kSdfShadowBindingValuePages = kSdfShadowBindingCount + 2u;  // RTSDF_
 const uint kSdfShadowBindingFineToCoarse = kSdfShadowBindingCount + 6u; // maskCoarseOfFine(): the band test
 const uint kSdfShadowBindingBrickCount = kSdfShadowBindingCount + 7u;
 
+/// contact_shadow.comp: the scene BVH (Bvh.h's kBvhBinding*), then the G-buffer, the lights and the visibility it
+/// lowers in place (light-major, as SdfShadowPass wrote it).
+const uint kContactShadowBindingPositions = kBvhBindingCount + 0u;
+const uint kContactShadowBindingNormals = kBvhBindingCount + 1u;
+const uint kContactShadowBindingLights = kBvhBindingCount + 2u;
+const uint kContactShadowBindingVisibility = kBvhBindingCount + 3u;
+const uint kContactShadowBindingCount = kBvhBindingCount + 4u;
+
 /// volume_fill.comp: the dense fine SDF (x fastest) into the 3D texture the march samples (a storage image).
 const uint kVolumeFillBindingField = 0u;
 const uint kVolumeFillBindingTexture = 1u;

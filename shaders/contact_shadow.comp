@@ -5,7 +5,7 @@
 // to the fraction of them that nothing blocks. The SDF cannot hold what lies within a voxel of the receiver
 // (contacts, creases, a gap under a wall thinner than a voxel): there the BVH answers exactly, and short rays are
 // cheap (the walk culls every box the short segment misses). Only the pixels SdfShadowPass marked (kContactPending:
-// lit, with something near the receiver, contactCandidate) trace rays; the pass unmarks them.
+// lit, and its march saw something nearer than the receiver's own plane) trace rays; the pass unmarks them.
 #include "gpu/shared/Bvh.h"
 #include "gpu/shared/Render.h"
 

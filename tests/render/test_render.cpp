@@ -143,19 +143,24 @@ TEST_F(Render, ContactShadowPassEqualsEmbreeRaysWhereTheMarchMarkedContacts) {
   const LightVisibility march = cpu;
   contactShadowsCpu(buildSceneGeometry(scene, 0.0, r.frameOrigin()), f.gbuffer, r.gpuLights(),
                     r.contactShadowParams(), cpu);
-  std::size_t darkened = 0;
+  std::size_t darkened = 0, differMarked = 0, differOther = 0;
   for (std::size_t i = 0; i < cpu[0].size(); ++i) {
     ASSERT_LE(cpu[0][i], 1.0f);
-    if (march[0][i] < sh::kContactPending) EXPECT_EQ(cpu[0][i], march[0][i]) << "pixel " << i << " was not marked";
+    const bool isMarked = march[0][i] >= sh::kContactPending;
+    if (!isMarked) EXPECT_EQ(cpu[0][i], march[0][i]) << "pixel " << i << " was not marked";
     else darkened += cpu[0][i] < march[0][i] - sh::kContactPending;
+    (isMarked ? differMarked : differOther) += std::fabs(f.visibility[0][i] - cpu[0][i]) > 1e-4f;
   }
-  const std::size_t n = countAbove(f.visibility[0], cpu[0], 1e-4f);
   std::cout << marked << " of " << f.gbuffer.pixelCount() << " pixels marked, " << darkened << " darkened by the "
-            << "rays, " << n << " differ from the CPU\n";
+            << "rays; " << differMarked << " marked and " << differOther << " other pixels differ from the CPU\n";
   EXPECT_GT(marked, f.gbuffer.pixelCount() / 200);
   EXPECT_LT(marked, f.gbuffer.pixelCount() / 4) << "the marks are to spare the open surfaces";
   EXPECT_GT(darkened, 10u);
-  EXPECT_LE(n, f.gbuffer.pixelCount() / 500) << n << " pixels differ";
+  // The march may end a step apart on 0.1% of the pixels (SdfShadowPassEqualsTheCpuMarch); a marked pixel's rays
+  // may graze an edge, on at most 1% of them: fewer than the pixels the rays darken, so a pass that darkened
+  // nothing (or left a mark on) fails here.
+  EXPECT_LE(differOther, f.gbuffer.pixelCount() / 1000);
+  EXPECT_LE(differMarked, marked / 100) << differMarked << " marked pixels differ";
 }
 
 // SdfShadowPass sampling the sparse fine state (the brick pool and the coarse SDF) against sampling the dense

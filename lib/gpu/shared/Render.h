@@ -171,6 +171,7 @@ RTSDF_FN bool lightGeometry(GpuLight l, vec3 p, vec3 gridLo, vec3 gridHi, RTSDF_
   w = radius / sqrt(max(dist * dist - radius * radius, 1.0e-20f));
   return true;
 }
+
 /// Direction k of @a count towards the disc of a light seen along unit L with a half-angle of tangent w: the
 /// k-th of count equal-area rings at its mid radius, azimuths on a golden-ratio (sunflower) spiral turned by
 /// turn01. The umbra estimate's marches and the contact rays spread over the light this way.

@@ -27,7 +27,7 @@ void main() {
   vec4 pos = positions[i];
   if (pos.w < 0.0) return;
   vec3 o = pos.xyz + normals[i].xyz * params.normalOffset;
-  float turn = params.jitter * pixelJitter(i, uint(params.image.z), uint(params.image.w) ^ 0x5bd1e995u);
+  float turn = contactRayTurn(params, i);
   for (uint l = 0u; l < params.lights; ++l) {
     uint at = l * pixels + i;
     float marked = visibility[at];

@@ -99,8 +99,8 @@ private:
 /// @brief Contact shadows: per pixel and light, a few short rays through the scene's BVH over the first fine voxels
 ///        off the surface, towards points of the light's disc; the SDF's visibility is lowered to the fraction of
 ///        them that nothing blocks (what lies within a voxel of the receiver is below the SDF's resolution: a gap
-///        under a wall, a crease, the contact of two boxes). Runs after SdfShadowPass, in place; pixels already
-///        dark trace nothing.
+///        under a wall, a crease, the contact of two boxes). Runs after SdfShadowPass, in place, and traces only the
+///        pixels that pass marked (kContactPending: its march saw something nearer than the receiver's own plane).
 class ContactShadowPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "ContactShadowPass";

@@ -60,8 +60,7 @@ void contactShadowsCpu(const SceneGeometry& geometry, const GBuffer& g, const st
     if (!g.hit(i)) return;
     const glm::vec3 p(g.position[i]);
     const glm::vec3 o = p + glm::vec3(g.normal[i]) * params.normalOffset;
-    const float turn = params.jitter * sh::pixelJitter(std::uint32_t(i), std::uint32_t(params.image.z),
-                                                       std::uint32_t(params.image.w) ^ 0x5bd1e995u);
+    const float turn = sh::contactRayTurn(params, std::uint32_t(i));
     for (std::size_t l = 0; l < lights.size(); ++l) {
       float& v = visibility[l][i];
       glm::vec3 L;

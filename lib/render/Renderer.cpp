@@ -111,7 +111,8 @@ struct Renderer::Gpu {
   Buffer lights, visibility, history, depth, maps;
   gpu::SampledVolume fineTexture; ///< SdfSampling::Texture: the fine SDF for hardware-filtered sampling
   Gpu(const gpu::VulkanContext& ctx, bool umbra)
-      : gbufferPass(ctx), sdfShadowPass(ctx, umbra), contactShadowPass(ctx), shadowMapPass(ctx), taaPass(ctx), profiler(ctx) {}
+      : gbufferPass(ctx), sdfShadowPass(ctx, umbra), contactShadowPass(ctx), shadowMapPass(ctx), taaPass(ctx),
+        profiler(ctx) {}
 };
 
 Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& sdfBounds,

@@ -311,6 +311,12 @@ RTSDF_FN float pixelJitter(uint pixel, uint frame, uint seed) {
   return unitFloat(pcgHash(pixel * 1664525u + frame * 22695477u + seed * 2654435769u));
 }
 
+/// The turn of pixel @a pixel's contact-ray pattern (lightDiscDirection) in this frame: 0 without jitter, else a
+/// number of its own per pixel and frame (the seed salted apart from the march's jitter).
+RTSDF_FN float contactRayTurn(ContactShadowParams c, uint pixel) {
+  return c.jitter * pixelJitter(pixel, uint(c.image.z), uint(c.image.w) ^ 0x5bd1e995u);
+}
+
 /// Cube-map face f (0..5: +x, -x, +y, -y, +z, -z) of direction d and its face coordinates in [-1, 1]:
 /// axis a = f / 2 holds the sign, axes (a + 1) % 3 and (a + 2) % 3 the coordinates s and t.
 RTSDF_FN uint cubeFace(vec3 d, RTSDF_OUT(float) s, RTSDF_OUT(float) t) {

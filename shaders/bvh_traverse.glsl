@@ -13,7 +13,7 @@ uint nodeCount(BvhNode n) { return floatBitsToUint(n.hi.w); }
 // The top-level walk that traceNearest and closestPoint share: depth first from the root of tlasNodes, a
 // popped node NODE skipped when the expression CULLED (of NODE and the caller's locals) is true, so a nearer
 // hit found meanwhile prunes it; an inner node pushes its children (the first on top); a leaf runs the code
-// between the two macros once per instance, declared as 'BvhInstance INST'. Macros, not a function: GLSL has
+// between the two macros once per instance, declared as 'BvhInstance INST' (its index in instances[]: tlasSlot). Macros, not a function: GLSL has
 // no callbacks, the body updates the caller's locals, and the loops stay exactly the hand-written ones (no
 // extra iterations; lavapipe cuts long loops). Use: RTSDF_TLAS_WALK_BEGIN(tn, cull, inst) ... RTSDF_TLAS_WALK_END
 #define RTSDF_TLAS_WALK_BEGIN(NODE, CULLED, INST)                                                                      \
@@ -29,8 +29,9 @@ uint nodeCount(BvhNode n) { return floatBitsToUint(n.hi.w); }
       tstack[tsp++] = nodeFirst(NODE);                                                                                 \
       continue;                                                                                                        \
     }                                                                                                                  \
-    for (uint s = 0u; s < tc; ++s) {                                                                                   \
-      BvhInstance INST = instances[tlasSlots[nodeFirst(NODE) + s]];
+    for (uint ti = 0u; ti < tc; ++ti) {                                                                                \
+      uint tlasSlot = tlasSlots[nodeFirst(NODE) + ti];                                                                 \
+      BvhInstance INST = instances[tlasSlot];
 #define RTSDF_TLAS_WALK_END                                                                                            \
     }                                                                                                                  \
   }
@@ -188,17 +189,93 @@ vec3 closestOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
   return dab <= dbc ? (dab <= dca ? qab : qca) : (dbc <= dca ? qbc : qca);
 }
 
-// Closest surface point to p within maxDist (world space). Returns false when none is that close.
-// The answer is kept in locals and written to 'hit' once at the end.
-bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
-  float best = maxDist;
-  bool found = false;
-  vec3 bestPoint = vec3(0.0);
-  uint bestInstance = 0u, bestTriangle = 0u, bestFront = 0u, bestLeaf = 0u;
-  float bestFacing = -1.0; // |cos| between p - q and the best triangle's normal
+// A closest-point query in progress: the nearest triangle so far and the tie rule's state. closestPoint walks
+// the BVH with it; the refinement's per-cell candidates (refine_main.glsl) test a short list with it, so both
+// give the same answer from the same triangles.
+struct ClosestQuery {
+  vec3 p;          // the query point (world)
+  float best;      // distance of the nearest triangle so far (the search radius until one is found)
+  float ulp4;      // 4 float ulps at p's coordinates
+  float facing;    // |cos| between p - q and the best triangle's normal
+  vec3 point;      // the closest point so far
+  bool found;
+  uint instance, triangle, front, leaf;
+};
+
+ClosestQuery closestBegin(vec3 p, float maxDist) {
+  ClosestQuery s;
+  s.p = p;
+  s.best = maxDist;
   // Ties (below) must be seen: culling keeps boxes within rounding of the best distance.
-  float ulp4 = 4.8e-7 * max(abs(p.x), max(abs(p.y), abs(p.z))); // 4 float ulps at p's coordinates
-  RTSDF_TLAS_WALK_BEGIN(tn, boxDistance(p, tn.lo.xyz, tn.hi.xyz) > best * (1.0 + 1.0e-5) + ulp4, inst)
+  s.ulp4 = 4.8e-7 * max(abs(p.x), max(abs(p.y), abs(p.z)));
+  s.facing = -1.0;
+  s.point = vec3(0.0);
+  s.found = false;
+  s.instance = 0u; s.triangle = 0u; s.front = 0u; s.leaf = 0u;
+  return s;
+}
+
+// How far a box or triangle may lie from p and still hold a nearer point or a tie.
+float closestReach(ClosestQuery s) { return s.best * (1.0 + 1.0e-5) + s.ulp4; }
+
+// Test triangle abc (world space; leaf: its leaf-order index, of instance 'instanceId', 'mirrored' as that
+// instance's transform) against the query.
+void closestTriangle(inout ClosestQuery s, vec3 a, vec3 b, vec3 c, uint mirrored, uint instanceId, uint leaf) {
+  vec3 q = closestOnTriangle(s.p, a, b, c);
+  float dist = length(s.p - q);
+  if (dist > closestReach(s)) return; // neither nearer nor a tie: the common case
+  // Triangles sharing the closest edge or vertex are equally near (to rounding); the sign comes from
+  // the one whose plane p lies most squarely off: near a sharp edge the other face's plane can pass
+  // within rounding of p, and its side test would be a coin toss.
+  vec3 nrm = cross(b - a, c - a);
+  float nl = length(nrm);
+  float facing = (dist > 0.0 && nl > 0.0) ? abs(dot(s.p - q, nrm)) / (dist * nl) : 0.0;
+  // A tie is the same distance and closest point (a shared edge or vertex) to rounding. The point
+  // slides along a shared edge by more than the distance changes (1e-3 of the distance covers it).
+  bool tie = s.found && abs(dist - s.best) <= 1.0e-5 * s.best + s.ulp4 &&
+             length(q - s.point) <= 1.0e-3 * s.best + 2.0 * s.ulp4;
+  // Outside when p lies on the side the triangle's counter-clockwise normal points to.
+  uint front = dot(s.p - q, nrm) * (mirrored != 0u ? -1.0 : 1.0) >= 0.0 ? 1u : 0u;
+  // The point and distance are the nearest's; in a tie only the side may come from another triangle.
+  if (tie && facing > s.facing) {
+    s.facing = facing;
+    s.front = front;
+  }
+  if (dist < s.best) {
+    s.best = dist;
+    s.found = true;
+    s.point = q;
+    s.instance = instanceId;
+    s.triangle = triangleIds[leaf];
+    s.leaf = leaf;
+    if (!tie) {
+      s.facing = facing;
+      s.front = front;
+    }
+  }
+}
+
+// The query's answer: false when no triangle lies within its radius.
+bool closestEnd(ClosestQuery s, out BvhHit hit) {
+  hit.point = s.found ? vec4(s.point, s.best) : vec4(0.0, 0.0, 0.0, -1.0);
+  hit.instance = s.instance;
+  hit.triangle = s.triangle;
+  hit.frontFace = s.front; // closest points: 1 when p is on the outer side of the closest triangle
+  hit.leaf = s.leaf;
+  return s.found;
+}
+
+// Triangle 'leaf' of instance 'inst' in world space.
+void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3 c) {
+  a = xformPoint(inst.objectToWorld, corners[3u * leaf].xyz);
+  b = xformPoint(inst.objectToWorld, corners[3u * leaf + 1u].xyz);
+  c = xformPoint(inst.objectToWorld, corners[3u * leaf + 2u].xyz);
+}
+
+// Closest surface point to p within maxDist (world space). Returns false when none is that close.
+bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
+  ClosestQuery s = closestBegin(p, maxDist);
+  RTSDF_TLAS_WALK_BEGIN(tn, boxDistance(p, tn.lo.xyz, tn.hi.xyz) > closestReach(s), inst)
     vec3 po = xformPoint(inst.worldToObject, p);
     uint stack[RTSDF_BVH_STACK];
     int sp = 0;
@@ -206,7 +283,7 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
     while (sp > 0) {
       BvhNode n = blasNodes[stack[--sp]];
       // World distance >= minScale * object distance: a conservative cull.
-      float reach = best * (1.0 + 1.0e-5) + ulp4;
+      float reach = closestReach(s);
       if (inst.minScale * boxDistance(po, n.lo.xyz, n.hi.xyz) > reach) continue;
       uint cnt = nodeCount(n);
       if (cnt == 0u) {
@@ -221,51 +298,13 @@ bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
         continue;
       }
       for (uint k = 0u; k < cnt; ++k) {
-        uint tri = nodeFirst(n) + k;
-        vec3 a = xformPoint(inst.objectToWorld, corners[3u * tri].xyz);
-        vec3 b = xformPoint(inst.objectToWorld, corners[3u * tri + 1u].xyz);
-        vec3 c = xformPoint(inst.objectToWorld, corners[3u * tri + 2u].xyz);
-        vec3 q = closestOnTriangle(p, a, b, c);
-        float dist = length(p - q);
-        if (dist > best * (1.0 + 1.0e-5) + ulp4) continue; // neither nearer nor a tie: the common case
-        // Triangles sharing the closest edge or vertex are equally near (to rounding); the sign comes from
-        // the one whose plane p lies most squarely off: near a sharp edge the other face's plane can pass
-        // within rounding of p, and its side test would be a coin toss.
-        vec3 nrm = cross(b - a, c - a);
-        float nl = length(nrm);
-        float facing = (dist > 0.0 && nl > 0.0) ? abs(dot(p - q, nrm)) / (dist * nl) : 0.0;
-        // A tie is the same distance and closest point (a shared edge or vertex) to rounding. The point
-        // slides along a shared edge by more than the distance changes (1e-3 of the distance covers it).
-        bool tie = found && abs(dist - best) <= 1.0e-5 * best + ulp4 &&
-                   length(q - bestPoint) <= 1.0e-3 * best + 2.0 * ulp4;
-        // Outside when p lies on the side the triangle's counter-clockwise normal points to.
-        uint front = dot(p - q, nrm) * (inst.mirrored != 0u ? -1.0 : 1.0) >= 0.0 ? 1u : 0u;
-        // The point and distance are the nearest's; in a tie only the side may come from another triangle.
-        if (tie && facing > bestFacing) {
-          bestFacing = facing;
-          bestFront = front;
-        }
-        if (dist < best) {
-          best = dist;
-          found = true;
-          bestPoint = q;
-          bestInstance = inst.instanceId;
-          bestTriangle = triangleIds[tri];
-          bestLeaf = tri;
-          if (!tie) {
-            bestFacing = facing;
-            bestFront = front;
-          }
-        }
+        vec3 a, b, c;
+        worldTriangle(inst, nodeFirst(n) + k, a, b, c);
+        closestTriangle(s, a, b, c, inst.mirrored, inst.instanceId, nodeFirst(n) + k);
       }
     }
   RTSDF_TLAS_WALK_END
-  hit.point = found ? vec4(bestPoint, best) : vec4(0.0, 0.0, 0.0, -1.0);
-  hit.instance = bestInstance;
-  hit.triangle = bestTriangle;
-  hit.frontFace = bestFront; // closest points: 1 when p is on the outer side of the closest triangle
-  hit.leaf = bestLeaf;
-  return found;
+  return closestEnd(s, hit);
 }
 
 #endif

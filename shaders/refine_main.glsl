@@ -6,11 +6,14 @@
 //   closest mode: f_t = exact distance by closest-point traversal; sign from the ray votes when x > 0,
 //   else from the side of the closest triangle.
 // The list holds the coarse voxels MaskCompactPass chose to refine this frame (the others keep their values);
-// each is expanded into the fine voxels under it (maskFineRanges): refineParts invocations per coarse voxel, one
-// per (x, y) of its fine run, each walking the run along z (a short loop: at most the fine/coarse ratio + 1). A
-// voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with their last value, which the
-// brick pool holds (the sparse fine state), and so, with FineStorage::Dense, does the dense fine SDF; a voxel whose
-// brick found no slot (a full pool) is left alone.
+// each is expanded into the fine voxels under it (maskFineRanges), cut into params.refineParts boxes of at most
+// params.partBox.xyz fine voxels, one invocation per box (a short loop: at most 27 voxels, or a run along z of
+// the fine/coarse ratio + 1). A voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with
+// their last value, which the brick pool holds (the sparse fine state), and so, with FineStorage::Dense, does
+// the dense fine SDF; a voxel whose brick found no slot (a full pool) is left alone.
+// Closest mode with kRefineCellSearch: one BVH walk per box collects every triangle that can be nearest to any
+// voxel of it (collectCellCandidates), and each voxel tests only those, with the same triangle test and tie rule
+// as closestPoint, so the distances are the same; a box whose candidates overflow walks per voxel.
 #include "gpu/shared/Bvh.h"
 #include "gpu/shared/Refine.h"
 
@@ -31,6 +34,101 @@ layout(std430, binding = kRefineBindingDense) writeonly buffer Dense { float den
 
 #include "bvh_traverse.glsl"
 
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+// The box's candidates (collectCellCandidates): instance slot, leaf-order triangle and distance to the box's
+// centre m. Private to the invocation.
+uint cellInstance[RTSDF_CELL_CANDIDATES];
+uint cellLeaf[RTSDF_CELL_CANDIDATES];
+float cellDistance[RTSDF_CELL_CANDIDATES];
+uint cellCount = 0u;
+bool cellOverflow = false;
+float cellKeep = 0.0; // candidates farther than this from m cannot be nearest to a voxel of the box
+
+// Collect every triangle that can be nearest to a fine voxel centre q of the box, whose centres lie within rho of
+// m. With D the distance to the surface, D(q) <= D(m) + rho, so q's nearest triangle T has |T - m| <= D(q) + rho
+// <= D(m) + 2 rho. The walk is closestPoint's from m with the search widened by 2 rho (running best >= D(m), so
+// nothing needed is culled); a triangle within that reach is kept, and one beyond the final reach dropped when
+// the list needs room. More than RTSDF_CELL_CANDIDATES within reach: cellOverflow, the voxels walk on their own.
+void collectCellCandidates(vec3 m, float rho, float radius) {
+  ClosestQuery s = closestBegin(m, radius);
+  // 2 rho, rounded up: the distances at q and at m are each within a few ulps of the true ones.
+  float widen = 2.0 * rho * (1.0 + 1.0e-5) + 4.0 * s.ulp4;
+  cellCount = 0u;
+  cellOverflow = false;
+  RTSDF_TLAS_WALK_BEGIN(tn, cellOverflow || boxDistance(m, tn.lo.xyz, tn.hi.xyz) > closestReach(s) + widen, inst)
+    vec3 mo = xformPoint(inst.worldToObject, m);
+    uint stack[RTSDF_BVH_STACK];
+    int sp = 0;
+    stack[sp++] = inst.blasRoot;
+    while (sp > 0 && !cellOverflow) {
+      BvhNode n = blasNodes[stack[--sp]];
+      float reach = closestReach(s) + widen;
+      if (inst.minScale * boxDistance(mo, n.lo.xyz, n.hi.xyz) > reach) continue;
+      uint cnt = nodeCount(n);
+      if (cnt == 0u) {
+        BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
+        float dl = inst.minScale * boxDistance(mo, l.lo.xyz, l.hi.xyz);
+        float dr = inst.minScale * boxDistance(mo, r.lo.xyz, r.hi.xyz);
+        uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;
+        uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);
+        if (max(dl, dr) <= reach) stack[sp++] = farC;
+        if (min(dl, dr) <= reach) stack[sp++] = nearC;
+        continue;
+      }
+      for (uint k = 0u; k < cnt; ++k) {
+        uint leaf = nodeFirst(n) + k;
+        vec3 a, b, c;
+        worldTriangle(inst, leaf, a, b, c);
+        float dist = length(m - closestOnTriangle(m, a, b, c));
+        if (dist < s.best) { s.best = dist; s.found = true; }
+        if (dist > closestReach(s) + widen) continue;
+        uint at = cellCount;
+        if (at == uint(RTSDF_CELL_CANDIDATES)) {
+          // Full: take the place of a candidate the walk has since moved out of reach, if there is one.
+          float keep = closestReach(s) + widen;
+          for (uint j = 0u; j < uint(RTSDF_CELL_CANDIDATES); ++j)
+            if (cellDistance[j] > keep) at = j;
+          if (at == uint(RTSDF_CELL_CANDIDATES)) { cellOverflow = true; break; }
+        } else {
+          ++cellCount;
+        }
+        cellInstance[at] = tlasSlot;
+        cellLeaf[at] = leaf;
+        cellDistance[at] = dist;
+      }
+    }
+  RTSDF_TLAS_WALK_END
+  cellKeep = closestReach(s) + widen;
+  cellOverflow = cellOverflow || !s.found;
+}
+
+// closestPoint(p, maxDist, hit) over the box's candidates: the same answer when p is a voxel centre of the box.
+bool closestAmongCandidates(vec3 p, float maxDist, out BvhHit hit) {
+  ClosestQuery s = closestBegin(p, maxDist);
+  for (uint k = 0u; k < cellCount; ++k) {
+    if (cellDistance[k] > cellKeep) continue;
+    BvhInstance inst = instances[cellInstance[k]];
+    vec3 a, b, c;
+    worldTriangle(inst, cellLeaf[k], a, b, c);
+    closestTriangle(s, a, b, c, inst.mirrored, inst.instanceId, cellLeaf[k]);
+  }
+  return closestEnd(s, hit);
+}
+#endif
+
+// c^_t at fine voxel v: the upsampled coarse SDF plus the shell and half a coarse diagonal.
+float coarseBoundAt(ivec3 v) { return upsampleCoarseAt(v) + params.beta + 0.8660254 / params.coarseOriginInvH.w; }
+
+// The blended upper bound of the distance from c^_t (c: the upsampled coarse SDF plus the shell) and the voxel's last
+// value.
+float refineBound(float c, bool fresh, uint slot, uint local) {
+  return fresh ? c : params.alpha * abs(loadValue(slot, local)) + (1.0 - params.alpha) * c;
+}
+
+// Closest mode's search radius: the bound plus a coarse cell diagonal (trilinear upsampling of the bound may fall
+// short).
+float closestRadius(float bound) { return bound + 1.7320508 / params.coarseOriginInvH.w; }
+
 // Refine fine voxel v (fresh: new to the mask) in its brick slot at offset local.
 void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
   ivec3 fd = params.fineDims.xyz;
@@ -40,8 +138,7 @@ void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
   // The coarse SDF as an upper bound of the distance: the nearest seed voxel touches the surface within half
   // its diagonal, and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays,
   // which can only over-estimate, could never lower f.)
-  float c = upsampleCoarseAt(v) + params.beta + 0.8660254 / params.coarseOriginInvH.w;
-  float bound = fresh ? c : params.alpha * abs(loadValue(slot, local)) + (1.0 - params.alpha) * c;
+  float bound = refineBound(coarseBoundAt(v), fresh, slot, local);
   vec2 vote = fresh ? vec2(0.0) : params.alpha * unpackHalf2x16(loadVotes(slot, local));
 
   // Rays are not cut short: the nearest hit of a ray from inside a closed surface is always a back face and
@@ -67,10 +164,11 @@ void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
   bool inside;
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
   {
-    // Search up to the bound plus a coarse cell diagonal (trilinear upsampling of the bound may fall short).
     BvhHit hit;
-    float radius = bound + 1.7320508 / params.coarseOriginInvH.w;
-    f = closestPoint(p, radius, hit) ? hit.point.w : radius;
+    float radius = closestRadius(bound);
+    bool near = (params.coarseDims.w & kRefineCellSearch) != 0 && !cellOverflow ? closestAmongCandidates(p, radius, hit)
+                                                                                : closestPoint(p, radius, hit);
+    f = near ? hit.point.w : radius;
     inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
   }
 #else
@@ -78,27 +176,47 @@ void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
   inside = vote.y > vote.x;
 #endif
   storeValue(slot, local, inside ? -f : f);
-  if (params.coarseDims.w != 0) dense[i] = inside ? -f : f;
+  if ((params.coarseDims.w & kRefineWriteDense) != 0) dense[i] = inside ? -f : f;
   storeVotes(slot, local, packHalf2x16(min(vote, vec2(60000.0))));
+}
+
+// Refine the fine voxels of box 'part' of coarse voxel c (parts x fastest, params.partBox.xyz voxels each).
+void refineBox(uint ci, uint part, bool fresh) {
+  ivec3 cd = params.coarseDims.xyz;
+  ivec3 c = ivec3(int(ci % uint(cd.x)), int(ci / uint(cd.x) % uint(cd.y)), int(ci / uint(cd.x * cd.y)));
+  ivec2 rx = fineRanges[c.x], ry = fineRanges[cd.x + c.y], rz = fineRanges[cd.x + cd.y + c.z];
+  uint partsX = uint(params.brickDims.w), partsY = uint(params.partBox.w);
+  ivec3 box = params.partBox.xyz;
+  ivec3 lo = ivec3(rx.x, ry.x, rz.x) + box * ivec3(part % partsX, part / partsX % partsY, part / (partsX * partsY));
+  ivec3 hi = min(lo + box - 1, ivec3(rx.y, ry.y, rz.y));
+  if (any(greaterThan(lo, hi))) return;
+  // One loop over the box (x fastest), not three nested: lavapipe runs a loop nest around the walk slower.
+  ivec3 size = hi - lo + 1;
+  int voxels = size.x * size.y * size.z;
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+  if ((params.coarseDims.w & kRefineCellSearch) != 0) {
+    float h = params.fineOriginH.w;
+    vec3 first = params.fineOriginH.xyz + (vec3(lo) + 0.5) * h, last = params.fineOriginH.xyz + (vec3(hi) + 0.5) * h;
+    vec3 m = 0.5 * (first + last);
+    // D(m) <= c^ at the coarse voxel's centre + the way from there to m: where the walk finds nothing that near,
+    // the bound did not hold and the box's voxels walk on their own.
+    vec3 centre = params.coarseOriginInvH.xyz + (vec3(c) + 0.5) / params.coarseOriginInvH.w;
+    float radius = coarse[ci] + params.beta + 0.8660254 / params.coarseOriginInvH.w + length(m - centre);
+    collectCellCandidates(m, 0.5 * length(last - first), radius * (1.0 + 1.0e-5));
+  }
+#endif
+  for (int j = 0; j < voxels; ++j) {
+    ivec3 v = lo + ivec3(j % size.x, j / size.x % size.y, j / (size.x * size.y));
+    uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    if (slot != kNoBrick) refineVoxel(v, fresh, slot, brickLocalOf(v));
+  }
 }
 
 void main() {
   uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   uint parts = params.refineParts;
-  uint e = k / parts, part = k % parts;
+  uint e = k / parts;
   if (e >= maskCounts[kMaskCountRefineList]) return;
   uint entry = refineList[e];
-  uint ci = entry & kMaskFineCoords;
-  bool fresh = (entry & kMaskFineFresh) != 0u;
-  ivec3 cd = params.coarseDims.xyz;
-  ivec3 c = ivec3(int(ci % uint(cd.x)), int(ci / uint(cd.x) % uint(cd.y)), int(ci / uint(cd.x * cd.y)));
-  ivec2 rx = fineRanges[c.x], ry = fineRanges[cd.x + c.y], rz = fineRanges[cd.x + cd.y + c.z];
-  uint runX = uint(params.brickDims.w);
-  int x = rx.x + int(part % runX), y = ry.x + int(part / runX);
-  if (x > rx.y || y > ry.y) return;
-  for (int z = rz.x; z <= rz.y; ++z) {
-    ivec3 v = ivec3(x, y, z);
-    uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
-    if (slot != kNoBrick) refineVoxel(v, fresh, slot, brickLocalOf(v));
-  }
+  refineBox(entry & kMaskFineCoords, k % parts, (entry & kMaskFineFresh) != 0u);
 }

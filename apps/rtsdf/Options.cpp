@@ -75,6 +75,9 @@ void bindPipeline(CLI::App* cmd, PipelineSettings& p, std::string& device) {
   cmd->add_option("--alpha", p.alpha, "History decay: f = min(alpha f' + (1 - alpha) c, r)")
       ->check(inRange(0.0, 1.0))->capture_default_str();
   addEnum(cmd, "--refine", p.mode, "rays: the paper's random rays; closest: exact closest-point distance");
+  addEnum(cmd, "--closest-search", p.closestSearch,
+          "Closest mode: cell (one BVH walk per box of fine voxels collects the triangles they test) or voxel (one "
+          "walk per fine voxel); the same distances");
   cmd->add_option("--seed", p.seed, "Random seed of the ray directions")->capture_default_str();
   addEnum(cmd, "--coarse-method,--jfa", p.coarseMethod,
           "How the coarse SDF finds each voxel's nearest seed: edt (exact separable transform, the default) or the "

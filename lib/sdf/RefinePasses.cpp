@@ -48,6 +48,20 @@ glm::ivec3 longestFineRuns(const GridSpec& coarse, const GridSpec& fine) {
   return longest;
 }
 
+RefineParts refinePartsFor(const glm::ivec3& longestRuns, bool cellSearch) {
+  RefineParts parts;
+  if (!cellSearch) {
+    parts.box = glm::ivec3(1, 1, longestRuns.z);
+    parts.count = glm::ivec3(longestRuns.x, longestRuns.y, 1);
+    return parts;
+  }
+  for (int a = 0; a < 3; ++a) {
+    parts.count[a] = (longestRuns[a] + RTSDF_CELL_BOX - 1) / RTSDF_CELL_BOX;
+    parts.box[a] = (longestRuns[a] + parts.count[a] - 1) / parts.count[a];
+  }
+  return parts;
+}
+
 std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine) {
   const std::vector<glm::ivec2> ranges = maskFineRanges(coarse, fine);
   std::vector<int> table(std::size_t(fine.dims.x) + fine.dims.y + fine.dims.z, -1);

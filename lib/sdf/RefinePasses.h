@@ -38,6 +38,20 @@ std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine);
 /// @brief The longest run of fine voxels under one coarse voxel along each axis (maskFineRanges of the grids).
 glm::ivec3 longestFineRuns(const GridSpec& coarse, const GridSpec& fine);
 
+/// @brief How the refinement splits the fine voxels under one coarse voxel among its invocations: into boxes of at
+///        most @a box voxels per axis, @a count boxes per axis (x fastest), one invocation each.
+struct RefineParts {
+  glm::ivec3 box{1};
+  glm::ivec3 count{1};
+  std::uint32_t total() const { return std::uint32_t(count.x * count.y * count.z); }
+};
+
+/// @brief The boxes for fine runs of at most @a longestRuns voxels (longestFineRuns). Per voxel search: one box per
+///        (x, y) column, a run along z (the BVH is walked per voxel, so the most invocations). @a cellSearch: boxes
+///        of at most RTSDF_CELL_BOX voxels per axis, as few as cover the runs (one box of 2x2x2 voxels at a
+///        fine/coarse ratio of 2), so that one walk serves each box's voxels.
+RefineParts refinePartsFor(const glm::ivec3& longestRuns, bool cellSearch);
+
 /// @brief MaskCompactPass (mask_compact.comp): the ray mask on the GPU. Appends every coarse voxel with |c| <= d
 ///        (index and value) to the coarse list, stamps the bricks holding the fine voxels under it with the frame
 ///        number and, when they are to be refined this frame (gpu::shared::refinesThisFrame, which advances the

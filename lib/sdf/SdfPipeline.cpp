@@ -300,9 +300,10 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   checkPipelineMemory(mMemory, memoryLimits(ctx.info()));
   mCoarseSpec = mMemory.coarse;
   mFineSpec = mMemory.fine;
-  mLongestRuns = longestFineRuns(mCoarseSpec, mFineSpec);
+  mRefineParts = refinePartsFor(longestFineRuns(mCoarseSpec, mFineSpec),
+                                s.mode == RefineMode::Closest && s.closestSearch == ClosestSearch::Cell);
   // The refinement's invocations (refineParts per listed coarse voxel) are counted in 32 bits.
-  if (double(mCoarseSpec.voxelCount()) * mLongestRuns.x * mLongestRuns.y > 4294967295.0)
+  if (double(mCoarseSpec.voxelCount()) * mRefineParts.total() > 4294967295.0)
     throw SettingError("coarse resolution", fmt::format("SdfPipeline: coarse grid {} over fine grid {}: too many "
                                                         "refinement invocations; lower the fine resolution or raise "
                                                         "the coarse one", mCoarseSpec.describe(),
@@ -455,7 +456,7 @@ gpu::shared::MaskParams SdfPipeline::maskParams(std::uint32_t movedBoxes) const 
   p.settleFrames = std::uint32_t(settleFramesFor(mSettings));
   p.refreshPeriod = std::uint32_t(refreshPeriodFor(mSettings));
   p.movedBoxes = movedBoxes;
-  p.brickDims = glm::ivec4(brickDims(), mLongestRuns.x * mLongestRuns.y);
+  p.brickDims = glm::ivec4(brickDims(), mRefineParts.total());
   return p;
 }
 
@@ -586,10 +587,14 @@ RefineParams SdfPipeline::refineParams() const {
   p.beta = float(mSettings.beta >= 0.0 ? mSettings.beta : 0.5 * mCoarseSpec.voxelSize);
   p.band = float(mSettings.band);
   p.pageBricks = std::uint32_t(std::max<std::uint64_t>(mPageBricks, 1));
-  p.refineParts = std::uint32_t(mLongestRuns.x * mLongestRuns.y);
-  p.brickDims = glm::ivec4(brickDims(), mLongestRuns.x);
+  p.refineParts = mRefineParts.total();
+  p.brickDims = glm::ivec4(brickDims(), mRefineParts.count.x);
+  p.partBox = glm::ivec4(mRefineParts.box, mRefineParts.count.y);
   p.fineDims.w = int(mPoolBricks);
-  p.coarseDims.w = mGpu->fine ? 1 : 0; // the refinement writes the dense copy too
+  p.coarseDims.w = (mGpu->fine ? gpu::shared::kRefineWriteDense : 0) |
+                   (mSettings.mode == RefineMode::Closest && mSettings.closestSearch == ClosestSearch::Cell
+                        ? gpu::shared::kRefineCellSearch
+                        : 0);
   return p;
 }
 

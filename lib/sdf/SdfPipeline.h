@@ -36,6 +36,20 @@ template <> struct EnumNames<RefineMode> {
                                                                    {"closest", RefineMode::Closest}};
 };
 
+/// @brief How closest mode finds each fine voxel's nearest triangle. Both give the same distances (the same
+///        triangle test on the same triangles); the sign ties among equally near triangles are resolved by the same
+///        rule.
+enum class ClosestSearch {
+  Cell, ///< one BVH walk per box of at most 3x3x3 fine voxels under a coarse voxel collects every triangle that can
+        ///< be nearest to one of them (at most RTSDF_CELL_CANDIDATES, else per voxel); each voxel tests only those
+  Voxel ///< one BVH walk per fine voxel
+};
+template <> struct EnumNames<ClosestSearch> {
+  static constexpr const char* kSetting = "closest search";
+  static constexpr std::pair<const char*, ClosestSearch> kValues[] = {{"cell", ClosestSearch::Cell},
+                                                                      {"voxel", ClosestSearch::Voxel}};
+};
+
 /// @brief Where the fine SDF lives on the GPU. Either way the refinement keeps its values, sign votes and history
 ///        only in bricks of RTSDF_BRICK^3 fine voxels under the ray mask (the sparse fine state, a pool sized by the
 ///        mask); outside the mask the fine SDF is the coarse one upsampled.
@@ -59,6 +73,7 @@ struct PipelineSettings {
   double alpha = 0.95;   ///< history decay
   int rays = 10;         ///< x: rays per masked voxel per frame
   RefineMode mode = RefineMode::Rays;
+  ClosestSearch closestSearch = ClosestSearch::Cell; ///< closest mode: one walk per box of voxels or per voxel
   CoarseMethod coarseMethod = CoarseMethod::Edt; ///< how the coarse SDF finds nearest seeds
   double beta = -1.0;    ///< coarse shell; < 0: half a coarse voxel
   std::uint32_t seed = 1;
@@ -324,7 +339,7 @@ private:
   PipelineMemory mMemory;          ///< the estimate checked at construction (the pool is added when sized)
   std::uint64_t mPoolBricks = 0, mPageBricks = 0;
   std::uint64_t mGrowTo = 0;       ///< > 0: the last frame overflowed; the next one reallocates the pool
-  glm::ivec3 mLongestRuns{0};      ///< longestFineRuns of the grids
+  RefineParts mRefineParts;        ///< the refinement's boxes per coarse voxel (refinePartsFor)
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   PipelineSettings mSettings;

@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <cstring>
 #include <memory>
 
@@ -214,6 +216,61 @@ TEST_F(Refine, ClosestModeIsTheExactDistanceInTheMask) {
   EXPECT_GT(e.voxels, 10000u);
   EXPECT_LT(e.maxAbs, 1e-3); // fine voxels: float rounding only
   EXPECT_LT(double(e.wrongSign) / e.voxels, 0.01);
+}
+
+// Cell search cuts each coarse voxel's fine voxels into boxes of at most RTSDF_CELL_BOX per axis, as few as cover the
+// runs; voxel search keeps one invocation per (x, y) column.
+TEST(RefineParts, BoxesCoverTheRunsWithAsFewWalksAsTheBoxSizeAllows) {
+  EXPECT_EQ(refinePartsFor({2, 2, 2}, false).box, glm::ivec3(1, 1, 2));
+  EXPECT_EQ(refinePartsFor({2, 2, 2}, false).total(), 4u);
+  EXPECT_EQ(refinePartsFor({2, 3, 5}, false).count, glm::ivec3(2, 3, 1));
+  for (int run = 1; run <= 40; ++run) {
+    const RefineParts p = refinePartsFor({run, 1, run}, true);
+    EXPECT_LE(p.box.x, RTSDF_CELL_BOX) << run;
+    EXPECT_GE(p.box.x * p.count.x, run) << "the boxes cover the run " << run;
+    EXPECT_LT((p.box.x) * (p.count.x - 1), run) << "no box lies wholly past the run " << run;
+    EXPECT_EQ(p.count.x, (run + RTSDF_CELL_BOX - 1) / RTSDF_CELL_BOX) << "as few boxes as the size allows " << run;
+    EXPECT_EQ(p.box.y * p.count.y, 1);
+  }
+  EXPECT_EQ(refinePartsFor({2, 2, 2}, true).total(), 1u) << "one walk per coarse voxel at a fine/coarse ratio of 2";
+}
+
+// Cell search (one walk per box collects the candidates its voxels test) against voxel search (one walk per voxel):
+// the same distances bit for bit and the same signs, at fine/coarse ratios of 2 (boxes of 2x2x2), 8/3 (runs of 2-3:
+// boxes of 3) and 4 (two boxes per axis), fresh and blended frames, with and without sign rays, on the bunny (one
+// instance) and the default scene (20 instances; its plant's leaves overflow the candidate list and walk per voxel).
+TEST_F(Refine, ClosestCellSearchEqualsTheVoxelSearch) {
+  struct Case {
+    const char* scene;
+    int coarse, fine, rays;
+    std::vector<double> times;
+  };
+  const std::vector<Case> cases = {{"bunny", 32, 64, 0, {0.0}},
+                                   {"bunny", 24, 64, 2, {0.0, 0.0}},
+                                   {"default", 16, 64, 0, {0.0}},
+                                   {"default", 32, 64, 1, {0.0, 0.5, 1.0}}};
+  for (const Case& c : cases) {
+    const Scene scene = loadScene(test::dataPath(std::string("scenes/") + c.scene + ".json"));
+    PipelineSettings s = closestAt32(c.rays);
+    s.coarseRes = c.coarse;
+    s.fineRes = c.fine;
+    s.fullRecompute = true; // every masked voxel refined every frame, blended with its last value after the first
+    std::vector<float> fields[2];
+    std::size_t masked = 0;
+    for (ClosestSearch search : {ClosestSearch::Voxel, ClosestSearch::Cell}) {
+      s.closestSearch = search;
+      SdfPipeline pipe(*sCtx, scene, boundsOf(scene), s);
+      for (double t : c.times) pipe.runFrame(t);
+      fields[search == ClosestSearch::Cell] = pipe.fineField();
+      masked = pipe.rayMask().fineVoxels.size();
+    }
+    const std::string what = fmt::format("{} {}/{} x={} frames={}", c.scene, c.coarse, c.fine, c.rays, c.times.size());
+    ASSERT_EQ(fields[0].size(), fields[1].size()) << what;
+    EXPECT_GT(masked, 5000u) << what;
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < fields[0].size(); ++i) differ += std::memcmp(&fields[0][i], &fields[1][i], 4) != 0;
+    EXPECT_EQ(differ, 0u) << what << ": voxels whose value or sign differs, of " << masked << " masked";
+  }
 }
 
 // A ray hit is a surface point, so r_t never under-estimates; the coarse term is an upper bound at coarse

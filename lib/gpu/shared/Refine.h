@@ -63,8 +63,17 @@ RTSDF_FN uint brickLocalOf(ivec3 v) {
 #define RTSDF_UPSAMPLE_GROUP_Y 2
 /// Fine voxels along z per invocation of refine_upsample.comp.
 #define RTSDF_UPSAMPLE_RUN_LENGTH 16
-/// Work-group size of the refinement shaders (one invocation per masked fine voxel).
+/// Work-group size of the refinement shaders (one invocation per box of fine voxels under a listed coarse voxel).
 #define RTSDF_REFINE_GROUP 64
+/// Closest mode's cell search: the most triangles one box's walk collects for its voxels to test (more: the box's
+/// voxels walk the BVH one by one).
+#define RTSDF_CELL_CANDIDATES 16
+/// The most fine voxels along an axis of a cell-search box (refinePartsFor): 27 voxels at most per walk.
+#define RTSDF_CELL_BOX 3
+
+/// Flags of RefineParams::coarseDims.w in the refinement shaders.
+const int kRefineWriteDense = 1; // f_t is also written to the dense fine SDF (FineStorage::Dense)
+const int kRefineCellSearch = 2; // closest mode: one BVH walk per box collects candidates its voxels test
 
 /// Bindings of refine_upsample.comp.
 const uint kUpsampleBindingCoarse = 0u;       // coarse SDF c_t (read)
@@ -191,7 +200,7 @@ struct RefineParams {
   vec4 fineOriginH;      // xyz: world corner of fine voxel (0,0,0), w: fine voxel size
   ivec4 fineDims;        // xyz: fine voxels per axis, w: the brick pool's capacity (bricks)
   vec4 coarseOriginInvH; // xyz: world corner of coarse voxel (0,0,0), w: 1 / coarse voxel size
-  ivec4 coarseDims;      // xyz: coarse voxels per axis; w: refinement: != 0 writes the dense fine SDF too
+  ivec4 coarseDims;      // xyz: coarse voxels per axis; w: refinement: kRefine* flags
   float alpha;           // history decay
   uint rays;             // x, rays per masked voxel per frame
   uint frame;            // frame number (1, 2, ...)
@@ -199,8 +208,9 @@ struct RefineParams {
   float beta;            // the coarse shell (closest mode widens its search by it)
   float band;            // upsample: > 0 reads the fine voxels under band coarse voxels (|c| <= d) from the bricks
   uint pageBricks;       // bricks per page of the pool
-  uint refineParts;      // refinement invocations per coarse voxel of the list (maxLen.x * maxLen.y)
-  ivec4 brickDims;       // xyz: bricks per axis; w: the longest run of fine voxels under a coarse voxel along x
+  uint refineParts;      // refinement invocations per coarse voxel of the list: boxes (x fastest) of partBox.xyz
+  ivec4 brickDims;       // xyz: bricks per axis; w: boxes along x per coarse voxel
+  ivec4 partBox;         // xyz: the most fine voxels per axis of one invocation's box; w: boxes along y
 };
 
 /// The two uniform numbers in [0, 1) of ray @a ray of voxel @a voxel in frame @a frame.

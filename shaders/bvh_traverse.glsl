@@ -10,12 +10,13 @@
 uint nodeFirst(BvhNode n) { return floatBitsToUint(n.lo.w); }
 uint nodeCount(BvhNode n) { return floatBitsToUint(n.hi.w); }
 
-// The top-level walk that traceNearest and closestPoint share: depth first from the root of tlasNodes, a
-// popped node NODE skipped when the expression CULLED (of NODE and the caller's locals) is true, so a nearer
-// hit found meanwhile prunes it; an inner node pushes its children (the first on top); a leaf runs the code
-// between the two macros once per instance, declared as 'BvhInstance INST' (its index in instances[]: tlasSlot). Macros, not a function: GLSL has
-// no callbacks, the body updates the caller's locals, and the loops stay exactly the hand-written ones (no
-// extra iterations; lavapipe cuts long loops). Use: RTSDF_TLAS_WALK_BEGIN(tn, cull, inst) ... RTSDF_TLAS_WALK_END
+// The top-level walk that traceNearest, occludedWithin, closestPoint and the refinement's cell search share: depth
+// first from the root of tlasNodes, a popped node NODE skipped when the expression CULLED (of NODE and the
+// caller's locals) is true, so a nearer hit found meanwhile prunes it; an inner node pushes its children (the
+// first on top); a leaf runs the code between the two macros once per instance, declared as 'BvhInstance INST'
+// (its index in instances[]: tlasSlot). Macros, not a function: GLSL has no callbacks, the body updates the
+// caller's locals, and the loops stay exactly the hand-written ones (no extra iterations; lavapipe cuts long
+// loops). Use: RTSDF_TLAS_WALK_BEGIN(tn, cull, inst) ... RTSDF_TLAS_WALK_END
 #define RTSDF_TLAS_WALK_BEGIN(NODE, CULLED, INST)                                                                      \
   uint tstack[RTSDF_BVH_STACK];                                                                                        \
   int tsp = 0;                                                                                                         \

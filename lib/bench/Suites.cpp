@@ -312,7 +312,7 @@ std::string refineSuite(const BenchOptions& s) {
     md += fmt::format("### {}: the fine SDF into the shading's 3D texture (FineSdfTextureCopy)\n\n", name) +
           volumeFillTable(ctx, geo, s) + "\n";
     md += fmt::format("### {}: sizes x rays (d = 0.1, alpha = 0.95, exact coarse transform)\n\n", name);
-    md += "| size | coarse/fine | mode | x | mask voxels | RayRefinePass (ms) | all passes (ms) | host CPU (ms) | "
+    md += "| size | coarse/fine | mode | x | mask voxels | refinement pass (ms) | all passes (ms) | host CPU (ms) | "
           "mean / max abs error | wrong sign | OpenVDB meshToLevelSet (ms) | refine / OpenVDB |\n";
     md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& [size, coarse, fine] : {std::tuple<const char*, int, int>{"S", 64, 128}, {"M", 128, 256}}) {
@@ -322,16 +322,24 @@ std::string refineSuite(const BenchOptions& s) {
       // The anchor: OpenVDB's narrow band at the fine voxels and the same band.
       const GridSpec fineSpec = pipelineGrids(geo.bounds, ps).second;
       const double tVdb = 1e3 * medianSeconds(1, [&] { openvdbLevelSet(geo, fineSpec, ps.band); });
-      struct Mode { RefineMode mode; int rays; };
-      for (const Mode m : {Mode{RefineMode::Rays, 0}, Mode{RefineMode::Rays, 1}, Mode{RefineMode::Rays, 5},
-                           Mode{RefineMode::Rays, 10}, Mode{RefineMode::Closest, 1}}) {
+      // Closest mode with each search side by side (the same distances; cell search walks once per box of voxels).
+      struct Mode { RefineMode mode; int rays; ClosestSearch search; };
+      for (const Mode m : {Mode{RefineMode::Rays, 0, {}}, Mode{RefineMode::Rays, 1, {}}, Mode{RefineMode::Rays, 5, {}},
+                           Mode{RefineMode::Rays, 10, {}}, Mode{RefineMode::Closest, 0, ClosestSearch::Voxel},
+                           Mode{RefineMode::Closest, 0, ClosestSearch::Cell},
+                           Mode{RefineMode::Closest, 1, ClosestSearch::Voxel},
+                           Mode{RefineMode::Closest, 1, ClosestSearch::Cell}}) {
         ps.mode = m.mode;
         ps.rays = m.rays;
-        spdlog::info("bench refine {} {} {} x={}", name, size, toString(m.mode), m.rays);
+        ps.closestSearch = m.search;
+        const std::string mode = m.mode == RefineMode::Closest
+                                     ? fmt::format("closest ({})", toString(m.search))
+                                     : std::string(toString(m.mode));
+        spdlog::info("bench refine {} {} {} x={}", name, size, mode, m.rays);
         const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1, s.warmUpSeconds);
         md += fmt::format("| {} | {}/{} | {} | {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.3f} / {:.2f} | {:.3f}% | {:.0f} | "
                           "{:.2f} |\n",
-                          size, coarse, fine, toString(m.mode), m.rays, r.mask, r.refineMs, r.totalMs, r.hostMs,
+                          size, coarse, fine, mode, m.rays, r.mask, r.refineMs, r.totalMs, r.hostMs,
                           r.error.meanAbs, r.error.maxAbs, 100.0 * r.error.signErrorRate(), tVdb, r.refineMs / tVdb);
       }
     }

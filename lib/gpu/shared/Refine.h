@@ -67,7 +67,7 @@ RTSDF_FN uint brickLocalOf(ivec3 v) {
 #define RTSDF_REFINE_GROUP 64
 /// Closest mode's cell search: the most triangles one box's walk collects for its voxels to test (more: the box's
 /// voxels walk the BVH one by one).
-#define RTSDF_CELL_CANDIDATES 16
+#define RTSDF_CELL_CANDIDATES 24
 /// The most fine voxels along an axis of a cell-search box (refinePartsFor): 27 voxels at most per walk.
 #define RTSDF_CELL_BOX 3
 

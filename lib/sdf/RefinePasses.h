@@ -160,7 +160,8 @@ public:
     const gpu::Buffer& brickSlots;  ///< per brick: its slot in the pool (kNoBrick: left alone)
   };
   /// Per fine voxel, in its brick: the SDF (in: f_{t-1} where not fresh; out: f_t, signed) and its decayed votes;
-  /// @a dense: f_t also written into the dense fine SDF where params.coarseDims.w != 0 (else a placeholder).
+  /// @a dense: f_t also written into the dense fine SDF where params.coarseDims.w has kRefineWriteDense (else a
+  /// placeholder).
   struct Outputs { const BrickPages& pool; const gpu::Buffer& dense; };
   using Params = gpu::shared::RefineParams;
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
@@ -182,7 +183,9 @@ public:
   explicit RayRefinePass(const gpu::VulkanContext& ctx) : RefinePass(ctx, "refine_rays.comp", kName) {}
 };
 
-/// @brief Exact refinement: the closest point through the BVH (sign from ray votes when x > 0).
+/// @brief Exact refinement: the closest point through the BVH (sign from ray votes when x > 0). With kRefineCellSearch
+///        in params.coarseDims.w (ClosestSearch::Cell) one walk per box of fine voxels collects the triangles its
+///        voxels test; the same distances as a walk per voxel.
 class ClosestRefinePass : public RefinePass {
 public:
   static constexpr const char* kName = "ClosestRefinePass";

@@ -273,37 +273,46 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
   c = xformPoint(inst.objectToWorld, corners[3u * leaf + 2u].xyz);
 }
 
+// The bottom-level walk of a point query (closestPoint, the refinement's cell search): instance INST's nodes depth
+// first from object-space point PO, nearer child first; a node farther than REACH (an expression, read again at
+// every node, in world units: world distance >= minScale * object distance, a conservative cull) is skipped, and
+// the walk goes on while GOING holds. The code between the macros runs per triangle, its leaf index declared as
+// 'uint LEAF'. Use: RTSDF_POINT_WALK_BEGIN(inst, po, reach, going, leaf) ... RTSDF_POINT_WALK_END
+#define RTSDF_POINT_WALK_BEGIN(INST, PO, REACH, GOING, LEAF)                                                           \
+  uint stack[RTSDF_BVH_STACK];                                                                                         \
+  int sp = 0;                                                                                                          \
+  stack[sp++] = INST.blasRoot;                                                                                         \
+  while (sp > 0 && (GOING)) {                                                                                          \
+    BvhNode n = blasNodes[stack[--sp]];                                                                                \
+    float reach = (REACH);                                                                                             \
+    if (INST.minScale * boxDistance(PO, n.lo.xyz, n.hi.xyz) > reach) continue;                                         \
+    uint cnt = nodeCount(n);                                                                                           \
+    if (cnt == 0u) {                                                                                                   \
+      BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];                                           \
+      float dl = INST.minScale * boxDistance(PO, l.lo.xyz, l.hi.xyz);                                                  \
+      float dr = INST.minScale * boxDistance(PO, r.lo.xyz, r.hi.xyz);                                                  \
+      uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;                                                        \
+      uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);                                                         \
+      if (max(dl, dr) <= reach) stack[sp++] = farC;                                                                    \
+      if (min(dl, dr) <= reach) stack[sp++] = nearC;                                                                   \
+      continue;                                                                                                        \
+    }                                                                                                                  \
+    for (uint k = 0u; k < cnt; ++k) {                                                                                  \
+      uint LEAF = nodeFirst(n) + k;
+#define RTSDF_POINT_WALK_END                                                                                           \
+    }                                                                                                                  \
+  }
+
 // Closest surface point to p within maxDist (world space). Returns false when none is that close.
 bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
   ClosestQuery s = closestBegin(p, maxDist);
   RTSDF_TLAS_WALK_BEGIN(tn, boxDistance(p, tn.lo.xyz, tn.hi.xyz) > closestReach(s), inst)
     vec3 po = xformPoint(inst.worldToObject, p);
-    uint stack[RTSDF_BVH_STACK];
-    int sp = 0;
-    stack[sp++] = inst.blasRoot;
-    while (sp > 0) {
-      BvhNode n = blasNodes[stack[--sp]];
-      // World distance >= minScale * object distance: a conservative cull.
-      float reach = closestReach(s);
-      if (inst.minScale * boxDistance(po, n.lo.xyz, n.hi.xyz) > reach) continue;
-      uint cnt = nodeCount(n);
-      if (cnt == 0u) {
-        // Push only children that can hold a nearer point, the nearer one last (visited first).
-        BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
-        float dl = inst.minScale * boxDistance(po, l.lo.xyz, l.hi.xyz);
-        float dr = inst.minScale * boxDistance(po, r.lo.xyz, r.hi.xyz);
-        uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;
-        uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);
-        if (max(dl, dr) <= reach) stack[sp++] = farC;
-        if (min(dl, dr) <= reach) stack[sp++] = nearC;
-        continue;
-      }
-      for (uint k = 0u; k < cnt; ++k) {
-        vec3 a, b, c;
-        worldTriangle(inst, nodeFirst(n) + k, a, b, c);
-        closestTriangle(s, a, b, c, inst.mirrored, inst.instanceId, nodeFirst(n) + k);
-      }
-    }
+    RTSDF_POINT_WALK_BEGIN(inst, po, closestReach(s), true, leaf)
+      vec3 a, b, c;
+      worldTriangle(inst, leaf, a, b, c);
+      closestTriangle(s, a, b, c, inst.mirrored, inst.instanceId, leaf);
+    RTSDF_POINT_WALK_END
   RTSDF_TLAS_WALK_END
   return closestEnd(s, hit);
 }

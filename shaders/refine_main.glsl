@@ -57,46 +57,26 @@ void collectCellCandidates(vec3 m, float rho, float radius) {
   cellOverflow = false;
   RTSDF_TLAS_WALK_BEGIN(tn, cellOverflow || boxDistance(m, tn.lo.xyz, tn.hi.xyz) > closestReach(s) + widen, inst)
     vec3 mo = xformPoint(inst.worldToObject, m);
-    uint stack[RTSDF_BVH_STACK];
-    int sp = 0;
-    stack[sp++] = inst.blasRoot;
-    while (sp > 0 && !cellOverflow) {
-      BvhNode n = blasNodes[stack[--sp]];
-      float reach = closestReach(s) + widen;
-      if (inst.minScale * boxDistance(mo, n.lo.xyz, n.hi.xyz) > reach) continue;
-      uint cnt = nodeCount(n);
-      if (cnt == 0u) {
-        BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
-        float dl = inst.minScale * boxDistance(mo, l.lo.xyz, l.hi.xyz);
-        float dr = inst.minScale * boxDistance(mo, r.lo.xyz, r.hi.xyz);
-        uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;
-        uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);
-        if (max(dl, dr) <= reach) stack[sp++] = farC;
-        if (min(dl, dr) <= reach) stack[sp++] = nearC;
-        continue;
+    RTSDF_POINT_WALK_BEGIN(inst, mo, closestReach(s) + widen, !cellOverflow, leaf)
+      vec3 a, b, c;
+      worldTriangle(inst, leaf, a, b, c);
+      float dist = length(m - closestOnTriangle(m, a, b, c));
+      if (dist < s.best) { s.best = dist; s.found = true; }
+      if (dist > closestReach(s) + widen) continue;
+      uint at = cellCount;
+      if (at == uint(RTSDF_CELL_CANDIDATES)) {
+        // Full: take the place of a candidate the walk has since moved out of reach, if there is one.
+        float keep = closestReach(s) + widen;
+        for (uint j = 0u; j < uint(RTSDF_CELL_CANDIDATES); ++j)
+          if (cellDistance[j] > keep) at = j;
+        if (at == uint(RTSDF_CELL_CANDIDATES)) { cellOverflow = true; break; }
+      } else {
+        ++cellCount;
       }
-      for (uint k = 0u; k < cnt; ++k) {
-        uint leaf = nodeFirst(n) + k;
-        vec3 a, b, c;
-        worldTriangle(inst, leaf, a, b, c);
-        float dist = length(m - closestOnTriangle(m, a, b, c));
-        if (dist < s.best) { s.best = dist; s.found = true; }
-        if (dist > closestReach(s) + widen) continue;
-        uint at = cellCount;
-        if (at == uint(RTSDF_CELL_CANDIDATES)) {
-          // Full: take the place of a candidate the walk has since moved out of reach, if there is one.
-          float keep = closestReach(s) + widen;
-          for (uint j = 0u; j < uint(RTSDF_CELL_CANDIDATES); ++j)
-            if (cellDistance[j] > keep) at = j;
-          if (at == uint(RTSDF_CELL_CANDIDATES)) { cellOverflow = true; break; }
-        } else {
-          ++cellCount;
-        }
-        cellInstance[at] = tlasSlot;
-        cellLeaf[at] = leaf;
-        cellDistance[at] = dist;
-      }
-    }
+      cellInstance[at] = tlasSlot;
+      cellLeaf[at] = leaf;
+      cellDistance[at] = dist;
+    RTSDF_POINT_WALK_END
   RTSDF_TLAS_WALK_END
   cellKeep = closestReach(s) + widen;
   cellOverflow = cellOverflow || !s.found;

@@ -70,6 +70,13 @@ bool rayTriangle(vec3 o, vec3 d, vec3 a, vec3 b, vec3 c, float tmin, inout float
   return true;
 }
 
+// Ray o + t d in instance inst's object space (t unchanged: the direction is not normalized) and its inverse direction.
+void objectRay(BvhInstance inst, vec3 o, vec3 d, out vec3 oo, out vec3 dd, out vec3 invDD) {
+  oo = xformPoint(inst.worldToObject, o);
+  dd = xformVector(inst.worldToObject, d);
+  invDD = 1.0 / dd;
+}
+
 // Nearest hit along o + t d, t in (tmin, tmax). Returns false when nothing is hit.
 bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
   hit.point = vec4(0.0, 0.0, 0.0, -1.0);
@@ -78,9 +85,8 @@ bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
   bool found = false;
   vec3 invD = 1.0 / d;
   RTSDF_TLAS_WALK_BEGIN(tn, isinf(rayBox(o, invD, tn.lo.xyz, tn.hi.xyz, tmin, best)), inst)
-    vec3 oo = xformPoint(inst.worldToObject, o);
-    vec3 dd = xformVector(inst.worldToObject, d);
-    vec3 invDD = 1.0 / dd;
+    vec3 oo, dd, invDD;
+    objectRay(inst, o, d, oo, dd, invDD);
     uint stack[RTSDF_BVH_STACK];
     int sp = 0;
     stack[sp++] = inst.blasRoot;
@@ -120,9 +126,8 @@ bool occludedWithin(vec3 o, vec3 d, float tmax) {
   bool blocked = false;
   vec3 invD = 1.0 / d;
   RTSDF_TLAS_WALK_BEGIN(tn, blocked || isinf(rayBox(o, invD, tn.lo.xyz, tn.hi.xyz, 0.0, tmax)), inst)
-    vec3 oo = xformPoint(inst.worldToObject, o);
-    vec3 dd = xformVector(inst.worldToObject, d);
-    vec3 invDD = 1.0 / dd;
+    vec3 oo, dd, invDD;
+    objectRay(inst, o, d, oo, dd, invDD);
     uint stack[RTSDF_BVH_STACK];
     int sp = 0;
     stack[sp++] = inst.blasRoot;

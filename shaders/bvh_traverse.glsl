@@ -280,10 +280,11 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
 
 // The bottom-level walk of a point query (closestPoint, the refinement's cell search): instance INST's nodes depth
 // first from object-space point PO, nearer child first; a node farther than REACH (an expression, read again at
-// every node, in world units: world distance >= minScale * object distance, a conservative cull) is skipped, and
-// the walk goes on while GOING holds. The code between the macros runs per triangle, its leaf index declared as
-// 'uint LEAF'. Use: RTSDF_POINT_WALK_BEGIN(inst, po, reach, going, leaf) ... RTSDF_POINT_WALK_END
-#define RTSDF_POINT_WALK_BEGIN(INST, PO, REACH, GOING, LEAF)                                                           \
+// every node, in world units: world distance >= minScale * object distance, a conservative cull) is skipped, and so
+// is a child for which the function SKIPPED(po, lo, hi, minScale) is true; the walk goes on while GOING holds. The
+// code between the macros runs per triangle, its leaf index declared as 'uint LEAF'.
+// Use: RTSDF_POINT_WALK_BEGIN(inst, po, reach, skipped, going, leaf) ... RTSDF_POINT_WALK_END
+#define RTSDF_POINT_WALK_BEGIN(INST, PO, REACH, SKIPPED, GOING, LEAF)                                                  \
   uint stack[RTSDF_BVH_STACK];                                                                                         \
   int sp = 0;                                                                                                          \
   stack[sp++] = INST.blasRoot;                                                                                         \
@@ -298,8 +299,10 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
       float dr = INST.minScale * boxDistance(PO, r.lo.xyz, r.hi.xyz);                                                  \
       uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;                                                        \
       uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);                                                         \
-      if (max(dl, dr) <= reach) stack[sp++] = farC;                                                                    \
-      if (min(dl, dr) <= reach) stack[sp++] = nearC;                                                                   \
+      bool keepL = dl <= reach && !SKIPPED(PO, l.lo.xyz, l.hi.xyz, INST.minScale);                                    \
+      bool keepR = dr <= reach && !SKIPPED(PO, r.lo.xyz, r.hi.xyz, INST.minScale);                                    \
+      if (dl <= dr ? keepR : keepL) stack[sp++] = farC;                                                                \
+      if (dl <= dr ? keepL : keepR) stack[sp++] = nearC;                                                               \
       continue;                                                                                                        \
     }                                                                                                                  \
     for (uint k = 0u; k < cnt; ++k) {                                                                                  \
@@ -308,12 +311,15 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
     }                                                                                                                  \
   }
 
+// The SKIPPED of a point walk that culls by distance alone.
+bool noNodeSkipped(vec3 po, vec3 lo, vec3 hi, float scale) { return false; }
+
 // Closest surface point to p within maxDist (world space). Returns false when none is that close.
 bool closestPoint(vec3 p, float maxDist, out BvhHit hit) {
   ClosestQuery s = closestBegin(p, maxDist);
   RTSDF_TLAS_WALK_BEGIN(tn, boxDistance(p, tn.lo.xyz, tn.hi.xyz) > closestReach(s), inst)
     vec3 po = xformPoint(inst.worldToObject, p);
-    RTSDF_POINT_WALK_BEGIN(inst, po, closestReach(s), true, leaf)
+    RTSDF_POINT_WALK_BEGIN(inst, po, closestReach(s), noNodeSkipped, true, leaf)
       vec3 a, b, c;
       worldTriangle(inst, leaf, a, b, c);
       closestTriangle(s, a, b, c, inst.mirrored, inst.instanceId, leaf);

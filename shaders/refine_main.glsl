@@ -41,35 +41,96 @@ uint cellInstance[RTSDF_CELL_CANDIDATES];
 uint cellLeaf[RTSDF_CELL_CANDIDATES];
 float cellDistance[RTSDF_CELL_CANDIDATES];
 uint cellCount = 0u;
-bool cellOverflow = false;
-float cellKeep = 0.0; // candidates farther than this from m cannot be nearest to a voxel of the box
+bool cellMissed = false; // the walk found nothing within its radius: the box's voxels walk on their own
+vec3 cellCentre = vec3(0.0);
+float cellKeep = 0.0;    // candidates farther than this from m cannot be nearest to a voxel of the box
+float cellDropped = 0.0; // the nearest distance from m of a triangle in reach that the full list dropped (or inf)
 
-// Collect every triangle that can be nearest to a fine voxel centre q of the box, whose centres lie within rho of
-// m. With D the distance to the surface, D(q) <= D(m) + rho, so q's nearest triangle T has |T - m| <= D(q) + rho
-// <= D(m) + 2 rho. The walk is closestPoint's from m with the search widened by 2 rho (running best >= D(m), so
-// nothing needed is culled); a triangle within that reach is kept, and one beyond the final reach dropped when
-// the list needs room. More than RTSDF_CELL_CANDIDATES within reach: cellOverflow, the voxels walk on their own.
-void collectCellCandidates(vec3 m, float rho, float radius) {
+// The box's voxel centres lie within its corners m + (+-e.x, +-e.y, +-e.z) (a box is at most 2 voxels per axis, so
+// every voxel is a corner). cellUpper*: upper bounds of the distance to the surface at the corners, z low then z high,
+// x fastest (kCornerX, kCornerY), from the surface points the walk has met; cellLimit*: those rounded up by the
+// margin a tie and the rounding of both searches need.
+vec3 cellHalf = vec3(0.0);
+vec4 cellLimitLo = vec4(0.0), cellLimitHi = vec4(0.0);
+float cellMargin = 0.0;
+float cellReach = 0.0; // the largest corner limit plus the way from m to a corner: the walk's sphere around m
+vec3 cellAxisX = vec3(0.0), cellAxisY = vec3(0.0), cellAxisZ = vec3(0.0); // e's axes in the instance's object space
+const vec4 kCornerX = vec4(-1.0, 1.0, -1.0, 1.0), kCornerY = vec4(-1.0, -1.0, 1.0, 1.0);
+
+// Lower the corners' bounds by surface point m + w.
+void cellMeetSurface(vec3 w) {
+  vec3 e = cellHalf;
+  vec4 dx = kCornerX * e.x - w.x, dy = kCornerY * e.y - w.y;
+  vec4 xy = dx * dx + dy * dy;
+  float zl = -e.z - w.z, zh = e.z - w.z;
+  cellLimitLo = min(cellLimitLo, sqrt(xy + zl * zl) * (1.0 + 2.0e-5) + cellMargin);
+  cellLimitHi = min(cellLimitHi, sqrt(xy + zh * zh) * (1.0 + 2.0e-5) + cellMargin);
+  vec4 top = max(cellLimitLo, cellLimitHi);
+  cellReach = max(max(top.x, top.y), max(top.z, top.w)) + length(e) * (1.0 + 1.0e-5) + cellMargin;
+}
+
+// Whether a convex set whose nearest point to m lies at distance len in direction u (proj: the corners' half extents
+// along u, in the set's space; scale: its least world scale) lies beyond every corner's limit. The set lies in the
+// half-space past that point, so its distance from corner m + d is at least len - d.u; where that exceeds the
+// corner's bound on the surface distance (with the margin), no voxel of the box can have its nearest point or a tie
+// there. Only for len >= |e|: nearer, the rounding of u could matter.
+bool cellCornersBeyond(float len, vec3 proj, float scale) {
+  if (scale * len < length(cellHalf)) return false;
+  vec4 xy = kCornerX * proj.x + kCornerY * proj.y;
+  return all(greaterThan(scale * (len - xy + proj.z), cellLimitLo)) &&
+         all(greaterThan(scale * (len - xy - proj.z), cellLimitHi));
+}
+
+// A BVH node (object-space bounds lo, hi; po: m in object space) no voxel of the box needs.
+bool cellNodeBeyond(vec3 po, vec3 lo, vec3 hi, float scale) {
+  vec3 v = clamp(po, lo, hi) - po;
+  float len = length(v);
+  if (len == 0.0) return false;
+  vec3 u = v / len;
+  return cellCornersBeyond(len, vec3(dot(cellAxisX, u), dot(cellAxisY, u), dot(cellAxisZ, u)), scale);
+}
+
+// Collect every triangle that can be nearest to a fine voxel centre q of the box (or tie with it). Every triangle
+// closest point from m met on the way bounds the distance at each corner; a node or triangle wholly past every
+// corner's bound (cellCornersBeyond) is skipped. radius bounds D(m) from above: the corners start at radius + |e|
+// (if the walk finds nothing within radius, the bound did not hold and cellMissed sends the voxels to walk alone). A
+// full list keeps the nearest to m: the farthest of the list and the new one is dropped and cellDropped lowered to it
+// (the farthest kept never exceeds cellDropped, so the walk culls there too); a voxel whose answer may lie that far
+// walks on its own (closestAmongCandidates says which).
+void collectCellCandidates(vec3 m, vec3 halfSize, float radius) {
   ClosestQuery s = closestBegin(m, radius);
-  // 2 rho, rounded up: the distances at q and at m are each within a few ulps of the true ones.
-  float widen = 2.0 * rho * (1.0 + 1.0e-5) + 4.0 * s.ulp4;
   cellCount = 0u;
-  cellOverflow = false;
-  RTSDF_TLAS_WALK_BEGIN(tn, cellOverflow || boxDistance(m, tn.lo.xyz, tn.hi.xyz) > closestReach(s) + widen, inst)
+  cellDropped = 1.0 / 0.0;
+  cellCentre = m;
+  cellHalf = halfSize;
+  cellMargin = 16.0 * s.ulp4;
+  float start = (radius + length(halfSize)) * (1.0 + 2.0e-5) + cellMargin;
+  cellLimitLo = vec4(start);
+  cellLimitHi = vec4(start);
+  cellReach = start + length(halfSize) * (1.0 + 1.0e-5) + cellMargin;
+  RTSDF_TLAS_WALK_BEGIN(tn, boxDistance(m, tn.lo.xyz, tn.hi.xyz) > min(cellReach, cellDropped), inst)
     vec3 mo = xformPoint(inst.worldToObject, m);
-    RTSDF_POINT_WALK_BEGIN(inst, mo, closestReach(s) + widen, !cellOverflow, leaf)
+    cellAxisX = halfSize.x * vec3(inst.worldToObject[0].x, inst.worldToObject[1].x, inst.worldToObject[2].x);
+    cellAxisY = halfSize.y * vec3(inst.worldToObject[0].y, inst.worldToObject[1].y, inst.worldToObject[2].y);
+    cellAxisZ = halfSize.z * vec3(inst.worldToObject[0].z, inst.worldToObject[1].z, inst.worldToObject[2].z);
+    RTSDF_POINT_WALK_BEGIN(inst, mo, min(cellReach, cellDropped), cellNodeBeyond, true, leaf)
       vec3 a, b, c;
       worldTriangle(inst, leaf, a, b, c);
-      float dist = length(m - closestOnTriangle(m, a, b, c));
+      vec3 w = closestOnTriangle(m, a, b, c) - m;
+      float dist = length(w);
       if (dist < s.best) { s.best = dist; s.found = true; }
-      if (dist > closestReach(s) + widen) continue;
+      if (dist > min(cellReach, cellDropped)) continue;
+      cellMeetSurface(w);
+      if (dist > 0.0 && cellCornersBeyond(dist, halfSize * (w / dist), 1.0)) continue;
       uint at = cellCount;
       if (at == uint(RTSDF_CELL_CANDIDATES)) {
-        // Full: take the place of a candidate the walk has since moved out of reach, if there is one.
-        float keep = closestReach(s) + widen;
+        float farthest = -1.0;
         for (uint j = 0u; j < uint(RTSDF_CELL_CANDIDATES); ++j)
-          if (cellDistance[j] > keep) at = j;
-        if (at == uint(RTSDF_CELL_CANDIDATES)) { cellOverflow = true; break; }
+          if (cellDistance[j] > farthest) { farthest = cellDistance[j]; at = j; }
+        if (farthest <= cellReach) {
+          if (dist >= farthest) { cellDropped = dist; continue; }
+          cellDropped = farthest;
+        }
       } else {
         ++cellCount;
       }
@@ -78,12 +139,13 @@ void collectCellCandidates(vec3 m, float rho, float radius) {
       cellDistance[at] = dist;
     RTSDF_POINT_WALK_END
   RTSDF_TLAS_WALK_END
-  cellKeep = closestReach(s) + widen;
-  cellOverflow = cellOverflow || !s.found;
+  cellKeep = min(cellReach, cellDropped);
+  cellMissed = !s.found;
 }
 
-// closestPoint(p, maxDist, hit) over the box's candidates: the same answer when p is a voxel centre of the box.
-bool closestAmongCandidates(vec3 p, float maxDist, out BvhHit hit) {
+// closestPoint(p, maxDist, hit) over the box's candidates: the same answer when p is a voxel centre of the box and
+// 'complete' is true (nothing the answer depends on lay as far from m as a dropped triangle); else p walks.
+bool closestAmongCandidates(vec3 p, float maxDist, out BvhHit hit, out bool complete) {
   ClosestQuery s = closestBegin(p, maxDist);
   for (uint k = 0u; k < cellCount; ++k) {
     if (cellDistance[k] > cellKeep) continue;
@@ -92,6 +154,8 @@ bool closestAmongCandidates(vec3 p, float maxDist, out BvhHit hit) {
     worldTriangle(inst, cellLeaf[k], a, b, c);
     closestTriangle(s, a, b, c, inst.mirrored, inst.instanceId, cellLeaf[k]);
   }
+  // The nearest triangle and its ties lie within closestReach(s) of p, so within that + |p - m| of m (rounded up).
+  complete = closestReach(s) + length(p - cellCentre) * (1.0 + 1.0e-5) + 4.0 * s.ulp4 < cellDropped;
   return closestEnd(s, hit);
 }
 #endif
@@ -146,8 +210,10 @@ void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
   {
     BvhHit hit;
     float radius = closestRadius(bound);
-    bool near = (params.coarseDims.w & kRefineCellSearch) != 0 && !cellOverflow ? closestAmongCandidates(p, radius, hit)
-                                                                                : closestPoint(p, radius, hit);
+    bool complete = false;
+    bool near = false;
+    if ((params.coarseDims.w & kRefineCellSearch) != 0 && !cellMissed) near = closestAmongCandidates(p, radius, hit, complete);
+    if (!complete) near = closestPoint(p, radius, hit);
     f = near ? hit.point.w : radius;
     inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
   }
@@ -182,7 +248,7 @@ void refineBox(uint ci, uint part, bool fresh) {
     // the bound did not hold and the box's voxels walk on their own.
     vec3 centre = params.coarseOriginInvH.xyz + (vec3(c) + 0.5) / params.coarseOriginInvH.w;
     float radius = coarse[ci] + params.beta + 0.8660254 / params.coarseOriginInvH.w + length(m - centre);
-    collectCellCandidates(m, 0.5 * length(last - first), radius * (1.0 + 1.0e-5));
+    collectCellCandidates(m, 0.5 * (last - first), radius * (1.0 + 1.0e-5));
   }
 #endif
   for (int j = 0; j < voxels; ++j) {

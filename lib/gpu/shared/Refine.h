@@ -69,7 +69,7 @@ RTSDF_FN uint brickLocalOf(ivec3 v) {
 /// voxels walk the BVH one by one).
 #define RTSDF_CELL_CANDIDATES 24
 /// The most fine voxels along an axis of a cell-search box (refinePartsFor): 27 voxels at most per walk.
-#define RTSDF_CELL_BOX 3
+#define RTSDF_CELL_BOX 2
 
 /// Flags of RefineParams::coarseDims.w in the refinement shaders.
 const int kRefineWriteDense = 1; // f_t is also written to the dense fine SDF (FineStorage::Dense)

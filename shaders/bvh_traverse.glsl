@@ -289,11 +289,17 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
   int sp = 0;                                                                                                          \
   stack[sp++] = INST.blasRoot;                                                                                         \
   while (sp > 0 && (GOING)) {                                                                                          \
-    BvhNode n = blasNodes[stack[--sp]];                                                                                \
-    float reach = (REACH);                                                                                             \
-    if (INST.minScale * boxDistance(PO, n.lo.xyz, n.hi.xyz) > reach) continue;                                         \
-    uint cnt = nodeCount(n);                                                                                           \
-    if (cnt == 0u) {                                                                                                   \
+    /* Inner nodes until a leaf: the lanes of a SIMD machine then test their triangles together (while-while). */     \
+    uint leafFirst = 0u, leafCount = 0u;                                                                               \
+    while (sp > 0) {                                                                                                   \
+      BvhNode n = blasNodes[stack[--sp]];                                                                              \
+      float reach = (REACH);                                                                                           \
+      if (INST.minScale * boxDistance(PO, n.lo.xyz, n.hi.xyz) > reach) continue;                                       \
+      if (nodeCount(n) != 0u) {                                                                                        \
+        leafFirst = nodeFirst(n);                                                                                      \
+        leafCount = nodeCount(n);                                                                                      \
+        break;                                                                                                         \
+      }                                                                                                                \
       BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];                                           \
       float dl = INST.minScale * boxDistance(PO, l.lo.xyz, l.hi.xyz);                                                  \
       float dr = INST.minScale * boxDistance(PO, r.lo.xyz, r.hi.xyz);                                                  \
@@ -303,10 +309,9 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
       bool keepR = dr <= reach && !SKIPPED(PO, r.lo.xyz, r.hi.xyz, INST.minScale);                                    \
       if (dl <= dr ? keepR : keepL) stack[sp++] = farC;                                                                \
       if (dl <= dr ? keepL : keepR) stack[sp++] = nearC;                                                               \
-      continue;                                                                                                        \
     }                                                                                                                  \
-    for (uint k = 0u; k < cnt; ++k) {                                                                                  \
-      uint LEAF = nodeFirst(n) + k;
+    for (uint k = 0u; k < leafCount; ++k) {                                                                            \
+      uint LEAF = leafFirst + k;
 #define RTSDF_POINT_WALK_END                                                                                           \
     }                                                                                                                  \
   }

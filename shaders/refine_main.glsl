@@ -143,20 +143,21 @@ void collectCellCandidates(vec3 m, vec3 halfSize, float radius) {
   cellMissed = !s.found;
 }
 
-// closestPoint(p, maxDist, hit) over the box's candidates: the same answer when p is a voxel centre of the box and
-// 'complete' is true (nothing the answer depends on lay as far from m as a dropped triangle); else p walks.
-bool closestAmongCandidates(vec3 p, float maxDist, out BvhHit hit, out bool complete) {
-  ClosestQuery s = closestBegin(p, maxDist);
+// closestPoint(q_j, radius_j) for the box's 8 corner voxels q_j over its candidates, each triangle read once for all
+// eight: the same answers, where complete[j] (nothing an answer depends on lay as far from m as a dropped triangle);
+// else that voxel walks.
+void closestAmongCandidates(inout ClosestQuery q[8], out bool complete[8]) {
   for (uint k = 0u; k < cellCount; ++k) {
     if (cellDistance[k] > cellKeep) continue;
     BvhInstance inst = instances[cellInstance[k]];
+    uint leaf = cellLeaf[k];
     vec3 a, b, c;
-    worldTriangle(inst, cellLeaf[k], a, b, c);
-    closestTriangle(s, a, b, c, inst.mirrored, inst.instanceId, cellLeaf[k]);
+    worldTriangle(inst, leaf, a, b, c);
+    [[unroll]] for (int j = 0; j < 8; ++j) closestTriangle(q[j], a, b, c, inst.mirrored, inst.instanceId, leaf);
   }
-  // The nearest triangle and its ties lie within closestReach(s) of p, so within that + |p - m| of m (rounded up).
-  complete = closestReach(s) + length(p - cellCentre) * (1.0 + 1.0e-5) + 4.0 * s.ulp4 < cellDropped;
-  return closestEnd(s, hit);
+  // The nearest triangle and its ties lie within closestReach of q, so within that + |q - m| of m (rounded up).
+  [[unroll]] for (int j = 0; j < 8; ++j)
+    complete[j] = closestReach(q[j]) + length(q[j].p - cellCentre) * (1.0 + 1.0e-5) + 4.0 * q[j].ulp4 < cellDropped;
 }
 #endif
 
@@ -173,60 +174,131 @@ float refineBound(float c, bool fresh, uint slot, uint local) {
 // short).
 float closestRadius(float bound) { return bound + 1.7320508 / params.coarseOriginInvH.w; }
 
-// Refine fine voxel v (fresh: new to the mask) in its brick slot at offset local.
-void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
+// Fine voxel v's centre (world).
+vec3 voxelCentre(ivec3 v) { return params.fineOriginH.xyz + (vec3(v) + 0.5) * params.fineOriginH.w; }
+
+// The coarse SDF as an upper bound of the distance at fine voxel v (fresh: new to the mask; slot, local: its place in
+// the brick pool), blended with its last value: the nearest seed voxel touches the surface within half its diagonal,
+// and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays, which can only
+// over-estimate, could never lower f.)
+float voxelBound(ivec3 v, bool fresh, uint slot, uint local) { return refineBound(coarseBoundAt(v), fresh, slot, local); }
+
+// The sign votes at fine voxel v: its decayed history plus this frame's x rays (front-face hits, back-face hits), and
+// the nearest hit of those rays (inf: none).
+// Rays are not cut short: the nearest hit of a ray from inside a closed surface is always a back face and from
+// outside always a front face, so every hit votes right. (A reach of twice the bound left deep voxels with no hit
+// at all, hence no vote and the outside sign: sign flips far from the surface.) Traversal culls every box past the
+// nearest hit found so far, so the longer reach costs little; the distance is min(bound, nearest) either way.
+vec2 castRays(ivec3 v, bool fresh, uint slot, uint local, out float nearest) {
   ivec3 fd = params.fineDims.xyz;
   uint i = uint((v.z * fd.y + v.y) * fd.x + v.x);
-  vec3 p = params.fineOriginH.xyz + (vec3(v) + 0.5) * params.fineOriginH.w;
-
-  // The coarse SDF as an upper bound of the distance: the nearest seed voxel touches the surface within half
-  // its diagonal, and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays,
-  // which can only over-estimate, could never lower f.)
-  float bound = refineBound(coarseBoundAt(v), fresh, slot, local);
+  vec3 p = voxelCentre(v);
   vec2 vote = fresh ? vec2(0.0) : params.alpha * unpackHalf2x16(loadVotes(slot, local));
-
-  // Rays are not cut short: the nearest hit of a ray from inside a closed surface is always a back face and
-  // from outside always a front face, so every hit votes right. (A reach of twice the bound left deep
-  // voxels with no hit at all, hence no vote and the outside sign: sign flips far from the surface.) Traversal
-  // culls every box past the nearest hit found so far, so the longer reach costs little; the distance is min(bound, nearest) either way.
-  float reach = 3.0e38;
-  float front = 0.0, back = 0.0, nearest = 1.0 / 0.0;
+  float front = 0.0, back = 0.0;
+  nearest = 1.0 / 0.0;
   for (uint r = 0u; r < params.rays; ++r) {
     uint h = rayHash(i, params.frame, r, params.seed);
     float z = 1.0 - 2.0 * unitFloat(h);
     float phi = 6.28318530718 * unitFloat(pcgHash(h));
     float s = sqrt(max(0.0, 1.0 - z * z));
     BvhHit hit;
-    if (traceNearest(p, vec3(s * cos(phi), s * sin(phi), z), 0.0, reach, hit)) {
+    if (traceNearest(p, vec3(s * cos(phi), s * sin(phi), z), 0.0, 3.0e38, hit)) {
       nearest = min(nearest, hit.point.w);
       if (hit.frontFace != 0u) front += 1.0; else back += 1.0;
     }
   }
-  vote += vec2(front, back);
+  return vote + vec2(front, back);
+}
 
-  float f;
-  bool inside;
-#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
-  {
-    BvhHit hit;
-    float radius = closestRadius(bound);
-    bool complete = false;
-    bool near = false;
-    if ((params.coarseDims.w & kRefineCellSearch) != 0 && !cellMissed) near = closestAmongCandidates(p, radius, hit, complete);
-    if (!complete) near = closestPoint(p, radius, hit);
-    f = near ? hit.point.w : radius;
-    inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
-  }
-#else
-  f = min(bound, nearest);
-  inside = vote.y > vote.x;
-#endif
+// Write f_t (negative inside) and the votes of fine voxel v.
+void storeVoxel(ivec3 v, uint slot, uint local, float f, bool inside, vec2 vote) {
+  ivec3 fd = params.fineDims.xyz;
   storeValue(slot, local, inside ? -f : f);
-  if ((params.coarseDims.w & kRefineWriteDense) != 0) dense[i] = inside ? -f : f;
+  if ((params.coarseDims.w & kRefineWriteDense) != 0) dense[uint((v.z * fd.y + v.y) * fd.x + v.x)] = inside ? -f : f;
   storeVotes(slot, local, packHalf2x16(min(vote, vec2(60000.0))));
 }
 
-// Refine the fine voxels of box 'part' of coarse voxel c (parts x fastest, params.partBox.xyz voxels each).
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+// Closest mode's end of fine voxel v, given the answer of its closest-point query of the given radius: the distance
+// (the radius where nothing lay within it) and the sign (the rays' votes when x > 0, else the closest triangle's side).
+void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, bool near, BvhHit hit) {
+  float nearest;
+  vec2 vote = castRays(v, fresh, slot, local, nearest);
+  float f = near ? hit.point.w : radius;
+  bool inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
+  storeVoxel(v, slot, local, f, inside, vote);
+}
+#endif
+
+// Refine fine voxel v on its own (fresh: new to the mask) in its brick slot at offset local.
+void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
+  float bound = voxelBound(v, fresh, slot, local);
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+  float radius = closestRadius(bound);
+  BvhHit hit;
+  bool near = closestPoint(voxelCentre(v), radius, hit);
+  finishClosest(v, fresh, slot, local, radius, near, hit);
+#else
+  float nearest;
+  vec2 vote = castRays(v, fresh, slot, local, nearest);
+  storeVoxel(v, slot, local, min(bound, nearest), vote.y > vote.x, vote);
+#endif
+}
+
+// Refine the fine voxels lo..hi one by one (x fastest). One loop over the box, not three nested: lavapipe runs a loop
+// nest around the walk slower.
+void refineVoxels(ivec3 lo, ivec3 hi, bool fresh) {
+  ivec3 size = hi - lo + 1;
+  int voxels = size.x * size.y * size.z;
+  for (int j = 0; j < voxels; ++j) {
+    ivec3 v = lo + ivec3(j % size.x, j / size.x % size.y, j / (size.x * size.y));
+    uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    if (slot != kNoBrick) refineVoxel(v, fresh, slot, brickLocalOf(v));
+  }
+}
+
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+// Closest mode's cell search over box lo..hi (at most 2 voxels per axis) of coarse voxel c (linear index ci): one walk
+// collects the candidates, then each candidate is tested against the box's 8 corner voxels at once (a voxel of a
+// 1-voxel axis is two corners: both give the same answer, the first is kept).
+void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
+  vec3 first = voxelCentre(lo), last = voxelCentre(hi);
+  vec3 m = 0.5 * (first + last);
+  // D(m) <= c^ at the coarse voxel's centre + the way from there to m: where the walk finds nothing that near,
+  // the bound did not hold and the box's voxels walk on their own.
+  vec3 centre = params.coarseOriginInvH.xyz + (vec3(c) + 0.5) / params.coarseOriginInvH.w;
+  float radius = coarse[ci] + params.beta + 0.8660254 / params.coarseOriginInvH.w + length(m - centre);
+  collectCellCandidates(m, 0.5 * (last - first), radius * (1.0 + 1.0e-5));
+  if (cellMissed) {
+    refineVoxels(lo, hi, fresh);
+    return;
+  }
+  ClosestQuery q[8];
+  float radii[8];
+  uint slots[8];
+  [[unroll]] for (int j = 0; j < 8; ++j) {
+    ivec3 v = min(lo + ivec3(j & 1, (j >> 1) & 1, j >> 2), hi);
+    slots[j] = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    radii[j] = slots[j] != kNoBrick ? closestRadius(voxelBound(v, fresh, slots[j], brickLocalOf(v))) : 0.0;
+    q[j] = closestBegin(voxelCentre(v), radii[j]);
+  }
+  bool complete[8];
+  closestAmongCandidates(q, complete);
+  BvhHit hits[8];
+  bool nears[8];
+  [[unroll]] for (int j = 0; j < 8; ++j) nears[j] = closestEnd(q[j], hits[j]);
+  for (int j = 0; j < 8; ++j) {
+    ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
+    if (any(greaterThan(v, hi)) || slots[j] == kNoBrick) continue;
+    BvhHit hit = hits[j];
+    bool near = nears[j];
+    if (!complete[j]) near = closestPoint(voxelCentre(v), radii[j], hit);
+    finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], near, hit);
+  }
+}
+#endif
+
+// Refine the fine voxels of box 'part' of coarse voxel ci (parts x fastest, params.partBox.xyz voxels each).
 void refineBox(uint ci, uint part, bool fresh) {
   ivec3 cd = params.coarseDims.xyz;
   ivec3 c = ivec3(int(ci % uint(cd.x)), int(ci / uint(cd.x) % uint(cd.y)), int(ci / uint(cd.x * cd.y)));
@@ -236,26 +308,13 @@ void refineBox(uint ci, uint part, bool fresh) {
   ivec3 lo = ivec3(rx.x, ry.x, rz.x) + box * ivec3(part % partsX, part / partsX % partsY, part / (partsX * partsY));
   ivec3 hi = min(lo + box - 1, ivec3(rx.y, ry.y, rz.y));
   if (any(greaterThan(lo, hi))) return;
-  // One loop over the box (x fastest), not three nested: lavapipe runs a loop nest around the walk slower.
-  ivec3 size = hi - lo + 1;
-  int voxels = size.x * size.y * size.z;
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
   if ((params.coarseDims.w & kRefineCellSearch) != 0) {
-    float h = params.fineOriginH.w;
-    vec3 first = params.fineOriginH.xyz + (vec3(lo) + 0.5) * h, last = params.fineOriginH.xyz + (vec3(hi) + 0.5) * h;
-    vec3 m = 0.5 * (first + last);
-    // D(m) <= c^ at the coarse voxel's centre + the way from there to m: where the walk finds nothing that near,
-    // the bound did not hold and the box's voxels walk on their own.
-    vec3 centre = params.coarseOriginInvH.xyz + (vec3(c) + 0.5) / params.coarseOriginInvH.w;
-    float radius = coarse[ci] + params.beta + 0.8660254 / params.coarseOriginInvH.w + length(m - centre);
-    collectCellCandidates(m, 0.5 * (last - first), radius * (1.0 + 1.0e-5));
+    refineCellBox(ci, c, lo, hi, fresh);
+    return;
   }
 #endif
-  for (int j = 0; j < voxels; ++j) {
-    ivec3 v = lo + ivec3(j % size.x, j / size.x % size.y, j / (size.x * size.y));
-    uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
-    if (slot != kNoBrick) refineVoxel(v, fresh, slot, brickLocalOf(v));
-  }
+  refineVoxels(lo, hi, fresh);
 }
 
 void main() {

@@ -22,16 +22,21 @@ uint nodeCount(BvhNode n) { return floatBitsToUint(n.hi.w); }
   int tsp = 0;                                                                                                         \
   tstack[tsp++] = 0u;                                                                                                  \
   while (tsp > 0) {                                                                                                    \
-    BvhNode NODE = tlasNodes[tstack[--tsp]];                                                                           \
-    if (CULLED) continue;                                                                                              \
-    uint tc = nodeCount(NODE);                                                                                         \
-    if (tc == 0u) {                                                                                                    \
+    /* Inner nodes until a leaf, so that SIMD lanes enter their instances together (while-while). */                  \
+    uint tlasFirst = 0u, tc = 0u;                                                                                      \
+    while (tsp > 0) {                                                                                                  \
+      BvhNode NODE = tlasNodes[tstack[--tsp]];                                                                         \
+      if (CULLED) continue;                                                                                            \
+      if (nodeCount(NODE) != 0u) {                                                                                     \
+        tlasFirst = nodeFirst(NODE);                                                                                   \
+        tc = nodeCount(NODE);                                                                                          \
+        break;                                                                                                         \
+      }                                                                                                                \
       tstack[tsp++] = nodeFirst(NODE) + 1u;                                                                            \
       tstack[tsp++] = nodeFirst(NODE);                                                                                 \
-      continue;                                                                                                        \
     }                                                                                                                  \
     for (uint ti = 0u; ti < tc; ++ti) {                                                                                \
-      uint tlasSlot = tlasSlots[nodeFirst(NODE) + ti];                                                                 \
+      uint tlasSlot = tlasSlots[tlasFirst + ti];                                                                       \
       BvhInstance INST = instances[tlasSlot];
 #define RTSDF_TLAS_WALK_END                                                                                            \
     }                                                                                                                  \
@@ -91,20 +96,25 @@ bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
     int sp = 0;
     stack[sp++] = inst.blasRoot;
     while (sp > 0) {
-      BvhNode n = blasNodes[stack[--sp]];
-      if (isinf(rayBox(oo, invDD, n.lo.xyz, n.hi.xyz, tmin, best))) continue;
-      uint cnt = nodeCount(n);
-      if (cnt == 0u) {
+      // Inner nodes until a leaf, then its triangles: SIMD lanes test theirs together (while-while).
+      uint leafFirst = 0u, cnt = 0u;
+      while (sp > 0) {
+        BvhNode n = blasNodes[stack[--sp]];
+        if (isinf(rayBox(oo, invDD, n.lo.xyz, n.hi.xyz, tmin, best))) continue;
+        if (nodeCount(n) != 0u) {
+          leafFirst = nodeFirst(n);
+          cnt = nodeCount(n);
+          break;
+        }
         // Visit the nearer child first.
         BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];
         float tl = rayBox(oo, invDD, l.lo.xyz, l.hi.xyz, tmin, best);
         float tr = rayBox(oo, invDD, r.lo.xyz, r.hi.xyz, tmin, best);
         if (tl <= tr) { if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; if (!isinf(tl)) stack[sp++] = nodeFirst(n); }
         else { if (!isinf(tl)) stack[sp++] = nodeFirst(n); if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; }
-        continue;
       }
       for (uint k = 0u; k < cnt; ++k) {
-        uint tri = nodeFirst(n) + k;
+        uint tri = leafFirst + k;
         bool front;
         if (rayTriangle(oo, dd, corners[3u * tri].xyz, corners[3u * tri + 1u].xyz, corners[3u * tri + 2u].xyz, tmin,
                         best, front)) {

@@ -215,6 +215,9 @@ void storeVoxel(ivec3 v, uint slot, uint local, float f, bool inside, vec2 vote)
   ivec3 fd = params.fineDims.xyz;
   storeValue(slot, local, inside ? -f : f);
   if ((params.coarseDims.w & kRefineWriteDense) != 0) dense[uint((v.z * fd.y + v.y) * fd.x + v.x)] = inside ? -f : f;
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+  if (params.rays == 0u) return; // no sign rays: the closest triangle's side gives the sign, no vote is ever read
+#endif
   storeVotes(slot, local, packHalf2x16(min(vote, vec2(60000.0))));
 }
 
@@ -223,7 +226,7 @@ void storeVoxel(ivec3 v, uint slot, uint local, float f, bool inside, vec2 vote)
 // (the radius where nothing lay within it) and the sign (the rays' votes when x > 0, else the closest triangle's side).
 void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, bool near, BvhHit hit) {
   float nearest;
-  vec2 vote = castRays(v, fresh, slot, local, nearest);
+  vec2 vote = params.rays > 0u ? castRays(v, fresh, slot, local, nearest) : vec2(0.0);
   float f = near ? hit.point.w : radius;
   bool inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
   storeVoxel(v, slot, local, f, inside, vote);

@@ -16,6 +16,10 @@
 // as closestPoint, so the distances are the same; a box whose candidates overflow walks per voxel.
 #include "gpu/shared/Bvh.h"
 #include "gpu/shared/Refine.h"
+// Closest mode: 0 when the sign comes from the closest triangle's side alone (x = 0, refine_closest_side.comp).
+#ifndef RTSDF_SIGN_RAYS
+#define RTSDF_SIGN_RAYS 1
+#endif
 
 layout(local_size_x = RTSDF_REFINE_GROUP) in;
 layout(push_constant) uniform Push { RefineParams params; };
@@ -215,20 +219,24 @@ void storeVoxel(ivec3 v, uint slot, uint local, float f, bool inside, vec2 vote)
   ivec3 fd = params.fineDims.xyz;
   storeValue(slot, local, inside ? -f : f);
   if ((params.coarseDims.w & kRefineWriteDense) != 0) dense[uint((v.z * fd.y + v.y) * fd.x + v.x)] = inside ? -f : f;
-#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
-  if (params.rays == 0u) return; // no sign rays: the closest triangle's side gives the sign, no vote is ever read
-#endif
+#if RTSDF_SIGN_RAYS // without sign rays the closest triangle's side gives the sign: no vote is ever read
   storeVotes(slot, local, packHalf2x16(min(vote, vec2(60000.0))));
+#endif
 }
 
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
 // Closest mode's end of fine voxel v, given the answer of its closest-point query of the given radius: the distance
 // (the radius where nothing lay within it) and the sign (the rays' votes when x > 0, else the closest triangle's side).
 void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, bool near, BvhHit hit) {
-  float nearest;
-  vec2 vote = params.rays > 0u ? castRays(v, fresh, slot, local, nearest) : vec2(0.0);
   float f = near ? hit.point.w : radius;
-  bool inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
+#if RTSDF_SIGN_RAYS
+  float nearest;
+  vec2 vote = castRays(v, fresh, slot, local, nearest);
+  bool inside = vote.y > vote.x;
+#else
+  vec2 vote = vec2(0.0);
+  bool inside = hit.point.w >= 0.0 && hit.frontFace == 0u;
+#endif
   storeVoxel(v, slot, local, f, inside, vote);
 }
 #endif
@@ -263,7 +271,9 @@ void refineVoxels(ivec3 lo, ivec3 hi, bool fresh) {
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
 // Closest mode's cell search over box lo..hi (at most 2 voxels per axis) of coarse voxel c (linear index ci): one walk
 // collects the candidates, then each candidate is tested against the box's 8 corner voxels at once (a voxel of a
-// 1-voxel axis is two corners: both give the same answer, the first is kept).
+// 1-voxel axis is two corners: both give the same answer, the first is kept). The voxels the candidates may not
+// answer walk on their own, in one loop after the others: on a SIMD machine (lavapipe) a walk inside the voxel loop
+// would run, masked, once per voxel even where no voxel needs it.
 void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   vec3 first = voxelCentre(lo), last = voxelCentre(hi);
   vec3 m = 0.5 * (first + last);
@@ -272,10 +282,6 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   vec3 centre = params.coarseOriginInvH.xyz + (vec3(c) + 0.5) / params.coarseOriginInvH.w;
   float radius = coarse[ci] + params.beta + 0.8660254 / params.coarseOriginInvH.w + length(m - centre);
   collectCellCandidates(m, 0.5 * (last - first), radius * (1.0 + 1.0e-5));
-  if (cellMissed) {
-    refineVoxels(lo, hi, fresh);
-    return;
-  }
   ClosestQuery q[8];
   float radii[8];
   uint slots[8];
@@ -290,12 +296,19 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   BvhHit hits[8];
   bool nears[8];
   [[unroll]] for (int j = 0; j < 8; ++j) nears[j] = closestEnd(q[j], hits[j]);
+  uint alone = 0u; // the voxels that walk on their own
   for (int j = 0; j < 8; ++j) {
     ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
     if (any(greaterThan(v, hi)) || slots[j] == kNoBrick) continue;
-    BvhHit hit = hits[j];
-    bool near = nears[j];
-    if (!complete[j]) near = closestPoint(voxelCentre(v), radii[j], hit);
+    if (cellMissed || !complete[j]) alone |= 1u << j;
+    else finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], nears[j], hits[j]);
+  }
+  while (alone != 0u) {
+    int j = findLSB(alone);
+    alone &= alone - 1u;
+    ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
+    BvhHit hit;
+    bool near = closestPoint(voxelCentre(v), radii[j], hit);
     finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], near, hit);
   }
 }

@@ -186,10 +186,14 @@ public:
 /// @brief Exact refinement: the closest point through the BVH (sign from ray votes when x > 0). With kRefineCellSearch
 ///        in params.coarseDims.w (ClosestSearch::Cell) one walk per box of fine voxels collects the triangles its
 ///        voxels test; the same distances as a walk per voxel.
+/// @param signRays whether params.rays will be above 0: without sign rays the sign is the closest triangle's side,
+///        and a shader variant without the ray code runs (refine_closest_side.comp: a SIMD device runs code it
+///        branches around, masked).
 class ClosestRefinePass : public RefinePass {
 public:
   static constexpr const char* kName = "ClosestRefinePass";
-  explicit ClosestRefinePass(const gpu::VulkanContext& ctx) : RefinePass(ctx, "refine_closest.comp", kName) {}
+  ClosestRefinePass(const gpu::VulkanContext& ctx, bool signRays)
+      : RefinePass(ctx, signRays ? "refine_closest.comp" : "refine_closest_side.comp", kName) {}
 };
 
 } // namespace rtsdf

@@ -268,10 +268,10 @@ struct SdfPipeline::Gpu {
   Buffer brickNeeded, brickSlots, brickFree, brickCounts, placeholder;
   Buffer samplingParams; // the frame's RefineParams, for shading passes that sample the bricks (Sparse only)
   Buffer values[RTSDF_BRICK_PAGES], votes[RTSDF_BRICK_PAGES];
-  Gpu(const gpu::VulkanContext& ctx, RefineMode mode)
+  Gpu(const gpu::VulkanContext& ctx, RefineMode mode, int rays)
       : coarse(ctx), compact(ctx), maskDispatch(ctx), brickAlloc(ctx), upsample(ctx),
         refine(mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
-                                        : std::make_unique<ClosestRefinePass>(ctx)),
+                                        : std::make_unique<ClosestRefinePass>(ctx, rays > 0)),
         profiler(ctx), frameCmd(ctx) {}
   BrickPages pages() const {
     BrickPages p{};
@@ -309,7 +309,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
                                                         "the coarse one", mCoarseSpec.describe(),
                                                         mFineSpec.describe()));
   mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, frameOrigin());
-  mGpu = std::make_unique<Gpu>(ctx, s.mode);
+  mGpu = std::make_unique<Gpu>(ctx, s.mode, s.rays);
   if (s.fineStorage == FineStorage::Dense)
     mGpu->fine = Buffer(ctx, mFineSpec.voxelCount() * 4, kStorage, Buffer::Memory::Device, "fine SDF");
   mGpu->coarseState = Buffer(ctx, mCoarseSpec.voxelCount() * 8, kStorageFilled, Buffer::Memory::Device,

@@ -294,6 +294,14 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
 // is a child for which the function SKIPPED(po, lo, hi, minScale) is true; the walk goes on while GOING holds. The
 // code between the macros runs per triangle, its leaf index declared as 'uint LEAF'.
 // Use: RTSDF_POINT_WALK_BEGIN(inst, po, reach, skipped, going, leaf) ... RTSDF_POINT_WALK_END
+// Two shapes, the same nodes in the same order: with RTSDF_POINT_WALK_WHILE_WHILE (the shaders for CPU devices) inner
+// nodes are descended until a leaf before its triangles are tested, so that the SIMD lanes of a CPU test theirs
+// together (lavapipe runs a branch's code, masked, whenever any lane takes it); without it (GPUs), one node per step.
+// Measured: docs/results.md, "The refinement's walks on a CPU and on a GPU".
+#ifndef RTSDF_POINT_WALK_WHILE_WHILE
+#define RTSDF_POINT_WALK_WHILE_WHILE 0
+#endif
+#if RTSDF_POINT_WALK_WHILE_WHILE
 #define RTSDF_POINT_WALK_BEGIN(INST, PO, REACH, SKIPPED, GOING, LEAF)                                                  \
   uint stack[RTSDF_BVH_STACK];                                                                                         \
   int sp = 0;                                                                                                          \
@@ -322,6 +330,31 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
     }                                                                                                                  \
     for (uint k = 0u; k < leafCount; ++k) {                                                                            \
       uint LEAF = leafFirst + k;
+#else
+#define RTSDF_POINT_WALK_BEGIN(INST, PO, REACH, SKIPPED, GOING, LEAF)                                                  \
+  uint stack[RTSDF_BVH_STACK];                                                                                         \
+  int sp = 0;                                                                                                          \
+  stack[sp++] = INST.blasRoot;                                                                                         \
+  while (sp > 0 && (GOING)) {                                                                                          \
+    BvhNode n = blasNodes[stack[--sp]];                                                                                \
+    float reach = (REACH);                                                                                             \
+    if (INST.minScale * boxDistance(PO, n.lo.xyz, n.hi.xyz) > reach) continue;                                         \
+    uint leafFirst = nodeFirst(n), leafCount = nodeCount(n);                                                           \
+    if (leafCount == 0u) {                                                                                             \
+      BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];                                           \
+      float dl = INST.minScale * boxDistance(PO, l.lo.xyz, l.hi.xyz);                                                  \
+      float dr = INST.minScale * boxDistance(PO, r.lo.xyz, r.hi.xyz);                                                  \
+      uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;                                                        \
+      uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);                                                         \
+      bool keepL = dl <= reach && !SKIPPED(PO, l.lo.xyz, l.hi.xyz, INST.minScale);                                    \
+      bool keepR = dr <= reach && !SKIPPED(PO, r.lo.xyz, r.hi.xyz, INST.minScale);                                    \
+      if (dl <= dr ? keepR : keepL) stack[sp++] = farC;                                                                \
+      if (dl <= dr ? keepL : keepR) stack[sp++] = nearC;                                                               \
+      continue;                                                                                                        \
+    }                                                                                                                  \
+    for (uint k = 0u; k < leafCount; ++k) {                                                                            \
+      uint LEAF = leafFirst + k;
+#endif
 #define RTSDF_POINT_WALK_END                                                                                           \
     }                                                                                                                  \
   }

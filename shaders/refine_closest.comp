@@ -1,7 +1,10 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
-// ClosestRefinePass: exact closest-point distances (refine_main.glsl).
+// ClosestRefinePass (refine_main.glsl): exact closest-point distances, one walk per fine voxel; the sign from the sign rays' votes (x > 0); for GPUs.
 #include "gpu/shared/Refine.h"
 #define RTSDF_REFINE_MODE RTSDF_REFINE_CLOSEST
+#define RTSDF_CELL_SEARCH 0
+#define RTSDF_SIGN_RAYS 1
+#define RTSDF_POINT_WALK_WHILE_WHILE 0
 #include "refine_main.glsl"

@@ -1,4 +1,4 @@
-// The refinement shaders' body (refine_rays.comp, refine_closest.comp define RTSDF_REFINE_MODE first):
+// The refinement shaders' body (refine_rays.comp, refine_closest*.comp define RTSDF_REFINE_MODE first):
 // RayRefinePass / ClosestRefinePass, for every fine voxel of the ray mask, refine the distance through the BVH.
 //   rays mode (the paper): x rays uniform on the sphere, r_t = nearest hit, f_t = min(alpha f_{t-1} +
 //   (1 - alpha) c^_t, r_t) with c^_t = c_t + beta + sqrt(3)/2 h_coarse (an upper bound: see below);
@@ -7,18 +7,24 @@
 //   else from the side of the closest triangle.
 // The list holds the coarse voxels MaskCompactPass chose to refine this frame (the others keep their values);
 // each is expanded into the fine voxels under it (maskFineRanges), cut into params.refineParts boxes of at most
-// params.partBox.xyz fine voxels, one invocation per box (a short loop: at most 27 voxels, or a run along z of
+// params.partBox.xyz fine voxels, one invocation per box (a short loop: at most 8 voxels, or a run along z of
 // the fine/coarse ratio + 1). A voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with
 // their last value, which the brick pool holds (the sparse fine state), and so, with FineStorage::Dense, does
 // the dense fine SDF; a voxel whose brick found no slot (a full pool) is left alone.
-// Closest mode with kRefineCellSearch: one BVH walk per box collects every triangle that can be nearest to any
-// voxel of it (collectCellCandidates), and each voxel tests only those, with the same triangle test and tie rule
-// as closestPoint, so the distances are the same; a box whose candidates overflow walks per voxel.
+// Closest mode's cell search (RTSDF_CELL_SEARCH): one BVH walk per box collects every triangle that can be nearest
+// to any voxel of it (collectCellCandidates), and each voxel tests only those, with the same triangle test and tie
+// rule as closestPoint, so the distances are the same; a voxel the candidates may not answer walks on its own.
 #include "gpu/shared/Bvh.h"
 #include "gpu/shared/Refine.h"
-// Closest mode: 0 when the sign comes from the closest triangle's side alone (x = 0, refine_closest_side.comp).
+// The closest shaders' variants (refine_closest*.comp; lavapipe runs the code behind a branch, masked, even where no
+// lane takes it, so what a pipeline never runs is compiled out): RTSDF_SIGN_RAYS 0 when the sign comes from the
+// closest triangle's side alone (x = 0); RTSDF_CELL_SEARCH 1 for ClosestSearch::Cell (refineCellBox); the BVH walk's
+// shape by device (RTSDF_POINT_WALK_WHILE_WHILE, bvh_traverse.glsl).
 #ifndef RTSDF_SIGN_RAYS
 #define RTSDF_SIGN_RAYS 1
+#endif
+#ifndef RTSDF_CELL_SEARCH
+#define RTSDF_CELL_SEARCH 0
 #endif
 
 layout(local_size_x = RTSDF_REFINE_GROUP) in;
@@ -38,7 +44,7 @@ layout(std430, binding = kRefineBindingDense) writeonly buffer Dense { float den
 
 #include "bvh_traverse.glsl"
 
-#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
 // The box's candidates (collectCellCandidates): instance slot, leaf-order triangle and distance to the box's
 // centre m. Private to the invocation.
 uint cellInstance[RTSDF_CELL_CANDIDATES];
@@ -268,7 +274,7 @@ void refineVoxels(ivec3 lo, ivec3 hi, bool fresh) {
   }
 }
 
-#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
 // Closest mode's cell search over box lo..hi (at most 2 voxels per axis) of coarse voxel c (linear index ci): one walk
 // collects the candidates, then each candidate is tested against the box's 8 corner voxels at once (a voxel of a
 // 1-voxel axis is two corners: both give the same answer, the first is kept). The voxels the candidates may not
@@ -324,7 +330,7 @@ void refineBox(uint ci, uint part, bool fresh) {
   ivec3 lo = ivec3(rx.x, ry.x, rz.x) + box * ivec3(part % partsX, part / partsX % partsY, part / (partsX * partsY));
   ivec3 hi = min(lo + box - 1, ivec3(rx.y, ry.y, rz.y));
   if (any(greaterThan(lo, hi))) return;
-#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
   if ((params.coarseDims.w & kRefineCellSearch) != 0) {
     refineCellBox(ci, c, lo, hi, fresh);
     return;

@@ -76,8 +76,9 @@ void bindPipeline(CLI::App* cmd, PipelineSettings& p, std::string& device) {
       ->check(inRange(0.0, 1.0))->capture_default_str();
   addEnum(cmd, "--refine", p.mode, "rays: the paper's random rays; closest: exact closest-point distance");
   addEnum(cmd, "--closest-search", p.closestSearch,
-          "Closest mode: cell (one BVH walk per box of fine voxels collects the triangles they test) or voxel (one "
-          "walk per fine voxel); the same distances");
+          "Closest mode: cell (one BVH walk per box of fine voxels collects the triangles they test), voxel (one "
+          "walk per fine voxel) or auto (cell on a CPU device such as lavapipe, voxel on a GPU: the faster on each); "
+          "the same distances");
   cmd->add_option("--seed", p.seed, "Random seed of the ray directions")->capture_default_str();
   addEnum(cmd, "--coarse-method,--jfa", p.coarseMethod,
           "How the coarse SDF finds each voxel's nearest seed: edt (exact separable transform, the default) or the "

@@ -186,14 +186,20 @@ public:
 /// @brief Exact refinement: the closest point through the BVH (sign from ray votes when x > 0). With kRefineCellSearch
 ///        in params.coarseDims.w (ClosestSearch::Cell) one walk per box of fine voxels collects the triangles its
 ///        voxels test; the same distances as a walk per voxel.
-/// @param signRays whether params.rays will be above 0: without sign rays the sign is the closest triangle's side,
-///        and a shader variant without the ray code runs (refine_closest_side.comp: a SIMD device runs code it
-///        branches around, masked).
 class ClosestRefinePass : public RefinePass {
 public:
   static constexpr const char* kName = "ClosestRefinePass";
-  ClosestRefinePass(const gpu::VulkanContext& ctx, bool signRays)
-      : RefinePass(ctx, signRays ? "refine_closest.comp" : "refine_closest_side.comp", kName) {}
+  /// The shader variant (refine_closest*.comp): a SIMD device runs the code it branches around, masked, so what a
+  /// pipeline never runs is compiled out.
+  struct Variant {
+    bool signRays = true;    ///< params.rays > 0: the sign from the rays' votes, else from the closest triangle's side
+    bool cellSearch = false; ///< ClosestSearch::Cell (kRefineCellSearch must be set too)
+    bool cpu = false;        ///< the BVH walk's shape for CPU devices (ShaderTarget::Cpu)
+  };
+  ClosestRefinePass(const gpu::VulkanContext& ctx, const Variant& variant)
+      : RefinePass(ctx, shaderFor(variant), kName) {}
+  /// @brief The shader file of @a variant, e.g. "refine_closest_cell_side_cpu.comp".
+  static const char* shaderFor(const Variant& variant);
 };
 
 } // namespace rtsdf

@@ -268,10 +268,10 @@ struct SdfPipeline::Gpu {
   Buffer brickNeeded, brickSlots, brickFree, brickCounts, placeholder;
   Buffer samplingParams; // the frame's RefineParams, for shading passes that sample the bricks (Sparse only)
   Buffer values[RTSDF_BRICK_PAGES], votes[RTSDF_BRICK_PAGES];
-  Gpu(const gpu::VulkanContext& ctx, RefineMode mode, int rays)
+  Gpu(const gpu::VulkanContext& ctx, RefineMode mode, const ClosestRefinePass::Variant& closest)
       : coarse(ctx), compact(ctx), maskDispatch(ctx), brickAlloc(ctx), upsample(ctx),
         refine(mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
-                                        : std::make_unique<ClosestRefinePass>(ctx, rays > 0)),
+                                        : std::make_unique<ClosestRefinePass>(ctx, closest)),
         profiler(ctx), frameCmd(ctx) {}
   BrickPages pages() const {
     BrickPages p{};
@@ -293,6 +293,11 @@ constexpr std::uint32_t kReadbackWords = gpu::shared::kMaskCountWords + gpu::sha
 SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
                          const PipelineSettings& s)
     : mCtx(ctx), mScene(scene), mSettings(s) {
+  const bool cpuShaders = s.shaderTarget == ShaderTarget::Device ? ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
+                                                                 : s.shaderTarget == ShaderTarget::Cpu;
+  mSettings.shaderTarget = cpuShaders ? ShaderTarget::Cpu : ShaderTarget::Gpu;
+  if (s.closestSearch == ClosestSearch::Auto) mSettings.closestSearch = cpuShaders ? ClosestSearch::Cell : ClosestSearch::Voxel;
+  const bool cellSearch = s.mode == RefineMode::Closest && mSettings.closestSearch == ClosestSearch::Cell;
   // Everything is checked before anything is allocated (the brick pool, sized by the first frame's band, then).
   std::uint64_t triangles = 0;
   for (const Instance& inst : scene.instances) triangles += scene.meshes.at(inst.mesh).triangles.size();
@@ -300,8 +305,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   checkPipelineMemory(mMemory, memoryLimits(ctx.info()));
   mCoarseSpec = mMemory.coarse;
   mFineSpec = mMemory.fine;
-  mRefineParts = refinePartsFor(longestFineRuns(mCoarseSpec, mFineSpec),
-                                s.mode == RefineMode::Closest && s.closestSearch == ClosestSearch::Cell);
+  mRefineParts = refinePartsFor(longestFineRuns(mCoarseSpec, mFineSpec), cellSearch);
   // The refinement's invocations (refineParts per listed coarse voxel) are counted in 32 bits.
   if (double(mCoarseSpec.voxelCount()) * mRefineParts.total() > 4294967295.0)
     throw SettingError("coarse resolution", fmt::format("SdfPipeline: coarse grid {} over fine grid {}: too many "
@@ -309,7 +313,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
                                                         "the coarse one", mCoarseSpec.describe(),
                                                         mFineSpec.describe()));
   mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, frameOrigin());
-  mGpu = std::make_unique<Gpu>(ctx, s.mode, s.rays);
+  mGpu = std::make_unique<Gpu>(ctx, s.mode, ClosestRefinePass::Variant{s.rays > 0, cellSearch, cpuShaders});
   if (s.fineStorage == FineStorage::Dense)
     mGpu->fine = Buffer(ctx, mFineSpec.voxelCount() * 4, kStorage, Buffer::Memory::Device, "fine SDF");
   mGpu->coarseState = Buffer(ctx, mCoarseSpec.voxelCount() * 8, kStorageFilled, Buffer::Memory::Device,

@@ -40,14 +40,26 @@ template <> struct EnumNames<RefineMode> {
 ///        triangle test on the same triangles); the sign ties among equally near triangles are resolved by the same
 ///        rule.
 enum class ClosestSearch {
-  Cell, ///< one BVH walk per box of at most 3x3x3 fine voxels under a coarse voxel collects every triangle that can
-        ///< be nearest to one of them (at most RTSDF_CELL_CANDIDATES, else per voxel); each voxel tests only those
+  Auto, ///< by the kind of device the shaders are for (ShaderTarget): Cell on a CPU device, Voxel on a GPU, the
+        ///< faster on each (docs/results.md, "The refinement's walks on a CPU and on a GPU")
+  Cell, ///< one BVH walk per box of at most 2x2x2 fine voxels under a coarse voxel collects the triangles that can be
+        ///< nearest to one of them (at most RTSDF_CELL_CANDIDATES, the nearest kept); each voxel tests only those
   Voxel ///< one BVH walk per fine voxel
 };
 template <> struct EnumNames<ClosestSearch> {
   static constexpr const char* kSetting = "closest search";
-  static constexpr std::pair<const char*, ClosestSearch> kValues[] = {{"cell", ClosestSearch::Cell},
-                                                                      {"voxel", ClosestSearch::Voxel}};
+  static constexpr std::pair<const char*, ClosestSearch> kValues[] = {
+      {"auto", ClosestSearch::Auto}, {"cell", ClosestSearch::Cell}, {"voxel", ClosestSearch::Voxel}};
+};
+
+/// @brief The kind of device the refinement's shader variants are built for. A CPU device (lavapipe) runs the lanes
+///        of a SIMD vector together and runs the code behind a branch whenever any lane takes it, so its BVH walks
+///        descend to a leaf before testing its triangles (RTSDF_POINT_WALK_WHILE_WHILE); on a GPU that shape was 4x
+///        slower, and one node per step is kept. The results are the same either way.
+enum class ShaderTarget {
+  Device, ///< the kind of the device the pipeline runs on
+  Cpu,    ///< the CPU variants on any device (tests run both kinds on one device)
+  Gpu     ///< the GPU variants on any device
 };
 
 /// @brief Where the fine SDF lives on the GPU. Either way the refinement keeps its values, sign votes and history
@@ -73,7 +85,8 @@ struct PipelineSettings {
   double alpha = 0.95;   ///< history decay
   int rays = 10;         ///< x: rays per masked voxel per frame
   RefineMode mode = RefineMode::Rays;
-  ClosestSearch closestSearch = ClosestSearch::Cell; ///< closest mode: one walk per box of voxels or per voxel
+  ClosestSearch closestSearch = ClosestSearch::Auto; ///< closest mode: one walk per box of voxels or per voxel
+  ShaderTarget shaderTarget = ShaderTarget::Device; ///< the kind of device the shader variants are for
   CoarseMethod coarseMethod = CoarseMethod::Edt; ///< how the coarse SDF finds nearest seeds
   double beta = -1.0;    ///< coarse shell; < 0: half a coarse voxel
   std::uint32_t seed = 1;

@@ -235,10 +235,11 @@ TEST(RefineParts, BoxesCoverTheRunsWithAsFewWalksAsTheBoxSizeAllows) {
   EXPECT_EQ(refinePartsFor({2, 2, 2}, true).total(), 1u) << "one walk per coarse voxel at a fine/coarse ratio of 2";
 }
 
-// Cell search (one walk per box collects the candidates its voxels test) against voxel search (one walk per voxel):
-// the same distances bit for bit and the same signs, at fine/coarse ratios of 2 (boxes of 2x2x2), 8/3 (runs of 2-3:
-// boxes of 3) and 4 (two boxes per axis), fresh and blended frames, with and without sign rays, on the bunny (one
-// instance) and the default scene (20 instances; its plant's leaves overflow the candidate list and walk per voxel).
+// Cell search (one walk per box collects the candidates its voxels test) against voxel search (one walk per voxel),
+// each in the shader variants for CPU devices and for GPUs (two BVH walk shapes): the same distances bit for bit and
+// the same signs, at fine/coarse ratios of 2 (boxes of 2x2x2), 8/3 (runs of 2-3: boxes of 2, and 1 at a run's end)
+// and 4 (two boxes per axis), fresh and blended frames, with and without sign rays, on the bunny (one instance) and
+// the default scene (20 instances; its plant's leaves fill the candidate list, and some voxels walk on their own).
 TEST_F(Refine, ClosestCellSearchEqualsTheVoxelSearch) {
   struct Case {
     const char* scene;
@@ -255,21 +256,30 @@ TEST_F(Refine, ClosestCellSearchEqualsTheVoxelSearch) {
     s.coarseRes = c.coarse;
     s.fineRes = c.fine;
     s.fullRecompute = true; // every masked voxel refined every frame, blended with its last value after the first
-    std::vector<float> fields[2];
-    std::size_t masked = 0;
-    for (ClosestSearch search : {ClosestSearch::Voxel, ClosestSearch::Cell}) {
-      s.closestSearch = search;
-      SdfPipeline pipe(*sCtx, scene, boundsOf(scene), s);
-      for (double t : c.times) pipe.runFrame(t);
-      fields[search == ClosestSearch::Cell] = pipe.fineField();
-      masked = pipe.rayMask().fineVoxels.size();
+    std::vector<float> voxelGpu;
+    for (ShaderTarget target : {ShaderTarget::Gpu, ShaderTarget::Cpu}) {
+      for (ClosestSearch search : {ClosestSearch::Voxel, ClosestSearch::Cell}) {
+        s.shaderTarget = target;
+        s.closestSearch = search;
+        SdfPipeline pipe(*sCtx, scene, boundsOf(scene), s);
+        for (double t : c.times) pipe.runFrame(t);
+        const std::vector<float> field = pipe.fineField();
+        const std::size_t masked = pipe.rayMask().fineVoxels.size();
+        const std::string what = fmt::format("{} {}/{} x={} frames={}, {} search in the {} variants", c.scene, c.coarse,
+                                             c.fine, c.rays, c.times.size(), toString(search),
+                                             target == ShaderTarget::Cpu ? "CPU" : "GPU");
+        EXPECT_GT(masked, 5000u) << what;
+        if (voxelGpu.empty()) {
+          voxelGpu = field;
+          continue;
+        }
+        ASSERT_EQ(field.size(), voxelGpu.size()) << what;
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < field.size(); ++i) differ += std::memcmp(&field[i], &voxelGpu[i], 4) != 0;
+        EXPECT_EQ(differ, 0u) << what << ": voxels whose value or sign differs from the GPU variants' voxel search, of "
+                              << masked << " masked";
+      }
     }
-    const std::string what = fmt::format("{} {}/{} x={} frames={}", c.scene, c.coarse, c.fine, c.rays, c.times.size());
-    ASSERT_EQ(fields[0].size(), fields[1].size()) << what;
-    EXPECT_GT(masked, 5000u) << what;
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < fields[0].size(); ++i) differ += std::memcmp(&fields[0][i], &fields[1][i], 4) != 0;
-    EXPECT_EQ(differ, 0u) << what << ": voxels whose value or sign differs, of " << masked << " masked";
   }
 }
 

@@ -1,7 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
-// ClosestRefinePass (refine_main.glsl): exact closest-point distances by the cell search (one walk per box of fine voxels); the sign from the closest triangle's side (x = 0); for GPUs.
+// ClosestRefinePass (refine_main.glsl): exact closest-point distances by the cell search (one walk per box of fine
+// voxels); the sign from the closest triangle's side (x = 0); for GPUs.
 #include "gpu/shared/Refine.h"
 #define RTSDF_REFINE_MODE RTSDF_REFINE_CLOSEST
 #define RTSDF_CELL_SEARCH 1

@@ -191,7 +191,9 @@ vec3 voxelCentre(ivec3 v) { return params.fineOriginH.xyz + (vec3(v) + 0.5) * pa
 // the brick pool), blended with its last value: the nearest seed voxel touches the surface within half its diagonal,
 // and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays, which can only
 // over-estimate, could never lower f.)
-float voxelBound(ivec3 v, bool fresh, uint slot, uint local) { return refineBound(coarseBoundAt(v), fresh, slot, local); }
+float voxelBound(ivec3 v, bool fresh, uint slot, uint local) {
+  return refineBound(coarseBoundAt(v), fresh, slot, local);
+}
 
 // The sign votes at fine voxel v: its decayed history plus this frame's x rays (front-face hits, back-face hits), and
 // the nearest hit of those rays (inf: none).

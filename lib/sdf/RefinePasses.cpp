@@ -49,10 +49,10 @@ glm::ivec3 longestFineRuns(const GridSpec& coarse, const GridSpec& fine) {
 }
 
 const char* ClosestRefinePass::shaderFor(const Variant& v) {
-  static const char* const kShaders[8] = {
-      "refine_closest_side.comp",     "refine_closest.comp",     "refine_closest_cell_side.comp",
-      "refine_closest_cell.comp",     "refine_closest_side_cpu.comp", "refine_closest_cpu.comp",
-      "refine_closest_cell_side_cpu.comp", "refine_closest_cell_cpu.comp"};
+  static const char* const kShaders[8] = {"refine_closest_side.comp",          "refine_closest.comp",
+                                          "refine_closest_cell_side.comp",     "refine_closest_cell.comp",
+                                          "refine_closest_side_cpu.comp",      "refine_closest_cpu.comp",
+                                          "refine_closest_cell_side_cpu.comp", "refine_closest_cell_cpu.comp"};
   return kShaders[(v.signRays ? 1 : 0) + (v.cellSearch ? 2 : 0) + (v.cpu ? 4 : 0)];
 }
 

@@ -295,8 +295,10 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
     : mCtx(ctx), mScene(scene), mSettings(s) {
   const bool cpuShaders = s.shaderTarget == ShaderTarget::Device ? ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
                                                                  : s.shaderTarget == ShaderTarget::Cpu;
+  // The settings in effect (settings()): the target and the search resolved for this device.
   mSettings.shaderTarget = cpuShaders ? ShaderTarget::Cpu : ShaderTarget::Gpu;
-  if (s.closestSearch == ClosestSearch::Auto) mSettings.closestSearch = cpuShaders ? ClosestSearch::Cell : ClosestSearch::Voxel;
+  if (s.closestSearch == ClosestSearch::Auto)
+    mSettings.closestSearch = cpuShaders ? ClosestSearch::Cell : ClosestSearch::Voxel;
   const bool cellSearch = s.mode == RefineMode::Closest && mSettings.closestSearch == ClosestSearch::Cell;
   // Everything is checked before anything is allocated (the brick pool, sized by the first frame's band, then).
   std::uint64_t triangles = 0;

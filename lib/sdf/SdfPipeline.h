@@ -311,6 +311,7 @@ public:
   ///        the world's origin keeps the precision it has at the origin.
   const glm::dvec3& frameOrigin() const { return mFineSpec.origin; }
   const GridSpec& fineSpec() const { return mFineSpec; }
+  /// The settings in effect: shaderTarget and an Auto closestSearch resolved for the device.
   const PipelineSettings& settings() const { return mSettings; }
   /// @brief The fine SDF on the GPU (dense, x fastest, fineSpec()), valid after runFrame() or finishFrame().
   /// @throw Error with FineStorage::Sparse (there is none).

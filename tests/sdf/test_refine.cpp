@@ -235,6 +235,27 @@ TEST(RefineParts, BoxesCoverTheRunsWithAsFewWalksAsTheBoxSizeAllows) {
   EXPECT_EQ(refinePartsFor({2, 2, 2}, true).total(), 1u) << "one walk per coarse voxel at a fine/coarse ratio of 2";
 }
 
+// ClosestSearch::Auto takes the faster search of the kind of device the shaders are for: the cell search on a CPU
+// device (lavapipe, these tests' device), the per-voxel walk on a GPU; the choice and the target are reported as
+// the settings in effect, and the closest variant's shader is named after them.
+TEST_F(Refine, AutoClosestSearchFollowsTheShaderTarget) {
+  const Scene scene = bunny();
+  PipelineSettings s = closestAt32(0);
+  ASSERT_EQ(s.closestSearch, ClosestSearch::Auto);
+  SdfPipeline onDevice(*sCtx, scene, boundsOf(scene), s);
+  EXPECT_EQ(onDevice.settings().shaderTarget, ShaderTarget::Cpu) << "lavapipe is a CPU device";
+  EXPECT_EQ(onDevice.settings().closestSearch, ClosestSearch::Cell);
+  s.shaderTarget = ShaderTarget::Gpu;
+  SdfPipeline gpuVariants(*sCtx, scene, boundsOf(scene), s);
+  EXPECT_EQ(gpuVariants.settings().closestSearch, ClosestSearch::Voxel);
+  s.closestSearch = ClosestSearch::Cell;
+  SdfPipeline explicitCell(*sCtx, scene, boundsOf(scene), s);
+  EXPECT_EQ(explicitCell.settings().closestSearch, ClosestSearch::Cell) << "an explicit search is kept";
+  EXPECT_STREQ(ClosestRefinePass::shaderFor({false, true, true}), "refine_closest_cell_side_cpu.comp");
+  EXPECT_STREQ(ClosestRefinePass::shaderFor({true, false, false}), "refine_closest.comp");
+  EXPECT_STREQ(ClosestRefinePass::shaderFor({false, false, true}), "refine_closest_side_cpu.comp");
+}
+
 // Cell search (one walk per box collects the candidates its voxels test) against voxel search (one walk per voxel),
 // each in the shader variants for CPU devices and for GPUs (two BVH walk shapes): the same distances bit for bit and
 // the same signs, at fine/coarse ratios of 2 (boxes of 2x2x2), 8/3 (runs of 2-3: boxes of 2, and 1 at a run's end)

@@ -6,8 +6,8 @@
 
 RTSDF_SHARED_BEGIN
 
-/// Refinement modes: the shaders refine_rays.comp and refine_closest.comp are refine_main.glsl compiled with
-/// RTSDF_REFINE_MODE set to one of these.
+/// Refinement modes: the shaders refine_rays.comp and refine_closest*.comp (ClosestRefinePass::Variant) are
+/// refine_main.glsl compiled with RTSDF_REFINE_MODE set to one of these.
 #define RTSDF_REFINE_RAYS 0    // the paper: x random rays per voxel per frame, nearest hit, decayed history
 #define RTSDF_REFINE_CLOSEST 1 // exact closest-point distance through the same BVH, deterministic
 
@@ -65,10 +65,11 @@ RTSDF_FN uint brickLocalOf(ivec3 v) {
 #define RTSDF_UPSAMPLE_RUN_LENGTH 16
 /// Work-group size of the refinement shaders (one invocation per box of fine voxels under a listed coarse voxel).
 #define RTSDF_REFINE_GROUP 64
-/// Closest mode's cell search: the most triangles one box's walk collects for its voxels to test (more: the box's
-/// voxels walk the BVH one by one).
+/// Closest mode's cell search: the most triangles one box's walk keeps for its voxels to test (more: the nearest to
+/// the box's centre are kept, and a voxel whose answer may lie as far as a dropped one walks the BVH on its own).
 #define RTSDF_CELL_CANDIDATES 24
-/// The most fine voxels along an axis of a cell-search box (refinePartsFor): 27 voxels at most per walk.
+/// The most fine voxels along an axis of a cell-search box (refinePartsFor): 2, so that every voxel of a box is one
+/// of its 8 corners (the corner bounds of the cell search, refine_main.glsl).
 #define RTSDF_CELL_BOX 2
 
 /// Flags of RefineParams::coarseDims.w in the refinement shaders.
@@ -182,7 +183,7 @@ RTSDF_FN uvec3 refineDispatch(uint invocations) {
   return uvec3(gx, (groups + gx - 1u) / gx, 1u);
 }
 
-/// Bindings of refine_rays.comp and refine_closest.comp: the scene BVH (Bvh.h's kBvhBinding*), then these, then
+/// Bindings of refine_rays.comp and refine_closest*.comp: the scene BVH (Bvh.h's kBvhBinding*), then these, then
 /// the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page).
 const uint kRefineBindingRefineList = kBvhBindingCount + 0u; // the coarse voxels to refine (MaskCompactPass's list)
 const uint kRefineBindingMaskCounts = kBvhBindingCount + 1u; // MaskCounts words: the list's size

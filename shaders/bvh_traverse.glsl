@@ -297,10 +297,22 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
 // Two shapes, the same nodes in the same order: with RTSDF_POINT_WALK_WHILE_WHILE (the shaders for CPU devices) inner
 // nodes are descended until a leaf before its triangles are tested, so that the SIMD lanes of a CPU test theirs
 // together (lavapipe runs a branch's code, masked, whenever any lane takes it); without it (GPUs), one node per step.
-// Measured: docs/results.md, "The refinement's walks on a CPU and on a GPU".
+// Measured: docs/results.md, "Closest mode's first frame: 4-5x on lavapipe, and what the same changes did on an
+// NVIDIA H200".
 #ifndef RTSDF_POINT_WALK_WHILE_WHILE
 #define RTSDF_POINT_WALK_WHILE_WHILE 0
 #endif
+// The point walks' inner node N: push its children within REACH (a float) that SKIPPED keeps, the nearer on top.
+#define RTSDF_POINT_WALK_PUSH_CHILDREN(INST, PO, SKIPPED, N, REACH)                                                    \
+  {                                                                                                                    \
+    BvhNode l = blasNodes[nodeFirst(N)], r = blasNodes[nodeFirst(N) + 1u];                                             \
+    float dl = INST.minScale * boxDistance(PO, l.lo.xyz, l.hi.xyz);                                                    \
+    float dr = INST.minScale * boxDistance(PO, r.lo.xyz, r.hi.xyz);                                                    \
+    bool keepL = dl <= (REACH) && !SKIPPED(PO, l.lo.xyz, l.hi.xyz, INST.minScale);                                    \
+    bool keepR = dr <= (REACH) && !SKIPPED(PO, r.lo.xyz, r.hi.xyz, INST.minScale);                                    \
+    if (dl <= dr ? keepR : keepL) stack[sp++] = dl <= dr ? nodeFirst(N) + 1u : nodeFirst(N);                           \
+    if (dl <= dr ? keepL : keepR) stack[sp++] = dl <= dr ? nodeFirst(N) : nodeFirst(N) + 1u;                           \
+  }
 #if RTSDF_POINT_WALK_WHILE_WHILE
 #define RTSDF_POINT_WALK_BEGIN(INST, PO, REACH, SKIPPED, GOING, LEAF)                                                  \
   uint stack[RTSDF_BVH_STACK];                                                                                         \
@@ -318,15 +330,7 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
         leafCount = nodeCount(n);                                                                                      \
         break;                                                                                                         \
       }                                                                                                                \
-      BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];                                           \
-      float dl = INST.minScale * boxDistance(PO, l.lo.xyz, l.hi.xyz);                                                  \
-      float dr = INST.minScale * boxDistance(PO, r.lo.xyz, r.hi.xyz);                                                  \
-      uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;                                                        \
-      uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);                                                         \
-      bool keepL = dl <= reach && !SKIPPED(PO, l.lo.xyz, l.hi.xyz, INST.minScale);                                    \
-      bool keepR = dr <= reach && !SKIPPED(PO, r.lo.xyz, r.hi.xyz, INST.minScale);                                    \
-      if (dl <= dr ? keepR : keepL) stack[sp++] = farC;                                                                \
-      if (dl <= dr ? keepL : keepR) stack[sp++] = nearC;                                                               \
+      RTSDF_POINT_WALK_PUSH_CHILDREN(INST, PO, SKIPPED, n, reach)                                                      \
     }                                                                                                                  \
     for (uint k = 0u; k < leafCount; ++k) {                                                                            \
       uint LEAF = leafFirst + k;
@@ -341,15 +345,7 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
     if (INST.minScale * boxDistance(PO, n.lo.xyz, n.hi.xyz) > reach) continue;                                         \
     uint leafFirst = nodeFirst(n), leafCount = nodeCount(n);                                                           \
     if (leafCount == 0u) {                                                                                             \
-      BvhNode l = blasNodes[nodeFirst(n)], r = blasNodes[nodeFirst(n) + 1u];                                           \
-      float dl = INST.minScale * boxDistance(PO, l.lo.xyz, l.hi.xyz);                                                  \
-      float dr = INST.minScale * boxDistance(PO, r.lo.xyz, r.hi.xyz);                                                  \
-      uint nearC = dl <= dr ? nodeFirst(n) : nodeFirst(n) + 1u;                                                        \
-      uint farC = dl <= dr ? nodeFirst(n) + 1u : nodeFirst(n);                                                         \
-      bool keepL = dl <= reach && !SKIPPED(PO, l.lo.xyz, l.hi.xyz, INST.minScale);                                    \
-      bool keepR = dr <= reach && !SKIPPED(PO, r.lo.xyz, r.hi.xyz, INST.minScale);                                    \
-      if (dl <= dr ? keepR : keepL) stack[sp++] = farC;                                                                \
-      if (dl <= dr ? keepL : keepR) stack[sp++] = nearC;                                                               \
+      RTSDF_POINT_WALK_PUSH_CHILDREN(INST, PO, SKIPPED, n, reach)                                                      \
       continue;                                                                                                        \
     }                                                                                                                  \
     for (uint k = 0u; k < leafCount; ++k) {                                                                            \

@@ -57,9 +57,9 @@ float cellKeep = 0.0;    // candidates farther than this from m cannot be neares
 float cellDropped = 0.0; // the nearest distance from m of a triangle in reach that the full list dropped (or inf)
 
 // The box's voxel centres lie within its corners m + (+-e.x, +-e.y, +-e.z) (a box is at most 2 voxels per axis, so
-// every voxel is a corner). cellUpper*: upper bounds of the distance to the surface at the corners, z low then z high,
-// x fastest (kCornerX, kCornerY), from the surface points the walk has met; cellLimit*: those rounded up by the
-// margin a tie and the rounding of both searches need.
+// every voxel is a corner). cellLimit*: upper bounds of the distance to the surface at the corners, z low then z high,
+// x fastest (kCornerX, kCornerY), from the surface points the walk has met, rounded up by the margin a tie and the
+// rounding of both searches need.
 vec3 cellHalf = vec3(0.0);
 vec4 cellLimitLo = vec4(0.0), cellLimitHi = vec4(0.0);
 float cellMargin = 0.0;

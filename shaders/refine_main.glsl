@@ -240,7 +240,8 @@ void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, boo
 #if RTSDF_SIGN_RAYS
   float nearest;
   vec2 vote = castRays(v, fresh, slot, local, nearest);
-  bool inside = vote.y > vote.x;
+  // Should this variant run with x = 0 after all, the side still gives the sign (the host picks the _side variant).
+  bool inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
 #else
   vec2 vote = vec2(0.0);
   bool inside = hit.point.w >= 0.0 && hit.frontFace == 0u;

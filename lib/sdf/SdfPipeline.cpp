@@ -22,41 +22,6 @@ namespace rtsdf {
 using gpu::Buffer;
 using gpu::shared::RefineParams;
 
-void PipelineSettings::validate() const {
-  if (coarseRes < 1 || coarseRes > 1024)
-    throw SettingError("coarse resolution", fmt::format("coarse resolution {} is out of range [1, 1024]", coarseRes));
-  if (fineRes < coarseRes || fineRes > 1024)
-    throw SettingError("fine resolution", fmt::format("fine resolution {} must be in [the coarse resolution ({}), "
-                                                      "1024]", fineRes, coarseRes));
-  if (!std::isfinite(band) || band < 0.0)
-    throw SettingError("band", fmt::format("band {} must be finite and >= 0", band));
-  if (!(alpha >= 0.0 && alpha <= 1.0)) throw SettingError("alpha", fmt::format("alpha {} must be in [0, 1]", alpha));
-  if (rays < 0 || rays > 1024) throw SettingError("rays", fmt::format("rays {} is out of range [0, 1024]", rays));
-  if (std::isnan(beta) || std::isinf(beta)) throw SettingError("beta", fmt::format("beta {} must be finite", beta));
-  if (!std::isfinite(padding)) throw SettingError("padding", fmt::format("padding {} must be finite", padding));
-  if (settleFrames == 0 || settleFrames > 1000000)
-    throw SettingError("settle frames", fmt::format("settle frames {} must be in [1, 1000000] (or < 0: by the "
-                                                    "refinement mode)", settleFrames));
-  if (poolBricks < 0 || poolBricks > (std::int64_t(1) << 32))
-    throw SettingError("pool bricks", fmt::format("pool bricks {} must be in [0, 2^32] (0: sized by the first "
-                                                  "frame's band)", poolBricks));
-  if (refreshPeriod > 1000000)
-    throw SettingError("refresh period", fmt::format("refresh period {} must be in [0, 1000000] (or < 0: by the "
-                                                     "refinement mode)", refreshPeriod));
-}
-
-int settleFramesFor(const PipelineSettings& s) {
-  if (s.fullRecompute) return 0;
-  if (s.settleFrames > 0) return s.settleFrames;
-  if (s.mode == RefineMode::Closest) return s.rays == 0 ? 1 : 4;
-  return 32;
-}
-
-int refreshPeriodFor(const PipelineSettings& s) {
-  if (s.refreshPeriod >= 0) return s.refreshPeriod;
-  return s.mode == RefineMode::Closest ? 0 : 8;
-}
-
 std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const std::vector<Bounds>& meshBounds,
                                                       double before, double after, const glm::dvec3& origin) {
   std::vector<gpu::shared::MovedBox> boxes;
@@ -84,58 +49,6 @@ std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const 
     }
   }
   return boxes;
-}
-
-double defaultPadding(const Bounds& bounds, double band) { return std::min(band, 0.25 * bounds.maxExtent()); }
-
-double pipelinePadding(const Bounds& bounds, const PipelineSettings& s) {
-  if (s.padding < 0.0) return defaultPadding(bounds, s.band);
-  // A margin wider than the scene models mostly empty space (and at 1e30 overflows the grid's size).
-  const double longest = bounds.maxExtent();
-  if (longest > 0.0 && s.padding > longest)
-    throw SettingError("padding", fmt::format("padding {:g} is more than the scene's longest side ({:g}): at most "
-                                              "{:g}", s.padding, longest, longest));
-  return s.padding;
-}
-
-void requireBandWithin(const GridSpec& grid, double band) {
-  const double d = grid.diagonal();
-  if (band > d)
-    throw SettingError("band", fmt::format("band {:g} is longer than the grid's diagonal ({:g}): every voxel would be "
-                                           "in it; at most {:g} (for an exact field everywhere, ask for the full "
-                                           "domain)", band, d, d));
-}
-
-void requireBetaWithin(const GridSpec& coarse, double beta) {
-  const double d = coarse.diagonal();
-  if (beta > d)
-    throw SettingError("beta", fmt::format("beta {:g} is longer than the coarse grid's diagonal ({:g}): the shell "
-                                           "would swallow every voxel; at most {:g} (default: half a coarse voxel, "
-                                           "{:g})", beta, d, d, 0.5 * coarse.voxelSize));
-}
-
-GridSpec coarseGridOver(const GridSpec& fine, const Bounds& bounds, int coarseRes, double padding) {
-  GridSpec c;
-  // The fine and coarse voxel (0,0,0) share their corner: the ray mask maps coarse to fine voxels by index.
-  c.origin = fine.origin;
-  c.voxelSize = GridSpec::fromBounds(bounds, coarseRes, padding).voxelSize;
-  const glm::dvec3 ext = glm::dvec3(fine.dims) * fine.voxelSize;
-  for (int a = 0; a < 3; ++a) c.dims[a] = std::max(1, int(std::ceil(ext[a] / c.voxelSize - 1e-9)));
-  return c;
-}
-
-std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& s) {
-  s.validate();
-  const double padding = pipelinePadding(bounds, s);
-  const GridSpec fine = GridSpec::fromBounds(bounds, s.fineRes, padding);
-  const GridSpec coarse = coarseGridOver(fine, bounds, s.coarseRes, padding);
-  // No band limit here: a ray-mask band beyond the grid masks every voxel, a knob's legitimate extreme.
-  requireBetaWithin(coarse, s.beta);
-  for (int a = 0; a < 3; ++a)
-    if (fine.dims[a] > gpu::shared::kMaxSeedAxis)
-      throw SettingError("fine resolution", fmt::format("fine grid {}: more than {} voxels along an axis (lower the "
-                                                        "fine resolution)", fine.describe(), gpu::shared::kMaxSeedAxis));
-  return {coarse, fine};
 }
 
 namespace {

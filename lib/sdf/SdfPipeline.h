@@ -11,6 +11,7 @@
 #include "scene/Scene.h"
 #include "sdf/CoarseSdf.h"
 #include "sdf/GpuSceneBvh.h"
+#include "sdf/PipelineSettings.h"
 #include "sdf/RefinePasses.h"
 #include "util/EnumNames.h"
 #include "util/PassTimes.h"
@@ -25,127 +26,6 @@
 
 namespace rtsdf {
 
-/// @brief How the fine SDF is refined.
-enum class RefineMode {
-  Rays,   ///< the paper: x random rays per masked voxel per frame, decayed history
-  Closest ///< exact closest-point distance through the same BVH (deterministic)
-};
-template <> struct EnumNames<RefineMode> {
-  static constexpr const char* kSetting = "refinement mode";
-  static constexpr std::pair<const char*, RefineMode> kValues[] = {{"rays", RefineMode::Rays},
-                                                                   {"closest", RefineMode::Closest}};
-};
-
-/// @brief How closest mode finds each fine voxel's nearest triangle. Both give the same distances (the same
-///        triangle test on the same triangles); the sign ties among equally near triangles are resolved by the same
-///        rule.
-enum class ClosestSearch {
-  Auto, ///< by the kind of device the shaders are for (ShaderTarget): Cell on a CPU device, Voxel on a GPU, the
-        ///< faster on each (docs/results.md, "Closest mode's first frame: 4-5x on lavapipe, and what the same
-        ///< changes did on an NVIDIA H200")
-  Cell, ///< one BVH walk per box of at most 2x2x2 fine voxels under a coarse voxel collects the triangles that can be
-        ///< nearest to one of them (at most RTSDF_CELL_CANDIDATES, the nearest kept); each voxel tests only those
-  Voxel ///< one BVH walk per fine voxel
-};
-template <> struct EnumNames<ClosestSearch> {
-  static constexpr const char* kSetting = "closest search";
-  static constexpr std::pair<const char*, ClosestSearch> kValues[] = {
-      {"auto", ClosestSearch::Auto}, {"cell", ClosestSearch::Cell}, {"voxel", ClosestSearch::Voxel}};
-};
-
-/// @brief The kind of device the refinement's shader variants are built for. A CPU device (lavapipe) runs the lanes
-///        of a SIMD vector together and runs the code behind a branch whenever any lane takes it, so its BVH walks
-///        descend to a leaf before testing its triangles (RTSDF_POINT_WALK_WHILE_WHILE); on a GPU that shape was 4x
-///        slower, and one node per step is kept. The results are the same either way.
-enum class ShaderTarget {
-  Device, ///< the kind of the device the pipeline runs on
-  Cpu,    ///< the CPU variants on any device (tests run both kinds on one device)
-  Gpu     ///< the GPU variants on any device
-};
-
-/// @brief Where the fine SDF lives on the GPU. Either way the refinement keeps its values, sign votes and history
-///        only in bricks of RTSDF_BRICK^3 fine voxels under the ray mask (the sparse fine state, a pool sized by the
-///        mask); outside the mask the fine SDF is the coarse one upsampled.
-enum class FineStorage {
-  Dense, ///< also a dense fine SDF (the refinement writes it under the band, UpsamplePass elsewhere), for shading
-         ///< passes that sample it (fineBuffer()); memory grows with the grid's volume
-  Sparse ///< the coarse SDF and the bricks only: memory grows with the band (surface area x band width)
-};
-template <> struct EnumNames<FineStorage> {
-  static constexpr const char* kSetting = "fine storage";
-  static constexpr std::pair<const char*, FineStorage> kValues[] = {{"dense", FineStorage::Dense},
-                                                                    {"sparse", FineStorage::Sparse}};
-};
-
-/// @brief Every knob of the pipeline (scene units for lengths).
-struct PipelineSettings {
-  int coarseRes = 128;   ///< voxels across the scene for the coarse SDF
-  int fineRes = 256;     ///< voxels across the scene for the fine SDF (>= coarseRes)
-  double band = 0.1;     ///< d: refine where |c| <= d
-  double padding = -1.0; ///< margin around the scene bounds; < 0: defaultPadding (the band, at most a quarter)
-  double alpha = 0.95;   ///< history decay
-  int rays = 10;         ///< x: rays per masked voxel per frame
-  RefineMode mode = RefineMode::Rays;
-  ClosestSearch closestSearch = ClosestSearch::Auto; ///< closest mode: one walk per box of voxels or per voxel
-  ShaderTarget shaderTarget = ShaderTarget::Device; ///< the kind of device the shader variants are for
-  CoarseMethod coarseMethod = CoarseMethod::Edt; ///< how the coarse SDF finds nearest seeds
-  double beta = -1.0;    ///< coarse shell; < 0: half a coarse voxel
-  std::uint32_t seed = 1;
-  /// Refine every masked voxel every frame (the paper's frame, the anchor of incremental refinement). Default:
-  /// incremental, a voxel is refined only when it is new to the mask, a moving instance came within reach of it
-  /// (either pose within |f| of it), or it has not settled (see settleFrames); otherwise it keeps its value.
-  bool fullRecompute = false;
-  /// Incremental: refinements in a row after which a voxel is settled; < 0: by the mode (settleFramesFor).
-  int settleFrames = -1;
-  /// Incremental: a settled voxel is refined again once every this many frames (0: never, its value is kept);
-  /// < 0: by the mode (refreshPeriodFor).
-  int refreshPeriod = -1;
-  FineStorage fineStorage = FineStorage::Dense; ///< a dense fine SDF for shading, or only the bricks
-  /// The brick pool's capacity at the first frame; 0: sized by the first frame's band (poolBricksFor). A pool that
-  /// overflows is regrown from the next frame on.
-  std::int64_t poolBricks = 0;
-  /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
-  void validate() const;
-};
-
-/// @brief The refinements in a row after which a voxel is settled under @a s: 0 with fullRecompute (every voxel is
-///        refined every frame); else s.settleFrames when > 0; else, by the mode, 1 in closest mode with no sign rays
-///        (an exact, deterministic value: a second refinement would repeat it), 4 in closest mode with sign rays
-///        (a few frames of votes), 32 in rays mode (its decayed history converges over frames).
-int settleFramesFor(const PipelineSettings& s);
-
-/// @brief How often a settled voxel is refined again under @a s: s.refreshPeriod when >= 0; else 0 (never) in
-///        closest mode, whose settled values are exact, and 8 in rays mode, which keeps accumulating rays, slower.
-int refreshPeriodFor(const PipelineSettings& s);
-
-/// @brief The margin a grid keeps around @a bounds for a band of half-width @a band when none is given: the band,
-///        so that it fits, but at most a quarter of the longest side, so that a band wider than the scene does not
-///        blow the grid up.
-double defaultPadding(const Bounds& bounds, double band);
-
-/// @brief The padding @a s asks for: s.padding when >= 0, else defaultPadding(bounds, s.band).
-/// @throw SettingError "padding" when s.padding exceeds the longest side of @a bounds.
-double pipelinePadding(const Bounds& bounds, const PipelineSettings& s);
-
-/// @brief A level set's band no longer than @a grid's diagonal (a longer one holds every voxel: ask for the full
-///        domain). Not applied to the ray-mask band, where a band beyond the grid masks every voxel.
-/// @throw SettingError "band" naming the largest band accepted.
-void requireBandWithin(const GridSpec& grid, double band);
-
-/// @brief A coarse shell beta no longer than @a coarse's diagonal (a longer one makes every voxel inside).
-/// @throw SettingError "beta" naming the largest beta accepted and the default.
-void requireBetaWithin(const GridSpec& coarse, double beta);
-
-/// @brief The coarse grid over a fine grid: the same corner, the voxel size of GridSpec::fromBounds(@a bounds,
-///        @a coarseRes, @a padding), and enough voxels to cover the fine grid.
-GridSpec coarseGridOver(const GridSpec& fine, const Bounds& bounds, int coarseRes, double padding);
-
-/// @brief The coarse and fine grids SdfPipeline builds for @a bounds and @a s. The fine grid is
-///        GridSpec::fromBounds(bounds, fineRes, pipelinePadding), the very voxels an exact or OpenVDB bake at
-///        resolution fineRes uses, so their files compare voxel for voxel; the coarse grid lies over it.
-/// @throw Error when the settings are out of range (PipelineSettings::validate) or the fine grid needs more
-///        than 1024 voxels along an axis.
-std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& s);
 
 /// @brief What SdfPipeline would allocate for some settings and bounds, computed without allocating.
 ///

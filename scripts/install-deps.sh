@@ -8,7 +8,7 @@ packages=(
   libopenvdb-dev libopenvdb-tools python3-openvdb libboost-iostreams-dev libblosc-dev
   libembree-dev libtbb-dev libopenexr-dev libimath-dev libpng-dev python3-imath libglm-dev
   libvulkan-dev mesa-vulkan-drivers glslc vulkan-validationlayers vulkan-tools
-  libassimp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+  libassimp-dev libcgal-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-dev pybind11-dev python3-numpy python3-pytest
   libglfw3-dev libstb-dev xvfb xauth

@@ -8,14 +8,18 @@
 namespace rtsdf::detail {
 
 std::string meshSummary(const Scene& scene) {
-  std::size_t tris = 0, dropped = 0, open = 0;
-  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
-    tris += scene.meshReports[i].triangles;
-    dropped += scene.meshReports[i].degenerateDropped;
-    open += scene.meshReports[i].watertight() ? 0 : 1;
+  std::size_t tris = 0, dropped = 0, open = 0, reoriented = 0, turned = 0;
+  for (const MeshReport& r : scene.meshReports) {
+    tris += r.triangles;
+    dropped += r.degenerateDropped;
+    open += r.watertight() ? 0 : 1;
+    reoriented += r.orientation.reorientedTriangles;
+    turned += r.orientation.piecesTurnedOutward;
   }
-  return fmt::format("{} meshes ({} open), {} instances, {} triangles, {} zero-area dropped", scene.meshes.size(), open,
-                     scene.instances.size(), tris, dropped);
+  std::string repaired;
+  if (reoriented) repaired = fmt::format(", {} faces re-oriented ({} closed pieces turned outward)", reoriented, turned);
+  return fmt::format("{} meshes ({} open), {} instances, {} triangles, {} zero-area dropped{}", scene.meshes.size(),
+                     open, scene.instances.size(), tris, dropped, repaired);
 }
 
 gpu::ContextOptions contextOptions(const std::string& device) {

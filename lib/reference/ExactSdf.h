@@ -35,9 +35,8 @@ template <> struct EnumNames<SignMethod> {
 };
 
 /// @brief Exact signed distance queries against a scene's world-space triangles.
-/// @note Points inside a mesh are negative. With interpenetrating meshes the sign comes from the mesh
-///       nearest to the point, so points inside one mesh but nearest to a triangle of another buried in it
-///       take that other mesh's sign (docs/design.md).
+/// @note Points inside a mesh are negative. Closed pieces (of one mesh or of several) that pass through each
+///       other are a union: a point inside any of them is inside, whichever surface is nearest.
 class ExactDistanceField {
 public:
   /// @throw Error when the scene has no triangles.
@@ -57,8 +56,14 @@ public:
   };
   bool closest(const glm::vec3& p, float maxDistance, Hit& hit) const;
 
-  /// @brief True when @a p is inside, given the closest-point query @a hit for it.
+  /// @brief True when @a p is inside, given the closest-point query @a hit for it: inside the piece of the mesh
+  ///        @a hit lies on (insideNearestPiece), or inside any other closed piece (parts that pass through each
+  ///        other are a union; meshes are oriented by solid at load, validateMesh).
   bool inside(const glm::vec3& p, const Hit& hit) const;
+
+  /// @brief The sign rule of the nearest surface alone: the pseudo-normal at @a hit's feature, or the winding number
+  ///        of @a hit's mesh (usesWinding).
+  bool insideNearestPiece(const glm::vec3& p, const Hit& hit) const;
 
   /// @brief Whether inside() decides @a hit by the winding number (the rest by the pseudo-normal).
   bool usesWinding(const Hit& hit) const;

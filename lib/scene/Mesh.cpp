@@ -1,5 +1,7 @@
 #include "scene/Mesh.h"
 
+#include "scene/MeshRepair.h"
+
 #include "util/Error.h"
 
 #include <fmt/format.h>
@@ -105,6 +107,8 @@ MeshReport validateMesh(Mesh& mesh) {
   mesh.positions = std::move(positions);
   mesh.triangles = std::move(kept);
   r.triangles = mesh.triangles.size();
+  // The sign follows the solid, not the order of the corners (inside-out exports, faces flipped at random).
+  r.orientation = repairOrientation(mesh);
   analyzeTopology(mesh, r);
   return r;
 }

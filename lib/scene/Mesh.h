@@ -22,6 +22,14 @@ struct Mesh {
 /// @brief The bounds of @a mesh's positions in its own space (empty for a mesh without positions).
 Bounds positionBounds(const Mesh& mesh);
 
+/// @brief What orientation repair (repairOrientation, scene/MeshRepair.h) changed in a mesh.
+struct OrientationRepair {
+  std::size_t reorientedTriangles = 0; ///< triangles whose corner order was reversed
+  std::size_t piecesTurnedOutward = 0; ///< closed pieces that faced inward (negative volume) and were turned
+  std::size_t pieces = 0;              ///< connected pieces (joined by edges two triangles share)
+  std::size_t closedPieces = 0;        ///< pieces without a boundary or non-manifold edge
+};
+
 /// @brief What validation found and did to a mesh.
 struct MeshReport {
   std::size_t inputTriangles = 0;
@@ -31,7 +39,8 @@ struct MeshReport {
   std::size_t triangles = 0;         ///< kept
   std::size_t boundaryEdges = 0;     ///< edges used by one triangle (open mesh)
   std::size_t nonManifoldEdges = 0;  ///< edges used by more than two triangles
-  std::size_t misorientedEdges = 0;  ///< edges whose two triangles traverse it in the same direction
+  std::size_t misorientedEdges = 0;  ///< edges whose two triangles traverse it in the same direction (after repair)
+  OrientationRepair orientation;     ///< what the orientation repair changed
   /// @brief Closed, manifold and consistently oriented: the pseudo-normal sign is exact for it.
   bool watertight() const { return boundaryEdges == 0 && nonManifoldEdges == 0 && misorientedEdges == 0; }
 };
@@ -49,7 +58,8 @@ bool hasFloatArea(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
 inline constexpr double kMaxCoordinate = 1e9;
 
 /// @brief Validate a mesh in place: errors for what cannot be repaired, counted drops for what can.
-/// @param mesh the mesh; on return it holds only finite, non-degenerate triangles over welded vertices.
+/// @param mesh the mesh; on return it holds only finite, non-degenerate triangles over welded vertices, oriented
+///        by solid (repairOrientation: consistent per piece, closed pieces outward).
 /// @return the counts of what was found and dropped, and the mesh's topology.
 /// @throw Error naming the mesh's source file and object when a vertex coordinate is NaN or Inf or beyond
 ///        ±kMaxCoordinate, when a

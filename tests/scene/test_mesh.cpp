@@ -1,6 +1,7 @@
 #include "TestUtil.h"
 #include "scene/Mesh.h"
 #include "scene/MeshIO.h"
+#include "scene/MeshRepair.h"
 #include "util/Error.h"
 
 #include <gtest/gtest.h>
@@ -254,4 +255,99 @@ TEST(Mesh, SubdivisionKeepsTheSurfaceAndCuttingHolesOpensIt) {
   EXPECT_GT(h.boundaryEdges, 5u * 6u);         // five rims
   EXPECT_EQ(h.nonManifoldEdges, 0u);
   EXPECT_EQ(h.misorientedEdges, 0u);
+}
+
+namespace {
+
+void reverseAll(Mesh& m) {
+  for (glm::uvec3& t : m.triangles) std::swap(t.y, t.z);
+}
+
+/// Reverse every @a every-th triangle (a reproducible share of flipped faces).
+void reverseEvery(Mesh& m, int every) {
+  for (std::size_t t = 0; t < m.triangles.size(); t += std::size_t(every)) std::swap(m.triangles[t].y, m.triangles[t].z);
+}
+
+/// Whether @a a and @a b hold the same triangles with the same corner order (up to rotation), by position
+/// (validation renumbers the vertices).
+bool sameOrientation(const Mesh& a, const Mesh& b) {
+  if (a.triangles.size() != b.triangles.size()) return false;
+  for (std::size_t t = 0; t < a.triangles.size(); ++t) {
+    const glm::vec3 x[3] = {a.positions[a.triangles[t].x], a.positions[a.triangles[t].y],
+                            a.positions[a.triangles[t].z]};
+    const glm::vec3 y[3] = {b.positions[b.triangles[t].x], b.positions[b.triangles[t].y],
+                            b.positions[b.triangles[t].z]};
+    bool rotated = false;
+    for (int k = 0; k < 3; ++k) rotated = rotated || (x[0] == y[k] && x[1] == y[(k + 1) % 3] && x[2] == y[(k + 2) % 3]);
+    if (!rotated) return false;
+  }
+  return true;
+}
+
+} // namespace
+
+TEST(MeshRepair, InsideOutClosedMeshesAreTurnedOutward) {
+  for (Mesh clean : {makeSphereMesh(1.0f, 3), test::makeTorus(1.0f, 0.3f, 32, 12), makeBoxMesh({1, 2, 3})}) {
+    validateMesh(clean);
+    Mesh m = clean;
+    reverseAll(m);
+    const MeshReport r = validateMesh(m);
+    EXPECT_TRUE(r.watertight()) << clean.name;
+    EXPECT_EQ(r.orientation.piecesTurnedOutward, 1u) << clean.name;
+    EXPECT_EQ(r.orientation.reorientedTriangles, m.triangles.size()) << clean.name;
+    EXPECT_EQ(r.orientation.closedPieces, 1u) << clean.name;
+    EXPECT_TRUE(sameOrientation(m, clean)) << clean.name;
+    EXPECT_GT(test::signedVolume(m.positions, m.triangles), 0.0) << clean.name;
+  }
+}
+
+TEST(MeshRepair, RandomlyFlippedFacesFollowTheirPiece) {
+  for (int every : {100, 5, 2}) { // 1%, 20% and 50% of the faces reversed
+    Mesh clean = makeSphereMesh(1.0f, 3);
+    validateMesh(clean);
+    Mesh m = clean;
+    reverseEvery(m, every);
+    const MeshReport r = validateMesh(m);
+    EXPECT_TRUE(r.watertight()) << every;
+    EXPECT_EQ(r.misorientedEdges, 0u) << every;
+    EXPECT_TRUE(sameOrientation(m, clean)) << every;
+    EXPECT_EQ(r.orientation.reorientedTriangles, (clean.triangles.size() + every - 1) / every) << every;
+  }
+}
+
+TEST(MeshRepair, OpenPiecesKeepTheOrientationMostOfTheirFacesHad) {
+  Mesh clean = cutHoles(makeSphereMesh(1.0f, 3), 3, 0.4f);
+  validateMesh(clean);
+  for (bool insideOut : {false, true}) {
+    Mesh m = clean;
+    if (insideOut) reverseAll(m);
+    const Mesh majority = m;
+    reverseEvery(m, 7);
+    const MeshReport r = validateMesh(m);
+    EXPECT_GT(r.boundaryEdges, 0u);
+    EXPECT_EQ(r.misorientedEdges, 0u);
+    EXPECT_EQ(r.orientation.closedPieces, 0u);
+    EXPECT_EQ(r.orientation.piecesTurnedOutward, 0u); // an open piece has no inside to face
+    EXPECT_TRUE(sameOrientation(m, majority)) << insideOut;
+  }
+}
+
+TEST(MeshRepair, PiecesArePartsJoinedByEdges) {
+  // Two spheres passing through each other, one inside-out, and a loose open triangle: three pieces.
+  Mesh a = makeSphereMesh(1.0f, 2), b = makeSphereMesh(1.0f, 2);
+  reverseAll(b);
+  Mesh m = a;
+  const unsigned offset = unsigned(m.positions.size());
+  for (glm::vec3 p : b.positions) m.positions.push_back(p + glm::vec3(1.2f, 0.0f, 0.0f));
+  for (glm::uvec3 t : b.triangles) m.triangles.push_back(t + glm::uvec3(offset));
+  m.positions.insert(m.positions.end(), {{5, 0, 0}, {6, 0, 0}, {5, 1, 0}});
+  m.triangles.emplace_back(unsigned(m.positions.size() - 3), unsigned(m.positions.size() - 2),
+                           unsigned(m.positions.size() - 1));
+  const MeshReport r = validateMesh(m);
+  EXPECT_EQ(r.orientation.pieces, 3u);
+  EXPECT_EQ(r.orientation.closedPieces, 2u);
+  EXPECT_EQ(r.orientation.piecesTurnedOutward, 1u);
+  const MeshPieces pieces = meshPieces(m.triangles);
+  ASSERT_EQ(pieces.count(), 3u);
+  for (double v : pieceSignedVolumes6(m.positions, m.triangles, pieces)) EXPECT_GE(v, 0.0);
 }

@@ -1,6 +1,7 @@
 #include "grid/VdbIO.h"
 
 #include "util/AtomicFile.h"
+#include "util/Text.h"
 #include "util/Error.h"
 
 #include <fmt/format.h>
@@ -180,6 +181,37 @@ FloatGrid::Ptr makeFogGrid(const FloatGrid& levelSet) {
   return fog;
 }
 
+namespace {
+
+/// OpenVDB's writer does not check its stream: a full disk leaves a truncated file and no error. Read @a tmp back
+/// whole and compare its grids with @a written (names, types, active voxels).
+void requireReadsBack(const fs::path& tmp, const openvdb::GridPtrVec& written, const fs::path& path) {
+  const auto fail = [&](const std::string& why) {
+    return Error(fmt::format("{}: cannot write .vdb: the file written does not read back ({}): is the disk full?",
+                             path.string(), why));
+  };
+  openvdb::GridPtrVecPtr back;
+  try {
+    openvdb::io::File file(tmp.string());
+    file.open(false); // no delayed loading: every voxel is read now
+    back = file.getGrids();
+    file.close();
+  } catch (const std::exception& e) {
+    throw fail(oneLine(e.what(), 120));
+  }
+  if (!back || back->size() != written.size())
+    throw fail(fmt::format("{} grids of {}", back ? back->size() : 0, written.size()));
+  // The file lists its grids by name, not in the order they were written.
+  for (const auto& w : written) {
+    const auto same = [&](const openvdb::GridBase::Ptr& g) {
+      return g->getName() == w->getName() && g->type() == w->type() && g->activeVoxelCount() == w->activeVoxelCount();
+    };
+    if (std::none_of(back->begin(), back->end(), same)) throw fail(fmt::format("grid '{}' differs", w->getName()));
+  }
+}
+
+} // namespace
+
 void writeVdb(const fs::path& path, const openvdb::GridPtrVec& grids, const VdbWriteOptions& options) {
   ensureOpenVdb();
   if (grids.empty()) throw Error(fmt::format("{}: no grids to write", path.string()));
@@ -198,6 +230,7 @@ void writeVdb(const fs::path& path, const openvdb::GridPtrVec& grids, const VdbW
     } catch (const openvdb::Exception& e) {
       throw Error(fmt::format("{}: cannot write .vdb: {}", path.string(), e.what()));
     }
+    requireReadsBack(tmp, grids, path);
   });
 }
 

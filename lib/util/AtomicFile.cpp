@@ -9,10 +9,30 @@
 #include <fstream>
 #include <random>
 #include <system_error>
+#include <cerrno>
+#include <fcntl.h>
 #include <unistd.h>
 
 namespace rtsdf {
 namespace fs = std::filesystem;
+
+namespace {
+
+/// Flush @a tmp to the disk: a write the file system accepted into its cache can still fail there (a full disk
+/// on a delayed allocation reports only at fsync or close).
+void syncToDisk(const fs::path& tmp, const fs::path& target) {
+  const int fd = ::open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    throw Error(fmt::format("{}: the file just written cannot be opened again: {}", target.string(),
+                            std::generic_category().message(errno)));
+  const int synced = ::fsync(fd);
+  const int err = errno;
+  ::close(fd);
+  if (synced != 0)
+    throw Error(fmt::format("{}: cannot write: {}", target.string(), std::generic_category().message(err)));
+}
+
+} // namespace
 
 void writeFileAtomically(const fs::path& target,
                          const std::function<void(const fs::path&)>& write) {
@@ -28,6 +48,7 @@ void writeFileAtomically(const fs::path& target,
   const TemporaryFileGuard guard(tmp);
   try {
     write(tmp);
+    syncToDisk(tmp, target);
   } catch (...) {
     fs::remove(tmp, ec);
     throw;
@@ -45,7 +66,8 @@ void writeTextAtomically(const fs::path& target, const std::string& text) {
     std::ofstream out(tmp, std::ios::binary);
     out << text;
     out.close();
-    if (!out) throw Error(fmt::format("{}: cannot write", target.string()));
+    if (!out || fs::file_size(tmp) != text.size())
+      throw Error(fmt::format("{}: cannot write (is the disk full?)", target.string()));
   });
 }
 

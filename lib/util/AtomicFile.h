@@ -8,9 +8,12 @@
 
 namespace rtsdf {
 
-/// @brief Call @a write with a temporary path beside @a target, then rename it onto @a target.
+/// @brief Call @a write with a temporary path beside @a target, flush the file to the disk (fsync), then rename it
+///        onto @a target.
 /// @param target the final path; its directory must exist.
-/// @param write  writes the complete file to the path it is given; throws on failure.
+/// @param write  writes the complete file to the path it is given and checks it (the stream's state, or a
+///               read-back where the writer does not report errors); throws on failure.
+/// @throw Error naming @a target when @a write throws or the flush fails (a full disk).
 /// @note On any exception the temporary file is removed and @a target is left untouched.
 void writeFileAtomically(const std::filesystem::path& target,
                          const std::function<void(const std::filesystem::path&)>& write);

@@ -37,6 +37,9 @@ void installInterruptHandlers() {
   sigaddset(&sa.sa_mask, SIGTERM);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  // A file-size limit (ulimit -f) is a failed write, which the writers report with the file's name, not a crash
+  // that leaves a temporary file behind.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 GracefulStop::GracefulStop(std::atomic<bool>& stop) { gGraceful.store(&stop); }

@@ -8,7 +8,8 @@
 
 namespace rtsdf {
 
-/// @brief Install the SIGINT/SIGTERM handlers of a command-line program.
+/// @brief Install the SIGINT/SIGTERM handlers of a command-line program, and ignore SIGXFSZ (a write past the
+///        file-size limit then fails as a write error).
 /// @note Handlers run async-signal-safe code only (unlink, write, _exit).
 void installInterruptHandlers();
 

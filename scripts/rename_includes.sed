@@ -1,6 +1,7 @@
 # The include paths the per-stage folders changed (one GPU stage in one place: its pass, shaders, the parameters it
 # shares with GLSL and its CPU copy). Run over a tree that still uses the old paths:
-#   grep -rlE '#include "(gpu/shared|sdf|render)/' lib apps python bench fuzz examples tests | xargs sed -i -f scripts/rename_includes.sed
+#   grep -rlE '#include "(gpu/shared|sdf|render)/' lib apps python bench fuzz examples tests |
+#     xargs sed -i -f scripts/rename_includes.sed
 s#"gpu/shared/Bvh.h"#"bvh/GpuBvhLayout.h"#g
 s#"gpu/shared/CoarseSdf.h"#"sdf/coarse/CoarseParams.h"#g
 s#"gpu/shared/Refine.h"#"sdf/refine/RefineParams.h"#g

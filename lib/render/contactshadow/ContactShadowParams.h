@@ -7,8 +7,8 @@
 
 RTSDF_SHARED_BEGIN
 
-/// contact_shadow.comp: the scene BVH (GpuBvhLayout.h's kBvhBinding*), then the G-buffer, the lights and the visibility it
-/// lowers in place (light-major, as SdfShadowPass wrote it).
+/// contact_shadow.comp: the scene BVH (GpuBvhLayout.h's kBvhBinding*), then the G-buffer, the lights and the
+/// visibility it lowers in place (light-major, as SdfShadowPass wrote it).
 const uint kContactShadowBindingPositions = kBvhBindingCount + 0u;
 const uint kContactShadowBindingNormals = kBvhBindingCount + 1u;
 const uint kContactShadowBindingLights = kBvhBindingCount + 2u;

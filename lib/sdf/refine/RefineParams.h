@@ -38,8 +38,8 @@ const uint kUpsampleBindingFineToCoarse = 2u; // int per fine index per axis (x 
 const uint kUpsampleBindingBrickSlots = 3u;   // uint per brick: its slot in the pool, kNoBrick: none
 const uint kUpsampleBindingCount = 4u;
 
-/// Bindings of refine_rays.comp and refine_closest*.comp: the scene BVH (GpuBvhLayout.h's kBvhBinding*), then these, then
-/// the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page).
+/// Bindings of refine_rays.comp and refine_closest*.comp: the scene BVH (GpuBvhLayout.h's kBvhBinding*), then these,
+/// then the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page).
 const uint kRefineBindingRefineList = kBvhBindingCount + 0u; // the coarse voxels to refine (MaskCompactPass's list)
 const uint kRefineBindingMaskCounts = kBvhBindingCount + 1u; // MaskCounts words: the list's size
 const uint kRefineBindingCoarse = kBvhBindingCount + 2u;     // coarse SDF c_t (upsampled for the bound)

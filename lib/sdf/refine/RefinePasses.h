@@ -3,6 +3,8 @@
 /// @brief The fine SDF's passes: UpsamplePass (the coarse SDF trilinearly upsampled into every fine voxel: the
 ///        value outside the ray mask) and the refinement of the masked voxels through the scene BVH, by the
 ///        paper's random rays (RayRefinePass) or exact closest points (ClosestRefinePass). Same shape as every
+///        pass: execute(cmd, profiler, inputs, outputs, params), bindings named in sdf/refine/RefineParams.h. The
+///        mask they refine under comes from sdf/mask/MaskPasses.h; the CPU copies are RefineCpu.h.
 #include "gpu/ComputePass.h"
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"

@@ -20,10 +20,13 @@
 // rule as closestPoint, so the distances are the same; a voxel the candidates may not answer walks on its own.
 #include "bvh/GpuBvhLayout.h"
 #include "sdf/refine/RefineParams.h"
-// The closest shaders' variants (refine_closest*.comp, ClosestRefinePass::Variant; lavapipe runs the code behind a branch, masked, even where no
-// lane takes it, so what a pipeline never runs is compiled out): RTSDF_SIGN_RAYS 0 when the sign comes from the
-// closest triangle's side alone (x = 0); RTSDF_CELL_SEARCH 1 for ClosestSearch::Cell (refineCellBox); the BVH walk's
-// shape by device (RTSDF_POINT_WALK_WHILE_WHILE, bvh_traverse.glsl).
+#ifndef RTSDF_REFINE_MODE
+#error "compile with RTSDF_REFINE_MODE defined (RTSDF_REFINE_RAYS or RTSDF_REFINE_CLOSEST)"
+#endif
+// The closest shaders' variants (refine_closest*.comp, ClosestRefinePass::Variant; lavapipe runs the code behind a
+// branch, masked, even where no lane takes it, so what a pipeline never runs is compiled out): RTSDF_SIGN_RAYS 0 when
+// the sign comes from the closest triangle's side alone (x = 0); RTSDF_CELL_SEARCH 1 for ClosestSearch::Cell
+// (refineCellBox); the BVH walk's shape by device (RTSDF_POINT_WALK_WHILE_WHILE, bvh_traverse.glsl).
 #ifndef RTSDF_SIGN_RAYS
 #define RTSDF_SIGN_RAYS 1
 #endif

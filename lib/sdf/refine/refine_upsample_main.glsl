@@ -11,6 +11,9 @@
 // the 2 x 2 x 2 coarse values of its cell and loads only the new z plane of 4 when it crosses into the next
 // coarse cell.
 #include "sdf/refine/RefineParams.h"
+#ifndef RTSDF_UPSAMPLE_RUN
+#error "compile with RTSDF_UPSAMPLE_RUN defined (fine voxels along z per invocation)"
+#endif
 
 layout(local_size_x = RTSDF_UPSAMPLE_GROUP_X, local_size_y = RTSDF_UPSAMPLE_GROUP_Y, local_size_z = 1) in;
 layout(push_constant) uniform Push { RefineParams params; };

@@ -1,23 +1,40 @@
-# rtsdf_add_shaders(TARGET <lib> SOURCES <a.comp> ...)
-# Compiles each GLSL compute shader with glslc at build time (with a depfile, so edits to included files
-# rebuild it) and embeds the SPIR-V words into a generated C++ source added to <lib>. The embedded blobs are
-# looked up by file name through rtsdf::gpu::embeddedShader(name) (lib/gpu/EmbeddedShaders.h).
+# rtsdf_add_shaders(TARGET <lib> ROOT <dir> SHADERS "<name> <source> [DEFINE[=VALUE] ...]" ...)
+# Compiles each row's GLSL compute shader with glslc at build time (with a depfile, so edits to included files
+# rebuild it), the row's defines given as -D, and embeds the SPIR-V words into a generated C++ source added to
+# <lib>. Sources are relative to <dir>, which is also the include path ("sdf/refine/RefineParams.h"); one not
+# named *.comp is compiled as a compute shader (-fshader-stage=comp), so one source can make several variants.
+# The embedded blobs are looked up by the row's name through rtsdf::gpu::embeddedShader(name)
+# (lib/gpu/EmbeddedShaders.h).
 function(rtsdf_add_shaders)
-  cmake_parse_arguments(ARG "" "TARGET" "SOURCES" ${ARGN})
+  cmake_parse_arguments(ARG "" "TARGET;ROOT" "SHADERS" ${ARGN})
   set(outdir ${CMAKE_CURRENT_BINARY_DIR}/spirv)
   file(MAKE_DIRECTORY ${outdir})
   set(cpp_files)
   set(names)
-  foreach(src ${ARG_SOURCES})
-    get_filename_component(abs ${src} ABSOLUTE)
-    get_filename_component(name ${src} NAME)
+  foreach(row ${ARG_SHADERS})
+    string(STRIP "${row}" row)
+    string(REGEX REPLACE "[ \t\n]+" ";" fields "${row}")
+    list(POP_FRONT fields name src)
+    if(NOT name OR NOT src)
+      message(FATAL_ERROR "rtsdf_add_shaders: a row needs a name and a source: '${row}'")
+    endif()
+    if(name IN_LIST names)
+      message(FATAL_ERROR "rtsdf_add_shaders: two rows embed '${name}'")
+    endif()
+    set(abs ${ARG_ROOT}/${src})
+    set(flags)
+    if(NOT src MATCHES "\\.comp$")
+      list(APPEND flags -fshader-stage=comp)
+    endif()
+    foreach(define ${fields})
+      list(APPEND flags -D${define})
+    endforeach()
     string(MAKE_C_IDENTIFIER ${name} ident)
     set(spv ${outdir}/${name}.spv)
     set(cpp ${outdir}/${name}.cpp)
     add_custom_command(
       OUTPUT ${spv}
-      COMMAND ${GLSLC} --target-env=vulkan1.1 -O -Werror -I ${CMAKE_CURRENT_SOURCE_DIR}
-              -I ${PROJECT_SOURCE_DIR}/lib -MD -MF ${spv}.d -o ${spv} ${abs}
+      COMMAND ${GLSLC} --target-env=vulkan1.1 -O -Werror -I ${ARG_ROOT} ${flags} -MD -MF ${spv}.d -o ${spv} ${abs}
       DEPENDS ${abs}
       DEPFILE ${spv}.d
       COMMENT "glslc ${name}"

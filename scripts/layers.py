@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The folder layers of lib/: who includes whom.
 
-  scripts/layers.py --check     fail (exit 1) when a folder includes one of a higher layer, or one not listed
+  scripts/layers.py --check     fail (exit 1) when a folder includes one of a higher layer, or one not listed, or
+                                when two headers under lib/ share a file name
   scripts/layers.py --dot       print the include graph between folders as Graphviz (docs/layers.svg:
                                 scripts/layers.py --dot | dot -Tsvg -o docs/layers.svg)
 """
@@ -50,6 +51,17 @@ def layer_of(folder):
     return None
 
 
+def same_named_headers():
+    """Headers under lib/ whose file name another header has too: 'name: path, path'. A subfolder is a stage of its
+    top folder, and names must say which ("CoarseParams.h", not a second "CoarseSdf.h")."""
+    paths = {}
+    for dirpath, _, files in os.walk(ROOT):
+        for name in files:
+            if name.endswith(".h"):
+                paths.setdefault(name, []).append(os.path.relpath(os.path.join(dirpath, name), ROOT))
+    return [f"{name}: {', '.join(sorted(p))}" for name, p in sorted(paths.items()) if len(p) > 1]
+
+
 def check():
     problems = []
     folders = {f for f in os.listdir(ROOT) if os.path.isdir(os.path.join(ROOT, f))}
@@ -60,9 +72,12 @@ def check():
         la, lb = layer_of(a), layer_of(b)
         if la is not None and lb is not None and lb > la:
             problems.append(f"lib/{where}: {a} (layer {la}) includes {b} (layer {lb}), a higher layer")
+    for clash in same_named_headers():
+        problems.append(f"two headers under lib/ share a file name: {clash}")
     for p in problems:
         print(p)
-    print(f"{len(folders)} folders in {len(LAYERS)} layers: {'no upward include' if not problems else 'FAILED'}")
+    print(f"{len(folders)} folders in {len(LAYERS)} layers: "
+          f"{'no upward include, no two headers of one name' if not problems else 'FAILED'}")
     return 1 if problems else 0
 
 

@@ -2,7 +2,7 @@
 /// @file Bvh.h
 /// @brief BVHs built by Embree's builder API (rtcBuildBVH, SAH) and flattened for the GPU: one bottom level
 ///        per mesh in object space, built once, and a top level over the instances, rebuilt every frame.
-#include "gpu/shared/Bvh.h"
+#include "bvh/GpuBvhLayout.h"
 #include "scene/Scene.h"
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 #pragma once
 /// @file EmbeddedShaders.h
-/// @brief SPIR-V compiled from shaders/ by glslc at build time and linked into the library.
+/// @brief SPIR-V compiled by glslc at build time (lib/Shaders.cmake: one row per shader) and linked into the library.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -10,12 +10,12 @@ namespace rtsdf::gpu {
 
 /// @brief One embedded SPIR-V module.
 struct EmbeddedShader {
-  const char* name;           ///< source file name, e.g. "fill.comp"
+  const char* name;           ///< its name in lib/Shaders.cmake, e.g. "fill.comp"
   const std::uint32_t* words; ///< SPIR-V words
   std::size_t count;          ///< number of words
 };
 
-/// @brief The embedded module compiled from shaders/@a name. @throw Error when there is none.
+/// @brief The embedded module named @a name (lib/Shaders.cmake's first column). @throw Error when there is none.
 const EmbeddedShader& embeddedShader(const std::string& name);
 
 /// @brief Names of every embedded shader.

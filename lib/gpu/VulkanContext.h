@@ -79,7 +79,7 @@ public:
   /// @brief The last validation error message (empty if none).
   std::string lastValidationMessage() const;
 
-  /// @brief Create a shader module from an embedded shader (shaders/@a name). The caller owns it.
+  /// @brief Create a shader module from an embedded shader (embeddedShader(@a name)). The caller owns it.
   VkShaderModule createShaderModule(const std::string& name) const;
 
   /// @brief Index of a memory type allowed by @a typeBits with all of @a properties.

@@ -6,8 +6,8 @@
 #include "reference/ExactSdf.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
-#include "sdf/CoarseSdf.h"
-#include "sdf/RefinePasses.h"
+#include "sdf/coarse/CoarseSdf.h"
+#include "sdf/refine/RefinePasses.h"
 #include "util/Error.h"
 #include "util/Settings.h"
 

@@ -2,7 +2,7 @@
 /// @file RenderTypes.h
 /// @brief What every shadow technique of the renderer shares: the camera as the GPU sees it, the lights,
 ///        the per-pixel primary visibility (G-buffer) and per-light visibility images.
-#include "gpu/shared/Render.h"
+#include "render/RenderParams.h"
 #include "scene/Scene.h"
 
 #include <glm/glm.hpp>

@@ -1,6 +1,6 @@
 #include "render/Renderer.h"
 
-#include "gpu/shared/Compose.h"
+#include "render/compose/ComposeParams.h"
 #include "image/ImageMetrics.h"
 #include "scene/SceneGeometry.h"
 #include "image/ImageIO.h"

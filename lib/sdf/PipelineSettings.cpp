@@ -1,6 +1,6 @@
 #include "sdf/PipelineSettings.h"
 
-#include "gpu/shared/CoarseSdf.h"
+#include "sdf/coarse/CoarseParams.h"
 #include "util/Error.h"
 
 #include <fmt/format.h>

@@ -3,7 +3,7 @@
 /// @brief The knobs of the RTSDF pipeline (PipelineSettings), their enums, the defaults that depend on them, and the
 ///        grids they give (pipelineGrids).
 #include "grid/GridSpec.h"
-#include "sdf/CoarseMethod.h"
+#include "sdf/coarse/CoarseMethod.h"
 #include "util/Bounds.h"
 #include "util/EnumNames.h"
 

@@ -1,9 +1,9 @@
 #include "sdf/SdfPipeline.h"
 
 #include "grid/VdbIO.h"
-#include "gpu/shared/Refine.h"
-#include "sdf/RefinePasses.h"
-#include "sdf/RefineReference.h"
+#include "sdf/refine/RefineParams.h"
+#include "sdf/refine/RefinePasses.h"
+#include "sdf/refine/RefineCpu.h"
 #include "scene/SceneGeometry.h"
 #include "util/Error.h"
 #include "util/Memory.h"

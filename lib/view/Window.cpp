@@ -1,6 +1,6 @@
 #include "view/Window.h"
 
-#include "gpu/shared/Compose.h"
+#include "render/compose/ComposeParams.h"
 #include "util/Error.h"
 
 #define GLFW_INCLUDE_VULKAN

@@ -9,8 +9,8 @@
 #include "jobs/Compare.h"
 #include "jobs/RenderJob.h"
 #include "scene/SceneLoader.h"
-#include "sdf/CoarseSdf.h"
-#include "sdf/RefinePasses.h"
+#include "sdf/coarse/CoarseSdf.h"
+#include "sdf/refine/RefinePasses.h"
 #include "jobs/JobSupport.h"
 
 #include <gtest/gtest.h>

@@ -4,12 +4,12 @@
 #include "GpuFixture.h"
 #include "TestUtil.h"
 #include "gpu/VulkanContext.h"
-#include "sdf/CoarseReference.h"
+#include "sdf/coarse/CoarseCpu.h"
 #include "reference/ExactSdf.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
-#include "sdf/CoarseSdf.h"
-#include "sdf/GpuSceneBvh.h"
+#include "sdf/coarse/CoarseSdf.h"
+#include "sdf/scenebvh/GpuSceneBvh.h"
 #include "util/Error.h"
 
 #include <gtest/gtest.h>

@@ -7,7 +7,7 @@
 #include "TestUtil.h"
 #include "grid/VdbIO.h"
 #include "reference/ExactSdf.h"
-#include "sdf/RefineReference.h"
+#include "sdf/refine/RefineCpu.h"
 #include "scene/SceneGeometry.h"
 #include "sdf/SdfPipeline.h"
 #include "util/Error.h"

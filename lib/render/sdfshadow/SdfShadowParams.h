@@ -1,0 +1,65 @@
+// Shared by C++ and GLSL: the bindings and push constants of SdfShadowPass (sdf_shadow_main.glsl and its
+// variants) and VolumeFillPass (volume_fill.comp). The march itself is in SdfShadowMarch.h: the shaders that
+// sample the field declare it at these bindings before including the march (its functions fetch through macros).
+#ifndef RTSDF_RENDER_SDFSHADOW_SDFSHADOWPARAMS_H
+#define RTSDF_RENDER_SDFSHADOW_SDFSHADOWPARAMS_H
+#include "render/RenderParams.h"
+
+RTSDF_SHARED_BEGIN
+
+/// sdf_shadow.comp (field: a sampled 3D texture), sdf_shadow_buffer.comp (field: a storage buffer) and
+/// sdf_shadow_bricks.comp (field: the coarse SDF, with the brick pool's slots, parameters, value pages and the
+/// fine-to-coarse tables after kSdfShadowBindingCount: the fine SDF as SdfPipeline's sparse state holds it).
+const uint kSdfShadowBindingPositions = 0u;
+const uint kSdfShadowBindingNormals = 1u;
+const uint kSdfShadowBindingField = 2u;
+const uint kSdfShadowBindingLights = 3u;
+const uint kSdfShadowBindingVisibility = 4u;
+const uint kSdfShadowBindingCount = 5u;
+const uint kSdfShadowBindingBrickSlots = kSdfShadowBindingCount + 0u;  // uint per brick: its slot
+const uint kSdfShadowBindingBrickParams = kSdfShadowBindingCount + 1u; // one RefineParams: grids, bricks, pages
+const uint kSdfShadowBindingValuePages = kSdfShadowBindingCount + 2u;  // RTSDF_BRICK_PAGES pages of the values
+const uint kSdfShadowBindingFineToCoarse = kSdfShadowBindingCount + 6u; // maskCoarseOfFine(): the band test
+const uint kSdfShadowBindingBrickCount = kSdfShadowBindingCount + 7u;
+
+/// volume_fill.comp: the dense fine SDF (x fastest) into the 3D texture the march samples (a storage image).
+const uint kVolumeFillBindingField = 0u;
+const uint kVolumeFillBindingTexture = 1u;
+const uint kVolumeFillBindingCount = 2u;
+
+/// How the SDF soft shadow turns the march into a visibility.
+const uint kPenumbraClassic = 0u;  // min over samples of h / (w t): the classic estimate (outer penumbra)
+const uint kPenumbraImproved = 1u; // triangulated between consecutive samples (fewer banding artifacts)
+const uint kPenumbraCentered = 2u; // marches on inside occluders (signed h), penumbra centred on the
+                                   // geometric shadow boundary like a real area light's
+const uint kPenumbraUmbra = 3u;    // lightSamples centred marches towards jittered points of the light's
+                                   // disc, each over its share of the cone, averaged (the SDF-simulated umbra)
+
+/// Push constants of sdf_shadow.comp (and its CPU copy).
+struct SdfShadowParams {
+  vec4 gridOriginH; // xyz: world corner of fine voxel (0,0,0), w: voxel size
+  ivec4 gridDims;   // xyz: fine voxels per axis, w: number of lights
+  ivec4 image;      // x: width, y: height, z: frame number (jitter), w: seed
+  float epsilon;    // a sample closer than this is a hit; also where the march starts (scene units, >= one voxel)
+  float bias;       // subtracted from every SDF sample: thin surfaces cannot leak light (scene units)
+  float maxStep;    // longest step (against banding where h is large)
+  float normalOffset; // the march starts this far off the surface along its normal
+  uint maxSteps;
+  uint penumbra;    // kPenumbra*
+  float jitter;     // 0: start at epsilon; 1: start spread over [0.25, 1.25] epsilon per pixel and frame, probes
+                    // and umbra samples turned per pixel and frame
+  float minStep;    // shortest step: the march samples h at least this densely near occluders
+  uint lateralProbes; // centred and umbra: SDF samples around the cone where the ray came closest to an
+                      // occluder (tells a plate crossing the whole cone from an edge; 0: off)
+  uint lightSamples;  // umbra: marches per pixel, light and frame (>= 1)
+  float contactReach; // > 0: mark the pixels where something other than the receiver's own plane lies within
+                      // this distance (sdfShadowMarch's contact) for ContactShadowPass; 0: the pass does not run
+};
+
+/// SdfShadowPass adds this to the visibility of the pixels (and lights) whose contact rays ContactShadowPass is to
+/// trace; that pass takes it off again (the visibility itself is in [0, 1]).
+const float kContactPending = 2.0f;
+
+RTSDF_SHARED_END
+
+#endif

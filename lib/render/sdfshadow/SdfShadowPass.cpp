@@ -1,0 +1,101 @@
+#include "render/sdfshadow/SdfShadowPass.h"
+
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <array>
+
+namespace rtsdf {
+using gpu::Buffer;
+using namespace gpu::shared;
+
+namespace {
+std::vector<VkDescriptorType> sdfShadowTextureBindings() {
+  std::vector<VkDescriptorType> types(kSdfShadowBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  types[kSdfShadowBindingField] = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  return types;
+}
+} // namespace
+
+VolumeFillPass::VolumeFillPass(const gpu::VulkanContext& ctx) {
+  if (gpu::SampledVolume::storageSupported(ctx)) {
+    std::vector<VkDescriptorType> types(kVolumeFillBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    types[kVolumeFillBindingTexture] = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    mCompute = gpu::ComputePipeline(ctx, "volume_fill.comp", types, sizeof(glm::ivec4));
+  }
+}
+
+VolumeFillPass::Method VolumeFillPass::defaultMethod(const gpu::VulkanContext& ctx) {
+  return gpu::SampledVolume::storageSupported(ctx) && ctx.info().typeName != "cpu" ? Method::Compute
+                                                                                   : Method::Transfer;
+}
+
+void VolumeFillPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                             Method method) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  if (method == Method::Transfer) return out.texture.copyFrom(cmd, in.field);
+  if (mCompute.name().empty())
+    throw Error("VolumeFillPass: this device cannot store to R32_SFLOAT 3D textures (use the transfer method)");
+  const glm::uvec3 d = out.texture.dims();
+  if (in.field.size() < VkDeviceSize(d.x) * d.y * d.z * sizeof(float))
+    throw Error(fmt::format("VolumeFillPass: buffer '{}' holds {} bytes, texture '{}' needs {}", in.field.name(),
+                            in.field.size(), out.texture.name(), VkDeviceSize(d.x) * d.y * d.z * sizeof(float)));
+  out.texture.beginShaderWrite(cmd);
+  const glm::ivec4 dims(glm::ivec3(d), 0);
+  std::array<gpu::Binding, kVolumeFillBindingCount> b;
+  b[kVolumeFillBindingField] = &in.field;
+  b[kVolumeFillBindingTexture] = &out.texture;
+  mCompute.dispatch(cmd, b, &dims, {gpu::groupsFor(d.x, 64), d.y, d.z});
+  out.texture.endShaderWrite(cmd);
+}
+
+SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra)
+    : mBufferPipeline(ctx, umbra ? "sdf_shadow_umbra_buffer.comp" : "sdf_shadow_buffer.comp", kSdfShadowBindingCount,
+                      sizeof(SdfShadowParams)),
+      mBrickPipeline(ctx, umbra ? "sdf_shadow_umbra_bricks.comp" : "sdf_shadow_bricks.comp",
+                     kSdfShadowBindingBrickCount, sizeof(SdfShadowParams)),
+      mFill(ctx), mFillMethod(VolumeFillPass::defaultMethod(ctx)), mUmbra(umbra) {
+  if (gpu::SampledVolume::supported(ctx))
+    mTexturePipeline = gpu::ComputePipeline(ctx, umbra ? "sdf_shadow_umbra.comp" : "sdf_shadow.comp",
+                                            sdfShadowTextureBindings(), sizeof(SdfShadowParams));
+}
+
+void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                            const Params& params) const {
+  std::array<gpu::Binding, kSdfShadowBindingCount> b;
+  b[kSdfShadowBindingPositions] = &in.gbuffer.position;
+  b[kSdfShadowBindingNormals] = &in.gbuffer.normal;
+  b[kSdfShadowBindingLights] = &in.lights;
+  b[kSdfShadowBindingVisibility] = &out.visibility;
+  const glm::uvec3 groups = imageGroups(in.gbuffer.width, in.gbuffer.height);
+  if ((params.penumbra == gpu::shared::kPenumbraUmbra) != mUmbra)
+    throw Error(fmt::format("SdfShadowPass: built for the {} estimates, asked for penumbra estimate {}",
+                            mUmbra ? "umbra" : "single-march", params.penumbra));
+  if (in.texture) {
+    if (mTexturePipeline.name().empty())
+      throw Error("SdfShadowPass: this device cannot sample the fine SDF as a filtered 3D texture");
+    mFill.execute(cmd, profiler, {in.field}, {*in.texture}, mFillMethod);
+    gpu::ProfileScope scope(profiler, cmd, kName);
+    b[kSdfShadowBindingField] = in.texture;
+    mTexturePipeline.dispatch(cmd, b, &params, groups);
+  } else if (in.bricks) {
+    gpu::ProfileScope scope(profiler, cmd, kName);
+    std::array<gpu::Binding, kSdfShadowBindingBrickCount> bb;
+    std::copy(b.begin(), b.end(), bb.begin());
+    bb[kSdfShadowBindingField] = &in.bricks->coarse;
+    bb[kSdfShadowBindingBrickSlots] = &in.bricks->slots;
+    bb[kSdfShadowBindingBrickParams] = &in.bricks->params;
+    bb[kSdfShadowBindingFineToCoarse] = &in.bricks->fineToCoarse;
+    for (std::uint32_t k = 0; k < RTSDF_BRICK_PAGES; ++k)
+      bb[kSdfShadowBindingValuePages + k] = in.bricks->pool.values[k];
+    mBrickPipeline.dispatch(cmd, bb, &params, groups);
+  } else {
+    gpu::ProfileScope scope(profiler, cmd, kName);
+    b[kSdfShadowBindingField] = &in.field;
+    mBufferPipeline.dispatch(cmd, b, &params, groups);
+  }
+  gpu::computeBarrier(cmd);
+}
+
+} // namespace rtsdf

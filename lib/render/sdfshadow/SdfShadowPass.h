@@ -1,0 +1,73 @@
+#pragma once
+/// @file SdfShadowPass.h
+/// @brief SDF soft shadows on the GPU: SdfShadowPass (sdf_shadow_main.glsl's variants, lib/Shaders.cmake) and the
+///        copy of the fine SDF into the 3D texture it may sample (VolumeFillPass, volume_fill.comp). Buffers are
+///        bound at the indices render/sdfshadow/SdfShadowParams.h names; the CPU copy is SdfShadowCpu.h.
+#include "gpu/ComputePass.h"
+#include "gpu/Profiler.h"
+#include "gpu/Resources.h"
+#include "render/gbuffer/GBufferPass.h"
+#include "render/sdfshadow/SdfShadowParams.h"
+#include "sdf/SdfPipeline.h"
+
+namespace rtsdf {
+
+/// @brief The dense fine SDF into the 3D texture that SdfShadowPass samples with hardware filtering.
+class VolumeFillPass {
+public:
+  static constexpr const char* kName = "FineSdfTextureCopy";
+  /// How the texels are written: a copy command (vkCmdCopyBufferToImage), or a compute shader's stores.
+  enum class Method { Transfer, Compute };
+  struct Inputs { const gpu::Buffer& field; }; ///< texture.dims() floats, x fastest
+  struct Outputs { const gpu::SampledVolume& texture; };
+  using Params = Method;
+  explicit VolumeFillPass(const gpu::VulkanContext& ctx);
+  /// @brief Compute where the device stores to R32F 3D textures and is no CPU device (lavapipe copies faster
+  ///        than it runs shaders: measured in docs/results.md), else Transfer.
+  static Method defaultMethod(const gpu::VulkanContext& ctx);
+  /// @throw Error when @a method is Compute and the device cannot store to the texture, or when the field is
+  ///        smaller than the texture.
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               Method method) const;
+
+private:
+  gpu::ComputePipeline mCompute; ///< empty where SampledVolume::storageSupported is false
+};
+
+/// @brief SDF soft shadows: per pixel and light, sphere tracing of the fine SDF towards the light.
+class SdfShadowPass {
+public:
+  static constexpr const char* kName = "SdfShadowPass";
+  static constexpr const char* kCopyName = VolumeFillPass::kName; ///< the fine buffer into the 3D texture
+  struct Inputs {
+    const GpuGBuffer& gbuffer;
+    /// Dense fine SDF (x fastest) on the grid of Params::gridOriginH / gridDims (unread when @a bricks is given).
+    const gpu::Buffer& field;
+    /// Where given, @a field is first copied into it and the march samples it with hardware trilinear
+    /// filtering (one fetch per step); null: the march filters @a field itself, exactly as the CPU copy
+    /// does (eight fetches per step).
+    const gpu::SampledVolume* texture;
+    const gpu::Buffer& lights;
+    /// Where given (and no texture), the march fetches the fine SDF from the brick pool and the coarse SDF
+    /// (SdfPipeline::brickField(): the same values as the dense fine SDF), eight fetches per step.
+    const GpuBrickField* bricks = nullptr;
+  };
+  struct Outputs { const gpu::Buffer& visibility; }; ///< params.gridDims.w * width * height floats, light-major
+  using Params = gpu::shared::SdfShadowParams;
+  /// @param umbra build the umbra estimate's variants (kPenumbraUmbra: several marches per pixel and light),
+  ///        else the single-march ones (classic, improved, centred).
+  /// @note The texture variant is built only where the device filters R32_SFLOAT 3D textures linearly.
+  explicit SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra = false);
+  /// @throw Error when a texture is given but the device cannot filter it (see gpu::SampledVolume::supported),
+  ///        or when params.penumbra is (or is not) kPenumbraUmbra and the pass was built otherwise.
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+
+private:
+  gpu::ComputePipeline mTexturePipeline, mBufferPipeline, mBrickPipeline;
+  VolumeFillPass mFill;
+  VolumeFillPass::Method mFillMethod;
+  bool mUmbra = false;
+};
+
+} // namespace rtsdf

@@ -1,0 +1,220 @@
+// Shared by C++ and GLSL: the coarse SDF's grid parameters, push constants, seed packing and the
+// conservative triangle/voxel overlap test. The CPU copies call the very same functions.
+#ifndef RTSDF_SDF_COARSE_COARSEPARAMS_H
+#define RTSDF_SDF_COARSE_COARSEPARAMS_H
+#include "gpu/shared/Common.h"
+
+RTSDF_SHARED_BEGIN
+
+/// Work-group shape of jump_flood.comp (x fastest in memory: a row of invocations reads contiguous seeds).
+#define RTSDF_JFA_GROUP_X 8
+#define RTSDF_JFA_GROUP_Y 8
+#define RTSDF_JFA_GROUP_Z 2
+
+/// Bindings of voxelize_chunks.comp, voxelize.comp, jump_flood.comp and coarse_distance.comp.
+const uint kVoxelizeBindingCorners = 0u;        // triangle corners, 3 per triangle, in their mesh's space (read)
+const uint kVoxelizeBindingSeeds = 1u;          // seeds (written where a triangle touches a voxel)
+const uint kVoxelizeBindingInstances = 2u;      // VoxelizeInstance per instance, by firstInstanceTriangle (read)
+const uint kVoxelizeBindingDispatch = 3u;       // voxelize.comp's indirect dispatch: y = the most chunks (atomicMax)
+const uint kVoxelizeBindingPlaced = 4u;         // every instance triangle's corners in voxel space (3 x vec4 each)
+const uint kVoxelizeBindingCount = 5u;
+const uint kJumpFloodBindingSrc = 0u;           // nearest seeds after the previous step
+const uint kJumpFloodBindingDst = 1u;           // nearest seeds after this step
+const uint kJumpFloodBindingCount = 2u;
+const uint kExactEdtBindingSrc = 0u;            // nearest seeds of the previous axis (or the seeds)
+const uint kExactEdtBindingDst = 1u;            // nearest seeds after this axis; also the line's scratch stack
+const uint kExactEdtBindingCount = 2u;
+const uint kCoarseDistanceBindingNearest = 0u;  // nearest seed per voxel
+const uint kCoarseDistanceBindingDistance = 1u; // c per voxel
+const uint kCoarseDistanceBindingCount = 2u;
+
+/// No seed (empty voxel) in a seed or nearest-seed buffer.
+const uint kNoSeed = 0xFFFFFFFFu;
+/// Seeds pack their voxel coordinates in 10 bits per axis: grids up to 1024 voxels per axis.
+const int kMaxSeedAxis = 1024;
+
+/// Push constants of voxelize_chunks.comp and voxelize.comp.
+struct VoxelizeParams {
+  vec4 originInvH;     // xyz: corner of voxel (0,0,0) in the instances' frame, w: 1 / voxel size
+  ivec4 dims;          // xyz: voxels per axis
+  uint triangleCount;  // every instance's triangles together
+  uint chunkSize;      // voxels of a triangle's range handled by one invocation (keeps loops short)
+  uint instanceCount;
+  uint maxChunkGroups; // the most groups voxelize.comp runs along y (<= kVoxelizeMaxChunkGroups)
+};
+
+/// One placed mesh for the voxelization: its transform and where its triangles lie, so the GPU transforms
+/// mesh-space corners itself (the host uploads transforms, never triangles, per frame).
+struct VoxelizeInstance {
+  vec4 objectToFrame[3];      // rows of the 3x4 matrix into the grid's frame (the BVH's objectToWorld)
+  uint firstTriangle;         // its mesh's first triangle in the corner buffer
+  uint triangleCount;
+  uint firstInstanceTriangle; // its first triangle among all instances' triangles (ascending by instance)
+  uint pad0;
+};
+
+/// The most work groups a dispatch may count along y on any device (Vulkan's minimum of
+/// maxComputeWorkGroupCount): voxelize.comp takes the chunks of larger ranges in layers along z.
+const uint kVoxelizeMaxChunkGroups = 65535u;
+/// The fewest groups along y a caller may ask for: 1024^3 / 4096 chunks in layers of 8 stay within 65535 along z.
+const uint kVoxelizeMinChunkGroups = 8u;
+
+/// Voxels per VoxelizePass invocation by default: on a CPU device (lavapipe) and on a GPU. An H100 spent 2.15 ms
+/// of a 2.5 ms frame voxelizing the default scene with 4096: its floor's few invocations looped alone; of 64,
+/// 256, 1024 and 4096, 64 was the fastest there and 4096 on lavapipe (docs/results.md).
+const uint kVoxelizeChunkVoxelsCpu = 4096u;
+const uint kVoxelizeChunkVoxelsGpu = 64u;
+
+/// Push constants of jump_flood.comp.
+struct JumpFloodParams {
+  ivec4 dims;
+  int step;
+  int pad0, pad1, pad2;
+};
+
+/// Work-group size of exact_edt.comp: invocations along the first line coordinate (x for the y and z passes, so a
+/// group reads and writes contiguous voxels).
+#define RTSDF_EDT_GROUP_X 64
+
+/// Push constants of exact_edt.comp: one invocation per line of the grid along @a axis.
+struct ExactEdtParams {
+  ivec4 dims;
+  int axis;            // 0: lines along x (indexed by y, z); 1: along y (x, z); 2: along z (x, y)
+  int pad0, pad1, pad2;
+};
+
+/// Push constants of coarse_distance.comp.
+struct CoarseDistanceParams {
+  ivec4 dims;
+  float voxelSize;
+  float beta;          // subtracted from the distance: surfaces become thin negative shells
+  float emptyDistance; // value where no seed exists at all (empty scene)
+  float pad0;
+};
+
+RTSDF_FN uint packSeed(ivec3 c) { return uint(c.x) | (uint(c.y) << 10) | (uint(c.z) << 20); }
+RTSDF_FN ivec3 unpackSeed(uint s) { return ivec3(int(s & 1023u), int((s >> 10) & 1023u), int((s >> 20) & 1023u)); }
+RTSDF_FN int distance2(ivec3 a, ivec3 b) {
+  ivec3 d = a - b;
+  return d.x * d.x + d.y * d.y + d.z * d.z;
+}
+
+/// Index-space position of a world point: voxel (i,j,k) covers [i, i+1] x [j, j+1] x [k, k+1].
+RTSDF_FN vec3 toVoxelSpace(vec3 p, vec4 originInvH) {
+  RTSDF_PRECISE vec3 t = (p - vec3(originInvH.x, originInvH.y, originInvH.z)) * originInvH.w;
+  return t;
+}
+
+/// a*b - c*d without fused multiply-add (a 'precise' result in GLSL), so both sides round alike.
+RTSDF_FN float diffOfProducts(float a, float b, float c, float d) {
+  RTSDF_PRECISE float r = a * b - c * d;
+  return r;
+}
+
+/// Separating-axis test of one axis: projections p0..p2 of the triangle against the box radius r.
+RTSDF_FN bool separated(float p0, float p1, float p2, float r) {
+  return min(p0, min(p1, p2)) > r || max(p0, max(p1, p2)) < -r;
+}
+
+/// Conservative triangle/box overlap (Akenine-Moller's separating axes): vertices relative to the box
+/// centre, box half-size h. Touching counts as overlap. Only +, -, *, abs, min, max: exact IEEE operations,
+/// so GPU and CPU agree bit for bit.
+RTSDF_FN bool triangleOverlapsBox(vec3 v0, vec3 v1, vec3 v2, float h) {
+  // The box's face normals: the triangle's bounds.
+  if (separated(v0.x, v1.x, v2.x, h) || separated(v0.y, v1.y, v2.y, h) || separated(v0.z, v1.z, v2.z, h)) return false;
+  RTSDF_PRECISE vec3 e0 = v1 - v0;
+  RTSDF_PRECISE vec3 e1 = v2 - v1;
+  RTSDF_PRECISE vec3 e2 = v0 - v2;
+  // The triangle's plane.
+  RTSDF_PRECISE vec3 n = vec3(diffOfProducts(e0.y, e1.z, e0.z, e1.y), diffOfProducts(e0.z, e1.x, e0.x, e1.z),
+                              diffOfProducts(e0.x, e1.y, e0.y, e1.x));
+  RTSDF_PRECISE float d = (n.x * v0.x + n.y * v0.y) + n.z * v0.z;
+  RTSDF_PRECISE float rn = h * (abs(n.x) + abs(n.y) + abs(n.z));
+  if (d > rn || d < -rn) return false;
+  // The nine cross products of box axes and triangle edges.
+  for (int i = 0; i < 3; ++i) {
+    RTSDF_PRECISE vec3 e = i == 0 ? e0 : (i == 1 ? e1 : e2);
+    // x cross e = (0, -e.z, e.y)
+    RTSDF_PRECISE float rx = h * (abs(e.z) + abs(e.y));
+    if (separated(diffOfProducts(e.y, v0.z, e.z, v0.y), diffOfProducts(e.y, v1.z, e.z, v1.y),
+                  diffOfProducts(e.y, v2.z, e.z, v2.y), rx))
+      return false;
+    // y cross e = (e.z, 0, -e.x)
+    RTSDF_PRECISE float ry = h * (abs(e.z) + abs(e.x));
+    if (separated(diffOfProducts(e.z, v0.x, e.x, v0.z), diffOfProducts(e.z, v1.x, e.x, v1.z),
+                  diffOfProducts(e.z, v2.x, e.x, v2.z), ry))
+      return false;
+    // z cross e = (-e.y, e.x, 0)
+    RTSDF_PRECISE float rz = h * (abs(e.y) + abs(e.x));
+    if (separated(diffOfProducts(e.x, v0.y, e.y, v0.x), diffOfProducts(e.x, v1.y, e.y, v1.x),
+                  diffOfProducts(e.x, v2.y, e.y, v2.x), rz))
+      return false;
+  }
+  return true;
+}
+
+/// The voxels whose boxes may touch a triangle with voxel-space corners t0..t2 (clamped to the grid):
+/// one voxel of margin around the bounds, the overlap test decides.
+RTSDF_FN ivec3 voxelRangeLo(vec3 t0, vec3 t1, vec3 t2) {
+  return max(ivec3(floor(min(t0, min(t1, t2)))) - ivec3(1), ivec3(0));
+}
+RTSDF_FN ivec3 voxelRangeHi(vec3 t0, vec3 t1, vec3 t2, ivec3 dims) {
+  return min(ivec3(floor(max(t0, max(t1, t2)))) + ivec3(1), dims - ivec3(1));
+}
+
+/// A mesh-space point in the instances' frame: rows r0..r2 of a 3x4 matrix, the sums in one fixed order
+/// without fused multiply-add, so the GPU and the CPU copy place every corner alike.
+RTSDF_FN vec3 transformToFrame(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
+  RTSDF_PRECISE float x = ((r0.x * p.x + r0.y * p.y) + r0.z * p.z) + r0.w;
+  RTSDF_PRECISE float y = ((r1.x * p.x + r1.y * p.y) + r1.z * p.z) + r1.w;
+  RTSDF_PRECISE float z = ((r2.x * p.x + r2.y * p.y) + r2.z * p.z) + r2.w;
+  return vec3(x, y, z);
+}
+
+/// The chunks of @a chunkSize voxels that the range of the triangle with voxel-space corners t0..t2 needs.
+RTSDF_FN uint voxelRangeChunks(vec3 t0, vec3 t1, vec3 t2, ivec3 dims, uint chunkSize) {
+  ivec3 n = voxelRangeHi(t0, t1, t2, dims) - voxelRangeLo(t0, t1, t2) + ivec3(1);
+  if (n.x <= 0 || n.y <= 0 || n.z <= 0) return 0u;
+  uint voxels = uint(n.x) * uint(n.y) * uint(n.z); // at most 1024^3: fits
+  return (voxels + chunkSize - 1u) / chunkSize;
+}
+
+/// Whether voxel @a v overlaps the triangle with voxel-space corners t0..t2.
+RTSDF_FN bool voxelOverlaps(ivec3 v, vec3 t0, vec3 t1, vec3 t2) {
+  RTSDF_PRECISE vec3 c = vec3(v) + vec3(0.5);
+  return triangleOverlapsBox(t0 - c, t1 - c, t2 - c, 0.5);
+}
+
+/// One jump-flooding update: keep the nearer of @a best and @a candidate (ties: the smaller packed seed).
+RTSDF_FN uint nearerSeed(ivec3 p, uint best, uint candidate) {
+  if (candidate == kNoSeed) return best;
+  if (best == kNoSeed) return candidate;
+  int db = distance2(p, unpackSeed(best));
+  int dc = distance2(p, unpackSeed(candidate));
+  return (dc < db || (dc == db && candidate < best)) ? candidate : best;
+}
+
+/// The line of exact_edt.comp's invocation (a, b) for @a axis: the voxel at position 0 (a, b are its coordinates
+/// on the other two axes, lowest first) and the index step between consecutive voxels; n: the line's length.
+RTSDF_FN ivec3 edtLineStart(int axis, int a, int b) {
+  return axis == 0 ? ivec3(0, a, b) : (axis == 1 ? ivec3(a, 0, b) : ivec3(a, b, 0));
+}
+RTSDF_FN int edtLineStride(ivec3 dims, int axis) { return axis == 0 ? 1 : (axis == 1 ? dims.x : dims.x * dims.y); }
+
+/// Meijster's separation of the parabolas rooted at line positions i < u with heights gi, gu (squared distances
+/// to their seeds off the line): the last integer position where i is at least as near as u. Integer
+/// arithmetic only (floor division), so it is exact on both sides.
+RTSDF_FN int edtSeparation(int i, int gi, int u, int gu) {
+  int num = u * u - i * i + gu - gi;
+  int den = 2 * (u - i);
+  return num >= 0 ? num / den : -((-num + den - 1) / den);
+}
+
+/// A scratch stack entry of the envelope: the parabola's line position s and the first position t it owns.
+RTSDF_FN uint packEdtEntry(int s, int t) { return uint(s) | (uint(t) << 16); }
+RTSDF_FN int edtEntrySeed(uint e) { return int(e & 0xFFFFu); }
+RTSDF_FN int edtEntryStart(uint e) { return int(e >> 16); }
+
+RTSDF_SHARED_END
+
+#endif

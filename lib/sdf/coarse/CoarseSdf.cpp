@@ -1,0 +1,245 @@
+#include "sdf/coarse/CoarseSdf.h"
+
+#include "sdf/coarse/CoarseCpu.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+
+namespace rtsdf {
+using namespace gpu::shared;
+
+VoxelizePass::VoxelizePass(const gpu::VulkanContext& ctx)
+    : ComputePass(ctx, "voxelize.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)),
+      mChunks(ctx, "voxelize_chunks.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)) {}
+
+void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                           const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  vkCmdFillBuffer(cmd, out.seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
+  // x: one invocation per triangle; y and z: raised by voxelize_chunks.comp from 0 (no triangle touches the grid).
+  const std::uint32_t groups[3] = {gpu::groupsFor(params.shader.triangleCount, 64), 0u, 0u};
+  gpu::recordUpload(cmd, out.dispatch, groups, sizeof(groups));
+  gpu::computeBarrier(cmd);
+  if (!params.shader.triangleCount) return;
+  std::array<gpu::Binding, kVoxelizeBindingCount> b;
+  b[kVoxelizeBindingCorners] = &in.triangles.corners;
+  b[kVoxelizeBindingInstances] = &in.triangles.instances;
+  b[kVoxelizeBindingSeeds] = &out.seeds;
+  b[kVoxelizeBindingDispatch] = &out.dispatch;
+  b[kVoxelizeBindingPlaced] = &out.placed;
+  mChunks.dispatch(cmd, b, &params.shader, {groups[0], 1, 1});
+  gpu::computeBarrier(cmd);
+  mPipeline.dispatchIndirect(cmd, b, &params.shader, out.dispatch);
+}
+
+void JumpFloodPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                            const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  const gpu::Buffer* src = &in.seeds;
+  const gpu::Buffer* dst = &out.scratch;
+  const glm::ivec3 dims = params.dims;
+  const glm::uvec3 groups(gpu::groupsFor(dims.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(dims.y, RTSDF_JFA_GROUP_Y),
+                          gpu::groupsFor(dims.z, RTSDF_JFA_GROUP_Z));
+  for (int step : jumpFloodSteps(dims, params.variant)) {
+    JumpFloodParams p{};
+    p.dims = glm::ivec4(dims, 0);
+    p.step = step;
+    gpu::computeBarrier(cmd); // the previous step (or pass) wrote src
+    std::array<gpu::Binding, kJumpFloodBindingCount> b;
+    b[kJumpFloodBindingSrc] = src;
+    b[kJumpFloodBindingDst] = dst;
+    mPipeline.dispatch(cmd, b, &p, groups);
+    std::swap(src, dst);
+  }
+  gpu::computeBarrier(cmd);
+}
+
+const gpu::Buffer& JumpFloodPass::result(const Inputs& in, const Outputs& out, const Params& params) {
+  return jumpFloodSteps(params.dims, params.variant).size() % 2 ? out.scratch : in.seeds;
+}
+
+void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                           const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  const glm::ivec3 dims = params.dims;
+  const gpu::Buffer* src = &in.seeds;
+  const gpu::Buffer* dst = &out.scratch;
+  for (int axis = 0; axis < 3; ++axis) {
+    ExactEdtParams p{};
+    p.dims = glm::ivec4(dims, 0);
+    p.axis = axis;
+    const int na = axis == 0 ? dims.y : dims.x, nb = axis == 2 ? dims.y : dims.z;
+    gpu::computeBarrier(cmd); // the previous axis (or pass) wrote src
+    std::array<gpu::Binding, kExactEdtBindingCount> b;
+    b[kExactEdtBindingSrc] = src;
+    b[kExactEdtBindingDst] = dst;
+    mPipeline.dispatch(cmd, b, &p, {gpu::groupsFor(na, RTSDF_EDT_GROUP_X), std::uint32_t(nb), 1});
+    std::swap(src, dst);
+  }
+  gpu::computeBarrier(cmd);
+}
+
+void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in,
+                                 const Outputs& out, const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kCoarseDistanceBindingCount> b;
+  b[kCoarseDistanceBindingNearest] = &in.nearest;
+  b[kCoarseDistanceBindingDistance] = &out.distance;
+  mPipeline.dispatch(cmd, b, &params,
+                     {gpu::groupsFor(params.dims.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(params.dims.y, RTSDF_JFA_GROUP_Y),
+                      gpu::groupsFor(params.dims.z, RTSDF_JFA_GROUP_Z)});
+  gpu::computeBarrier(cmd);
+}
+
+float emptySceneDistance(const GridSpec& spec) { return float(glm::length(glm::dvec3(spec.dims)) * spec.voxelSize); }
+
+CoarseSdfBuilder::CoarseSdfBuilder(const gpu::VulkanContext& ctx)
+    : mCtx(ctx), mVoxelize(ctx), mJumpFlood(ctx), mExactEdt(ctx), mDistance(ctx), mProfiler(ctx) {}
+
+VoxelizeInstance identityInstance(std::uint32_t triangleCount) {
+  VoxelizeInstance inst{};
+  for (int r = 0; r < 3; ++r) inst.objectToFrame[r][r] = 1.0f;
+  inst.triangleCount = triangleCount;
+  return inst;
+}
+
+CoarseSdf CoarseSdfBuilder::build(const SceneGeometry& geometry, const GridSpec& spec, const CoarseSdfSettings& settings,
+                                  bool keepSeeds) {
+  // The corners are relative to the geometry's frame: so is the grid they are voxelized on.
+  CoarseSdf out = build(triangleCorners(geometry), spec.inFrame(geometry.origin), settings, keepSeeds);
+  out.spec = spec;
+  return out;
+}
+
+namespace {
+
+/// CoarseSdfSettings::chunkVoxels resolved for a device and a grid of @a voxels.
+std::uint32_t voxelizeChunkVoxels(const CoarseSdfSettings& settings, bool cpuDevice, std::uint64_t voxels) {
+  if (settings.chunkVoxels && (settings.chunkVoxels < 16 || settings.chunkVoxels > 65536))
+    throw Error(fmt::format("coarse SDF: {} voxels per voxelization invocation are outside [16, 65536]",
+                            settings.chunkVoxels));
+  std::uint64_t chunk = settings.chunkVoxels ? settings.chunkVoxels
+                                             : (cpuDevice ? kVoxelizeChunkVoxelsCpu : kVoxelizeChunkVoxelsGpu);
+  // A triangle's range lies inside the grid: its chunks must fit the groups along y times the layers along z.
+  const std::uint64_t maxChunks = std::uint64_t(settings.maxChunkGroups) * kVoxelizeMaxChunkGroups;
+  while ((voxels + chunk - 1) / chunk > maxChunks) chunk *= 2;
+  return std::uint32_t(chunk);
+}
+
+} // namespace
+
+CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& triangles, const GridSpec& spec,
+                                                     const CoarseSdfSettings& settings) {
+  const glm::ivec3 dims = spec.dims;
+  if (glm::any(glm::greaterThan(dims, glm::ivec3(kMaxSeedAxis))))
+    throw Error(fmt::format("coarse SDF: grid {}x{}x{} exceeds the {} voxels per axis that seeds can address",
+                            dims.x, dims.y, dims.z, kMaxSeedAxis));
+  // One invocation per triangle along x, in groups of 64: the most groups any device runs along x.
+  constexpr std::uint64_t kMaxTriangles = std::uint64_t(kVoxelizeMaxChunkGroups) * 64;
+  if (triangles.triangleCount > kMaxTriangles)
+    throw Error(fmt::format("coarse SDF: {} triangles are more than the {} one voxelization dispatch addresses",
+                            triangles.triangleCount, kMaxTriangles));
+  if (triangles.triangleCount && !triangles.instanceCount)
+    throw Error("coarse SDF: triangles without an instance to place them");
+  const std::uint64_t voxels = spec.voxelCount();
+  Prepared p;
+  p.voxelize.shader = voxelizeParams(spec, triangles.triangleCount);
+  p.voxelize.shader.instanceCount = triangles.instanceCount;
+  if (settings.maxChunkGroups < kVoxelizeMinChunkGroups || settings.maxChunkGroups > kVoxelizeMaxChunkGroups)
+    throw Error(fmt::format("coarse SDF: {} chunk groups are outside [{}, {}]", settings.maxChunkGroups,
+                            kVoxelizeMinChunkGroups, kVoxelizeMaxChunkGroups));
+  p.voxelize.shader.maxChunkGroups = settings.maxChunkGroups;
+  p.voxelize.shader.chunkSize = voxelizeChunkVoxels(settings, mCtx.info().typeName == "cpu", voxels);
+
+  using gpu::Buffer;
+  // Kept between builds: a frame loop allocates them once.
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  gpu::reserve(mCtx, mDispatch, 3 * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Device,
+               "voxelize dispatch");
+  gpu::reserve(mCtx, mPlaced, std::uint64_t(triangles.triangleCount) * 3 * sizeof(glm::vec4), storage,
+               Buffer::Memory::Device, "placed triangles");
+  gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / transform A");
+  gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "transform B");
+  gpu::reserve(mCtx, mDistanceBuf, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
+
+  p.beta = float(settings.beta >= 0.0 ? settings.beta : 0.5 * spec.voxelSize);
+  p.distance.dims = glm::ivec4(dims, 0);
+  p.distance.voxelSize = float(spec.voxelSize);
+  p.distance.beta = p.beta;
+  p.distance.emptyDistance = emptySceneDistance(spec);
+  p.flood = {dims, settings.method};
+  return p;
+}
+
+InstancedTriangles CoarseSdfBuilder::uploadWorldCorners(const std::vector<glm::vec4>& corners) {
+  if (corners.size() % 3) throw Error("coarse SDF: triangle corners must come in threes");
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  gpu::reserve(mCtx, mCorners, corners.size() * sizeof(glm::vec4), storage, gpu::Buffer::Memory::Device,
+               "triangle corners");
+  upload(mCtx, mCorners, corners.data(), corners.size() * sizeof(glm::vec4));
+  const auto tris = std::uint32_t(corners.size() / 3);
+  const VoxelizeInstance identity = identityInstance(tris);
+  gpu::reserveAndUpload(mCtx, mIdentityInstance, &identity, sizeof(identity), storage, "identity instance");
+  return {mCorners, mIdentityInstance, 1u, tris};
+}
+
+const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler,
+                                                  const InstancedTriangles& triangles, const Prepared& p) const {
+  const bool exact = !isJumpFlooding(p.flood.variant);
+  const gpu::Buffer& nearest = exact ? mSeedsB : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
+  mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced}, p.voxelize);
+  if (exact)
+    mExactEdt.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, {p.flood.dims});
+  else
+    mJumpFlood.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, p.flood);
+  mDistance.execute(cmd, profiler, {nearest}, {mDistanceBuf}, p.distance);
+  return nearest;
+}
+
+float CoarseSdfBuilder::record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
+                               const GridSpec& spec, const CoarseSdfSettings& settings) {
+  const Prepared p = prepare(triangles, spec, settings);
+  recordPasses(cmd, profiler, triangles, p);
+  return p.beta;
+}
+
+CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const GridSpec& spec,
+                                  const CoarseSdfSettings& settings, bool keepSeeds) {
+  const InstancedTriangles triangles = uploadWorldCorners(corners);
+  if (!keepSeeds) return build(triangles, spec, settings);
+  const Prepared p = prepare(triangles, spec, settings);
+  gpu::CommandBuffer cmd(mCtx);
+  mVoxelize.execute(cmd.handle(), nullptr, {triangles}, {mSeedsA, mDispatch, mPlaced}, p.voxelize);
+  cmd.submitAndWait();
+  std::vector<std::uint32_t> seeds(spec.voxelCount());
+  download(mCtx, mSeedsA, seeds.data(), seeds.size() * 4);
+  CoarseSdf out = build(triangles, spec, settings);
+  out.seeds = std::move(seeds);
+  return out;
+}
+
+CoarseSdf CoarseSdfBuilder::build(const InstancedTriangles& triangles, const GridSpec& spec,
+                                  const CoarseSdfSettings& settings) {
+  const Prepared p = prepare(triangles, spec, settings);
+  const std::uint64_t voxels = spec.voxelCount();
+  CoarseSdf out;
+  out.spec = spec;
+  out.beta = p.beta;
+  gpu::CommandBuffer cmd(mCtx);
+  mProfiler.reset(cmd.handle());
+  const gpu::Buffer& nearest = recordPasses(cmd.handle(), &mProfiler, triangles, p);
+  cmd.submitAndWait();
+  out.passMs = mProfiler.results();
+  out.distance.resize(voxels);
+  if (settings.readNearest) {
+    out.nearest.resize(voxels);
+    download(mCtx, nearest, out.nearest.data(), voxels * 4);
+  }
+  download(mCtx, mDistanceBuf, out.distance.data(), voxels * 4);
+  return out;
+}
+
+} // namespace rtsdf

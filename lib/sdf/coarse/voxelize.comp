@@ -1,0 +1,30 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// VoxelizePass, second dispatch: every voxel whose box a triangle touches becomes a seed (its own packed
+// coordinate). One invocation per (triangle as voxelize_chunks.comp placed it, chunk of chunkSize voxels of its
+// voxel range), dispatched indirectly with voxelize_chunks.comp's count of chunks along y and z (chunk = z * groups
+// along y + y); empty voxels keep kNoSeed. Loops stay short on purpose: lavapipe cut off a single loop of ~100k iterations (lost writes), and an
+// invocation that strided through several chunks lost writes too, so each runs at most one chunk.
+#include "sdf/coarse/CoarseParams.h"
+
+layout(local_size_x = 64) in;
+layout(push_constant) uniform Push { VoxelizeParams params; };
+layout(std430, binding = kVoxelizeBindingPlaced) readonly buffer Placed { vec4 placed[]; }; // voxel space, 3 each
+layout(std430, binding = kVoxelizeBindingSeeds) buffer Seeds { uint seeds[]; };
+
+void main() {
+  uint g = gl_GlobalInvocationID.x;
+  if (g >= params.triangleCount) return;
+  vec3 t0 = placed[3u * g].xyz, t1 = placed[3u * g + 1u].xyz, t2 = placed[3u * g + 2u].xyz;
+  ivec3 lo = voxelRangeLo(t0, t1, t2);
+  ivec3 n = voxelRangeHi(t0, t1, t2, params.dims.xyz) - lo + ivec3(1);
+  int total = (n.x > 0 && n.y > 0 && n.z > 0) ? n.x * n.y * n.z : 0;
+  uint chunk = gl_WorkGroupID.z * gl_NumWorkGroups.y + gl_WorkGroupID.y;
+  if (chunk * params.chunkSize >= uint(total)) return;
+  int first = int(chunk * params.chunkSize);
+  int last = min(total, first + int(params.chunkSize));
+  for (int i = first; i < last; ++i) {
+    ivec3 v = lo + ivec3(i % n.x, (i / n.x) % n.y, i / (n.x * n.y));
+    if (voxelOverlaps(v, t0, t1, t2)) seeds[(v.z * params.dims.y + v.y) * params.dims.x + v.x] = packSeed(v);
+  }
+}

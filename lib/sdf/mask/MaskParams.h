@@ -1,0 +1,160 @@
+// Shared by C++ and GLSL: the ray mask's and the brick pool's parameters, bindings and decisions: mask_compact.comp
+// (MaskCompactPass), mask_dispatch.comp (MaskDispatchPass), brick_alloc.comp (BrickAllocPass) and their CPU copies
+// (MaskCpu.h) call the very same functions. The refinement (sdf/refine/RefineParams.h) reads the pool they keep.
+#ifndef RTSDF_SDF_MASK_MASKPARAMS_H
+#define RTSDF_SDF_MASK_MASKPARAMS_H
+#include "gpu/shared/Common.h"
+
+RTSDF_SHARED_BEGIN
+
+/// The sparse fine state: the fine grid is cut into bricks of RTSDF_BRICK^3 voxels; only bricks under the ray
+/// mask hold a slot of the brick pool, where the refinement keeps its values (the history) and sign votes.
+#define RTSDF_BRICK 8
+const uint kBrickVoxels = 512u;        // RTSDF_BRICK^3
+const uint kNoBrick = 0xFFFFFFFFu;     // a brick without a slot
+/// The pool is split into pages of pageBricks bricks, one storage buffer each (a single buffer is bounded by
+/// maxStorageBufferRange: 128 MiB on lavapipe, 65536 bricks of floats).
+#define RTSDF_BRICK_PAGES 4
+/// Work-group size of brick_alloc.comp (one invocation per brick).
+#define RTSDF_BRICK_GROUP 64
+
+/// Word indices of the brick counts buffer (BrickAllocPass). kBrickCountFreeTop persists from frame to frame;
+/// the others are reset to 0 before each frame's allocation.
+const uint kBrickCountFreeTop = 0u;   // slots on the free stack
+const uint kBrickCountActive = 1u;    // bricks under the ray mask this frame
+const uint kBrickCountAllocated = 2u; // slots taken from the free stack this frame (or asked for beyond it)
+const uint kBrickCountOverflow = 3u;  // bricks under the ray mask left without a slot (the pool was full)
+const uint kBrickCountWords = 4u;
+
+/// Bindings of brick_alloc.comp.
+const uint kBrickBindingCounts = 0u; // kBrickCount* words
+const uint kBrickBindingNeeded = 1u; // uint per brick: the last frame a band voxel lay in it (MaskCompactPass)
+const uint kBrickBindingSlots = 2u;  // uint per brick: its slot, kNoBrick: none
+const uint kBrickBindingFree = 3u;   // the free stack of slots, kBrickCountFreeTop of them
+const uint kBrickBindingCount = 4u;
+
+/// Push constants of brick_alloc.comp.
+struct BrickParams {
+  uint bricks; // bricks in the grid
+  uint frame;  // frame number (1, 2, ...)
+  uint phase;  // RTSDF_BRICK_FREE, RTSDF_BRICK_TAKE or RTSDF_BRICK_SETTLE
+  uint pad0;
+};
+#define RTSDF_BRICK_FREE 0u   // per brick: a slot whose brick is no longer needed goes back on the free stack
+#define RTSDF_BRICK_TAKE 1u   // per brick: a needed brick without a slot takes one off the stack (or overflows)
+#define RTSDF_BRICK_SETTLE 2u // one invocation: the stack's top lowered by the slots taken
+
+/// The brick holding fine voxel @a v (bricks x fastest, @a brickDims per axis), and @a v's place in it.
+RTSDF_FN uint brickIndexOf(ivec3 v, ivec3 brickDims) {
+  ivec3 b = v / RTSDF_BRICK;
+  return uint((b.z * brickDims.y + b.y) * brickDims.x + b.x);
+}
+RTSDF_FN uint brickLocalOf(ivec3 v) {
+  ivec3 l = v % RTSDF_BRICK;
+  return uint((l.z * RTSDF_BRICK + l.y) * RTSDF_BRICK + l.x);
+}
+
+/// Work-group size of the refinement shaders (one invocation per box of fine voxels under a listed coarse voxel).
+#define RTSDF_REFINE_GROUP 64
+
+/// Work-group shape of mask_compact.comp (one invocation per coarse voxel).
+#define RTSDF_MASK_GROUP 4
+
+/// Bindings of mask_compact.comp (MaskCompactPass) and mask_dispatch.comp (MaskDispatchPass, counts only).
+const uint kMaskBindingCounts = 0u;      // MaskCounts words: the refinement's indirect dispatch, then the counters
+const uint kMaskBindingCoarse = 1u;      // coarse SDF c_t (read)
+const uint kMaskBindingFineRanges = 2u;  // ivec2 per coarse index per axis (x entries, then y, then z): the fine
+                                         // voxels [lo, hi] whose centres lie in that coarse slab
+const uint kMaskBindingRefineList = 3u;  // appended: the coarse voxels whose fine voxels are refined this frame,
+                                         // linear index | kMaskFineFresh when new to the band, in no order
+const uint kMaskBindingCoarseList = 4u;  // appended: (coarse linear index, floatBitsToUint(c)) per band voxel
+const uint kMaskBindingCoarseState = 5u; // uvec2 per coarse voxel: (last frame in the band, refinements in a row)
+const uint kMaskBindingMovedBoxes = 6u;  // MovedBox per instance that moved since the previous frame
+const uint kMaskBindingBrickNeeded = 7u; // uint per brick: set to the frame number where a band voxel lies in it
+const uint kMaskBindingCount = 8u;
+
+/// A fine-list entry (SdfPipeline::refinedVoxels): x | y << 10 | z << 20; a refine-list entry: a coarse linear index.
+/// Either or-ed with kMaskFineFresh when the voxel is new to the mask (no history).
+const uint kMaskFineCoords = 0x3FFFFFFFu;
+const uint kMaskFineFresh = 0x40000000u;
+
+/// Word indices of the counts buffer: a VkDispatchIndirectCommand for the refinement at offset 0, then the
+/// counters mask_compact.comp appends with (reset to 0 before it runs).
+const uint kMaskCountGroupsX = 0u;
+const uint kMaskCountGroupsY = 1u;
+const uint kMaskCountGroupsZ = 2u;
+const uint kMaskCountFine = 3u;       // fine voxels under the coarse voxels of the refine list: those refined
+const uint kMaskCountCoarse = 4u;     // coarse band voxels appended
+const uint kMaskCountMaskedFine = 5u; // fine voxels under the band, refined or kept
+const uint kMaskCountRefineList = 6u; // coarse voxels appended to the refine list
+const uint kMaskCountWords = 8u;
+
+/// Moving instances' boxes MaskCompactPass reads (more are merged into the last one).
+#define RTSDF_MAX_MOVED_BOXES 256
+
+/// The box an instance swept from the previous frame to this one: the union of its world bounds in both poses,
+/// in the frame the GPU passes measure from (w unused).
+struct MovedBox {
+  vec4 lo;
+  vec4 hi;
+};
+
+/// Push constants of mask_compact.comp and mask_dispatch.comp.
+struct MaskParams {
+  ivec4 coarseDims;    // xyz: coarse voxels per axis
+  float band;          // d: a coarse voxel is in the band when |c| <= d (the CPU mirror's float comparison)
+  uint refineCapacity; // entries the refine list holds (appends beyond it are counted, not written)
+  uint coarseCapacity; // entries the coarse list holds
+  uint frame;          // frame number (1, 2, ...)
+  vec4 coarseOriginH;  // xyz: corner of coarse voxel (0,0,0) in the GPU's frame, w: coarse voxel size
+  float reachPad;      // a fine voxel of the cell is within |c| + reachPad of the surface (see movedWithinReach)
+  uint settleFrames;   // refinements in a row after which a voxel is settled; 0: refine every band voxel
+  uint refreshPeriod;  // a settled voxel is refined again once every this many frames; 0: never
+  uint movedBoxes;     // MovedBox entries this frame
+  ivec4 brickDims;     // xyz: bricks per axis; w: the refinement's invocations per coarse voxel (refineParts)
+};
+
+/// Incremental refinement, decided per coarse band voxel for all the fine voxels under it: whether they are
+/// refined this frame (else they keep their values). They are when every band voxel is (settleFrames == 0), when
+/// the voxel is new to the band (@a fresh), when a moving instance came within reach (@a nearMoved), while it has
+/// had fewer than settleFrames refinements in a row, and, settled, once every refreshPeriod frames (staggered by
+/// the coarse index @a voxel).
+RTSDF_FN bool refinesThisFrame(MaskParams p, bool fresh, bool nearMoved, uint refinements, uint voxel) {
+  if (p.settleFrames == 0u || fresh || nearMoved || refinements < p.settleFrames) return true;
+  return p.refreshPeriod != 0u && (voxel + p.frame) % p.refreshPeriod == 0u;
+}
+
+/// The voxel's refinements in a row after this frame: restarted by entering the band or a moving instance,
+/// counted up while refined (saturating), unchanged while kept.
+RTSDF_FN uint refinementsAfter(bool refined, bool fresh, bool nearMoved, uint refinements) {
+  if (!refined) return refinements;
+  if (fresh || nearMoved) return 1u;
+  return refinements == 0xFFFFFFFFu ? refinements : refinements + 1u;
+}
+
+/// Whether moving box @a b lies within reach of coarse voxel @a v, whose value is @a c. Every fine voxel centre
+/// in the cell is within R = |c| + reachPad of the surface (the nearest seed touches it within half a coarse
+/// diagonal, c took beta off, and a fine centre is within half a diagonal of the coarse centre; reachPad adds
+/// a fine voxel for rounding). If the distance at such a point changed, a moving instance is within R of it in
+/// one of its poses: it came nearer than the old distance, so within the new one (<= R), or it was the nearest
+/// and moved off, so the old distance was below the new one (<= R).
+RTSDF_FN bool movedWithinReach(MaskParams p, ivec3 v, float c, MovedBox b) {
+  RTSDF_PRECISE vec3 lo = vec3(p.coarseOriginH) + vec3(v) * p.coarseOriginH.w;
+  RTSDF_PRECISE vec3 hi = lo + vec3(p.coarseOriginH.w);
+  RTSDF_PRECISE vec3 gap = max(max(vec3(b.lo) - hi, lo - vec3(b.hi)), vec3(0.0));
+  RTSDF_PRECISE float reach = abs(c) + p.reachPad;
+  return dot(gap, gap) <= reach * reach;
+}
+
+/// The indirect dispatch of @a invocations refinement invocations in groups of RTSDF_REFINE_GROUP: at most 65535
+/// groups along x, the rest along y (the refinement flattens them); no groups at all for an empty mask.
+RTSDF_FN uvec3 refineDispatch(uint invocations) {
+  uint groups = invocations / uint(RTSDF_REFINE_GROUP) + (invocations % uint(RTSDF_REFINE_GROUP) != 0u ? 1u : 0u);
+  if (groups == 0u) return uvec3(0u, 0u, 1u);
+  uint gx = min(groups, 65535u);
+  return uvec3(gx, (groups + gx - 1u) / gx, 1u);
+}
+
+RTSDF_SHARED_END
+
+#endif

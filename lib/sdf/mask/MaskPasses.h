@@ -1,0 +1,101 @@
+#pragma once
+/// @file MaskPasses.h
+/// @brief The ray mask and the brick pool on the GPU: MaskCompactPass (the coarse voxels within the band and the
+///        fine voxels under them), MaskDispatchPass (the refinement's indirect dispatch), BrickAllocPass (the pool's
+///        slots), and the per-axis tables that map the two grids onto each other. Same shape as every pass:
+///        execute(cmd, profiler, inputs, outputs, params), bindings named in sdf/mask/MaskParams.h; the CPU copies
+///        are MaskCpu.h.
+#include "gpu/ComputePass.h"
+#include "gpu/Profiler.h"
+#include "gpu/Resources.h"
+#include "grid/GridSpec.h"
+#include "sdf/mask/MaskParams.h"
+
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief The fine voxels under each coarse slab, per axis: entry a-offset + i (x entries, then y, then z) is the
+///        range [lo, hi] of fine indices j along axis a whose centres lie in coarse voxel i, i <= (j + 0.5) / ratio
+///        < i + 1, clamped to the fine grid (lo > hi: none, where the coarse grid overhangs the fine one). The
+///        grids share their corner (coarseGridOver). The CPU mirror (buildRayMask) and MaskCompactPass use these
+///        very tables, so both give the same fine voxels.
+std::vector<glm::ivec2> maskFineRanges(const GridSpec& coarse, const GridSpec& fine);
+
+/// @brief Append the fine voxels under coarse voxel @a c (maskFineRanges @a ranges of a coarse grid of @a coarseDims),
+///        packed x | y << 10 | z << 20, each or-ed with @a flags.
+void appendFineVoxelsUnder(const std::vector<glm::ivec2>& ranges, const glm::ivec3& coarseDims, const glm::ivec3& c,
+                           std::uint32_t flags, std::vector<std::uint32_t>& out);
+
+/// @brief The inverse of maskFineRanges: entry a-offset + j (x entries, then y, then z) is the coarse index along
+///        axis a whose slab holds fine index j (-1 where none does). UpsamplePass finds the ray mask's voxels with it.
+std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine);
+
+/// @brief The longest run of fine voxels under one coarse voxel along each axis (maskFineRanges of the grids).
+glm::ivec3 longestFineRuns(const GridSpec& coarse, const GridSpec& fine);
+
+/// @brief MaskCompactPass (mask_compact.comp): the ray mask on the GPU. Appends every coarse voxel with |c| <= d
+///        (index and value) to the coarse list, stamps the bricks holding the fine voxels under it with the frame
+///        number and, when they are to be refined this frame (gpu::shared::refinesThisFrame, which advances the
+///        voxel's state), appends the voxel (kMaskFineFresh when new to the band) to the refine list, in no order;
+///        counts both lists, the fine voxels refined and every fine voxel under the band in the counts buffer
+///        (sdf/mask/MaskParams.h's kMaskCount* words, which must be zero before).
+class MaskCompactPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "MaskCompactPass";
+  struct Inputs {
+    const gpu::Buffer& coarse;     ///< c_t, dense, x fastest
+    const gpu::Buffer& fineRanges; ///< maskFineRanges() of the two grids
+    const gpu::Buffer& movedBoxes; ///< MovedBox per instance that moved (params.movedBoxes of them)
+  };
+  /// @a coarseState: (last frame in the band, refinements in a row) per coarse voxel, read and advanced;
+  /// @a brickNeeded: per brick, the last frame a band voxel lay in it.
+  struct Outputs { const gpu::Buffer &counts, &refineList, &coarseList, &coarseState, &brickNeeded; };
+  using Params = gpu::shared::MaskParams; ///< refineCapacity / coarseCapacity: entries the lists hold
+  explicit MaskCompactPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "mask_compact.comp", gpu::shared::kMaskBindingCount, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
+/// @brief MaskDispatchPass (mask_dispatch.comp): one invocation writes the refinement's indirect dispatch
+///        (gpu::shared::refineDispatch of params.brickDims.w invocations per coarse voxel of the refine list), at
+///        offset 0 of the counts buffer, which therefore needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT.
+class MaskDispatchPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "MaskDispatchPass";
+  struct Inputs {};
+  struct Outputs { const gpu::Buffer& counts; };
+  using Params = gpu::shared::MaskParams;
+  explicit MaskDispatchPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "mask_dispatch.comp", 1, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
+/// @brief BrickAllocPass (brick_alloc.comp): the brick pool's slots follow the ray mask on the GPU. A brick that
+///        MaskCompactPass stamped this frame keeps its slot or takes one off the free stack; a brick it did not
+///        stamp gives its slot back. Slots are assigned in no particular order; a needed brick finds none only when
+///        the stack is empty (kBrickCountOverflow counts those). The counts' per-frame words
+///        (kBrickCountActive, kBrickCountAllocated, kBrickCountOverflow) must be zero before.
+class BrickAllocPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "BrickAllocPass";
+  struct Inputs { const gpu::Buffer& needed; };  ///< per brick: the last frame it was needed
+  /// kBrickCount* words; per brick its slot (kNoBrick: none); the free stack (kBrickCountFreeTop entries).
+  struct Outputs { const gpu::Buffer &counts, &slots, &freeStack; };
+  using Params = gpu::shared::BrickParams;       ///< bricks and frame (phase: set by execute)
+  explicit BrickAllocPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "brick_alloc.comp", gpu::shared::kBrickBindingCount, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
+/// @brief The brick pool's storage: RTSDF_BRICK_PAGES pages of values (float) and of sign votes (two halves),
+///        each of pageBricks bricks; pages beyond the pool's capacity are bound to a small placeholder.
+struct BrickPages {
+  const gpu::Buffer* values[RTSDF_BRICK_PAGES];
+  const gpu::Buffer* votes[RTSDF_BRICK_PAGES];
+};
+
+} // namespace rtsdf

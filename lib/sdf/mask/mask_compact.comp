@@ -1,0 +1,93 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// MaskCompactPass: the ray mask appended on the GPU. One invocation per coarse voxel: a voxel in the band
+// (|c| <= d, the float comparison of the CPU mirror) appends itself to the coarse list, counts the fine voxels
+// whose centres lie in it (the per-axis range tables, computed on the CPU as the mirror does), marks the bricks
+// that hold them as needed this frame (the sparse fine state) and, when they are to be refined this frame
+// (refinesThisFrame: new to the band, reached by a moving instance, not settled), appends itself to the refine
+// list, which the refinement expands into those fine voxels. The refinement hashes by voxel, not by slot, so the
+// lists' order does not matter.
+#include "sdf/mask/MaskParams.h"
+
+layout(local_size_x = RTSDF_MASK_GROUP, local_size_y = RTSDF_MASK_GROUP, local_size_z = RTSDF_MASK_GROUP) in;
+layout(push_constant) uniform Push { MaskParams params; };
+layout(std430, binding = kMaskBindingCounts) buffer Counts { uint counts[]; };
+layout(std430, binding = kMaskBindingCoarse) readonly buffer Coarse { float coarse[]; };
+layout(std430, binding = kMaskBindingFineRanges) readonly buffer FineRanges { ivec2 fineRanges[]; };
+layout(std430, binding = kMaskBindingRefineList) writeonly buffer RefineList { uint refineList[]; };
+layout(std430, binding = kMaskBindingCoarseList) writeonly buffer CoarseList { uvec2 coarseList[]; };
+layout(std430, binding = kMaskBindingCoarseState) buffer CoarseState { uvec2 coarseState[]; };
+layout(std430, binding = kMaskBindingMovedBoxes) readonly buffer MovedBoxes { MovedBox movedBoxes[]; };
+layout(std430, binding = kMaskBindingBrickNeeded) writeonly buffer BrickNeeded { uint brickNeeded[]; };
+
+shared uint groupFine, groupMasked, groupCoarse, groupRefine, baseRefine, baseCoarse;
+
+// Mark the bricks holding fine voxels [lo, hi] as needed this frame (every writer writes the same value).
+void markBricks(ivec3 lo, ivec3 hi) {
+  ivec3 b0 = lo / RTSDF_BRICK, b1 = hi / RTSDF_BRICK;
+  ivec3 bd = params.brickDims.xyz;
+  for (int z = b0.z; z <= b1.z; ++z)
+    for (int y = b0.y; y <= b1.y; ++y)
+      for (int x = b0.x; x <= b1.x; ++x) brickNeeded[(z * bd.y + y) * bd.x + x] = params.frame;
+}
+
+// Decide whether band voxel p (index i, value c) is refined this frame and advance its state; sets fresh.
+bool refineDecision(ivec3 p, uint i, float c, out bool fresh) {
+  uvec2 state = coarseState[i];
+  fresh = state.x + 1u != params.frame;
+  bool nearMoved = false;
+  for (uint b = 0u; b < params.movedBoxes && !fresh && !nearMoved; ++b)
+    nearMoved = movedWithinReach(params, p, c, movedBoxes[b]);
+  bool refined = refinesThisFrame(params, fresh, nearMoved, state.y, i);
+  coarseState[i] = uvec2(params.frame, refinementsAfter(refined, fresh, nearMoved, state.y));
+  return refined;
+}
+
+void main() {
+  // Slots are reserved per work group (shared-memory atomics, then one global atomic per counter and group):
+  // one global atomic per band voxel serialised the whole band on a single address.
+  if (gl_LocalInvocationIndex == 0u) {
+    groupFine = 0u;
+    groupMasked = 0u;
+    groupCoarse = 0u;
+    groupRefine = 0u;
+  }
+  barrier();
+  ivec3 p = ivec3(gl_GlobalInvocationID);
+  ivec3 dims = params.coarseDims.xyz;
+  bool inGrid = all(lessThan(p, dims));
+  uint i = inGrid ? uint((p.z * dims.y + p.y) * dims.x + p.x) : 0u;
+  float c = inGrid ? coarse[i] : 0.0;
+  bool inBand = inGrid && abs(c) <= params.band;
+  bool refined = false, fresh = false;
+  ivec2 rx = ivec2(0, -1), ry = ivec2(0, -1), rz = ivec2(0, -1);
+  uint refineOffset = 0u, coarseOffset = 0u;
+  if (inBand) {
+    rx = fineRanges[p.x];
+    ry = fineRanges[dims.x + p.y];
+    rz = fineRanges[dims.x + dims.y + p.z];
+    ivec3 n = max(ivec3(rx.y, ry.y, rz.y) - ivec3(rx.x, ry.x, rz.x) + 1, ivec3(0));
+    uint count = uint(n.x * n.y * n.z);
+    coarseOffset = atomicAdd(groupCoarse, 1u);
+    atomicAdd(groupMasked, count);
+    if (count > 0u) markBricks(ivec3(rx.x, ry.x, rz.x), ivec3(rx.y, ry.y, rz.y));
+    refined = refineDecision(p, i, c, fresh);
+    if (refined) {
+      refineOffset = atomicAdd(groupRefine, 1u);
+      atomicAdd(groupFine, count);
+    }
+  }
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) {
+    baseCoarse = groupCoarse > 0u ? atomicAdd(counts[kMaskCountCoarse], groupCoarse) : 0u;
+    baseRefine = groupRefine > 0u ? atomicAdd(counts[kMaskCountRefineList], groupRefine) : 0u;
+    if (groupFine > 0u) atomicAdd(counts[kMaskCountFine], groupFine);
+    if (groupMasked > 0u) atomicAdd(counts[kMaskCountMaskedFine], groupMasked);
+  }
+  barrier();
+  if (!inBand) return;
+  uint slot = baseCoarse + coarseOffset;
+  if (slot < params.coarseCapacity) coarseList[slot] = uvec2(i, floatBitsToUint(c));
+  slot = baseRefine + refineOffset;
+  if (refined && slot < params.refineCapacity) refineList[slot] = i | (fresh ? kMaskFineFresh : 0u);
+}

@@ -1,0 +1,79 @@
+// Shared by C++ and GLSL: the fine-SDF refinement's parameters and bindings (refine_main.glsl,
+// refine_upsample_main.glsl) and its random numbers (PCG hash, identical integer arithmetic on both sides). The
+// ray mask and the brick pool it refines under are sdf/mask/MaskParams.h's.
+#ifndef RTSDF_SDF_REFINE_REFINEPARAMS_H
+#define RTSDF_SDF_REFINE_REFINEPARAMS_H
+#include "bvh/GpuBvhLayout.h"
+#include "sdf/mask/MaskParams.h"
+
+RTSDF_SHARED_BEGIN
+
+/// Refinement modes: the shaders refine_rays.comp and refine_closest*.comp (ClosestRefinePass::Variant) are
+/// refine_main.glsl compiled with RTSDF_REFINE_MODE set to one of these (lib/Shaders.cmake).
+#define RTSDF_REFINE_RAYS 0    // the paper: x random rays per voxel per frame, nearest hit, decayed history
+#define RTSDF_REFINE_CLOSEST 1 // exact closest-point distance through the same BVH, deterministic
+
+/// Work-group shape of refine_upsample.comp (x fastest in memory; one invocation per run along z).
+#define RTSDF_UPSAMPLE_GROUP_X 32
+#define RTSDF_UPSAMPLE_GROUP_Y 2
+/// Fine voxels along z per invocation of refine_upsample.comp.
+#define RTSDF_UPSAMPLE_RUN_LENGTH 16
+/// Closest mode's cell search: the most triangles one box's walk keeps for its voxels to test (more: the nearest to
+/// the box's centre are kept, and a voxel whose answer may lie as far as a dropped one walks the BVH on its own).
+#define RTSDF_CELL_CANDIDATES 24
+/// The most fine voxels along an axis of a cell-search box (refinePartsFor): 2, so that every voxel of a box is one
+/// of its 8 corners (the corner bounds of the cell search, refine_main.glsl).
+#define RTSDF_CELL_BOX 2
+
+/// Flags of RefineParams::coarseDims.w in the refinement shaders.
+const int kRefineWriteDense = 1; // f_t is also written to the dense fine SDF (FineStorage::Dense)
+const int kRefineCellSearch = 2; // closest mode: one BVH walk per box collects candidates its voxels test
+
+/// Bindings of refine_upsample.comp.
+const uint kUpsampleBindingCoarse = 0u;       // coarse SDF c_t (read)
+const uint kUpsampleBindingFine = 1u;         // the dense fine SDF: c_t upsampled outside the ray mask (the
+                                              // refinement wrote the masked voxels whose bricks have a slot)
+const uint kUpsampleBindingFineToCoarse = 2u; // int per fine index per axis (x entries, then y, then z): the coarse
+                                              // voxel whose slab holds it (maskCoarseOfFine), -1: none
+const uint kUpsampleBindingBrickSlots = 3u;   // uint per brick: its slot in the pool, kNoBrick: none
+const uint kUpsampleBindingCount = 4u;
+
+/// Bindings of refine_rays.comp and refine_closest*.comp: the scene BVH (GpuBvhLayout.h's kBvhBinding*), then these,
+/// then the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page).
+const uint kRefineBindingRefineList = kBvhBindingCount + 0u; // the coarse voxels to refine (MaskCompactPass's list)
+const uint kRefineBindingMaskCounts = kBvhBindingCount + 1u; // MaskCounts words: the list's size
+const uint kRefineBindingCoarse = kBvhBindingCount + 2u;     // coarse SDF c_t (upsampled for the bound)
+const uint kRefineBindingFineRanges = kBvhBindingCount + 3u; // maskFineRanges(): the fine voxels of a coarse voxel
+const uint kRefineBindingBrickSlots = kBvhBindingCount + 4u; // uint per brick: its slot in the pool
+const uint kRefineBindingDense = kBvhBindingCount + 5u;      // the dense fine SDF: f_t also written here when
+                                                             // coarseDims.w != 0 (FineStorage::Dense)
+const uint kRefineBindingValuePages = kBvhBindingCount + 6u; // in: f_{t-1} signed (not fresh); out: f_t signed
+const uint kRefineBindingVotePages = kRefineBindingValuePages + RTSDF_BRICK_PAGES; // decayed (front, back) hits
+const uint kRefineBindingCount = kRefineBindingVotePages + RTSDF_BRICK_PAGES;
+
+/// Push constants of refine_upsample.comp and the refinement shaders.
+struct RefineParams {
+  vec4 fineOriginH;      // xyz: world corner of fine voxel (0,0,0), w: fine voxel size
+  ivec4 fineDims;        // xyz: fine voxels per axis, w: the brick pool's capacity (bricks)
+  vec4 coarseOriginInvH; // xyz: world corner of coarse voxel (0,0,0), w: 1 / coarse voxel size
+  ivec4 coarseDims;      // xyz: coarse voxels per axis; w: refinement: kRefine* flags
+  float alpha;           // history decay
+  uint rays;             // x, rays per masked voxel per frame
+  uint frame;            // frame number (1, 2, ...)
+  uint seed;             // per-run random seed
+  float beta;            // the coarse shell (closest mode widens its search by it)
+  float band;            // upsample: > 0 reads the fine voxels under band coarse voxels (|c| <= d) from the bricks
+  uint pageBricks;       // bricks per page of the pool
+  uint refineParts;      // refinement invocations per coarse voxel of the list: boxes (x fastest) of partBox.xyz
+  ivec4 brickDims;       // xyz: bricks per axis; w: boxes along x per coarse voxel
+  ivec4 partBox;         // xyz: the most fine voxels per axis of one invocation's box; w: boxes along y
+};
+
+/// The two uniform numbers in [0, 1) of ray @a ray of voxel @a voxel in frame @a frame.
+RTSDF_FN uint rayHash(uint voxel, uint frame, uint ray, uint seed) {
+  return pcgHash(voxel ^ pcgHash(frame * 0x9E3779B9u + pcgHash(ray + seed * 0x85EBCA6Bu)));
+}
+
+RTSDF_SHARED_END
+
+#endif

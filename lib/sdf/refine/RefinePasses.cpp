@@ -1,0 +1,79 @@
+#include "sdf/refine/RefinePasses.h"
+
+#include <array>
+
+namespace rtsdf {
+using namespace gpu::shared;
+
+RefineParams refineGridParams(const GridSpec& coarse, const GridSpec& fine) {
+  RefineParams p{};
+  p.fineOriginH = glm::vec4(glm::vec3(fine.origin), float(fine.voxelSize));
+  p.fineDims = glm::ivec4(fine.dims, 0);
+  p.coarseOriginInvH = glm::vec4(glm::vec3(coarse.origin), float(1.0 / coarse.voxelSize));
+  p.coarseDims = glm::ivec4(coarse.dims, 0);
+  return p;
+}
+
+const char* ClosestRefinePass::shaderFor(const Variant& v) {
+  static const char* const kShaders[8] = {"refine_closest_side.comp",          "refine_closest.comp",
+                                          "refine_closest_cell_side.comp",     "refine_closest_cell.comp",
+                                          "refine_closest_side_cpu.comp",      "refine_closest_cpu.comp",
+                                          "refine_closest_cell_side_cpu.comp", "refine_closest_cell_cpu.comp"};
+  return kShaders[(v.signRays ? 1 : 0) + (v.cellSearch ? 2 : 0) + (v.cpu ? 4 : 0)];
+}
+
+RefineParts refinePartsFor(const glm::ivec3& longestRuns, bool cellSearch) {
+  RefineParts parts;
+  if (!cellSearch) {
+    parts.box = glm::ivec3(1, 1, longestRuns.z);
+    parts.count = glm::ivec3(longestRuns.x, longestRuns.y, 1);
+    return parts;
+  }
+  for (int a = 0; a < 3; ++a) {
+    parts.count[a] = (longestRuns[a] + RTSDF_CELL_BOX - 1) / RTSDF_CELL_BOX;
+    parts.box[a] = (longestRuns[a] + parts.count[a] - 1) / parts.count[a];
+  }
+  return parts;
+}
+
+namespace {
+static_assert(RTSDF_BRICK_PAGES == 4, "brick_pool.glsl declares four pages");
+template <std::size_t N> void bindPages(std::array<gpu::Binding, N>& b, std::uint32_t first,
+                                        const gpu::Buffer* const (&pages)[RTSDF_BRICK_PAGES]) {
+  for (std::uint32_t k = 0; k < RTSDF_BRICK_PAGES; ++k) b[first + k] = pages[k];
+}
+} // namespace
+
+void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                           const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kUpsampleBindingCount> b;
+  b[kUpsampleBindingCoarse] = &in.coarse;
+  b[kUpsampleBindingFine] = &out.fine;
+  b[kUpsampleBindingFineToCoarse] = &in.fineToCoarse;
+  b[kUpsampleBindingBrickSlots] = &in.brickSlots;
+  const glm::ivec3 d = params.fineDims;
+  mPipeline.dispatch(cmd, b, &params,
+                     {gpu::groupsFor(d.x, RTSDF_UPSAMPLE_GROUP_X), gpu::groupsFor(d.y, RTSDF_UPSAMPLE_GROUP_Y),
+                      gpu::groupsFor(d.z, std::uint32_t(mRun))});
+  gpu::computeBarrier(cmd);
+}
+
+void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                         const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, mName);
+  std::array<gpu::Binding, kRefineBindingCount> b;
+  in.bvh.bindTo(b);
+  b[kRefineBindingRefineList] = &in.refineList;
+  b[kRefineBindingMaskCounts] = &in.counts;
+  b[kRefineBindingCoarse] = &in.coarse;
+  b[kRefineBindingFineRanges] = &in.fineRanges;
+  b[kRefineBindingBrickSlots] = &in.brickSlots;
+  b[kRefineBindingDense] = &out.dense;
+  bindPages(b, kRefineBindingValuePages, out.pool.values);
+  bindPages(b, kRefineBindingVotePages, out.pool.votes);
+  mPipeline.dispatchIndirect(cmd, b, &params, in.counts);
+  gpu::computeBarrier(cmd);
+}
+
+} // namespace rtsdf

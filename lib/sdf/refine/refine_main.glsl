@@ -1,0 +1,359 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+// The refinement shaders (refine_rays.comp, refine_closest*.comp): this one source compiled with RTSDF_REFINE_MODE
+// and the variant's defines (lib/Shaders.cmake's table).
+// RayRefinePass / ClosestRefinePass, for every fine voxel of the ray mask, refine the distance through the BVH.
+//   rays mode (the paper): x rays uniform on the sphere, r_t = nearest hit, f_t = min(alpha f_{t-1} +
+//   (1 - alpha) c^_t, r_t) with c^_t = c_t + beta + sqrt(3)/2 h_coarse (an upper bound: see below);
+//   front/back-face hits, decayed by alpha, vote for the sign (more back-face hits: inside).
+//   closest mode: f_t = exact distance by closest-point traversal; sign from the ray votes when x > 0,
+//   else from the side of the closest triangle.
+// The list holds the coarse voxels MaskCompactPass chose to refine this frame (the others keep their values);
+// each is expanded into the fine voxels under it (maskFineRanges), cut into params.refineParts boxes of at most
+// params.partBox.xyz fine voxels, one invocation per box (a short loop: at most 8 voxels, or a run along z of
+// the fine/coarse ratio + 1). A voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with
+// their last value, which the brick pool holds (the sparse fine state), and so, with FineStorage::Dense, does
+// the dense fine SDF; a voxel whose brick found no slot (a full pool) is left alone.
+// Closest mode's cell search (RTSDF_CELL_SEARCH): one BVH walk per box collects every triangle that can be nearest
+// to any voxel of it (collectCellCandidates), and each voxel tests only those, with the same triangle test and tie
+// rule as closestPoint, so the distances are the same; a voxel the candidates may not answer walks on its own.
+#include "bvh/GpuBvhLayout.h"
+#include "sdf/refine/RefineParams.h"
+#ifndef RTSDF_REFINE_MODE
+#error "compile with RTSDF_REFINE_MODE defined (RTSDF_REFINE_RAYS or RTSDF_REFINE_CLOSEST)"
+#endif
+// The closest shaders' variants (refine_closest*.comp, ClosestRefinePass::Variant; lavapipe runs the code behind a
+// branch, masked, even where no lane takes it, so what a pipeline never runs is compiled out): RTSDF_SIGN_RAYS 0 when
+// the sign comes from the closest triangle's side alone (x = 0); RTSDF_CELL_SEARCH 1 for ClosestSearch::Cell
+// (refineCellBox); the BVH walk's shape by device (RTSDF_POINT_WALK_WHILE_WHILE, bvh_traverse.glsl).
+#ifndef RTSDF_SIGN_RAYS
+#define RTSDF_SIGN_RAYS 1
+#endif
+#ifndef RTSDF_CELL_SEARCH
+#define RTSDF_CELL_SEARCH 0
+#endif
+
+layout(local_size_x = RTSDF_REFINE_GROUP) in;
+layout(push_constant) uniform Push { RefineParams params; };
+#include "sdf/scenebvh/bvh_bindings.glsl"
+layout(std430, binding = kRefineBindingRefineList) readonly buffer RefineList { uint refineList[]; };
+layout(std430, binding = kRefineBindingMaskCounts) readonly buffer MaskCounts { uint maskCounts[]; };
+layout(std430, binding = kRefineBindingCoarse) readonly buffer Coarse { float coarse[]; };
+layout(std430, binding = kRefineBindingFineRanges) readonly buffer FineRanges { ivec2 fineRanges[]; };
+layout(std430, binding = kRefineBindingBrickSlots) readonly buffer BrickSlots { uint brickSlots[]; };
+layout(std430, binding = kRefineBindingDense) writeonly buffer Dense { float dense[]; };
+#define RTSDF_VALUE_PAGES kRefineBindingValuePages
+#define RTSDF_VOTE_PAGES kRefineBindingVotePages
+#include "sdf/mask/brick_pool.glsl"
+
+#include "coarse_upsample.glsl"
+
+#include "sdf/scenebvh/bvh_traverse.glsl"
+
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
+// The box's candidates (collectCellCandidates): instance slot, leaf-order triangle and distance to the box's
+// centre m. Private to the invocation.
+uint cellInstance[RTSDF_CELL_CANDIDATES];
+uint cellLeaf[RTSDF_CELL_CANDIDATES];
+float cellDistance[RTSDF_CELL_CANDIDATES];
+uint cellCount = 0u;
+bool cellMissed = false; // the walk found nothing within its radius: the box's voxels walk on their own
+vec3 cellCentre = vec3(0.0);
+float cellKeep = 0.0;    // candidates farther than this from m cannot be nearest to a voxel of the box
+float cellDropped = 0.0; // the nearest distance from m of a triangle in reach that the full list dropped (or inf)
+
+// The box's voxel centres lie within its corners m + (+-e.x, +-e.y, +-e.z) (a box is at most 2 voxels per axis, so
+// every voxel is a corner). cellLimit*: upper bounds of the distance to the surface at the corners, z low then z high,
+// x fastest (kCornerX, kCornerY), from the surface points the walk has met, rounded up by the margin a tie and the
+// rounding of both searches need.
+vec3 cellHalf = vec3(0.0);
+vec4 cellLimitLo = vec4(0.0), cellLimitHi = vec4(0.0);
+float cellMargin = 0.0;
+float cellReach = 0.0; // the largest corner limit plus the way from m to a corner: the walk's sphere around m
+vec3 cellAxisX = vec3(0.0), cellAxisY = vec3(0.0), cellAxisZ = vec3(0.0); // e's axes in the instance's object space
+const vec4 kCornerX = vec4(-1.0, 1.0, -1.0, 1.0), kCornerY = vec4(-1.0, -1.0, 1.0, 1.0);
+
+// Lower the corners' bounds by surface point m + w.
+void cellMeetSurface(vec3 w) {
+  vec3 e = cellHalf;
+  vec4 dx = kCornerX * e.x - w.x, dy = kCornerY * e.y - w.y;
+  vec4 xy = dx * dx + dy * dy;
+  float zl = -e.z - w.z, zh = e.z - w.z;
+  cellLimitLo = min(cellLimitLo, sqrt(xy + zl * zl) * (1.0 + 2.0e-5) + cellMargin);
+  cellLimitHi = min(cellLimitHi, sqrt(xy + zh * zh) * (1.0 + 2.0e-5) + cellMargin);
+  vec4 top = max(cellLimitLo, cellLimitHi);
+  cellReach = max(max(top.x, top.y), max(top.z, top.w)) + length(e) * (1.0 + 1.0e-5) + cellMargin;
+}
+
+// Whether a convex set whose nearest point to m lies at distance len in direction u (proj: the corners' half extents
+// along u, in the set's space; scale: its least world scale) lies beyond every corner's limit. The set lies in the
+// half-space past that point, so its distance from corner m + d is at least len - d.u; where that exceeds the
+// corner's bound on the surface distance (with the margin), no voxel of the box can have its nearest point or a tie
+// there. Only for len >= |e|: nearer, the rounding of u could matter.
+bool cellCornersBeyond(float len, vec3 proj, float scale) {
+  if (scale * len < length(cellHalf)) return false;
+  vec4 xy = kCornerX * proj.x + kCornerY * proj.y;
+  return all(greaterThan(scale * (len - xy + proj.z), cellLimitLo)) &&
+         all(greaterThan(scale * (len - xy - proj.z), cellLimitHi));
+}
+
+// A BVH node (object-space bounds lo, hi; po: m in object space) no voxel of the box needs.
+bool cellNodeBeyond(vec3 po, vec3 lo, vec3 hi, float scale) {
+  vec3 v = clamp(po, lo, hi) - po;
+  float len = length(v);
+  if (len == 0.0) return false;
+  vec3 u = v / len;
+  return cellCornersBeyond(len, vec3(dot(cellAxisX, u), dot(cellAxisY, u), dot(cellAxisZ, u)), scale);
+}
+
+// Collect every triangle that can be nearest to a fine voxel centre q of the box (or tie with it). Every triangle
+// closest point from m met on the way bounds the distance at each corner; a node or triangle wholly past every
+// corner's bound (cellCornersBeyond) is skipped. radius bounds D(m) from above: the corners start at radius + |e|
+// (if the walk finds nothing within radius, the bound did not hold and cellMissed sends the voxels to walk alone). A
+// full list keeps the nearest to m: the farthest of the list and the new one is dropped and cellDropped lowered to it
+// (the farthest kept never exceeds cellDropped, so the walk culls there too); a voxel whose answer may lie that far
+// walks on its own (closestAmongCandidates says which).
+void collectCellCandidates(vec3 m, vec3 halfSize, float radius) {
+  ClosestQuery s = closestBegin(m, radius);
+  cellCount = 0u;
+  cellDropped = 1.0 / 0.0;
+  cellCentre = m;
+  cellHalf = halfSize;
+  cellMargin = 16.0 * s.ulp4;
+  float start = (radius + length(halfSize)) * (1.0 + 2.0e-5) + cellMargin;
+  cellLimitLo = vec4(start);
+  cellLimitHi = vec4(start);
+  cellReach = start + length(halfSize) * (1.0 + 1.0e-5) + cellMargin;
+  RTSDF_TLAS_WALK_BEGIN(tn, boxDistance(m, tn.lo.xyz, tn.hi.xyz) > min(cellReach, cellDropped), inst)
+    vec3 mo = xformPoint(inst.worldToObject, m);
+    cellAxisX = halfSize.x * vec3(inst.worldToObject[0].x, inst.worldToObject[1].x, inst.worldToObject[2].x);
+    cellAxisY = halfSize.y * vec3(inst.worldToObject[0].y, inst.worldToObject[1].y, inst.worldToObject[2].y);
+    cellAxisZ = halfSize.z * vec3(inst.worldToObject[0].z, inst.worldToObject[1].z, inst.worldToObject[2].z);
+    RTSDF_POINT_WALK_BEGIN(inst, mo, min(cellReach, cellDropped), cellNodeBeyond, true, leaf)
+      vec3 a, b, c;
+      worldTriangle(inst, leaf, a, b, c);
+      vec3 w = closestOnTriangle(m, a, b, c) - m;
+      float dist = length(w);
+      if (dist < s.best) { s.best = dist; s.found = true; }
+      if (dist > min(cellReach, cellDropped)) continue;
+      cellMeetSurface(w);
+      if (dist > 0.0 && cellCornersBeyond(dist, halfSize * (w / dist), 1.0)) continue;
+      uint at = cellCount;
+      if (at == uint(RTSDF_CELL_CANDIDATES)) {
+        float farthest = -1.0;
+        for (uint j = 0u; j < uint(RTSDF_CELL_CANDIDATES); ++j)
+          if (cellDistance[j] > farthest) { farthest = cellDistance[j]; at = j; }
+        if (farthest <= cellReach) {
+          if (dist >= farthest) { cellDropped = dist; continue; }
+          cellDropped = farthest;
+        }
+      } else {
+        ++cellCount;
+      }
+      cellInstance[at] = tlasSlot;
+      cellLeaf[at] = leaf;
+      cellDistance[at] = dist;
+    RTSDF_POINT_WALK_END
+  RTSDF_TLAS_WALK_END
+  cellKeep = min(cellReach, cellDropped);
+  cellMissed = !s.found;
+}
+
+// closestPoint(q_j, radius_j) for the box's 8 corner voxels q_j over its candidates, each triangle read once for all
+// eight: the same answers, where complete[j] (nothing an answer depends on lay as far from m as a dropped triangle);
+// else that voxel walks.
+void closestAmongCandidates(inout ClosestQuery q[8], out bool complete[8]) {
+  for (uint k = 0u; k < cellCount; ++k) {
+    if (cellDistance[k] > cellKeep) continue;
+    BvhInstance inst = instances[cellInstance[k]];
+    uint leaf = cellLeaf[k];
+    vec3 a, b, c;
+    worldTriangle(inst, leaf, a, b, c);
+    [[unroll]] for (int j = 0; j < 8; ++j) closestTriangle(q[j], a, b, c, inst.mirrored, inst.instanceId, leaf);
+  }
+  // The nearest triangle and its ties lie within closestReach of q, so within that + |q - m| of m (rounded up).
+  [[unroll]] for (int j = 0; j < 8; ++j)
+    complete[j] = closestReach(q[j]) + length(q[j].p - cellCentre) * (1.0 + 1.0e-5) + 4.0 * q[j].ulp4 < cellDropped;
+}
+#endif
+
+// c^_t at fine voxel v: the upsampled coarse SDF plus the shell and half a coarse diagonal.
+float coarseBoundAt(ivec3 v) { return upsampleCoarseAt(v) + params.beta + 0.8660254 / params.coarseOriginInvH.w; }
+
+// The blended upper bound of the distance from c^_t (c: the upsampled coarse SDF plus the shell) and the voxel's last
+// value.
+float refineBound(float c, bool fresh, uint slot, uint local) {
+  return fresh ? c : params.alpha * abs(loadValue(slot, local)) + (1.0 - params.alpha) * c;
+}
+
+// Closest mode's search radius: the bound plus a coarse cell diagonal (trilinear upsampling of the bound may fall
+// short).
+float closestRadius(float bound) { return bound + 1.7320508 / params.coarseOriginInvH.w; }
+
+// Fine voxel v's centre (world).
+vec3 voxelCentre(ivec3 v) { return params.fineOriginH.xyz + (vec3(v) + 0.5) * params.fineOriginH.w; }
+
+// The coarse SDF as an upper bound of the distance at fine voxel v (fresh: new to the mask; slot, local: its place in
+// the brick pool), blended with its last value: the nearest seed voxel touches the surface within half its diagonal,
+// and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays, which can only
+// over-estimate, could never lower f.)
+float voxelBound(ivec3 v, bool fresh, uint slot, uint local) {
+  return refineBound(coarseBoundAt(v), fresh, slot, local);
+}
+
+// The sign votes at fine voxel v: its decayed history plus this frame's x rays (front-face hits, back-face hits), and
+// the nearest hit of those rays (inf: none).
+// Rays are not cut short: the nearest hit of a ray from inside a closed surface is always a back face and from
+// outside always a front face, so every hit votes right. (A reach of twice the bound left deep voxels with no hit
+// at all, hence no vote and the outside sign: sign flips far from the surface.) Traversal culls every box past the
+// nearest hit found so far, so the longer reach costs little; the distance is min(bound, nearest) either way.
+vec2 castRays(ivec3 v, bool fresh, uint slot, uint local, out float nearest) {
+  ivec3 fd = params.fineDims.xyz;
+  uint i = uint((v.z * fd.y + v.y) * fd.x + v.x);
+  vec3 p = voxelCentre(v);
+  vec2 vote = fresh ? vec2(0.0) : params.alpha * unpackHalf2x16(loadVotes(slot, local));
+  float front = 0.0, back = 0.0;
+  nearest = 1.0 / 0.0;
+  for (uint r = 0u; r < params.rays; ++r) {
+    uint h = rayHash(i, params.frame, r, params.seed);
+    float z = 1.0 - 2.0 * unitFloat(h);
+    float phi = 6.28318530718 * unitFloat(pcgHash(h));
+    float s = sqrt(max(0.0, 1.0 - z * z));
+    BvhHit hit;
+    if (traceNearest(p, vec3(s * cos(phi), s * sin(phi), z), 0.0, 3.0e38, hit)) {
+      nearest = min(nearest, hit.point.w);
+      if (hit.frontFace != 0u) front += 1.0; else back += 1.0;
+    }
+  }
+  return vote + vec2(front, back);
+}
+
+// Write f_t (negative inside) and the votes of fine voxel v.
+void storeVoxel(ivec3 v, uint slot, uint local, float f, bool inside, vec2 vote) {
+  ivec3 fd = params.fineDims.xyz;
+  storeValue(slot, local, inside ? -f : f);
+  if ((params.coarseDims.w & kRefineWriteDense) != 0) dense[uint((v.z * fd.y + v.y) * fd.x + v.x)] = inside ? -f : f;
+#if RTSDF_SIGN_RAYS // without sign rays the closest triangle's side gives the sign: no vote is ever read
+  storeVotes(slot, local, packHalf2x16(min(vote, vec2(60000.0))));
+#endif
+}
+
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+// Closest mode's end of fine voxel v, given the answer of its closest-point query of the given radius: the distance
+// (the radius where nothing lay within it) and the sign (the rays' votes when x > 0, else the closest triangle's side).
+void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, bool near, BvhHit hit) {
+  float f = near ? hit.point.w : radius;
+#if RTSDF_SIGN_RAYS
+  float nearest;
+  vec2 vote = castRays(v, fresh, slot, local, nearest);
+  // Should this variant run with x = 0 after all, the side still gives the sign (the host picks the _side variant).
+  bool inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
+#else
+  vec2 vote = vec2(0.0);
+  bool inside = hit.point.w >= 0.0 && hit.frontFace == 0u;
+#endif
+  storeVoxel(v, slot, local, f, inside, vote);
+}
+#endif
+
+// Refine fine voxel v on its own (fresh: new to the mask) in its brick slot at offset local.
+void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
+  float bound = voxelBound(v, fresh, slot, local);
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+  float radius = closestRadius(bound);
+  BvhHit hit;
+  bool near = closestPoint(voxelCentre(v), radius, hit);
+  finishClosest(v, fresh, slot, local, radius, near, hit);
+#else
+  float nearest;
+  vec2 vote = castRays(v, fresh, slot, local, nearest);
+  storeVoxel(v, slot, local, min(bound, nearest), vote.y > vote.x, vote);
+#endif
+}
+
+// Refine the fine voxels lo..hi one by one (x fastest). One loop over the box, not three nested: lavapipe runs a loop
+// nest around the walk slower.
+void refineVoxels(ivec3 lo, ivec3 hi, bool fresh) {
+  ivec3 size = hi - lo + 1;
+  int voxels = size.x * size.y * size.z;
+  for (int j = 0; j < voxels; ++j) {
+    ivec3 v = lo + ivec3(j % size.x, j / size.x % size.y, j / (size.x * size.y));
+    uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    if (slot != kNoBrick) refineVoxel(v, fresh, slot, brickLocalOf(v));
+  }
+}
+
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
+// Closest mode's cell search over box lo..hi (at most 2 voxels per axis) of coarse voxel c (linear index ci): one walk
+// collects the candidates, then each candidate is tested against the box's 8 corner voxels at once (a voxel of a
+// 1-voxel axis is two corners: both give the same answer, the first is kept). The voxels the candidates may not
+// answer walk on their own, in one loop after the others: on a SIMD machine (lavapipe) a walk inside the voxel loop
+// would run, masked, once per voxel even where no voxel needs it.
+void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
+  vec3 first = voxelCentre(lo), last = voxelCentre(hi);
+  vec3 m = 0.5 * (first + last);
+  // D(m) <= c^ at the coarse voxel's centre + the way from there to m: where the walk finds nothing that near,
+  // the bound did not hold and the box's voxels walk on their own.
+  vec3 centre = params.coarseOriginInvH.xyz + (vec3(c) + 0.5) / params.coarseOriginInvH.w;
+  float radius = coarse[ci] + params.beta + 0.8660254 / params.coarseOriginInvH.w + length(m - centre);
+  collectCellCandidates(m, 0.5 * (last - first), radius * (1.0 + 1.0e-5));
+  ClosestQuery q[8];
+  float radii[8];
+  uint slots[8];
+  [[unroll]] for (int j = 0; j < 8; ++j) {
+    ivec3 v = min(lo + ivec3(j & 1, (j >> 1) & 1, j >> 2), hi);
+    slots[j] = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    radii[j] = slots[j] != kNoBrick ? closestRadius(voxelBound(v, fresh, slots[j], brickLocalOf(v))) : 0.0;
+    q[j] = closestBegin(voxelCentre(v), radii[j]);
+  }
+  bool complete[8];
+  closestAmongCandidates(q, complete);
+  BvhHit hits[8];
+  bool nears[8];
+  [[unroll]] for (int j = 0; j < 8; ++j) nears[j] = closestEnd(q[j], hits[j]);
+  uint alone = 0u; // the voxels that walk on their own
+  for (int j = 0; j < 8; ++j) {
+    ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
+    if (any(greaterThan(v, hi)) || slots[j] == kNoBrick) continue;
+    if (cellMissed || !complete[j]) alone |= 1u << j;
+    else finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], nears[j], hits[j]);
+  }
+  while (alone != 0u) {
+    int j = findLSB(alone);
+    alone &= alone - 1u;
+    ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
+    BvhHit hit;
+    bool near = closestPoint(voxelCentre(v), radii[j], hit);
+    finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], near, hit);
+  }
+}
+#endif
+
+// Refine the fine voxels of box 'part' of coarse voxel ci (parts x fastest, params.partBox.xyz voxels each).
+void refineBox(uint ci, uint part, bool fresh) {
+  ivec3 cd = params.coarseDims.xyz;
+  ivec3 c = ivec3(int(ci % uint(cd.x)), int(ci / uint(cd.x) % uint(cd.y)), int(ci / uint(cd.x * cd.y)));
+  ivec2 rx = fineRanges[c.x], ry = fineRanges[cd.x + c.y], rz = fineRanges[cd.x + cd.y + c.z];
+  uint partsX = uint(params.brickDims.w), partsY = uint(params.partBox.w);
+  ivec3 box = params.partBox.xyz;
+  ivec3 lo = ivec3(rx.x, ry.x, rz.x) + box * ivec3(part % partsX, part / partsX % partsY, part / (partsX * partsY));
+  ivec3 hi = min(lo + box - 1, ivec3(rx.y, ry.y, rz.y));
+  if (any(greaterThan(lo, hi))) return;
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
+  if ((params.coarseDims.w & kRefineCellSearch) != 0) {
+    refineCellBox(ci, c, lo, hi, fresh);
+    return;
+  }
+#endif
+  refineVoxels(lo, hi, fresh);
+}
+
+void main() {
+  uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+  uint parts = params.refineParts;
+  uint e = k / parts;
+  if (e >= maskCounts[kMaskCountRefineList]) return;
+  uint entry = refineList[e];
+  refineBox(entry & kMaskFineCoords, k % parts, (entry & kMaskFineFresh) != 0u);
+}

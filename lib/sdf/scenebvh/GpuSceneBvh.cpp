@@ -1,0 +1,65 @@
+#include "sdf/scenebvh/GpuSceneBvh.h"
+
+#include <algorithm>
+
+namespace rtsdf {
+
+namespace {
+constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+} // namespace
+
+GpuSceneBvh::GpuSceneBvh(const gpu::VulkanContext& ctx, const Scene& scene, const glm::dvec3& frameOrigin)
+    : mCtx(ctx), mScene(scene), mFrameOrigin(frameOrigin), mMeshes(buildMeshBvhs(scene)) {
+  gpu::reserveAndUpload(ctx, mBlasNodes, mMeshes.nodes.data(), mMeshes.nodes.size() * sizeof(gpu::shared::BvhNode),
+                        kStorage, "BLAS nodes");
+  gpu::reserveAndUpload(ctx, mCorners, mMeshes.corners.data(), mMeshes.corners.size() * sizeof(glm::vec4), kStorage,
+                        "BLAS triangles");
+  gpu::reserveAndUpload(ctx, mTriangleIds, mMeshes.triangleIds.data(), mMeshes.triangleIds.size() * 4, kStorage,
+                        "triangle ids");
+  // Where each instance's triangles lie; the transforms follow with every update.
+  for (const Instance& inst : scene.instances) {
+    gpu::shared::VoxelizeInstance v{};
+    v.firstTriangle = mMeshes.firstTriangles.at(inst.mesh);
+    v.triangleCount = std::uint32_t(scene.meshes.at(inst.mesh).triangles.size());
+    v.firstInstanceTriangle = mTriangleCount;
+    mTriangleCount += v.triangleCount;
+    mVoxelizeInstances.push_back(v);
+  }
+  // The top level of n instances has 2n - 1 nodes (one instance per leaf): sized once, so frames only write.
+  const std::size_t n = std::max<std::size_t>(scene.instances.size(), 1);
+  using gpu::Buffer;
+  mTlasNodes = Buffer(ctx, (2 * n - 1) * sizeof(gpu::shared::BvhNode), kStorage, Buffer::Memory::Device, "TLAS nodes");
+  mTlasSlots = Buffer(ctx, n * 4, kStorage, Buffer::Memory::Device, "TLAS slots");
+  mInstances = Buffer(ctx, n * sizeof(gpu::shared::BvhInstance), kStorage, Buffer::Memory::Device, "instances");
+  mVoxelizeBuf = Buffer(ctx, n * sizeof(gpu::shared::VoxelizeInstance), kStorage, Buffer::Memory::Device,
+                        "voxelize instances");
+}
+
+void GpuSceneBvh::update(double time) {
+  if (mHaveTop && time == mTime) return;
+  gpu::CommandBuffer cmd(mCtx);
+  recordUpdate(cmd.handle(), time);
+  cmd.submitAndWait();
+}
+
+void GpuSceneBvh::recordUpdate(VkCommandBuffer cmd, double time) {
+  if (mHaveTop && time == mTime) return;
+  mTop = buildInstanceBvh(mScene, mMeshes, time, mFrameOrigin);
+  for (std::size_t i = 0; i < mTop.instances.size(); ++i)
+    for (int r = 0; r < 3; ++r) mVoxelizeInstances[i].objectToFrame[r] = mTop.instances[i].objectToWorld[r];
+  gpu::computeBarrier(cmd); // earlier passes (of this or an earlier submission) are done reading
+  gpu::recordUpload(cmd, mTlasNodes, mTop.nodes.data(), mTop.nodes.size() * sizeof(gpu::shared::BvhNode));
+  gpu::recordUpload(cmd, mTlasSlots, mTop.slots.data(), mTop.slots.size() * 4);
+  gpu::recordUpload(cmd, mInstances, mTop.instances.data(), mTop.instances.size() * sizeof(gpu::shared::BvhInstance));
+  gpu::recordUpload(cmd, mVoxelizeBuf, mVoxelizeInstances.data(),
+                    mVoxelizeInstances.size() * sizeof(gpu::shared::VoxelizeInstance));
+  gpu::computeBarrier(cmd);
+  mTime = time;
+  mHaveTop = true;
+}
+
+InstancedTriangles GpuSceneBvh::instancedTriangles() const {
+  return {mCorners, mVoxelizeBuf, std::uint32_t(mVoxelizeInstances.size()), mTriangleCount};
+}
+
+} // namespace rtsdf

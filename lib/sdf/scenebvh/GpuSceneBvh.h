@@ -1,0 +1,64 @@
+#pragma once
+/// @file GpuSceneBvh.h
+/// @brief The scene on the GPU: its two-level BVH (bottom levels uploaded once, the top level re-sent whenever the
+///        instances move) and the placement of every instance's triangles for VoxelizePass (the same mesh-space
+///        corners and transforms). Every shader that includes bvh_traverse.glsl reads the BVH at the bindings
+///        bvh/GpuBvhLayout.h names (kBvhBinding*).
+#include "bvh/Bvh.h"
+#include "gpu/Resources.h"
+#include "bvh/GpuBvhLayout.h"
+#include "scene/Scene.h"
+#include "sdf/coarse/CoarseSdf.h"
+
+#include <array>
+
+namespace rtsdf {
+
+class GpuSceneBvh {
+public:
+  /// @brief Build and upload the bottom levels of @a scene's meshes. @a scene must outlive this object.
+  /// @param frameOrigin the world point the top level measures from (buildInstanceBvh): every query and answer
+  ///        of a shader that traverses this BVH is in world - frameOrigin.
+  GpuSceneBvh(const gpu::VulkanContext& ctx, const Scene& scene, const glm::dvec3& frameOrigin = glm::dvec3(0.0));
+  /// @brief Rebuild and upload the top level for the instance transforms at @a time seconds (no-op when the
+  ///        time is the one last uploaded), waiting for the upload.
+  void update(double time);
+  /// @brief The same recorded into @a cmd (vkCmdUpdateBuffer: no staging buffer, no wait), between barriers that
+  ///        order it after the earlier passes that read the top level and before the later ones. The host's work
+  ///        grows with the instances only.
+  void recordUpdate(VkCommandBuffer cmd, double time);
+  /// @brief Every instance's triangles for VoxelizePass, placed by the transforms of the last update.
+  InstancedTriangles instancedTriangles() const;
+  /// @brief The host copy of instancedTriangles()'s instances (for the CPU copy, placeInstanceCorners).
+  const std::vector<gpu::shared::VoxelizeInstance>& voxelizeInstances() const { return mVoxelizeInstances; }
+  /// @brief Put the six buffers bvh_traverse.glsl reads at their bindings (kBvhBinding*) of a pass's set.
+  template <std::size_t N> void bindTo(std::array<gpu::Binding, N>& set) const {
+    using namespace gpu::shared;
+    static_assert(N >= kBvhBindingCount, "a BVH pass binds the six BVH buffers first");
+    set[kBvhBindingBlasNodes] = &mBlasNodes;
+    set[kBvhBindingCorners] = &mCorners;
+    set[kBvhBindingTriangleIds] = &mTriangleIds;
+    set[kBvhBindingTlasNodes] = &mTlasNodes;
+    set[kBvhBindingTlasSlots] = &mTlasSlots;
+    set[kBvhBindingInstances] = &mInstances;
+  }
+  const MeshBvhs& meshes() const { return mMeshes; }
+  /// @brief The top level as last uploaded (for the CPU side of G-buffer normals and tests).
+  const InstanceBvh& top() const { return mTop; }
+  /// @brief The world point of the BVH's (0, 0, 0).
+  const glm::dvec3& frameOrigin() const { return mFrameOrigin; }
+
+private:
+  const gpu::VulkanContext& mCtx;
+  const Scene& mScene;
+  glm::dvec3 mFrameOrigin;
+  MeshBvhs mMeshes;
+  InstanceBvh mTop;
+  double mTime = 0.0;
+  bool mHaveTop = false;
+  std::uint32_t mTriangleCount = 0; ///< every instance's triangles together
+  std::vector<gpu::shared::VoxelizeInstance> mVoxelizeInstances;
+  gpu::Buffer mBlasNodes, mCorners, mTriangleIds, mTlasNodes, mTlasSlots, mInstances, mVoxelizeBuf;
+};
+
+} // namespace rtsdf

@@ -1,8 +1,0 @@
-#version 450
-#extension GL_GOOGLE_include_directive : require
-// SdfShadowPass with the fine SDF in a dense storage buffer, filtered in the shader exactly as the CPU
-// reference filters it (8 fetches per march step).
-#include "gpu/shared/RenderBindings.h"
-layout(std430, binding = kSdfShadowBindingField) readonly buffer Field { float field[]; };
-#define RTSDF_SDF_FETCH(i) field[i]
-#include "sdf_shadow_main.glsl"

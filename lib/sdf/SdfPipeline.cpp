@@ -5,7 +5,7 @@
 #include "sdf/pipeline/FieldPasses.h"
 #include "sdf/pipeline/FrameRecorder.h"
 #include "sdf/pipeline/GpuRayMask.h"
-#include "sdf/pipeline/MovedBoxes.h"
+#include "sdf/pipeline/InstanceMotion.h"
 #include "util/Error.h"
 
 #include <fmt/format.h>

@@ -2,7 +2,7 @@
 
 #include "sdf/pipeline/BrickPool.h"
 #include "sdf/pipeline/GpuRayMask.h"
-#include "sdf/pipeline/MovedBoxes.h"
+#include "sdf/pipeline/InstanceMotion.h"
 
 namespace rtsdf {
 

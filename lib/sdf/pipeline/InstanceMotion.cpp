@@ -1,4 +1,4 @@
-#include "sdf/pipeline/MovedBoxes.h"
+#include "sdf/pipeline/InstanceMotion.h"
 
 #include "scene/SceneGeometry.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-/// @file MovedBoxes.h
+/// @file InstanceMotion.h
 /// @brief The instances' motion between frames, the incremental refinement's input: the boxes they swept
 ///        (movedInstanceBoxes) and InstanceMotion, which keeps the previous frame's time and the device buffer the
 ///        boxes travel in.

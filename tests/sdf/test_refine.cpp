@@ -9,6 +9,8 @@
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "sdf/SdfPipeline.h"
+#include "sdf/pipeline/BrickPool.h"
+#include "sdf/pipeline/PipelineProbe.h"
 
 #include <gtest/gtest.h>
 
@@ -120,7 +122,7 @@ void expectGpuMaskEqualsMirror(const SdfPipeline& pipe, const FrameStats& st) {
   for (std::size_t k = 0; k < cpu.fineVoxels.size(); ++k) differ += gpu.fineVoxels[k] != cpu.fineVoxels[k];
   EXPECT_EQ(differ, 0u) << "fine voxels listed differently";
   // Every band voxel is refined here (rays mode, before it settles): MaskCompactPass's own list is the mask.
-  std::vector<std::uint32_t> listed = pipe.refinedVoxels();
+  std::vector<std::uint32_t> listed = PipelineProbe(pipe).refinedVoxels();
   for (std::uint32_t& v : listed) v &= gpu::shared::kMaskFineCoords;
   std::sort(listed.begin(), listed.end());
   EXPECT_EQ(st.refinedFineVoxels, cpu.fineVoxels.size());
@@ -478,7 +480,8 @@ TEST_F(Refine, IncrementalDecisionsEqualTheCpuReference) {
   const double fps = 10.0;
   for (int f = 0; f < 6; ++f) bounds.add(buildSceneGeometry(scene, f / fps).bounds);
   SdfPipeline pipe(*sCtx, scene, bounds, s);
-  std::vector<glm::uvec2> state = pipe.coarseState();
+  const PipelineProbe probe(pipe);
+  std::vector<glm::uvec2> state = probe.coarseState();
   bool sawKept = false, sawNearMoved = false, sawRefresh = false;
   for (int f = 0; f < 6; ++f) {
     SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
@@ -487,11 +490,11 @@ TEST_F(Refine, IncrementalDecisionsEqualTheCpuReference) {
     const FrameStats st = pipe.runFrame(time);
     EXPECT_EQ(st.movedInstances, (f == 0 || f == 3) ? 0u : 1u);
     const MaskDecisions cpu = maskDecisionsCpu(pipe.coarseField(), pipe.coarseSpec(), pipe.fineSpec(), state,
-                                               pipe.lastMaskParams(), pipe.lastMovedBoxes());
-    const std::vector<std::uint32_t> gpu = pipe.refinedVoxels();
+                                               probe.lastMaskParams(), probe.lastMovedBoxes());
+    const std::vector<std::uint32_t> gpu = probe.refinedVoxels();
     EXPECT_EQ(st.refinedFineVoxels, cpu.refined.size());
     EXPECT_TRUE(gpu == cpu.refined) << gpu.size() << " listed on the GPU, " << cpu.refined.size() << " on the CPU";
-    const std::vector<glm::uvec2> after = pipe.coarseState();
+    const std::vector<glm::uvec2> after = probe.coarseState();
     EXPECT_TRUE(after == cpu.state);
     sawKept |= st.refinedFineVoxels < st.maskFineVoxels;
     sawNearMoved |= f == 2 && st.refinedFineVoxels > 0;
@@ -558,7 +561,7 @@ TEST_F(Refine, SubmittedFramesEqualRunFrames) {
   submitted.submitFrame(0.0);
   const std::vector<float> first = submitted.fineField(); // waits for the frame
   EXPECT_EQ(first.size(), submitted.fineSpec().voxelCount());
-  EXPECT_EQ(submitted.finishFrame().refinedFineVoxels, submitted.refinedVoxels().size());
+  EXPECT_EQ(submitted.finishFrame().refinedFineVoxels, PipelineProbe(submitted).refinedVoxels().size());
   submitted.submitFrame(1 / 30.0);
   submitted.submitFrame(2 / 30.0); // waits for the second frame, whose statistics nobody reads
   const FrameStats stats = submitted.finishFrame();
@@ -663,7 +666,7 @@ TEST_F(Refine, BrickSlotsFollowTheBandAndSparseEqualsDense) {
       const FrameStats a = dense.runFrame(f / fps), b = sparse.runFrame(f / fps);
       const std::vector<std::uint32_t> band = bandBricksCpu(sparse.coarseField(), sparse.coarseSpec(),
                                                             sparse.fineSpec(), s.band);
-      const std::vector<std::uint32_t> slots = sparse.brickSlots();
+      const std::vector<std::uint32_t> slots = PipelineProbe(sparse).brickSlots();
       EXPECT_EQ(b.activeBricks, band.size());
       EXPECT_EQ(b.overflowBricks, 0u);
       EXPECT_EQ(b.poolBricks, sparse.poolBricks());
@@ -708,6 +711,7 @@ TEST_F(Refine, AFullBrickPoolIsRegrownTheNextFrame) {
   SdfPipeline roomy(*sCtx, scene, boundsOf(scene), s);
   s.poolBricks = 10;
   SdfPipeline tight(*sCtx, scene, boundsOf(scene), s);
+  const PipelineProbe tightProbe(tight);
   const FrameStats first = tight.runFrame(0.0);
   roomy.runFrame(0.0);
   EXPECT_EQ(first.poolBricks, 10u);
@@ -715,7 +719,7 @@ TEST_F(Refine, AFullBrickPoolIsRegrownTheNextFrame) {
   EXPECT_EQ(first.overflowBricks, first.activeBricks - 10u);
   EXPECT_EQ(tight.fineField(), resolveFineCpu(tight.coarseField(), tight.coarseSpec().inFrame(tight.frameOrigin()),
                                               tight.fineSpec().inFrame(tight.frameOrigin()), float(s.band),
-                                              tight.brickSlots(), tight.brickValues()));
+                                              tightProbe.brickSlots(), tightProbe.brickValues()));
   EXPECT_NE(tight.fineField(), roomy.fineField());
   const FrameStats second = tight.runFrame(0.0);
   roomy.runFrame(0.0);

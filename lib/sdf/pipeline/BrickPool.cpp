@@ -1,0 +1,128 @@
+#include "sdf/pipeline/BrickPool.h"
+
+#include "sdf/refine/RefineParams.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <utility>
+
+namespace rtsdf {
+using gpu::Buffer;
+
+namespace {
+const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+const VkBufferUsageFlags kStorageFilled = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+const VkBufferUsageFlags kStorageRead = kStorageFilled | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+constexpr std::uint64_t kBrickBytes = gpu::shared::kBrickVoxels * 4;
+} // namespace
+
+glm::ivec3 brickDimsOf(const GridSpec& fine) { return (fine.dims + (RTSDF_BRICK - 1)) / RTSDF_BRICK; }
+
+std::uint64_t poolBricksFor(std::uint64_t activeBricks, const glm::ivec3& brickDims) {
+  const std::uint64_t all = std::uint64_t(brickDims.x) * brickDims.y * brickDims.z;
+  return std::min(all, activeBricks + activeBricks / 2 + 64);
+}
+
+BrickPool::BrickPool(const gpu::VulkanContext& ctx, const GridSpec& fine)
+    : mCtx(ctx), mFineSpec(fine), mBrickDims(brickDimsOf(fine)), mAlloc(ctx) {
+  const std::uint64_t bricks = gridBricks();
+  mNeeded = Buffer(ctx, bricks * 4, kStorageFilled, Buffer::Memory::Device, "brick stamps");
+  mSlots = Buffer(ctx, bricks * 4, kStorageRead, Buffer::Memory::Device, "brick slots");
+  mCounts = Buffer(ctx, gpu::shared::kBrickCountWords * 4, kStorageRead, Buffer::Memory::Device, "brick counts");
+  mPlaceholder = Buffer(ctx, 16, kStorage, Buffer::Memory::Device, "brick pool placeholder");
+}
+
+void BrickPool::recordClear(VkCommandBuffer cmd) const {
+  vkCmdFillBuffer(cmd, mNeeded.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd, mSlots.handle(), 0, VK_WHOLE_SIZE, gpu::shared::kNoBrick);
+  vkCmdFillBuffer(cmd, mCounts.handle(), 0, VK_WHOLE_SIZE, 0u);
+}
+
+std::uint64_t BrickPool::deviceBytesFor(std::uint64_t bricks) { return bricks * (2 * kBrickBytes + 4); }
+
+void BrickPool::allocate(std::uint64_t bricks, const PipelineMemory& estimate, const gpu::Buffer& coarseState) {
+  const std::uint64_t range = mCtx.info().maxStorageBufferRange;
+  mPageBricks = std::max<std::uint64_t>(1, std::min<std::uint64_t>(std::max<std::uint64_t>(bricks, 1),
+                                                                   range ? range / kBrickBytes : bricks));
+  mPageBricks = std::min<std::uint64_t>(mPageBricks, 0xFFFFFFFFu / gpu::shared::kBrickVoxels);
+  const std::uint64_t pages = (bricks + mPageBricks - 1) / mPageBricks;
+  PipelineMemory need = estimate;
+  need.deviceBytes += deviceBytesFor(bricks);
+  if (pages > RTSDF_BRICK_PAGES)
+    throw SettingError("fine resolution", fmt::format("SdfPipeline: fine grid {}: the band needs {} bricks ({}), more "
+                                                      "than {} pages of {}'s maxStorageBufferRange: lower the fine "
+                                                      "resolution or the band", mFineSpec.describe(), bricks,
+                                                      formatMiB(bricks * 2 * kBrickBytes), RTSDF_BRICK_PAGES,
+                                                      mCtx.info().name));
+  checkPipelineMemory(need, memoryLimits(mCtx.info()));
+  for (int k = 0; k < RTSDF_BRICK_PAGES; ++k) {
+    const std::uint64_t first = std::uint64_t(k) * mPageBricks;
+    const std::uint64_t n = first < bricks ? std::min(mPageBricks, bricks - first) : 0;
+    mValues[k] = n ? Buffer(mCtx, n * kBrickBytes, kStorageFilled, Buffer::Memory::Device,
+                            fmt::format("brick pool values {}", k)) : Buffer();
+    mVotes[k] = n ? Buffer(mCtx, n * kBrickBytes, kStorageFilled, Buffer::Memory::Device,
+                           fmt::format("brick pool votes {}", k)) : Buffer();
+  }
+  // Every slot free (the stack pops slot 0 first), no brick holding one, every coarse voxel new to the band.
+  std::vector<std::uint32_t> stack(std::max<std::uint64_t>(bricks, 1), 0u);
+  for (std::uint64_t k = 0; k < bricks; ++k) stack[k] = std::uint32_t(bricks - 1 - k);
+  gpu::reserveAndUpload(mCtx, mFree, stack.data(), stack.size() * 4, kStorage, "brick free stack");
+  const std::uint32_t counts[gpu::shared::kBrickCountWords] = {std::uint32_t(bricks), 0, 0, 0};
+  gpu::CommandBuffer cmd(mCtx);
+  gpu::recordUpload(cmd.handle(), mCounts, counts, sizeof(counts));
+  vkCmdFillBuffer(cmd.handle(), mSlots.handle(), 0, VK_WHOLE_SIZE, gpu::shared::kNoBrick);
+  vkCmdFillBuffer(cmd.handle(), coarseState.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+  for (int k = 0; k < RTSDF_BRICK_PAGES; ++k) {
+    if (mValues[k]) vkCmdFillBuffer(cmd.handle(), mValues[k].handle(), 0, VK_WHOLE_SIZE, 0u);
+    if (mVotes[k]) vkCmdFillBuffer(cmd.handle(), mVotes[k].handle(), 0, VK_WHOLE_SIZE, 0u);
+  }
+  cmd.submitAndWait();
+  mPoolBricks = bricks;
+}
+
+void BrickPool::recordResetCounts(VkCommandBuffer cmd) const {
+  vkCmdFillBuffer(cmd, mCounts.handle(), 4, (gpu::shared::kBrickCountWords - 1) * 4, 0u);
+}
+
+void BrickPool::recordAlloc(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame) const {
+  gpu::shared::BrickParams bp{};
+  bp.bricks = std::uint32_t(gridBricks());
+  bp.frame = frame;
+  mAlloc.execute(cmd, profiler, {mNeeded}, {mCounts, mSlots, mFree}, bp);
+}
+
+void BrickPool::noteFrame(std::uint64_t activeBricks, std::uint64_t overflowBricks) {
+  if (overflowBricks) mGrowTo = poolBricksFor(activeBricks, mBrickDims);
+}
+
+std::uint64_t BrickPool::takeRegrowth() { return std::exchange(mGrowTo, 0); }
+
+BrickPages BrickPool::pages() const {
+  BrickPages p{};
+  for (int k = 0; k < RTSDF_BRICK_PAGES; ++k) {
+    p.values[k] = mValues[k] ? &mValues[k] : &mPlaceholder;
+    p.votes[k] = mVotes[k] ? &mVotes[k] : &mPlaceholder;
+  }
+  return p;
+}
+
+std::vector<std::uint32_t> BrickPool::readSlots() const {
+  std::vector<std::uint32_t> slots(mSlots.size() / 4);
+  download(mCtx, mSlots, slots.data(), slots.size() * 4);
+  return slots;
+}
+
+std::vector<float> BrickPool::readValues() const {
+  std::vector<float> values(mPoolBricks * gpu::shared::kBrickVoxels);
+  std::size_t at = 0;
+  for (const Buffer& page : mValues) {
+    if (!page) continue;
+    download(mCtx, page, values.data() + at, page.size());
+    at += page.size() / 4;
+  }
+  return values;
+}
+
+} // namespace rtsdf

@@ -1,0 +1,82 @@
+#include "sdf/pipeline/FieldPasses.h"
+
+#include <algorithm>
+
+namespace rtsdf {
+using gpu::Buffer;
+using gpu::shared::RefineParams;
+
+FieldPasses::FieldPasses(const gpu::VulkanContext& ctx, const GridSpec& coarse, const GridSpec& fine,
+                         const PipelineSettings& settings, const RefineParts& parts,
+                         const ClosestRefinePass::Variant& closest)
+    : mCtx(ctx), mCoarseSpec(coarse), mFineSpec(fine), mSettings(settings), mParts(parts), mCoarse(ctx),
+      mUpsample(ctx),
+      mRefine(settings.mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
+                                                : std::make_unique<ClosestRefinePass>(ctx, closest)) {
+  if (settings.fineStorage == FineStorage::Dense)
+    mFine = Buffer(ctx, fine.voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, Buffer::Memory::Device,
+                   "fine SDF");
+  mSamplingParams = Buffer(ctx, sizeof(RefineParams),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                           Buffer::Memory::Device, "brick sampling parameters");
+}
+
+void FieldPasses::recordClear(VkCommandBuffer cmd) const {
+  if (mFine) vkCmdFillBuffer(cmd, mFine.handle(), 0, VK_WHOLE_SIZE, 0u);
+}
+
+void FieldPasses::recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh) {
+  CoarseSdfSettings cs;
+  cs.method = mSettings.coarseMethod;
+  cs.beta = mSettings.beta;
+  // Every GPU pass measures from the fine grid's corner (SdfPipeline::frameOrigin()).
+  mCoarse.record(cmd, profiler, bvh.instancedTriangles(), mCoarseSpec.inFrame(mFineSpec.origin), cs);
+}
+
+RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& pool) const {
+  const glm::dvec3& origin = mFineSpec.origin;
+  RefineParams p = refineGridParams(mCoarseSpec.inFrame(origin), mFineSpec.inFrame(origin));
+  p.alpha = float(mSettings.alpha);
+  p.rays = std::uint32_t(mSettings.rays);
+  p.frame = frame;
+  p.seed = mSettings.seed;
+  p.beta = float(mSettings.beta >= 0.0 ? mSettings.beta : 0.5 * mCoarseSpec.voxelSize);
+  p.band = float(mSettings.band);
+  p.pageBricks = std::uint32_t(std::max<std::uint64_t>(pool.pageBricks(), 1));
+  p.refineParts = mParts.total();
+  p.brickDims = glm::ivec4(pool.brickDims(), mParts.count.x);
+  p.partBox = glm::ivec4(mParts.box, mParts.count.y);
+  p.fineDims.w = int(pool.capacity());
+  p.coarseDims.w = (mFine ? gpu::shared::kRefineWriteDense : 0) |
+                   (mSettings.mode == RefineMode::Closest && mSettings.closestSearch == ClosestSearch::Cell
+                        ? gpu::shared::kRefineCellSearch
+                        : 0);
+  return p;
+}
+
+void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const RefineParams& p,
+                             const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool) const {
+  const BrickPages pages = pool.pages();
+  const Buffer& coarse = mCoarse.distanceBuffer();
+  if (mSettings.band > 0.0)
+    mRefine->execute(cmd, profiler, {bvh, mask.refineList(), mask.countsBuffer(), coarse, mask.fineRanges(),
+                                     pool.slots()},
+                     {pages, mFine ? mFine : pool.placeholder()}, p);
+  if (mFine) mUpsample.execute(cmd, profiler, {coarse, mask.fineToCoarse(), pool.slots()}, {mFine}, p);
+  // Shading that samples the bricks finds the grids here.
+  gpu::recordUpload(cmd, mSamplingParams, &p, sizeof(p));
+}
+
+std::vector<float> FieldPasses::readCoarse() const {
+  std::vector<float> out(mCoarseSpec.voxelCount());
+  download(mCtx, mCoarse.distanceBuffer(), out.data(), out.size() * 4);
+  return out;
+}
+
+std::vector<float> FieldPasses::readDenseFine() const {
+  std::vector<float> out(mFineSpec.voxelCount());
+  download(mCtx, mFine, out.data(), out.size() * 4);
+  return out;
+}
+
+} // namespace rtsdf

@@ -1,0 +1,69 @@
+#pragma once
+/// @file FieldPasses.h
+/// @brief The passes that compute one pipeline's fields on its pair of grids: the coarse SDF (CoarseSdfBuilder), the
+///        refinement of the masked fine voxels (RayRefinePass or ClosestRefinePass) and the upsampling into the
+///        dense fine SDF (UpsamplePass), with what they write besides the brick pool.
+#include "gpu/Profiler.h"
+#include "gpu/Resources.h"
+#include "sdf/refine/RefineParams.h"
+#include "grid/GridSpec.h"
+#include "sdf/coarse/CoarseSdf.h"
+#include "sdf/scenebvh/GpuSceneBvh.h"
+#include "sdf/PipelineSettings.h"
+#include "sdf/refine/RefinePasses.h"
+#include "sdf/pipeline/BrickPool.h"
+#include "sdf/pipeline/GpuRayMask.h"
+
+#include <memory>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief The field passes of one pair of grids. Owns the passes (the coarse builder with its buffers, the coarse SDF
+///        among them), the dense fine SDF (FineStorage::Dense only: "fine SDF") and the frame's RefineParams for
+///        shading passes that sample the bricks ("brick sampling parameters").
+class FieldPasses {
+public:
+  /// @param settings the settings in effect (mode, closest search, band, alpha, beta, rays, seed, fine storage)
+  /// @param parts the refinement's boxes per coarse voxel (refinePartsFor)
+  /// @param closest the shader variant of ClosestRefinePass (closest mode)
+  /// @throw VulkanError when a buffer cannot be allocated or a shader is missing.
+  FieldPasses(const gpu::VulkanContext& ctx, const GridSpec& coarse, const GridSpec& fine,
+              const PipelineSettings& settings, const RefineParts& parts,
+              const ClosestRefinePass::Variant& closest);
+  /// @brief Record: the dense fine SDF zeroed, where there is one (construction only).
+  void recordClear(VkCommandBuffer cmd) const;
+  /// @brief Record the coarse SDF of @a bvh's instanced triangles into coarseBuffer() (scopes to @a profiler, null:
+  ///        none).
+  /// @throw Error as CoarseSdfBuilder::record does.
+  void recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh);
+  /// @brief The refinement's and upsampling's parameters for frame number @a frame with the brick pool @a pool.
+  gpu::shared::RefineParams refineParams(std::uint32_t frame, const BrickPool& pool) const;
+  /// @brief Record after the mask: the refinement of @a mask's refine list (band > 0), the upsampling into the
+  ///        dense fine SDF (Dense only), and @a p uploaded for shading.
+  void recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const gpu::shared::RefineParams& p,
+                  const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool) const;
+
+  /// @brief Whether the fine SDF is kept dense (FineStorage::Dense).
+  bool dense() const { return bool(mFine); }
+  const gpu::Buffer& coarseBuffer() const { return mCoarse.distanceBuffer(); }
+  /// @brief The dense fine SDF (an empty buffer with FineStorage::Sparse).
+  const gpu::Buffer& fineBuffer() const { return mFine; }
+  const gpu::Buffer& samplingParams() const { return mSamplingParams; }
+  /// @brief Read back the coarse SDF (x fastest). The frame must be finished.
+  std::vector<float> readCoarse() const;
+  /// @brief Read back the dense fine SDF (x fastest). The frame must be finished.
+  std::vector<float> readDenseFine() const;
+
+private:
+  const gpu::VulkanContext& mCtx;
+  GridSpec mCoarseSpec, mFineSpec;
+  PipelineSettings mSettings;
+  RefineParts mParts;
+  CoarseSdfBuilder mCoarse;
+  UpsamplePass mUpsample;
+  std::unique_ptr<RefinePass> mRefine; ///< RayRefinePass or ClosestRefinePass, by the mode
+  gpu::Buffer mFine, mSamplingParams;
+};
+
+} // namespace rtsdf

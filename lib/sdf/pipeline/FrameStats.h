@@ -1,0 +1,32 @@
+#pragma once
+/// @file FrameStats.h
+/// @brief What one frame of an SdfPipeline did and cost (FrameStats).
+#include "util/PassTimes.h"
+
+#include <cstdint>
+#include <string>
+
+namespace rtsdf {
+
+/// @brief What one frame did and cost.
+struct FrameStats {
+  double time = 0.0;
+  std::uint64_t maskCoarseVoxels = 0, maskFineVoxels = 0;
+  std::uint64_t refinedFineVoxels = 0; ///< masked fine voxels refined this frame (the others kept their value)
+  std::uint64_t activeBricks = 0;      ///< bricks holding fine voxels under the band (each has a pool slot...)
+  std::uint64_t overflowBricks = 0;    ///< ...but these: the pool was full; the next frame grows it and starts over
+  std::uint64_t poolBricks = 0;        ///< the pool's capacity this frame
+  std::uint64_t deviceBytes = 0;       ///< the pipeline's device buffers this frame (estimate and pool)
+  std::uint64_t movedInstances = 0;    ///< instances whose transform changed since the previous frame
+  /// CPU time of the frame outside its wait for the GPU: the BVH's top level and the instance transforms,
+  /// recording, submitting, and reading the counts after the GPU finished. It grows with the instances, not with
+  /// their triangles or the voxels (the GPU places the triangles and compacts the ray mask).
+  double hostMs = 0.0;
+  double wallMs = 0.0; ///< submitFrame() to the return of finishFrame(): host work, submission and the GPU's work
+  PassTimes passMs;      ///< GPU time per pass
+  double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
+  /// @brief The refinement pass's time, whichever mode ran (RayRefinePass or ClosestRefinePass).
+  double refineMs() const;
+};
+
+} // namespace rtsdf

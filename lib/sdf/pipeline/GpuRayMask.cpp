@@ -1,0 +1,159 @@
+#include "sdf/pipeline/GpuRayMask.h"
+
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_sort.h>
+
+#include <cmath>
+#include <cstring>
+#include <utility>
+
+namespace rtsdf {
+using gpu::Buffer;
+
+namespace {
+const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+const VkBufferUsageFlags kStorageFilled = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+const VkBufferUsageFlags kStorageRead = kStorageFilled | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+constexpr std::uint32_t kReadbackWords = gpu::shared::kMaskCountWords + gpu::shared::kBrickCountWords;
+} // namespace
+
+GpuRayMask::GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, const GridSpec& fine,
+                       const PipelineSettings& settings, std::uint32_t refineParts)
+    : mCtx(ctx), mCoarseSpec(coarse), mFineSpec(fine), mBand(settings.band),
+      mBeta(settings.beta >= 0.0 ? settings.beta : 0.5 * coarse.voxelSize),
+      mSettleFrames(std::uint32_t(settleFramesFor(settings))), mRefreshPeriod(std::uint32_t(refreshPeriodFor(settings))),
+      mRefineParts(refineParts), mBrickDims(brickDimsOf(fine)), mCompact(ctx), mDispatch(ctx) {
+  mCoarseState = Buffer(ctx, coarse.voxelCount() * 8, kStorageFilled, Buffer::Memory::Device,
+                        "coarse refinement state");
+  const std::vector<int> fineToCoarse = maskCoarseOfFine(coarse, fine);
+  gpu::reserveAndUpload(ctx, mFineToCoarse, fineToCoarse.data(), fineToCoarse.size() * sizeof(int), kStorage,
+                        "ray mask fine-to-coarse table");
+  const std::vector<glm::ivec2> ranges = maskFineRanges(coarse, fine);
+  gpu::reserveAndUpload(ctx, mFineRanges, ranges.data(), ranges.size() * sizeof(glm::ivec2), kStorage,
+                        "ray mask fine ranges");
+  mCounts = Buffer(ctx, gpu::shared::kMaskCountWords * 4, kStorageRead | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                   Buffer::Memory::Device, "ray mask counts");
+  mCountsReadback = Buffer(ctx, kReadbackWords * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Host,
+                           "ray mask counts (readback)");
+  if (mBand > 0.0) {
+    // Each coarse voxel is appended at most once to each list.
+    mRefineList = Buffer(ctx, coarse.voxelCount() * 4, kStorageRead, Buffer::Memory::Device,
+                         "refine list (coarse voxels)");
+    mCoarseList = Buffer(ctx, coarse.voxelCount() * 8, kStorageRead, Buffer::Memory::Device,
+                         "ray mask (coarse voxels)");
+  }
+}
+
+void GpuRayMask::recordClear(VkCommandBuffer cmd) const {
+  // No voxel has been in the band: last frame + 1 must differ from the first frame number (1).
+  vkCmdFillBuffer(cmd, mCoarseState.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+}
+
+gpu::shared::MaskParams GpuRayMask::params(std::uint32_t frame, std::uint32_t movedBoxes) const {
+  gpu::shared::MaskParams p{};
+  p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
+  p.band = float(mBand);
+  p.refineCapacity = std::uint32_t(mRefineList.size() / 4);
+  p.coarseCapacity = std::uint32_t(mCoarseList.size() / 8);
+  p.frame = frame;
+  // The grids measure from the fine grid's corner (SdfPipeline::frameOrigin()).
+  const GridSpec coarse = mCoarseSpec.inFrame(mFineSpec.origin);
+  p.coarseOriginH = glm::vec4(glm::vec3(coarse.origin), float(coarse.voxelSize));
+  // movedWithinReach: the coarse bound of the distance (beta, half a coarse diagonal to the seed's surface and
+  // half one to a fine centre of the cell), and a fine voxel for rounding.
+  p.reachPad = float(mBeta + std::sqrt(3.0) * mCoarseSpec.voxelSize + mFineSpec.voxelSize);
+  p.settleFrames = mSettleFrames;
+  p.refreshPeriod = mRefreshPeriod;
+  p.movedBoxes = movedBoxes;
+  p.brickDims = glm::ivec4(mBrickDims, mRefineParts);
+  return p;
+}
+
+void GpuRayMask::recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame,
+                            std::uint32_t movedCount, const gpu::Buffer& coarse, const gpu::Buffer& movedBoxes,
+                            const BrickPool& pool) {
+  mLastParams = params(frame, movedCount);
+  vkCmdFillBuffer(cmd, mCounts.handle(), 0, VK_WHOLE_SIZE, 0u);
+  pool.recordResetCounts(cmd);
+  gpu::computeBarrier(cmd);
+  // d = 0 refines nothing (not even voxels with c = 0): the counts stay zero, and so does the dispatch.
+  if (mBand > 0.0) {
+    mCompact.execute(cmd, profiler, {coarse, mFineRanges, movedBoxes},
+                     {mCounts, mRefineList, mCoarseList, mCoarseState, pool.stamps()}, mLastParams);
+    pool.recordAlloc(cmd, profiler, frame);
+  }
+  mDispatch.execute(cmd, profiler, {}, {mCounts}, mLastParams);
+}
+
+void GpuRayMask::recordCountsReadback(VkCommandBuffer cmd, const BrickPool& pool) const {
+  const VkBufferCopy mask{0, 0, gpu::shared::kMaskCountWords * 4};
+  vkCmdCopyBuffer(cmd, mCounts.handle(), mCountsReadback.handle(), 1, &mask);
+  const VkBufferCopy bricks{0, gpu::shared::kMaskCountWords * 4, gpu::shared::kBrickCountWords * 4};
+  vkCmdCopyBuffer(cmd, pool.counts().handle(), mCountsReadback.handle(), 1, &bricks);
+  VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
+                       nullptr);
+}
+
+GpuRayMask::Counts GpuRayMask::counts() const {
+  std::uint32_t words[kReadbackWords];
+  std::memcpy(words, mCountsReadback.mapped(), sizeof(words));
+  using namespace gpu::shared;
+  Counts n;
+  n.refinedFine = words[kMaskCountFine];
+  n.maskedFine = words[kMaskCountMaskedFine];
+  n.coarse = words[kMaskCountCoarse];
+  n.refineList = words[kMaskCountRefineList];
+  n.activeBricks = words[kMaskCountWords + kBrickCountActive];
+  n.overflowBricks = words[kMaskCountWords + kBrickCountOverflow];
+  // Each fine voxel lies under one coarse voxel and each coarse voxel is appended once: more would be a bug.
+  const glm::ivec3 bd = mBrickDims;
+  if (n.refinedFine > n.maskedFine || n.maskedFine > mFineSpec.voxelCount() || n.coarse > mCoarseSpec.voxelCount() ||
+      n.refineList > n.coarse || n.activeBricks > std::uint64_t(bd.x) * bd.y * bd.z ||
+      n.overflowBricks > n.activeBricks)
+    throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine of {} under {} coarse voxels ({} "
+                            "listed), {} bricks ({} without a slot), more than the grids hold ({}, {} and {})",
+                            n.refinedFine, n.maskedFine, n.coarse, n.refineList, n.activeBricks, n.overflowBricks,
+                            mFineSpec.voxelCount(), mCoarseSpec.voxelCount(), std::uint64_t(bd.x) * bd.y * bd.z));
+  return n;
+}
+
+std::vector<std::uint32_t> GpuRayMask::readRefinedVoxels(std::uint32_t frame) const {
+  std::vector<std::uint32_t> coarse(frame && mBand > 0.0 ? counts().refineList : 0);
+  download(mCtx, mRefineList, coarse.data(), coarse.size() * 4);
+  const std::vector<glm::ivec2> ranges = maskFineRanges(mCoarseSpec, mFineSpec);
+  const glm::ivec3 cd = mCoarseSpec.dims;
+  std::vector<std::uint32_t> list;
+  for (std::uint32_t entry : coarse) {
+    const std::uint32_t i = entry & gpu::shared::kMaskFineCoords;
+    const glm::ivec3 c(int(i % cd.x), int(i / cd.x % cd.y), int(i / cd.x / cd.y));
+    appendFineVoxelsUnder(ranges, cd, c, entry & gpu::shared::kMaskFineFresh, list);
+  }
+  tbb::parallel_sort(list.begin(), list.end());
+  return list;
+}
+
+std::vector<glm::uvec2> GpuRayMask::readCoarseState() const {
+  std::vector<glm::uvec2> state(mCoarseSpec.voxelCount());
+  download(mCtx, mCoarseState, state.data(), state.size() * 8);
+  return state;
+}
+
+RayMask GpuRayMask::readRayMask(std::uint32_t frame) const {
+  if (frame == 0 || mBand <= 0.0) return RayMask{};
+  const std::uint32_t coarse = counts().coarse;
+  std::vector<std::uint32_t> pairs(std::size_t(coarse) * 2);
+  download(mCtx, mCoarseList, pairs.data(), pairs.size() * 4);
+  std::vector<std::pair<std::uint64_t, float>> voxels(coarse);
+  for (std::size_t k = 0; k < coarse; ++k) {
+    voxels[k].first = pairs[2 * k];
+    std::memcpy(&voxels[k].second, &pairs[2 * k + 1], 4);
+  }
+  return rayMaskOfBand(std::move(voxels), mCoarseSpec, mFineSpec, mBand);
+}
+
+} // namespace rtsdf

@@ -1,0 +1,83 @@
+#pragma once
+/// @file GpuRayMask.h
+/// @brief The ray mask of one pipeline on the GPU: MaskCompactPass and MaskDispatchPass with the buffers they write,
+///        their parameters, the counts read back after a frame, and the compacted mask's read-backs.
+#include "gpu/Profiler.h"
+#include "gpu/Resources.h"
+#include "sdf/refine/RefineParams.h"
+#include "grid/GridSpec.h"
+#include "sdf/PipelineSettings.h"
+#include "sdf/refine/RefinePasses.h"
+#include "sdf/pipeline/BrickPool.h"
+#include "sdf/pipeline/RayMask.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief The ray mask compacted on the GPU, for one pair of grids.
+///
+/// Owns the two passes and their buffers: the grids' tables (maskFineRanges: "ray mask fine ranges";
+/// maskCoarseOfFine: "ray mask fine-to-coarse table"), uploaded once; per coarse voxel the refinement's history
+/// ("coarse refinement state": last frame in the band, refinements in a row); the counts (the refinement's indirect
+/// dispatch, then the mask's counters) and their host-visible copy (with the brick pool's counts after them); the
+/// refine list and the coarse band list (band > 0 only, sized for every coarse voxel: the GPU appends to them).
+/// Also the last frame's MaskParams.
+class GpuRayMask {
+public:
+  /// What a frame's mask counted (read back after the frame).
+  struct Counts {
+    std::uint32_t refinedFine = 0, maskedFine = 0, coarse = 0, refineList = 0;
+    std::uint32_t activeBricks = 0, overflowBricks = 0;
+  };
+  /// @param settings the pipeline's settings in effect (band, beta, settling and refresh periods)
+  /// @param refineParts the refinement's invocations per listed coarse voxel (refinePartsFor)
+  /// @throw VulkanError when a buffer cannot be allocated.
+  GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, const GridSpec& fine,
+             const PipelineSettings& settings, std::uint32_t refineParts);
+  /// @brief Record: no coarse voxel has been in the band (construction only; BrickPool::allocate resets it too).
+  void recordClear(VkCommandBuffer cmd) const;
+  /// @brief MaskCompactPass's parameters for frame number @a frame with @a movedBoxes moving instances.
+  gpu::shared::MaskParams params(std::uint32_t frame, std::uint32_t movedBoxes) const;
+  /// @brief Record frame number @a frame's mask: the counters reset (with @a pool's), then, where band > 0,
+  ///        MaskCompactPass over the coarse SDF @a coarse and the moved boxes @a movedBoxes (@a movedCount of them)
+  ///        and @a pool's BrickAllocPass; then MaskDispatchPass. The parameters become lastParams().
+  void recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame, std::uint32_t movedCount,
+                  const gpu::Buffer& coarse, const gpu::Buffer& movedBoxes, const BrickPool& pool);
+  /// @brief Record: the mask's and @a pool's counts copied into the host-visible copy, visible to the host after
+  ///        the frame.
+  void recordCountsReadback(VkCommandBuffer cmd, const BrickPool& pool) const;
+  /// @brief What the last frame counted. The frame must be finished.
+  /// @throw Error when the counts exceed what the grids hold (a bug).
+  Counts counts() const;
+
+  /// @brief The coarse voxels the last frame (number @a frame; 0: none yet) listed for refinement, expanded into the
+  ///        fine voxels under each and sorted, kMaskFineFresh on those new to the band. The frame must be finished.
+  std::vector<std::uint32_t> readRefinedVoxels(std::uint32_t frame) const;
+  /// @brief The refinement's history per coarse voxel (read back). The frame must be finished.
+  std::vector<glm::uvec2> readCoarseState() const;
+  /// @brief The last frame's compacted mask with its OpenVDB mirror (rayMaskOfBand); empty before the first frame
+  ///        (@a frame 0) or when d = 0. The frame must be finished.
+  RayMask readRayMask(std::uint32_t frame) const;
+
+  const gpu::shared::MaskParams& lastParams() const { return mLastParams; }
+  const gpu::Buffer& countsBuffer() const { return mCounts; }
+  const gpu::Buffer& refineList() const { return mRefineList; }
+  const gpu::Buffer& fineRanges() const { return mFineRanges; }
+  const gpu::Buffer& fineToCoarse() const { return mFineToCoarse; }
+  const gpu::Buffer& coarseState() const { return mCoarseState; }
+
+private:
+  const gpu::VulkanContext& mCtx;
+  GridSpec mCoarseSpec, mFineSpec;
+  double mBand, mBeta;
+  std::uint32_t mSettleFrames, mRefreshPeriod, mRefineParts;
+  glm::ivec3 mBrickDims;
+  MaskCompactPass mCompact;
+  MaskDispatchPass mDispatch;
+  gpu::Buffer mCoarseState, mFineToCoarse, mFineRanges, mCounts, mCountsReadback, mRefineList, mCoarseList;
+  gpu::shared::MaskParams mLastParams{};
+};
+
+} // namespace rtsdf

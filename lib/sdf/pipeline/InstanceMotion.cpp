@@ -1,0 +1,64 @@
+#include "sdf/pipeline/InstanceMotion.h"
+
+#include "scene/SceneGeometry.h"
+
+#include <cmath>
+
+namespace rtsdf {
+
+std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const std::vector<Bounds>& meshBounds,
+                                                      double before, double after, const glm::dvec3& origin) {
+  std::vector<gpu::shared::MovedBox> boxes;
+  for (const Instance& inst : scene.instances) {
+    const glm::dmat4 m0 = inst.matrixAt(before), m1 = inst.matrixAt(after);
+    const Bounds& local = meshBounds.at(inst.mesh);
+    if (m0 == m1 || local.empty()) continue;
+    Bounds swept;
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec4 p((corner & 1 ? local.max : local.min).x, (corner & 2 ? local.max : local.min).y,
+                         (corner & 4 ? local.max : local.min).z, 1.0);
+      swept.add(glm::dvec3(m0 * p) - origin);
+      swept.add(glm::dvec3(m1 * p) - origin);
+    }
+    gpu::shared::MovedBox box{};
+    for (int a = 0; a < 3; ++a) {
+      box.lo[a] = std::nextafter(float(swept.min[a]), -INFINITY);
+      box.hi[a] = std::nextafter(float(swept.max[a]), INFINITY);
+    }
+    if (boxes.size() < RTSDF_MAX_MOVED_BOXES) {
+      boxes.push_back(box);
+    } else { // the shader reads a bounded list: the rest share the last box
+      boxes.back().lo = glm::min(boxes.back().lo, box.lo);
+      boxes.back().hi = glm::max(boxes.back().hi, box.hi);
+    }
+  }
+  return boxes;
+}
+
+InstanceMotion::InstanceMotion(const gpu::VulkanContext& ctx, const Scene& scene)
+    : mScene(scene),
+      mBuffer(ctx, RTSDF_MAX_MOVED_BOXES * sizeof(gpu::shared::MovedBox),
+              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::Buffer::Memory::Device,
+              "moved instance boxes") {
+  for (const Mesh& mesh : scene.meshes) mMeshBounds.push_back(positionBounds(mesh));
+}
+
+void InstanceMotion::recordClear(VkCommandBuffer cmd) const {
+  vkCmdFillBuffer(cmd, mBuffer.handle(), 0, VK_WHOLE_SIZE, 0u);
+}
+
+void InstanceMotion::checkPlacement(double time) const { checkInstancePlacement(mScene, mMeshBounds, time); }
+
+const std::vector<gpu::shared::MovedBox>& InstanceMotion::advance(std::uint32_t frame, double time,
+                                                                  const glm::dvec3& origin) {
+  mLast = frame > 1 ? movedInstanceBoxes(mScene, mMeshBounds, mPreviousTime, time, origin)
+                    : std::vector<gpu::shared::MovedBox>{};
+  mPreviousTime = time;
+  return mLast;
+}
+
+void InstanceMotion::recordUpload(VkCommandBuffer cmd) const {
+  gpu::recordUpload(cmd, mBuffer, mLast.data(), mLast.size() * sizeof(mLast[0]));
+}
+
+} // namespace rtsdf

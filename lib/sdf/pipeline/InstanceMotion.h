@@ -1,0 +1,53 @@
+#pragma once
+/// @file InstanceMotion.h
+/// @brief The instances' motion between frames, the incremental refinement's input: the boxes they swept
+///        (movedInstanceBoxes) and InstanceMotion, which keeps the previous frame's time and the device buffer the
+///        boxes travel in.
+#include "gpu/Resources.h"
+#include "sdf/refine/RefineParams.h"
+#include "scene/Scene.h"
+#include "util/Bounds.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief The boxes the instances of @a scene swept between @a before and @a after seconds, one per instance whose
+///        transform changed: the union of its world bounds in both poses (the corners of @a meshBounds[mesh]
+///        transformed in double), measured from @a origin and rounded outwards to float. At most
+///        RTSDF_MAX_MOVED_BOXES; further ones are merged into the last box. The incremental refinement's input.
+std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const std::vector<Bounds>& meshBounds,
+                                                      double before, double after, const glm::dvec3& origin);
+
+/// @brief The instances' motion from frame to frame of one pipeline. Owns the meshes' own bounds (positionBounds,
+///        what placement checks and swept boxes start from), the previous frame's time, the last frame's boxes and
+///        the device buffer MaskCompactPass reads them from (RTSDF_MAX_MOVED_BOXES MovedBox, "moved instance
+///        boxes"). @a scene must outlive it.
+class InstanceMotion {
+public:
+  /// @throw VulkanError when the buffer cannot be allocated.
+  InstanceMotion(const gpu::VulkanContext& ctx, const Scene& scene);
+  /// @brief Record: the buffer cleared (construction only).
+  void recordClear(VkCommandBuffer cmd) const;
+  /// @brief Refuse a frame at @a time whose instances leave the supported coordinates.
+  /// @throw Error as checkInstancePlacement does.
+  void checkPlacement(double time) const;
+  /// @brief The boxes swept since the previous frame, for frame number @a frame at @a time seconds (none on the
+  ///        first frame: every voxel is new to the mask), measured from @a origin; @a time becomes the previous.
+  const std::vector<gpu::shared::MovedBox>& advance(std::uint32_t frame, double time, const glm::dvec3& origin);
+  /// @brief Record the last boxes' upload into the buffer (vkCmdUpdateBuffer; the reader's barrier orders it).
+  void recordUpload(VkCommandBuffer cmd) const;
+  /// @brief The last frame's boxes (advance()).
+  const std::vector<gpu::shared::MovedBox>& lastBoxes() const { return mLast; }
+  const gpu::Buffer& buffer() const { return mBuffer; }
+
+private:
+  const Scene& mScene;
+  std::vector<Bounds> mMeshBounds; ///< per mesh, in its own space
+  double mPreviousTime = 0.0;
+  std::vector<gpu::shared::MovedBox> mLast;
+  gpu::Buffer mBuffer;
+};
+
+} // namespace rtsdf

@@ -1,0 +1,78 @@
+#include "sdf/pipeline/PipelineMemory.h"
+
+#include "sdf/refine/RefineParams.h"
+#include "util/Error.h"
+#include "util/Memory.h"
+
+#include <fmt/format.h>
+
+#include <tuple>
+
+namespace rtsdf {
+
+std::string formatMiB(std::uint64_t bytes) { return fmt::format("{:.1f} MiB", double(bytes) / (1024.0 * 1024.0)); }
+
+std::string PipelineMemory::describe() const {
+  return fmt::format("coarse {}x{}x{}, fine {}x{}x{}: largest buffer '{}' {}, device {}, host {}", coarse.dims.x,
+                     coarse.dims.y, coarse.dims.z, fine.dims.x, fine.dims.y, fine.dims.z, largestBufferName,
+                     formatMiB(largestBuffer), formatMiB(deviceBytes), formatMiB(hostBytes));
+}
+
+PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettings& s, std::uint64_t triangles) {
+  PipelineMemory m;
+  std::tie(m.coarse, m.fine) = pipelineGrids(bounds, s);
+  const std::uint64_t nc = m.coarse.voxelCount(), nf = m.fine.voxelCount();
+  const bool dense = s.fineStorage == FineStorage::Dense;
+  const std::uint64_t coarseBuf = nc * 4, fineBuf = dense ? nf * 4 : 0;
+  if (fineBuf >= 2 * coarseBuf) { m.largestBuffer = fineBuf; m.largestBufferName = "fine SDF"; }
+  else { m.largestBuffer = 2 * coarseBuf; m.largestBufferName = "coarse band list"; }
+  const glm::uvec3 bricks = (glm::uvec3(m.fine.dims) + glm::uvec3(RTSDF_BRICK - 1)) / glm::uvec3(RTSDF_BRICK);
+  // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel), the refinement state (8 bytes per voxel) and
+  // the refine list; the dense fine SDF; per brick its stamp and slot; the BVH (nodes of 32 bytes, at most two per
+  // triangle, corners 48 bytes and ids 4 bytes per triangle), whose mesh-space corners VoxelizePass places in
+  // voxel space (48 bytes per triangle).
+  m.deviceBytes = 8 * coarseBuf + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
+                  triangles * (64 + 48 + 4 + 48) + 4096;
+  // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
+  // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
+  m.hostBytes = nc * 29 + nf * 16;
+  return m;
+}
+
+MemoryLimits memoryLimits(const gpu::DeviceInfo& device) {
+  MemoryLimits l;
+  l.maxStorageBufferRange = device.maxStorageBufferRange;
+  l.deviceBytes = device.deviceLocalBytes;
+  l.hostBytes = availableHostMemory();
+  l.unifiedMemory = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  l.deviceName = device.name;
+  return l;
+}
+
+void checkPipelineMemory(const PipelineMemory& need, const MemoryLimits& limits) {
+  const std::string grids = fmt::format("coarse grid {}x{}x{}, fine grid {}x{}x{}", need.coarse.dims.x,
+                                        need.coarse.dims.y, need.coarse.dims.z, need.fine.dims.x, need.fine.dims.y,
+                                        need.fine.dims.z);
+  const bool fine = need.largestBufferName == "fine SDF";
+  const char* lower = fine ? "fine resolution" : "coarse resolution";
+  if (limits.maxStorageBufferRange && need.largestBuffer > limits.maxStorageBufferRange)
+    throw SettingError(lower, fmt::format("SdfPipeline: {}: buffer '{}' needs {}, more than {}'s "
+                                          "maxStorageBufferRange of {}: lower the {}{}", grids, need.largestBufferName,
+                                          formatMiB(need.largestBuffer), limits.deviceName,
+                                          formatMiB(limits.maxStorageBufferRange), lower,
+                                          fine ? ", or keep the fine SDF sparse (fine storage 'sparse')" : ""));
+  if (limits.deviceBytes && need.deviceBytes > limits.deviceBytes)
+    throw SettingError("fine resolution", fmt::format("SdfPipeline: {}: the device buffers need {}, more than {}'s "
+                                                      "{} heap: lower the fine (and coarse) resolution", grids,
+                                                      formatMiB(need.deviceBytes), limits.deviceName,
+                                                      formatMiB(limits.deviceBytes)));
+  const std::uint64_t host = need.hostBytes + (limits.unifiedMemory ? need.deviceBytes : 0);
+  if (limits.hostBytes && host > limits.hostBytes)
+    throw SettingError("fine resolution", fmt::format("SdfPipeline: {}: needs {} of host memory{}, more than the {} "
+                                                      "available: lower the fine (and coarse) resolution", grids,
+                                                      formatMiB(host), limits.unifiedMemory
+                                                                           ? " (device buffers included)" : "",
+                                                      formatMiB(limits.hostBytes)));
+}
+
+} // namespace rtsdf

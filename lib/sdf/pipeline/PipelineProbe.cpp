@@ -1,0 +1,35 @@
+#include "sdf/pipeline/PipelineProbe.h"
+
+#include "sdf/pipeline/BrickPool.h"
+#include "sdf/pipeline/GpuRayMask.h"
+#include "sdf/pipeline/InstanceMotion.h"
+
+namespace rtsdf {
+
+std::vector<std::uint32_t> PipelineProbe::brickSlots() const {
+  mPipe.waitForFrame();
+  return mPipe.mPool->readSlots();
+}
+
+std::vector<float> PipelineProbe::brickValues() const {
+  mPipe.waitForFrame();
+  return mPipe.mPool->readValues();
+}
+
+std::vector<std::uint32_t> PipelineProbe::refinedVoxels() const {
+  mPipe.waitForFrame();
+  return mPipe.mMask->readRefinedVoxels(mPipe.mFrame);
+}
+
+std::vector<glm::uvec2> PipelineProbe::coarseState() const {
+  mPipe.waitForFrame();
+  return mPipe.mMask->readCoarseState();
+}
+
+const gpu::shared::MaskParams& PipelineProbe::lastMaskParams() const { return mPipe.mMask->lastParams(); }
+
+const std::vector<gpu::shared::MovedBox>& PipelineProbe::lastMovedBoxes() const {
+  return mPipe.mMotion->lastBoxes();
+}
+
+} // namespace rtsdf

@@ -1,0 +1,40 @@
+#pragma once
+/// @file PipelineProbe.h
+/// @brief Read-backs of an SdfPipeline's internal state, for tests that check the GPU against the CPU references
+///        (the brick pool's slots and values, the refinement's history and list, the mask's parameters and moved
+///        boxes). Kept out of SdfPipeline.h so that its users see no gpu::shared types.
+#include "sdf/refine/RefineParams.h"
+#include "sdf/SdfPipeline.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief A view of one SdfPipeline's parts. Owns nothing; the pipeline must outlive it. Each read-back waits for a
+///        frame in flight first.
+class PipelineProbe {
+public:
+  explicit PipelineProbe(const SdfPipeline& pipeline) : mPipe(pipeline) {}
+  /// @brief Per brick of the fine grid (x fastest, SdfPipeline::brickDims()): its slot in the pool, kNoBrick where it
+  ///        has none (read back).
+  std::vector<std::uint32_t> brickSlots() const;
+  /// @brief The pool's values, slot after slot (kBrickVoxels each; read back): the refinement's, for the voxels
+  ///        of a slotted brick under the band (the others hold nothing meaningful).
+  std::vector<float> brickValues() const;
+  /// @brief The fine voxels the last frame refined (MaskCompactPass's refine list, read back, expanded into the
+  ///        fine voxels under each coarse voxel and sorted): packed 10 bits per axis, with
+  ///        gpu::shared::kMaskFineFresh on those new to the band.
+  std::vector<std::uint32_t> refinedVoxels() const;
+  /// @brief Per coarse voxel (x fastest): the last frame it was in the band and its refinements in a row (read back;
+  ///        0xFFFFFFFF before it has been in the band).
+  std::vector<glm::uvec2> coarseState() const;
+  /// @brief MaskCompactPass's parameters in the last frame and the moving boxes it read (maskDecisionsCpu's input).
+  const gpu::shared::MaskParams& lastMaskParams() const;
+  const std::vector<gpu::shared::MovedBox>& lastMovedBoxes() const;
+
+private:
+  const SdfPipeline& mPipe;
+};
+
+} // namespace rtsdf

@@ -1,0 +1,38 @@
+#pragma once
+/// @file RayMask.h
+/// @brief The ray mask as the host sees it (RayMask: the coarse band's OpenVDB mirror and the fine voxels under it)
+///        and its CPU reference from a dense coarse SDF (buildRayMask). The GPU's compacted mask is GpuRayMask's.
+#include "grid/GridSpec.h"
+
+#include <openvdb/openvdb.h>
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief The ray mask: the coarse SDF mirrored into OpenVDB (active exactly where |c| <= d) and the fine
+///        voxels whose centres lie in active coarse voxels (maskFineRanges), packed 10 bits per axis, sorted.
+struct RayMask {
+  /// The mirror (null when d = 0: nothing is refined). Its transform is the coarse grid's; where the coarse
+  /// voxels are smaller than OpenVDB accepts (minVdbVoxelSize()), the mirror is measured in voxels (voxel
+  /// size 1, values and background divided by h) and covers the same voxels.
+  openvdb::FloatGrid::Ptr coarse;
+  std::vector<std::uint32_t> fineVoxels;
+  std::uint64_t coarseVoxels = 0; ///< active coarse voxels
+};
+
+/// @brief The CPU reference of the ray mask, from a dense coarse SDF (x fastest). SdfPipeline compacts the same
+///        mask on the GPU (MaskCompactPass) and builds its mirror on demand (SdfPipeline::rayMask()).
+RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& coarseSpec, const GridSpec& fineSpec,
+                     double band);
+
+/// @brief The ray mask of the coarse band voxels @a voxels (linear index into @a coarseSpec, x fastest, and the
+///        coarse SDF there; any order), as the GPU compacts them: the fine voxels under them (maskFineRanges),
+///        sorted, and the OpenVDB mirror (activeVoxelsToLevelSet, measured in voxels where buildRayMask is).
+///        The same mask as buildRayMask of the dense coarse SDF.
+RayMask rayMaskOfBand(std::vector<std::pair<std::uint64_t, float>> voxels, const GridSpec& coarseSpec,
+                      const GridSpec& fineSpec, double band);
+
+} // namespace rtsdf

@@ -71,7 +71,7 @@ namespace {
 /// pays for pipelines and allocations and s.warmUpSeconds of runs for the GPU's clocks.
 double warmMedianMs(const BenchOptions& s, const std::function<double()>& run) {
   run();
-  detail::warmUpGpu(s.warmUpSeconds, run);
+  warmUpGpu(s.warmUpSeconds, run);
   std::vector<double> t;
   for (int r = 0; r < s.repeats; ++r) t.push_back(run());
   std::sort(t.begin(), t.end());
@@ -99,7 +99,7 @@ std::string voxelizeChunkRow(CoarseSdfBuilder& builder, const BenchOptions& s, c
 /// beside the CPU jump flooding, the CPU exact EDT of the same seeds and OpenVDB's full-domain
 /// meshToSignedDistanceField, at the same voxels; each method's errors against the exact EDT.
 std::string coarseSuite(const BenchOptions& s) {
-  gpu::ContextOptions copt = detail::contextOptions(s.device);
+  gpu::ContextOptions copt = deviceContextOptions(s.device);
   copt.validation = false;
   gpu::VulkanContext ctx(copt);
   CoarseSdfBuilder builder(ctx);
@@ -139,7 +139,7 @@ std::string coarseSuite(const BenchOptions& s) {
         CoarseSdfSettings cs;
         cs.method = m;
         builder.build(corners, spec, cs); // warm-up: pipelines and allocations
-        detail::warmUpGpu(s.warmUpSeconds, [&] { builder.build(corners, spec, cs); }); // and the GPU's clocks
+        warmUpGpu(s.warmUpSeconds, [&] { builder.build(corners, spec, cs); }); // and the GPU's clocks
         std::vector<double> vox, transform, dist;
         CoarseSdf last;
         for (int r = 0; r < s.repeats; ++r) {
@@ -181,7 +181,7 @@ RefinePoint runRefinePoint(const gpu::VulkanContext& ctx, const Scene& scene, co
   // The paper's tables time its frame, every masked voxel refined (a static incremental frame refines none).
   PipelineSettings full = ps;
   full.fullRecompute = true;
-  detail::warmUpPipeline(ctx, scene, geo.bounds, full, warmUpSeconds);
+  warmUpPipeline(ctx, scene, geo.bounds, full, warmUpSeconds);
   SdfPipeline pipe(ctx, scene, geo.bounds, full);
   FrameStats st;
   for (int f = 0; f < frames; ++f) st = pipe.runFrame(0.0);
@@ -295,7 +295,7 @@ std::string volumeFillTable(const gpu::VulkanContext& ctx, const SceneGeometry& 
 /// with the error against the exact field beside each time, and OpenVDB's meshToLevelSet at the fine
 /// resolution and band as the anchor.
 std::string refineSuite(const BenchOptions& s) {
-  gpu::ContextOptions copt = detail::contextOptions(s.device);
+  gpu::ContextOptions copt = deviceContextOptions(s.device);
   copt.validation = false;
   gpu::VulkanContext ctx(copt);
   const int frames = 2;
@@ -376,7 +376,7 @@ TechniqueTiming timeTechnique(const gpu::VulkanContext& ctx, const Scene& scene,
   const Bounds bounds = buildSceneGeometry(scene, 0.0).bounds;
   if (warmUpSeconds > 0.0) { // the GPU's clocks, on a renderer of its own: the measured frames' TAA history stays
     Renderer warm(ctx, scene, bounds, rs);
-    detail::warmUpGpu(warmUpSeconds, [&] { warm.renderFrame(0.0, false); });
+    warmUpGpu(warmUpSeconds, [&] { warm.renderFrame(0.0, false); });
   }
   Renderer r(ctx, scene, bounds, rs);
   std::map<std::string, std::vector<double>> ms;
@@ -416,7 +416,7 @@ void timeRayTracer(const Scene& scene, RenderSettings rs, const RenderedFrame& t
     rs.rayTraced.seed = 99; // independent of the truth's samples
     const auto t0 = std::chrono::steady_clock::now();
     const RenderedFrame f = renderRayTraced(scene, 0.0, rs);
-    const double ms = 1e3 * detail::secondsSince(t0);
+    const double ms = 1e3 * secondsSince(t0);
     errors.emplace_back(fmt::format("raytraced, {} spp (CPU, {} threads)", samples, std::thread::hardware_concurrency()),
                         compareWithTruth(scene, f, truth), ms);
   }
@@ -432,7 +432,7 @@ std::string renderSize(const gpu::VulkanContext& ctx, const BenchOptions& s, con
   rs.rayTraced.samples = truthSamples;
   const auto tt0 = std::chrono::steady_clock::now();
   const RenderedFrame truth = renderRayTraced(scene, 0.0, rs);
-  const double truthS = detail::secondsSince(tt0);
+  const double truthS = secondsSince(tt0);
   const std::string stem = fs::path(path).stem().string();
   const bool pictures = !s.output.empty() && size.x == 640;
   std::string md = fmt::format("### {} at {}x{}\n\n", fs::path(path).filename().string(), size.x, size.y);
@@ -472,7 +472,7 @@ std::string renderSize(const gpu::VulkanContext& ctx, const BenchOptions& s, con
 /// over frames after warm-up), their image error against the ray-traced truth of the same frame, and the
 /// ray tracer's time per sample count, to find the samples at which it reaches the SDF's error.
 std::string renderSuite(const BenchOptions& s) {
-  gpu::VulkanContext ctx(detail::contextOptions(s.device));
+  gpu::VulkanContext ctx(deviceContextOptions(s.device));
   std::string md = fmt::format(
       "GPU: {} ({}). GPU pass times: median over {} frames after {} warm-up frames and {} s of frames on a renderer "
       "of its own (GPU timestamps). Error against "
@@ -536,7 +536,7 @@ std::string referenceSuite(const BenchOptions& s) {
 /// 3-voxel band and the suite's band fraction, and against the winding number everywhere (the sign rule before
 /// rim-only), whose signs it must keep.
 std::string openMeshCase(const BenchOptions& s) {
-  Scene scene = loadScene(detail::bundledMesh("bunny.obj"));
+  Scene scene = loadScene(bundledMesh("bunny.obj"));
   const Bounds bounds = buildSceneGeometry(scene, 0.0).bounds;
   scene.meshes[0] = cutHoles(subdivideMesh(scene.meshes[0], 3), 12, float(0.03 * bounds.maxExtent()));
   scene.meshReports[0] = validateMesh(scene.meshes[0]);
@@ -596,7 +596,7 @@ void BenchOptions::validate() const {
 std::string runBenchSuite(const BenchOptions& options, const JobControl& control) {
   options.validate();
   BenchOptions s = options;
-  if (s.scenes.empty()) s.scenes = {detail::bundledScene("default.json"), detail::bundledScene("bunny.json")};
+  if (s.scenes.empty()) s.scenes = {bundledScene("default.json"), bundledScene("bunny.json")};
   if (s.suite == BenchSuite::Frame) s.scenes.resize(1);
   const std::vector<fs::path> inputs(s.scenes.begin(), s.scenes.end());
   if (!s.output.empty()) checkOutputPath(s.output, {}, inputs);

@@ -54,7 +54,7 @@ struct BenchOptions {
   std::filesystem::path csv;              ///< the frame suite's per-frame CSV (atomically); empty: none
   /// Seconds of untimed GPU work before each timed run (GPU suites), on a pipeline or renderer of its own so
   /// that the measured one starts as it always does: a GPU's clocks rise only under sustained load (see
-  /// detail::warmUpGpu). 0: none, for tests and CPU devices.
+  /// warmUpGpu). 0: none, for tests and CPU devices.
   double warmUpSeconds = 1.0;
   /// @throw SettingError naming the setting that is out of range.
   void validate() const;

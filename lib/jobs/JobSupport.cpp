@@ -5,20 +5,9 @@
 
 #include <fmt/format.h>
 
-namespace rtsdf::detail {
+namespace rtsdf {
 
-std::string meshSummary(const Scene& scene) {
-  std::size_t tris = 0, dropped = 0, open = 0;
-  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
-    tris += scene.meshReports[i].triangles;
-    dropped += scene.meshReports[i].degenerateDropped;
-    open += scene.meshReports[i].watertight() ? 0 : 1;
-  }
-  return fmt::format("{} meshes ({} open), {} instances, {} triangles, {} zero-area dropped", scene.meshes.size(), open,
-                     scene.instances.size(), tris, dropped);
-}
-
-gpu::ContextOptions contextOptions(const std::string& device) {
+gpu::ContextOptions deviceContextOptions(const std::string& device) {
   gpu::ContextOptions o;
   o.device = device;
   return o;
@@ -49,6 +38,21 @@ void warmUpPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bou
 std::string bundledScene(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/scenes/" + name; }
 
 std::string bundledMesh(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/meshes/" + name; }
+
+} // namespace rtsdf
+
+namespace rtsdf::detail {
+
+std::string meshSummary(const Scene& scene) {
+  std::size_t tris = 0, dropped = 0, open = 0;
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+    tris += scene.meshReports[i].triangles;
+    dropped += scene.meshReports[i].degenerateDropped;
+    open += scene.meshReports[i].watertight() ? 0 : 1;
+  }
+  return fmt::format("{} meshes ({} open), {} instances, {} triangles, {} zero-area dropped", scene.meshes.size(), open,
+                     scene.instances.size(), tris, dropped);
+}
 
 const char* version() { return RTSDF_VERSION; }
 

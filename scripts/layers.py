@@ -22,7 +22,7 @@ LAYERS = [
     ["sdf"],
     ["render"],
     ["jobs"],
-    ["bench", "view"],
+    ["suites", "view"],
 ]
 # The front ends, one layer over every folder of lib/ (paths from the repository's root): they bind the jobs.
 FRONT_ENDS = ["apps/rtsdf", "python"]
@@ -114,12 +114,10 @@ def declared_detail_names(text):
     code = blank_comments_and_strings(text)
     names = set()
     for m in DETAIL_NAMESPACE.finditer(code):
-        braces, parens, i = 1, 0, m.end()
+        braces, i = 1, m.end()
         start = i
         while i < len(code) and braces:
-            c = code[i]
-            braces += (c == "{") - (c == "}")
-            parens += (c == "(") - (c == ")")
+            braces += (code[i] == "{") - (code[i] == "}")
             i += 1
         body = code[start:i - 1]
         # Keep only what lies at the namespace's own level: no function bodies, initialisers or parameter lists.
@@ -187,7 +185,7 @@ def check(root=ROOT, layers=None, front_ends=FRONT_ENDS, quiet=False):
     if not quiet:
         for p in problems:
             print(p)
-        print(f"{len(folders)} folders in {len(layers)} layers under {', '.join(front_ends)}: "
+        print(f"{len(folders)} folders in {len(layers)} layers, {' and '.join(front_ends)} over them: "
               f"{'no upward include, no foreign detail::' if not problems else 'FAILED'}")
     return problems
 

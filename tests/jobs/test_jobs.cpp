@@ -1,8 +1,8 @@
 // The jobs as library calls: what the command line runs, called with options structs, progress and
 // cancellation; errors that name settings, never flags; the enums' one name table.
 #include "TestUtil.h"
-#include "bench/Suites.h"
-#include "bench/Sweep.h"
+#include "suites/Suites.h"
+#include "suites/Sweep.h"
 #include "grid/VdbIO.h"
 #include "jobs/Animate.h"
 #include "jobs/Bake.h"

@@ -1,7 +1,7 @@
-#include "bench/SweepJob.h"
+#include "suites/SweepJob.h"
 
-#include "bench/SweepPlots.h"
-#include "bench/Suites.h"
+#include "suites/SweepPlots.h"
+#include "suites/Suites.h"
 #include "jobs/JobSupport.h"
 #include "scene/SceneLoader.h"
 #include "util/AtomicFile.h"

@@ -18,7 +18,7 @@ enum class BenchSuite {
   Coarse,    ///< GPU voxelize + nearest-seed transform per pass and method vs CPU jump flooding, exact EDT, OpenVDB SDF
   Refine,    ///< the paper's ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet
   Render,    ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth
-  Frame      ///< the pipeline frame by frame on one scene: host / GPU / wall time, mask, error (bench/FrameSuite.h)
+  Frame      ///< the pipeline frame by frame on one scene: host / GPU / wall time, mask, error (suites/FrameSuite.h)
 };
 
 /// @brief The paper's three sizes of the frame suite.

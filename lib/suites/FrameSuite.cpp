@@ -1,4 +1,4 @@
-#include "bench/FrameSuite.h"
+#include "suites/FrameSuite.h"
 
 #include "jobs/Animate.h"
 #include "jobs/JobSupport.h"

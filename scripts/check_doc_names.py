@@ -11,11 +11,13 @@ What counts as cited:
     bench/, fuzz/, examples/, docs/, data/, and paths inside lib/ such as gpu/shared/Refine.h). A path may name a
     file, a folder, a file without its extension (lib/sdf/SdfPipeline: its .h and .cpp) or a glob (shaders/refine*).
   - in backticks, a code name: `A::b`, `func()`, `list[k]`, `kName`, `RTSDF_MACRO`, `Pass::kName`, `a.b`. Plain
-    lower-case words (`bake`, `--band`), quoted strings and flags are prose, not names.
+    lower-case words (`bake`, `--band`), quoted strings, flags and command lines (`rtsdf bake ...`) are prose, not
+    names; a bare file name (`refine_main.glsl`, `refine_closest[_cell].comp`) must be some file's name.
 A name exists when the tree's code has it (C, C++ and GLSL comments do not count): `func()` as a call or
 declaration `func(`, `list[k]` as `list[`, `A::b` with A and b in one file. A name cited right before a path in
-parentheses or after a comma (`recordMask()` (lib/sdf/SdfPipeline.cpp)), or in a list item's first sentence that
-starts with a path (shaders/refine_main.glsl reads `x[k]`), must be in that file.
+parentheses or after a comma (`recordMask()` (lib/sdf/SdfPipeline.cpp)), or in the first sentence of a list item
+whose first line starts with a path (shaders/refine_main.glsl reads `x[k]`), must be in that file's code (used or
+declared there; a header stands for its .cpp too), or, for a shader, in a file that loads it by name.
 """
 import fnmatch
 import glob
@@ -113,9 +115,14 @@ class Tree:
         return out
 
 
-def path_pattern(tree):
+def path_body(tree):
+    """The regular expression of a cited path, one group: a top folder or a folder of lib/, then the rest."""
     tops = "|".join(sorted(set(TOP_FOLDERS) | set(tree.lib_folders), key=len, reverse=True))
-    return re.compile(r"(?<![\w./-])((?:" + tops + r")/[\w./*-]*[\w*])")
+    return r"((?:" + tops + r")/[\w./*-]*[\w*])"
+
+
+def path_pattern(tree):
+    return re.compile(r"(?<![\w./-])" + path_body(tree))
 
 
 def code_names(span, paths):
@@ -126,9 +133,7 @@ def code_names(span, paths):
         text = text.replace(p, " ")
     names, chains = [], []
     for m in re.finditer(r"(?<![\w\-.])((?:[A-Za-z_]\w*(?:::|\.|->))*[A-Za-z_]\w*)(\s*\(|\[)?", text):
-        parts = re.split(r"::|\.|->", m.group(1))
-        if text[max(0, m.start() - 2):m.start()].endswith(("--", " -")) or text[max(0, m.start() - 1):m.start()] == "-":
-            continue  # a flag
+        parts = re.split(r"::|\.|->", m.group(1))  # (a word after '-' is a flag's: the look-behind skips it)
         after = (m.group(2) or "").strip()
         for i, part in enumerate(parts):
             last = i == len(parts) - 1
@@ -182,7 +187,7 @@ def check_doc(tree, doc_text, doc_name):
                     problems.append(f"{where}: `{span}`: no file has both {' and '.join(chain[-2:])}")
             # Scope: the path right after the span, "(path" or ", path"; or the item's leading path.
             rest = line[m.end():]
-            scoped = re.match(r"\s*(?:\(|,)\s*" + paths_re.pattern[len(r"(?<![\w./-])"):], rest)
+            scoped = re.match(r"\s*(?:\(|,)\s*" + path_body(tree), rest)
             scope = scoped.group(1).rstrip(".") if scoped else None
             if scope is None and item and paths_re.fullmatch(item.group(1).rstrip(".:,")):
                 first_sentence_end = re.search(r"[.:;]\s", line[item.end():])

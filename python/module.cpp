@@ -146,7 +146,7 @@ public:
     applySettings(kw, s, nullptr, device);
     Bounds bounds;
     for (int f = 0; f < frames; ++f) bounds.add(buildSceneGeometry(*mScene, f / fps).bounds);
-    mCtx = std::make_unique<gpu::VulkanContext>(detail::contextOptions(device));
+    mCtx = std::make_unique<gpu::VulkanContext>(deviceContextOptions(device));
     mPipe = std::make_unique<SdfPipeline>(*mCtx, *mScene, bounds, s);
   }
   py::dict frame(double time) {

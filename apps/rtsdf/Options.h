@@ -2,8 +2,8 @@
 /// @file Options.h
 /// @brief The command line's flags, bound onto the library's options structs (CLI11), and the flag that
 ///        spells each library setting in error messages.
-#include "bench/Suites.h"
-#include "bench/SweepJob.h"
+#include "suites/Suites.h"
+#include "suites/SweepJob.h"
 #include "jobs/Animate.h"
 #include "jobs/Bake.h"
 #include "jobs/Compare.h"

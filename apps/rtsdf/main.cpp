@@ -1,7 +1,7 @@
 // rtsdf: real-time signed distance fields of triangle-mesh scenes. The command line binds flags onto the
 // library's options structs, calls one library job per subcommand and prints what it returns.
-#include "bench/Suites.h"
-#include "bench/SweepJob.h"
+#include "suites/Suites.h"
+#include "suites/SweepJob.h"
 #include "jobs/Animate.h"
 #include "jobs/Bake.h"
 #include "jobs/Compare.h"

@@ -99,8 +99,8 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
   // Grids fixed over the whole animation: the union of the scene's bounds at every frame.
   Bounds bounds;
   for (int f = 0; f < a.frames; ++f) bounds.add(buildSceneGeometry(scene, a.still ? 0.0 : f / a.fps).bounds);
-  gpu::VulkanContext ctx(detail::contextOptions(a.device));
-  detail::warmUpPipeline(ctx, scene, bounds, a.pipeline, a.warmUpSeconds);
+  gpu::VulkanContext ctx(deviceContextOptions(a.device));
+  warmUpPipeline(ctx, scene, bounds, a.pipeline, a.warmUpSeconds);
   SdfPipeline pipe(ctx, scene, bounds, a.pipeline);
   spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
   openvdb::CoordBBox box;
@@ -128,7 +128,7 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
     if (onFrame) onFrame(fr);
     control.report("animate", std::uint64_t(f + 1), std::uint64_t(a.frames));
   }
-  detail::throwOnValidationErrors(ctx);
+  throwOnValidationErrors(ctx);
   written.keep();
   return result;
 }

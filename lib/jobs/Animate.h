@@ -24,7 +24,7 @@ struct AnimateOptions {
   std::filesystem::path vdbDir; ///< write frameNNNN.vdb (the fine SDF's band) into this folder; empty: none
   std::string device;         ///< Vulkan device by index or name; empty: the best one
   /// Seconds of untimed full frames at time 0, on a pipeline of its own, before the first frame: a GPU's clocks
-  /// rise only under sustained load (detail::warmUpGpu). The frames measured are the same with or without it.
+  /// rise only under sustained load (warmUpGpu). The frames measured are the same with or without it.
   double warmUpSeconds = 0.0;
   PipelineSettings pipeline = defaultPipeline();
   /// @brief Animations run at coarse 64 / fine 128 by default: many frames, each measured.

@@ -19,7 +19,6 @@
 
 namespace rtsdf {
 namespace fs = std::filesystem;
-using detail::secondsSince;
 
 void BakeOptions::validate() const {
   pipeline.validate();
@@ -55,7 +54,7 @@ openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions&
 namespace {
 
 BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const JobControl& control) {
-  gpu::VulkanContext ctx(detail::contextOptions(o.device));
+  gpu::VulkanContext ctx(deviceContextOptions(o.device));
   SdfPipeline pipe(ctx, scene, buildSceneGeometry(scene, o.time).bounds, o.pipeline);
   spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
   BakeResult r;
@@ -66,7 +65,7 @@ BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const JobControl&
     control.report("refining", std::uint64_t(f + 1), std::uint64_t(o.frames));
   }
   r.seconds = secondsSince(t0);
-  detail::throwOnValidationErrors(ctx);
+  throwOnValidationErrors(ctx);
   r.grid = fineLevelSet(pipe, o, o.time);
   r.spec = pipe.fineSpec();
   r.coarseSpec = pipe.coarseSpec();
@@ -76,7 +75,7 @@ BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const JobControl&
 
 openvdb::FloatGrid::Ptr bakeCoarse(const BakeOptions& o, const SceneGeometry& geo, const GridSpec& spec,
                                    BakeResult& r) {
-  gpu::VulkanContext ctx(detail::contextOptions(o.device));
+  gpu::VulkanContext ctx(deviceContextOptions(o.device));
   CoarseSdfSettings cs;
   cs.method = o.pipeline.coarseMethod;
   cs.beta = o.pipeline.beta;
@@ -90,7 +89,7 @@ openvdb::FloatGrid::Ptr bakeCoarse(const BakeOptions& o, const SceneGeometry& ge
       t += fmt::format("{} {:.2f} ms  ", p, coarse.passTotal(p));
     return t;
   }());
-  detail::throwOnValidationErrors(ctx);
+  throwOnValidationErrors(ctx);
   return denseToLevelSet(coarse.distance, spec, float(o.pipeline.band));
 }
 

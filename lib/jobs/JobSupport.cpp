@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-namespace rtsdf::detail {
+namespace rtsdf {
 
 std::string meshSummary(const Scene& scene) {
   std::size_t tris = 0, dropped = 0, open = 0, reoriented = 0, turned = 0;
@@ -22,7 +22,7 @@ std::string meshSummary(const Scene& scene) {
                      open, scene.instances.size(), tris, dropped, repaired);
 }
 
-gpu::ContextOptions contextOptions(const std::string& device) {
+gpu::ContextOptions deviceContextOptions(const std::string& device) {
   gpu::ContextOptions o;
   o.device = device;
   return o;
@@ -53,6 +53,21 @@ void warmUpPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bou
 std::string bundledScene(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/scenes/" + name; }
 
 std::string bundledMesh(const std::string& name) { return std::string(RTSDF_DATA_DIR) + "/meshes/" + name; }
+
+} // namespace rtsdf
+
+namespace rtsdf::detail {
+
+std::string meshSummary(const Scene& scene) {
+  std::size_t tris = 0, dropped = 0, open = 0;
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+    tris += scene.meshReports[i].triangles;
+    dropped += scene.meshReports[i].degenerateDropped;
+    open += scene.meshReports[i].watertight() ? 0 : 1;
+  }
+  return fmt::format("{} meshes ({} open), {} instances, {} triangles, {} zero-area dropped", scene.meshes.size(), open,
+                     scene.instances.size(), tris, dropped);
+}
 
 const char* version() { return RTSDF_VERSION; }
 

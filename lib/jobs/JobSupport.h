@@ -1,6 +1,7 @@
 #pragma once
 /// @file JobSupport.h
-/// @brief Small pieces the jobs share (internal to lib/jobs and lib/bench).
+/// @brief What the jobs share with the suites, the viewer and the front ends (public: device context options,
+///        validation checks, GPU warm-up, bundled data), then what only lib/jobs uses (namespace detail).
 #include "gpu/VulkanContext.h"
 #include "scene/Scene.h"
 
@@ -13,13 +14,15 @@ struct Bounds;
 struct PipelineSettings;
 } // namespace rtsdf
 
-namespace rtsdf::detail {
+namespace rtsdf {
 
-/// @brief "N meshes (K open), M instances, T triangles, Z zero-area dropped".
-std::string meshSummary(const Scene& scene);
-
-/// @brief A Vulkan context on @a device ("" for the best one), validation as the environment asks (RTSDF_VALIDATION).
-gpu::ContextOptions contextOptions(const std::string& device);
+/// @brief The options of a Vulkan context for a job on @a device; every job, suite, viewer and Python object
+///        that opens a context starts from these, so that all pick the device and turn on validation alike.
+/// @param device the device by index ("0") or by a case-insensitive substring of its name, as `--device` and
+///        the Python keyword `device` take it; "" for the best one (gpu::chooseDevice).
+/// @return options with @a device set and validation as the environment asks (RTSDF_VALIDATION,
+///         RTSDF_SYNC_VALIDATION); no extra instance or device extensions (a window adds its own).
+gpu::ContextOptions deviceContextOptions(const std::string& device);
 
 /// @brief Refuse results computed while the validation layer reported errors.
 /// @throw Error with the count and the last message.
@@ -48,6 +51,13 @@ std::string bundledScene(const std::string& name);
 
 /// @brief The path of a bundled mesh in the source tree's data/meshes (e.g. "bunny.obj").
 std::string bundledMesh(const std::string& name);
+
+} // namespace rtsdf
+
+namespace rtsdf::detail {
+
+/// @brief "N meshes (K open), M instances, T triangles, Z zero-area dropped".
+std::string meshSummary(const Scene& scene);
 
 /// @brief rtsdf's version, for file metadata and reports.
 const char* version();

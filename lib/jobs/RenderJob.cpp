@@ -54,7 +54,7 @@ RenderedFrame renderOnGpu(const RenderJobOptions& o, const Scene& scene, RenderJ
   const double t0 = o.time - double(o.frames - 1) / o.fps;
   Bounds bounds;
   for (int f = 0; f < o.frames; ++f) bounds.add(buildSceneGeometry(scene, t0 + f / o.fps).bounds);
-  gpu::VulkanContext ctx(detail::contextOptions(o.device));
+  gpu::VulkanContext ctx(deviceContextOptions(o.device));
   Renderer renderer(ctx, scene, bounds, o.render);
   if (const SdfPipeline* sdf = renderer.sdfPipeline()) {
     result.sdfGrids = fmt::format("coarse {}, fine {}", sdf->coarseSpec().describe(), sdf->fineSpec().describe());

@@ -120,7 +120,7 @@ public:
   bool paused() const { return mState.paused; }
   Window& window() { return mWindow; }
   void writeScreenshot(const std::string& path);
-  void checkValidation() const { detail::throwOnValidationErrors(*mCtx); }
+  void checkValidation() const { throwOnValidationErrors(*mCtx); }
   const std::string& lastLine() const { return mLine; }
   const PassTimes& lastPassMs() const { return mPassMs; }
 
@@ -151,7 +151,7 @@ private:
 };
 
 gpu::ContextOptions windowContextOptions(const std::string& device) {
-  gpu::ContextOptions c = detail::contextOptions(device);
+  gpu::ContextOptions c = deviceContextOptions(device);
   c.instanceExtensions = Window::requiredInstanceExtensions();
   c.deviceExtensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
   return c;

@@ -1,8 +1,8 @@
 // The jobs as library calls: what the command line runs, called with options structs, progress and
 // cancellation; errors that name settings, never flags; the enums' one name table.
 #include "TestUtil.h"
-#include "bench/Suites.h"
-#include "bench/Sweep.h"
+#include "suites/Suites.h"
+#include "suites/Sweep.h"
 #include "grid/VdbIO.h"
 #include "jobs/Animate.h"
 #include "jobs/Bake.h"
@@ -112,13 +112,13 @@ TEST(Jobs, BadSettingsNameTheSettingAndNoFlag) {
 // animate settings refuse a negative or absurd one, naming the setting.
 TEST(Jobs, WarmUpRunsUntilItsTimeHasPassedAndIsValidated) {
   int runs = 0;
-  detail::warmUpGpu(0.0, [&] { ++runs; });
+  warmUpGpu(0.0, [&] { ++runs; });
   EXPECT_EQ(runs, 0);
-  detail::warmUpGpu(1e-9, [&] { ++runs; });
+  warmUpGpu(1e-9, [&] { ++runs; });
   EXPECT_EQ(runs, 1);
   const auto t0 = std::chrono::steady_clock::now();
-  detail::warmUpGpu(0.05, [&] { ++runs; std::this_thread::sleep_for(std::chrono::milliseconds(5)); });
-  EXPECT_GE(detail::secondsSince(t0), 0.05);
+  warmUpGpu(0.05, [&] { ++runs; std::this_thread::sleep_for(std::chrono::milliseconds(5)); });
+  EXPECT_GE(secondsSince(t0), 0.05);
   EXPECT_GE(runs, 2);
   for (double bad : {-1.0, 61.0, std::nan("")}) {
     bench::BenchOptions b;

@@ -2,7 +2,7 @@
 /// @file SweepRunner.h
 /// @brief Runs the points of a sweep on one scene: the pipeline (and its soft shadows where the scene has a
 ///        camera) per point, the anchors, and the field error against the exact reference.
-#include "bench/Sweep.h"
+#include "suites/Sweep.h"
 #include "gpu/VulkanContext.h"
 #include "render/Renderer.h"
 #include "scene/Scene.h"

@@ -2,7 +2,7 @@
 /// @file FrameSuite.h
 /// @brief `rtsdf bench --suite frame`: the pipeline's frames one by one on one scene, each with its host, GPU and
 ///        wall time, its mask, and its error against the exact field of the same moment; one CSV row per frame.
-#include "bench/Suites.h"
+#include "suites/Suites.h"
 #include "sdf/SdfPipeline.h"
 
 #include <cstdint>

@@ -1,7 +1,7 @@
-#include "bench/SweepJob.h"
+#include "suites/SweepJob.h"
 
-#include "bench/SweepPlots.h"
-#include "bench/Suites.h"
+#include "suites/SweepPlots.h"
+#include "suites/Suites.h"
 #include "jobs/JobSupport.h"
 #include "scene/SceneLoader.h"
 #include "util/AtomicFile.h"
@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string scenePathOf(const SweepJobOptions& o) {
-  return o.scene.empty() ? detail::bundledScene("default.json") : o.scene;
+  return o.scene.empty() ? bundledScene("default.json") : o.scene;
 }
 
 fs::path outDirOf(const SweepJobOptions& o) {
@@ -89,7 +89,7 @@ void runPoints(SweepRunner& runner, const std::vector<SweepPoint>& plan, int rep
     result.finished = i + 1;
     doneCost += plan[i].estimatedCost(repeats);
     control.report(stage, std::uint64_t(doneCost), std::uint64_t(std::ceil(totalCost)));
-    const double elapsed = detail::secondsSince(start);
+    const double elapsed = secondsSince(start);
     logPoint(rs.back(), i, plan.size(), elapsed * (totalCost - doneCost) / std::max(doneCost, 1e-9));
   }
 }

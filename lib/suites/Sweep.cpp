@@ -1,4 +1,4 @@
-#include "bench/Sweep.h"
+#include "suites/Sweep.h"
 
 #include "util/Error.h"
 

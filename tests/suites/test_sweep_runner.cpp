@@ -1,7 +1,7 @@
 // The sweep runner on real scenes through the GPU pipeline (lavapipe in CI), validation on.
 #include "TestUtil.h"
-#include "bench/SweepPlots.h"
-#include "bench/SweepRunner.h"
+#include "suites/SweepPlots.h"
+#include "suites/SweepRunner.h"
 #include "image/ImageIO.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"

@@ -1,4 +1,4 @@
-#include "bench/SweepRunner.h"
+#include "suites/SweepRunner.h"
 
 #include "grid/GridSpec.h"
 #include "grid/VdbIO.h"

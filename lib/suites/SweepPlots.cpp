@@ -1,4 +1,4 @@
-#include "bench/SweepPlots.h"
+#include "suites/SweepPlots.h"
 
 #include "util/AtomicFile.h"
 #include "util/Error.h"

@@ -18,7 +18,7 @@ enum class BenchSuite {
   Coarse,    ///< GPU voxelize + nearest-seed transform per pass and method vs CPU jump flooding, exact EDT, OpenVDB SDF
   Refine,    ///< the paper's ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet
   Render,    ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth
-  Frame      ///< the pipeline frame by frame on one scene: host / GPU / wall time, mask, error (bench/FrameSuite.h)
+  Frame      ///< the pipeline frame by frame on one scene: host / GPU / wall time, mask, error (suites/FrameSuite.h)
 };
 
 /// @brief The paper's three sizes of the frame suite.
@@ -54,7 +54,7 @@ struct BenchOptions {
   std::filesystem::path csv;              ///< the frame suite's per-frame CSV (atomically); empty: none
   /// Seconds of untimed GPU work before each timed run (GPU suites), on a pipeline or renderer of its own so
   /// that the measured one starts as it always does: a GPU's clocks rise only under sustained load (see
-  /// detail::warmUpGpu). 0: none, for tests and CPU devices.
+  /// warmUpGpu). 0: none, for tests and CPU devices.
   double warmUpSeconds = 1.0;
   /// @throw SettingError naming the setting that is out of range.
   void validate() const;

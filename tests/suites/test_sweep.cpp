@@ -1,6 +1,6 @@
 // The sweep's plans, CSV rows, Pareto front and report (no GPU).
-#include "bench/Suites.h"
-#include "bench/Sweep.h"
+#include "suites/Suites.h"
+#include "suites/Sweep.h"
 #include "util/Error.h"
 
 #include <gtest/gtest.h>

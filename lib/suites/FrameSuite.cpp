@@ -1,4 +1,4 @@
-#include "bench/FrameSuite.h"
+#include "suites/FrameSuite.h"
 
 #include "jobs/Animate.h"
 #include "jobs/JobSupport.h"
@@ -40,7 +40,7 @@ std::string frameCsv(const std::vector<FrameRow>& rows) {
 
 std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control) {
   AnimateOptions a;
-  a.scene = s.scenes.empty() ? detail::bundledScene("default.json") : s.scenes.front();
+  a.scene = s.scenes.empty() ? bundledScene("default.json") : s.scenes.front();
   a.frames = s.frames;
   a.still = s.still;
   a.device = s.device;

@@ -2,8 +2,8 @@
 /// @file SweepJob.h
 /// @brief `rtsdf bench --sweep` as one call: every point of a preset on one scene, CSV rows as points finish,
 ///        then the Markdown report and the plots in one folder. A stop request keeps what finished.
-#include "bench/Sweep.h"
-#include "bench/SweepRunner.h"
+#include "suites/Sweep.h"
+#include "suites/SweepRunner.h"
 #include "util/JobControl.h"
 
 #include <filesystem>

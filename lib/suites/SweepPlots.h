@@ -2,7 +2,7 @@
 /// @file SweepPlots.h
 /// @brief PNG plots of a sweep through gnuplot: time vs error (the Pareto front, anchors marked), time vs work,
 ///        error vs frames.
-#include "bench/Sweep.h"
+#include "suites/Sweep.h"
 
 #include <filesystem>
 #include <string>

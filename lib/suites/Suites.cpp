@@ -1,0 +1,93 @@
+// rtsdf bench's suites: the builders against their anchors, same voxels and band, one run. Each suite's tables
+// are in a file of their own (CoarseSuite.cpp, RefineSuite.cpp, RenderSuite.cpp, ReferenceSuite.cpp, FrameSuite.cpp).
+#include "suites/Suites.h"
+
+#include "suites/FrameSuite.h"
+#include "suites/SuiteTables.h"
+
+#include "grid/GridSpec.h"
+#include "jobs/JobSupport.h"
+#include "util/AtomicFile.h"
+#include "util/Error.h"
+#include "util/Settings.h"
+
+#include <fmt/chrono.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <thread>
+
+namespace rtsdf::bench {
+namespace fs = std::filesystem;
+
+std::string cpuName() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
+double warmMedianMs(const BenchOptions& s, const std::function<double()>& run) {
+  run();
+  warmUpGpu(s.warmUpSeconds, run);
+  std::vector<double> t;
+  for (int r = 0; r < s.repeats; ++r) t.push_back(run());
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+std::pair<int, int> frameSizeResolutions(FrameSize size) {
+  switch (size) {
+  case FrameSize::S: return {64, 128};
+  case FrameSize::L: return {256, 512};
+  case FrameSize::M: break;
+  }
+  return {128, 256};
+}
+
+void BenchOptions::validate() const {
+  requireInRange("repeats", repeats, 1, 100);
+  requireInRange("frames", frames, 1, 100000);
+  requireInRange("rays", rays, 0, 1024);
+  if (suite == BenchSuite::Frame && scenes.size() > 1)
+    throw SettingError("scenes", fmt::format("the frame suite runs on one scene, not {}", scenes.size()));
+  requireInRange("band fraction", bandFraction, 1e-6, 10.0);
+  requireInRange("warm-up seconds", warmUpSeconds, 0.0, 60.0);
+  for (int r : resolutions) requireInRange("resolution", r, 1, GridSpec::kMaxResolution);
+}
+
+std::string runBenchSuite(const BenchOptions& options, const JobControl& control) {
+  options.validate();
+  BenchOptions s = options;
+  if (s.scenes.empty()) s.scenes = {bundledScene("default.json"), bundledScene("bunny.json")};
+  if (s.suite == BenchSuite::Frame) s.scenes.resize(1);
+  const std::vector<fs::path> inputs(s.scenes.begin(), s.scenes.end());
+  if (!s.output.empty()) checkOutputPath(s.output, {}, inputs);
+  if (!s.csv.empty()) checkOutputPath(s.csv, ".csv", inputs);
+  std::string md = fmt::format("Machine: {}, {} hardware threads. Date: {:%Y-%m-%d}.\n\n", cpuName(),
+                               std::thread::hardware_concurrency(), fmt::localtime(std::time(nullptr)));
+  control.checkStop();
+  switch (s.suite) {
+  case BenchSuite::Coarse: md += coarseSuite(s); break;
+  case BenchSuite::Refine: md += refineSuite(s); break;
+  case BenchSuite::Render: md += renderSuite(s); break;
+  case BenchSuite::Frame: {
+    const std::vector<FrameRow> rows = runFrames(s, control);
+    md += frameReport(s, rows);
+    if (!s.csv.empty()) writeTextAtomically(s.csv, frameCsv(rows));
+    break;
+  }
+  case BenchSuite::Reference:
+    md += referenceSuite(s);
+    if (options.scenes.empty()) md += openMeshCase(s);
+    break;
+  }
+  if (!s.output.empty()) writeTextAtomically(s.output, md);
+  return md;
+}
+
+} // namespace rtsdf::bench

@@ -23,9 +23,7 @@ using detail::secondsSince;
 
 void BakeOptions::validate() const {
   pipeline.validate();
-  requireInRange("frames", frames, 1, 100000);
-  requireInRange("resolution", resolution, 1, GridSpec::kMaxResolution);
-  requireFinite("time", time);
+  validateKnobs(*this);
   if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
   if (!(pipeline.band > 0.0))
     throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));

@@ -29,9 +29,7 @@ RenderSettings RenderJobOptions::defaultRenderSettings() {
 }
 
 void RenderJobOptions::validate() const {
-  requireInRange("frames", frames, 1, 100000);
-  if (!(fps > 0.0) || !std::isfinite(fps)) throw SettingError("fps", fmt::format("fps {} must be positive", fps));
-  requireFinite("time", time);
+  validateKnobs(*this);
   render.validate();
 }
 

@@ -6,8 +6,7 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
-#include <initializer_list>
+#include <string>
 
 namespace rtsdf::app {
 namespace {

@@ -200,7 +200,6 @@ std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::pat
   std::string t = fmt::format("scene      {}\n", o.scene);
   t += fmt::format("method     rtsdf ({} refinement, x = {}, alpha = {}, {} frames, {})\n", toString(p.mode), p.rays,
                    p.alpha, o.frames, toString(p.coarseMethod));
-  t += fmt::format("scratch    {}\n", p.scratchGain);
   t += fmt::format("coarse     {}\n", r.coarseSpec.describe());
   t += fmt::format("fine       {}\n", r.spec.describe());
   t += fmt::format("ray mask   {} coarse voxels, {} fine voxels (band {})\n", st.maskCoarseVoxels, st.maskFineVoxels,

@@ -92,7 +92,6 @@ struct PipelineSettings {
   /// The brick pool's capacity at the first frame; 0: sized by the first frame's band (poolBricksFor). A pool that
   /// overflows is regrown from the next frame on.
   std::int64_t poolBricks = 0;
-  double scratchGain = 1.0; ///< throwaway knob (scratch commit)
   /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
   void validate() const;
 };
@@ -139,8 +138,7 @@ template <> struct KnobTable<PipelineSettings> {
                "dense: the bricks under the band and a dense fine SDF resolved every frame (what shading samples); "
                "sparse: the bricks only (memory grows with the band, not the grid: size L on small devices)"),
       knob("pool bricks", &S::poolBricks, "", KnobRange::closed(0, 4294967296.0).noting("0: sized by the first frame's band"),
-           "Capacity of the brick pool at the first frame, in bricks (regrown when it overflows)"),
-      knob("scratch gain", &S::scratchGain, "--scratch-gain", KnobRange::closed(0, 4), "Throwaway gain [g]"));
+           "Capacity of the brick pool at the first frame, in bricks (regrown when it overflows)"));
 };
 
 /// @brief The refinements in a row after which a voxel is settled under @a s: 0 with fullRecompute (every voxel is

@@ -9,7 +9,6 @@
 #include "sdf/CoarseSdf.h"
 #include "sdf/RefinePasses.h"
 #include "util/Error.h"
-#include "util/Settings.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

@@ -9,7 +9,6 @@
 #include "util/AtomicFile.h"
 #include "util/Error.h"
 #include "util/Memory.h"
-#include "util/Settings.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

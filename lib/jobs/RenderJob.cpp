@@ -7,7 +7,6 @@
 #include "scene/SceneLoader.h"
 #include "util/AtomicFile.h"
 #include "util/Error.h"
-#include "util/Settings.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

@@ -5,7 +5,6 @@
 #include "scene/SceneGeometry.h"
 #include "image/ImageIO.h"
 #include "util/Error.h"
-#include "util/Settings.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>

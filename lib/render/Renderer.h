@@ -7,6 +7,7 @@
 #include "render/RenderPasses.h"
 #include "render/RenderTypes.h"
 #include "sdf/SdfPipeline.h"
+#include "util/Knobs.h"
 
 #include <memory>
 #include <string>

@@ -9,7 +9,6 @@
 #include "scene/SceneLoader.h"
 #include "util/AtomicFile.h"
 #include "util/Error.h"
-#include "util/Settings.h"
 #include "view/TextOverlay.h"
 #include "view/Window.h"
 

@@ -5,6 +5,7 @@
 ///        the ray mask, and to change x, d and alpha; a line of text with the pass times and the frame rate.
 #include "render/Renderer.h"
 #include "util/JobControl.h"
+#include "util/Knobs.h"
 #include "view/OrbitCamera.h"
 
 #include <string>

@@ -10,6 +10,7 @@
 #include "sdf/SdfPipeline.h"
 #include "util/EnumNames.h"
 #include "util/Error.h"
+#include "util/Knobs.h"
 #include "util/Log.h"
 
 #include <pybind11/numpy.h>
@@ -70,28 +71,32 @@ struct Field {
   }
 };
 
-/// The keyword settings of bake() and Pipeline() onto the pipeline's (and a bake's) options; unknown keys refused.
-void applySettings(const py::kwargs& kw, PipelineSettings& p, BakeOptions* bake, std::string& device) {
+/// Sets the member of the knob named by a Python keyword (util/Knobs.h) from a Python value.
+struct SetFromPython {
+  const py::handle& value;
+  template <class K, class T> void operator()(const K&, T& member) const {
+    if constexpr (IsNamedEnum<T>::value) member = parseEnum<T>(value.cast<std::string>());
+    else member = value.cast<T>();
+  }
+};
+
+/// The keyword settings of bake() and Pipeline() onto the pipeline's (and a bake's) knobs, by the keywords of
+/// their tables (docs/settings.md); unknown keys refused.
+void applySettings(const py::kwargs& kw, PipelineSettings& p, BakeOptions* bake, std::string* device) {
   for (const auto& [key, value] : kw) {
     const std::string k = py::str(key);
-    if (k == "coarse") p.coarseRes = value.cast<int>();
-    else if (k == "fine") p.fineRes = value.cast<int>();
-    else if (k == "rays") p.rays = value.cast<int>();
-    else if (k == "alpha") p.alpha = value.cast<double>();
-    else if (k == "beta") p.beta = value.cast<double>();
-    else if (k == "padding") p.padding = value.cast<double>();
-    else if (k == "seed") p.seed = value.cast<std::uint32_t>();
-    else if (k == "refine") p.mode = parseEnum<RefineMode>(value.cast<std::string>());
-    else if (k == "coarse_method") p.coarseMethod = parseEnum<CoarseMethod>(value.cast<std::string>());
-    else if (k == "full_recompute") p.fullRecompute = value.cast<bool>();
-    else if (k == "fine_storage") p.fineStorage = parseEnum<FineStorage>(value.cast<std::string>());
-    else if (k == "device") device = value.cast<std::string>();
-    else if (bake && k == "time") bake->time = value.cast<double>();
-    else if (bake && k == "frames") bake->frames = value.cast<int>();
-    else if (bake && k == "full_domain") bake->fullDomain = value.cast<bool>();
-    else if (bake && k == "sign") bake->sign = parseEnum<SignMethod>(value.cast<std::string>());
+    const SetFromPython set{value};
+    if (visitKnobByKeyword(p, k, set) || (bake && visitKnobByKeyword(*bake, k, set))) continue;
+    if (device && k == "device") *device = value.cast<std::string>();
     else throw py::type_error("unknown setting '" + k + "'");
   }
+}
+
+/// The keywords of S's table, "a, b, c".
+template <class S> std::string keywordsOf() {
+  std::string s;
+  forEachKnob<S>([&](const auto& k) { s += (s.empty() ? "" : ", ") + keywordOf(k); });
+  return s;
 }
 
 Field bakeField(const py::object& sceneOrPath, const std::string& method, int res, double band,
@@ -105,7 +110,7 @@ Field bakeField(const py::object& sceneOrPath, const std::string& method, int re
   // res is the result's resolution: the coarse grid's for jfa, the fine grid's for rtsdf (coarse: half of it).
   o.pipeline.coarseRes = o.method == BakeMethod::Jfa ? res : std::max(1, res / 2);
   o.pipeline.fineRes = res;
-  applySettings(kw, o.pipeline, &o, o.device);
+  applySettings(kw, o.pipeline, &o, nullptr); // the bake's device is a knob of BakeOptions
   BakeResult r;
   {
     py::gil_scoped_release release;
@@ -143,7 +148,7 @@ public:
     if (frames < 1 || !(fps > 0.0)) throw SettingError("frames", "frames must be >= 1 and fps > 0");
     PipelineSettings s;
     std::string device;
-    applySettings(kw, s, nullptr, device);
+    applySettings(kw, s, nullptr, &device);
     Bounds bounds;
     for (int f = 0; f < frames; ++f) bounds.add(buildSceneGeometry(*mScene, f / fps).bounds);
     mCtx = std::make_unique<gpu::VulkanContext>(deviceContextOptions(device));
@@ -234,14 +239,16 @@ PYBIND11_MODULE(rtsdf, m) {
         return grid;
       }, "The level set as a pyopenvdb.FloatGrid (needs pyopenvdb)");
 
+  static const std::string bakeDoc =
+      "Bake a scene's SDF: method exact|openvdb|jfa|rtsdf, res voxels across its longest side, band d; settings "
+      "(docs/settings.md): " + keywordsOf<PipelineSettings>() + ", " + keywordsOf<BakeOptions>();
   m.def("bake", &bakeField, py::arg("scene"), py::arg("method") = "exact", py::arg("res") = 128,
-        py::arg("band") = 0.1,
-        "Bake a scene's SDF: method exact|openvdb|jfa|rtsdf, res voxels across its longest side, band d; settings: "
-        "coarse, fine, rays, alpha, beta, padding, seed, refine, coarse_method, full_recompute, fine_storage, device, time, frames, "
-        "full_domain, sign");
+        py::arg("band") = 0.1, bakeDoc.c_str());
   m.def("distance", &distances, py::arg("scene"), py::arg("points"), py::arg("time") = 0.0,
         "Exact signed distances (negative inside) of an (N, 3) array of points to a scene or mesh file");
-  py::class_<Pipeline>(m, "Pipeline", "Frames of the GPU SDF pipeline")
+  static const std::string pipelineDoc =
+      "Frames of the GPU SDF pipeline; settings (docs/settings.md): " + keywordsOf<PipelineSettings>() + ", device";
+  py::class_<Pipeline>(m, "Pipeline", pipelineDoc.c_str())
       .def(py::init<const py::object&, int, double, const py::kwargs&>(), py::arg("scene"), py::arg("frames") = 60,
            py::arg("fps") = 30.0)
       .def("frame", &Pipeline::frame, py::arg("time"), "Run the frame at a time (seconds); returns its statistics")

@@ -91,10 +91,15 @@ class Tree:
         return found
 
     def has_file_named(self, pattern):
-        """Whether a file of the tree (the searched folders, docs/ and data/ too) is named @a pattern, where
-        [optional] parts are wildcards."""
+        """Whether a file of the tree (the searched folders, docs/ and data/ too) or an embedded shader (a row of
+        lib/Shaders.cmake: a variant is a name, not a file) is named @a pattern, where [optional] parts are
+        wildcards."""
         if not hasattr(self, "names"):
             self.names = {n for top in TOP_FOLDERS for _, _, ns in os.walk(os.path.join(self.root, top)) for n in ns}
+            table = os.path.join(self.root, "lib", "Shaders.cmake")
+            if os.path.exists(table):
+                with open(table) as f:
+                    self.names |= set(re.findall(r'^\s*"([A-Za-z0-9_]+\.comp)\s', f.read(), re.M))
         glob_pattern = re.sub(r"\[[^\]]*\]", "*", pattern)
         return any(fnmatch.fnmatchcase(n, glob_pattern) for n in self.names)
 

@@ -1,7 +1,7 @@
 #pragma once
 /// @file Options.h
-/// @brief The command line's flags, bound onto the library's options structs (CLI11), and the flag that
-///        spells each library setting in error messages.
+/// @brief The command line's flags, bound onto the library's options structs (CLI11) from their knob tables
+///        (KnobCli.h), and the flag that spells each library setting in error messages.
 #include "suites/Suites.h"
 #include "suites/SweepJob.h"
 #include "jobs/Animate.h"
@@ -9,6 +9,8 @@
 #include "jobs/Compare.h"
 #include "jobs/RenderJob.h"
 #include "view/Viewer.h"
+
+#include "KnobCli.h"
 
 #include <CLI/CLI.hpp>
 
@@ -54,12 +56,13 @@ struct Commands {
   BenchCommand bench;
   CompareCommand compare;
   ViewOptions view;
+  SettingFlags flags; ///< the flag of each setting the commands bind, for errors naming a setting
 };
 
 /// @brief Add the subcommands and global flags to @a app, bound onto @a c, @a verbosity and @a quiet.
 void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet);
 
-/// @brief The flag that sets the library setting @a setting (SettingError::setting()), e.g. "band" -> "--band".
-std::string flagOf(const std::string& setting);
+/// @brief Every settings struct's knob table as Markdown (`rtsdf help-settings --markdown`, docs/settings.md).
+std::string helpSettings();
 
 } // namespace rtsdf::app

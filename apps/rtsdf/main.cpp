@@ -124,6 +124,10 @@ int run(const Commands& c) {
   if (c.which == "view") return runView(c.view);
   if (c.which == "bench") return runBench(c.bench);
   if (c.which == "compare") return runCompare(c.compare);
+  if (c.which == "help-settings") {
+    fmt::print("{}", helpSettings());
+    return 0;
+  }
   const SystemInfo info = systemInfo();
   fmt::print("{}", info.text);
   return info.vulkanOk ? 0 : 1;
@@ -161,7 +165,7 @@ int main(int argc, char** argv) {
     spdlog::error("interrupted");
     return 130;
   } catch (const rtsdf::SettingError& e) {
-    spdlog::error("{}: {}", flagOf(e.setting()), e.what());
+    spdlog::error("{}: {}", commands.flags.flagOf(e.setting()), e.what());
   } catch (const rtsdf::Error& e) {
     spdlog::error("{}", e.what());
   } catch (const std::bad_alloc&) {

@@ -9,7 +9,6 @@
 #include "sdf/coarse/CoarseSdf.h"
 #include "sdf/refine/RefinePasses.h"
 #include "util/Error.h"
-#include "util/Settings.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -28,9 +27,7 @@ PipelineSettings AnimateOptions::defaultPipeline() {
 
 void AnimateOptions::validate() const {
   pipeline.validate();
-  requireInRange("frames", frames, 1, 100000);
-  requireInRange("warm-up seconds", warmUpSeconds, 0.0, 60.0);
-  if (!(fps > 0.0) || !std::isfinite(fps)) throw SettingError("fps", fmt::format("fps {} must be positive", fps));
+  validateKnobs(*this);
   std::error_code ec;
   if (!vdbDir.empty() && !fs::is_directory(vdbDir, ec))
     throw SettingError("vdb folder", fmt::format("{}: {}", vdbDir.string(),

@@ -5,6 +5,7 @@
 #include "metrics/FieldError.h"
 #include "sdf/SdfPipeline.h"
 #include "util/JobControl.h"
+#include "util/Knobs.h"
 
 #include <filesystem>
 #include <functional>
@@ -31,6 +32,24 @@ struct AnimateOptions {
   static PipelineSettings defaultPipeline();
   /// @throw SettingError naming the setting that is out of range (or a vdbDir that is not a folder).
   void validate() const;
+};
+
+/// @brief An animation run's own knobs (the pipeline's: KnobTable<PipelineSettings>); docs/settings.md.
+template <> struct KnobTable<AnimateOptions> {
+  using S = AnimateOptions;
+  static constexpr auto kKnobs = std::make_tuple(
+      knob("frames", &S::frames, "--frames", KnobRange::closed(1, 100000), "Frames to run"),
+      knob("fps", &S::fps, "--fps", KnobRange::above(0), "Frames per second of scene time"),
+      flagKnob("still", &S::still, "", "Every frame at time 0: the scene held still"),
+      flagKnob("measure error", &S::measureError, "!--no-error",
+               "Compare each frame with the exact field of the same moment; the flag skips it"),
+      knob("focus", &S::focus, "--focus", KnobRange::any(),
+           "Measure the error only in the box this instance sweeps (e.g. teapot: ghosting behind it)"),
+      knob("vdb folder", &S::vdbDir, "--vdb-dir", KnobRange::any(),
+           "Write frameNNNN.vdb files (fine SDF band) into this folder"),
+      knob("device", &S::device, "--device", KnobRange::any(), "Vulkan device by index or name (see 'rtsdf info')"),
+      knob("warm-up seconds", &S::warmUpSeconds, "", KnobRange::closed(0, 60),
+           "Seconds of untimed full frames before the first, so that a GPU's clocks have risen"));
 };
 
 /// @brief One frame of an animation run.

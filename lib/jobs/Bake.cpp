@@ -9,7 +9,6 @@
 #include "util/AtomicFile.h"
 #include "util/Error.h"
 #include "util/Memory.h"
-#include "util/Settings.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -22,9 +21,7 @@ namespace fs = std::filesystem;
 
 void BakeOptions::validate() const {
   pipeline.validate();
-  requireInRange("frames", frames, 1, 100000);
-  requireInRange("resolution", resolution, 1, GridSpec::kMaxResolution);
-  requireFinite("time", time);
+  validateKnobs(*this);
   if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
   if (!(pipeline.band > 0.0))
     throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));

@@ -9,6 +9,7 @@
 #include "sdf/SdfPipeline.h"
 #include "util/EnumNames.h"
 #include "util/JobControl.h"
+#include "util/Knobs.h"
 #include "util/PassTimes.h"
 
 #include <openvdb/openvdb.h>
@@ -69,6 +70,29 @@ struct BakeResult {
   std::string device;             ///< the Vulkan device that ran (jfa, rtsdf)
   std::string sceneSummary;       ///< meshes, instances, triangles, dropped triangles
   std::vector<std::filesystem::path> inputs; ///< the scene and mesh files read (an output never replaces one)
+};
+
+/// @brief A bake's own knobs (the pipeline's: KnobTable<PipelineSettings>); docs/settings.md.
+template <> struct KnobTable<BakeOptions> {
+  using S = BakeOptions;
+  static constexpr auto kKnobs = std::make_tuple(
+      enumKnob(&S::method, "-m,--method",
+               "exact: CPU exact reference; openvdb: OpenVDB's meshToLevelSet; jfa: GPU coarse SDF (voxelization, "
+               "nearest seeds by the coarse method, distance minus beta); rtsdf: coarse SDF, ray mask compacted on "
+               "the GPU and fine SDF refined through the GPU BVH"),
+      knob("resolution", &S::resolution, "-r,--res", KnobRange::closed(1, GridSpec::kMaxResolution),
+           "Voxels along the scene's longest axis (other axes follow; exact, openvdb)"),
+      flagKnob("full domain", &S::fullDomain, "--full", "Full-domain field: every voxel active (exact method only)",
+               "full_domain"),
+      knob("time", &S::time, "-t,--time", KnobRange::finite(), "Animation time in seconds"),
+      enumKnob(&S::sign, "--sign",
+               "Sign rule of the exact method: auto (pseudo-normal for closed meshes, winding number for open ones), "
+               "pseudonormal, winding"),
+      knob("frames", &S::frames, "--frames", KnobRange::closed(1, 100000),
+           "Frames of refinement to accumulate (method rtsdf)"),
+      flagKnob("allow empty", &S::allowEmpty, "--allow-empty",
+               "Write the level set even when no voxel is active (else an error)"),
+      knob("device", &S::device, "--device", KnobRange::any(), "Vulkan device by index or name (see 'rtsdf info')"));
 };
 
 /// @brief Bake the SDF of @a options.scene.

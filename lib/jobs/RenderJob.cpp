@@ -7,7 +7,6 @@
 #include "scene/SceneLoader.h"
 #include "util/AtomicFile.h"
 #include "util/Error.h"
-#include "util/Settings.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -29,9 +28,7 @@ RenderSettings RenderJobOptions::defaultRenderSettings() {
 }
 
 void RenderJobOptions::validate() const {
-  requireInRange("frames", frames, 1, 100000);
-  if (!(fps > 0.0) || !std::isfinite(fps)) throw SettingError("fps", fmt::format("fps {} must be positive", fps));
-  requireFinite("time", time);
+  validateKnobs(*this);
   render.validate();
 }
 

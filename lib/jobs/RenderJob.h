@@ -5,6 +5,7 @@
 #include "image/Image.h"
 #include "render/Renderer.h"
 #include "util/JobControl.h"
+#include "util/Knobs.h"
 
 #include <filesystem>
 #include <string>
@@ -26,6 +27,19 @@ struct RenderJobOptions {
   static RenderSettings defaultRenderSettings();
   /// @throw SettingError naming the setting that is out of range.
   void validate() const;
+};
+
+/// @brief A render's own knobs (the picture's: RenderSettings and its parts); docs/settings.md.
+template <> struct KnobTable<RenderJobOptions> {
+  using S = RenderJobOptions;
+  static constexpr auto kKnobs = std::make_tuple(
+      knob("frames", &S::frames, "--frames", KnobRange::closed(1, 100000),
+           "Frames rendered (SDF refinement and TAA accumulate); the last one is written"),
+      knob("fps", &S::fps, "--fps", KnobRange::above(0), "Frames per second of scene time"),
+      knob("time", &S::time, "-t,--time", KnobRange::finite(), "Scene time of the written frame in seconds"),
+      flagKnob("compare", &S::compare, "--compare",
+               "Also ray trace the truth and print the visibility RMSE and FLIP of the picture"),
+      knob("device", &S::device, "--device", KnobRange::any(), "Vulkan device by index or name (see 'rtsdf info')"));
 };
 
 /// @brief A finished render.

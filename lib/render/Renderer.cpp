@@ -5,7 +5,6 @@
 #include "scene/SceneGeometry.h"
 #include "image/ImageIO.h"
 #include "util/Error.h"
-#include "util/Settings.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -19,26 +18,11 @@ using gpu::Buffer;
 namespace sh = gpu::shared;
 
 void RenderSettings::validate() const {
-  requireInRange("image width", width, 1, 16384);
-  requireInRange("image height", height, 1, 16384);
-  requireInRange("epsilon", sdf.epsilonVoxels, 1.0, 64.0, " fine voxels");
-  requireInRange("bias", sdf.biasVoxels, 0.0, 64.0, " fine voxels");
-  requireInRange("min step", sdf.minStepVoxels, 0.05, 64.0, " fine voxels");
-  if (!(std::isfinite(sdf.maxStep) && sdf.maxStep > 0.0))
-    throw SettingError("max step", fmt::format("max step {} must be finite and > 0", sdf.maxStep));
-  requireInRange("max steps", sdf.maxSteps, 1, 4096);
-  requireFinite("normal offset", sdf.normalOffset);
-  requireInRange("lateral probes", sdf.lateralProbes, 0, 64);
-  requireInRange("light samples", sdf.lightSamples, 1, 64);
-  requireInRange("contact rays", sdf.contactRays, 0, 64);
-  requireInRange("contact distance", sdf.contactVoxels, 0.0, 64.0, " fine voxels");
-  requireInRange("shadow map resolution", shadowMap.resolution, 1, 8192);
-  requireInRange("PCF radius", shadowMap.pcfRadius, 0, 16);
-  if (!(std::isfinite(shadowMap.depthBiasTexels) && shadowMap.depthBiasTexels >= 0.0))
-    throw SettingError("shadow bias", fmt::format("shadow bias {} must be finite and >= 0", shadowMap.depthBiasTexels));
-  if (!(taa.blend > 0.0 && taa.blend <= 1.0))
-    throw SettingError("TAA blend", fmt::format("TAA blend {} must be in (0, 1]", taa.blend));
-  requireInRange("samples", rayTraced.samples, 1, 65536);
+  validateKnobs(*this);
+  validateKnobs(sdf);
+  validateKnobs(shadowMap);
+  validateKnobs(taa);
+  validateKnobs(rayTraced);
   if (technique == ShadowTechnique::Sdf) pipeline.validate();
 }
 

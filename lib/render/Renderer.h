@@ -7,6 +7,7 @@
 #include "render/RenderPasses.h"
 #include "render/RenderTypes.h"
 #include "sdf/SdfPipeline.h"
+#include "util/Knobs.h"
 
 #include <memory>
 #include <string>
@@ -114,6 +115,85 @@ struct RenderSettings {
   RayTracedShadowSettings rayTraced; ///< the ground truth (RayTraced technique)
   /// @throw SettingError naming the setting when one is out of range.
   void validate() const;
+};
+
+/// @brief The SDF march's knobs (docs/settings.md).
+template <> struct KnobTable<SdfShadowSettings> {
+  using S = SdfShadowSettings;
+  static constexpr auto kKnobs = std::make_tuple(
+      enumKnob(&S::penumbra, "--penumbra",
+               "SDF penumbra estimate: classic (k h / t), improved (triangulated between samples), centered (marches "
+               "through occluders: penumbra centred on the shadow boundary), umbra (light-samples centered marches "
+               "towards jittered points of the light, averaged: the SDF-simulated umbra)"),
+      enumKnob(&S::sampling, "--sdf-sampling",
+               "How the SDF march reads the fine SDF: texture (a 3D texture, hardware trilinear filtering, one fetch "
+               "per step), buffer (filtered in the shader like the CPU reference, eight fetches) or bricks (no dense "
+               "fine SDF: the brick pool and the coarse SDF, eight fetches)"),
+      knob("epsilon", &S::epsilonVoxels, "--epsilon", KnobRange::closed(1, 64).in(" fine voxels"),
+           "SDF hit threshold and march start in fine voxels [epsilon]"),
+      knob("bias", &S::biasVoxels, "--bias", KnobRange::closed(0, 64).in(" fine voxels"),
+           "Subtracted from SDF samples, in fine voxels: against leaks through thin surfaces and the filtered "
+           "field's overestimate at convex edges"),
+      knob("min step", &S::minStepVoxels, "--min-step", KnobRange::closed(0.05, 64).in(" fine voxels"),
+           "Shortest SDF march step in fine voxels: how densely the march samples near occluders"),
+      knob("max step", &S::maxStep, "--max-step", KnobRange::above(0),
+           "Longest SDF march step in scene units, against banding"),
+      knob("max steps", &S::maxSteps, "--max-steps", KnobRange::closed(1, 4096), "SDF march steps at most"),
+      knob("normal offset", &S::normalOffset, "--normal-offset", KnobRange::atLeast(0).orNegative("the bias"),
+           "SDF march start off the surface along its normal, in scene units"),
+      knob("lateral probes", &S::lateralProbes, "--lateral-probes", KnobRange::closed(0, 64),
+           "Centered estimate: SDF samples around the light's cone where the march came closest to an occluder, so "
+           "that thin plates hold their umbra (0: off)"),
+      knob("light samples", &S::lightSamples, "--light-samples", KnobRange::closed(1, 64),
+           "Umbra estimate: marches per pixel, light and frame, each over its share of the light"),
+      knob("contact rays", &S::contactRays, "--contact-rays", KnobRange::closed(0, 64),
+           "Short rays per pixel and light through the scene's BVH near the surface, where the SDF is too coarse to "
+           "see (contacts, creases, gaps thinner than a voxel); traced only where the SDF shows something near the "
+           "receiver (0: off)"),
+      knob("contact distance", &S::contactVoxels, "--contact-distance", KnobRange::closed(0, 64).in(" fine voxels"),
+           "How far the contact rays reach, in fine voxels"),
+      flagKnob("jitter", &S::jitter, "!--no-jitter",
+               "Jitter the SDF march's start per pixel and frame (and the lateral probes', umbra samples' and contact "
+               "rays' turn); the flag turns it off"));
+};
+
+/// @brief The shadow maps' knobs.
+template <> struct KnobTable<ShadowMapSettings> {
+  using S = ShadowMapSettings;
+  static constexpr auto kKnobs = std::make_tuple(
+      knob("shadow map resolution", &S::resolution, "--shadow-map-res", KnobRange::closed(1, 8192),
+           "Shadow map texels per side (per cube face)"),
+      knob("PCF radius", &S::pcfRadius, "--pcf-radius", KnobRange::closed(0, 16), "PCF kernel radius in texels"),
+      knob("shadow bias", &S::depthBiasTexels, "--shadow-bias", KnobRange::atLeast(0),
+           "Shadow map depth bias in texels"));
+};
+
+/// @brief Temporal anti-aliasing's knobs.
+template <> struct KnobTable<TaaSettings> {
+  using S = TaaSettings;
+  static constexpr auto kKnobs = std::make_tuple(
+      flagKnob("TAA", &S::enabled, "!--no-taa", "Temporal accumulation of the visibility; the flag turns it off"),
+      knob("TAA blend", &S::blend, "--taa-blend", KnobRange::halfOpen(0, 1), "TAA weight of the newest frame"),
+      flagKnob("TAA history clamp", &S::clampHistory, "",
+               "Clamp the history into the current 3x3 neighbourhood (no ghosting)"));
+};
+
+/// @brief The ray-traced truth's knobs (its seed follows the pipeline's on the command line).
+template <> struct KnobTable<RayTracedShadowSettings> {
+  using S = RayTracedShadowSettings;
+  static constexpr auto kKnobs = std::make_tuple(knob("samples", &S::samples, "--samples", KnobRange::closed(1, 65536),
+                                                      "Ray-traced shadows: samples per pixel and light"));
+};
+
+/// @brief The picture's own knobs; its parts (sdf, shadowMap, taa, rayTraced, pipeline) have tables of their own.
+template <> struct KnobTable<RenderSettings> {
+  using S = RenderSettings;
+  static constexpr auto kKnobs = std::make_tuple(
+      enumKnob(&S::technique, "--shadows",
+               "sdf: sphere tracing of the RTSDF fine SDF; shadowmap: depth maps with PCF; raytraced: distributed "
+               "ray tracing on the CPU (the truth)"),
+      knob("image width", &S::width, "--width", KnobRange::closed(1, 16384), "Image width in pixels"),
+      knob("image height", &S::height, "--height", KnobRange::closed(1, 16384), "Image height in pixels"));
 };
 
 /// @brief One rendered frame.

@@ -11,26 +11,10 @@
 namespace rtsdf {
 
 void PipelineSettings::validate() const {
-  if (coarseRes < 1 || coarseRes > 1024)
-    throw SettingError("coarse resolution", fmt::format("coarse resolution {} is out of range [1, 1024]", coarseRes));
-  if (fineRes < coarseRes || fineRes > 1024)
+  validateKnobs(*this);
+  if (fineRes < coarseRes)
     throw SettingError("fine resolution", fmt::format("fine resolution {} must be in [the coarse resolution ({}), "
                                                       "1024]", fineRes, coarseRes));
-  if (!std::isfinite(band) || band < 0.0)
-    throw SettingError("band", fmt::format("band {} must be finite and >= 0", band));
-  if (!(alpha >= 0.0 && alpha <= 1.0)) throw SettingError("alpha", fmt::format("alpha {} must be in [0, 1]", alpha));
-  if (rays < 0 || rays > 1024) throw SettingError("rays", fmt::format("rays {} is out of range [0, 1024]", rays));
-  if (std::isnan(beta) || std::isinf(beta)) throw SettingError("beta", fmt::format("beta {} must be finite", beta));
-  if (!std::isfinite(padding)) throw SettingError("padding", fmt::format("padding {} must be finite", padding));
-  if (settleFrames == 0 || settleFrames > 1000000)
-    throw SettingError("settle frames", fmt::format("settle frames {} must be in [1, 1000000] (or < 0: by the "
-                                                    "refinement mode)", settleFrames));
-  if (poolBricks < 0 || poolBricks > (std::int64_t(1) << 32))
-    throw SettingError("pool bricks", fmt::format("pool bricks {} must be in [0, 2^32] (0: sized by the first "
-                                                  "frame's band)", poolBricks));
-  if (refreshPeriod > 1000000)
-    throw SettingError("refresh period", fmt::format("refresh period {} must be in [0, 1000000] (or < 0: by the "
-                                                     "refinement mode)", refreshPeriod));
 }
 
 int settleFramesFor(const PipelineSettings& s) {

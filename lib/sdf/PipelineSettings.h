@@ -6,6 +6,7 @@
 #include "sdf/coarse/CoarseMethod.h"
 #include "util/Bounds.h"
 #include "util/EnumNames.h"
+#include "util/Knobs.h"
 
 #include <cstdint>
 #include <utility>
@@ -93,6 +94,51 @@ struct PipelineSettings {
   std::int64_t poolBricks = 0;
   /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
   void validate() const;
+};
+
+/// @brief The pipeline's knobs, one row each (docs/settings.md is generated from it). shaderTarget is for tests
+///        and has no row.
+template <> struct KnobTable<PipelineSettings> {
+  using S = PipelineSettings;
+  static constexpr auto kKnobs = std::make_tuple(
+      knob("coarse resolution", &S::coarseRes, "--coarse", KnobRange::closed(1, 1024),
+           "Coarse SDF resolution: voxels across the scene (methods jfa, rtsdf)"),
+      knob("fine resolution", &S::fineRes, "--fine", KnobRange::closed(1, 1024),
+           "Fine SDF resolution: voxels across the scene (method rtsdf), at least the coarse resolution"),
+      knob("band", &S::band, "-d,--band", KnobRange::atLeast(0),
+           "Narrow-band half-width in scene units: refine where |coarse SDF| <= band, the level set's active voxels "
+           "(0: no refinement) [d]"),
+      knob("padding", &S::padding, "--padding",
+           KnobRange::atLeast(0).orNegative("the band, at most a quarter of the scene's longest side"),
+           "Margin around the scene bounds in scene units, at most the scene's longest side"),
+      knob("rays", &S::rays, "--rays", KnobRange::closed(0, 1024), "Rays per masked fine voxel per frame [x]"),
+      knob("alpha", &S::alpha, "--alpha", KnobRange::closed(0, 1),
+           "History decay: f = min(alpha f' + (1 - alpha) c, r) [alpha]"),
+      enumKnob(&S::mode, "--refine", "rays: the paper's random rays; closest: exact closest-point distance"),
+      enumKnob(&S::closestSearch, "--closest-search",
+               "Closest mode: cell (one BVH walk per box of fine voxels collects the triangles they test), voxel "
+               "(one walk per fine voxel) or auto (cell on a CPU device such as lavapipe, voxel on a GPU: the faster "
+               "on each); the same distances"),
+      enumKnob(&S::coarseMethod, "--coarse-method,--jfa",
+               "How the coarse SDF finds each voxel's nearest seed: edt (exact separable transform) or the "
+               "jump-flooding variants jfa, 1+jfa (the paper's) and jfa+2; --jfa is the older name"),
+      knob("beta", &S::beta, "--beta", KnobRange::atLeast(0).orNegative("half a coarse voxel"),
+           "Coarse SDF shell: distance minus beta, in scene units [beta]"),
+      knob("seed", &S::seed, "--seed", KnobRange::any(), "Random seed of the ray directions"),
+      flagKnob("full recompute", &S::fullRecompute, "--full-recompute",
+               "Refine every masked voxel every frame (the paper's frame); default: only voxels new to the band, "
+               "near a moving instance or not yet settled"),
+      knob("settle frames", &S::settleFrames, "--settle-frames",
+           KnobRange::closed(1, 1000000).orNegative("by the refinement mode: 1 closest with rays 0, 4 closest, 32 rays"),
+           "Refinements in a row after which a voxel is settled and kept"),
+      knob("refresh period", &S::refreshPeriod, "--refresh-period",
+           KnobRange::closed(0, 1000000).orNegative("by the refinement mode: 0 closest, 8 rays"),
+           "A settled voxel is refined again every this many frames, 0: never"),
+      enumKnob(&S::fineStorage, "--fine-storage",
+               "dense: the bricks under the band and a dense fine SDF resolved every frame (what shading samples); "
+               "sparse: the bricks only (memory grows with the band, not the grid: size L on small devices)"),
+      knob("pool bricks", &S::poolBricks, "", KnobRange::closed(0, 4294967296.0).noting("0: sized by the first frame's band"),
+           "Capacity of the brick pool at the first frame, in bricks (regrown when it overflows)"));
 };
 
 /// @brief The refinements in a row after which a voxel is settled under @a s: 0 with fullRecompute (every voxel is

@@ -9,7 +9,6 @@
 #include "scene/SceneLoader.h"
 #include "util/AtomicFile.h"
 #include "util/Error.h"
-#include "util/Settings.h"
 #include "view/TextOverlay.h"
 #include "view/Window.h"
 
@@ -36,10 +35,7 @@ RenderSettings ViewOptions::defaultRenderSettings() {
 }
 
 void ViewOptions::validate() const {
-  requireInRange("frames", frames, 0, 1000000);
-  if (!(fps > 0.0) || !std::isfinite(fps)) throw SettingError("fps", fmt::format("fps {} must be positive", fps));
-  requireFinite("time", time);
-  if (!std::isnan(sliceHeight)) requireFinite("slice height", sliceHeight);
+  validateKnobs(*this);
   for (char c : keys) keyOfChar(c);
   render.validate();
   if (render.sdf.sampling == SdfSampling::Bricks)

@@ -5,6 +5,7 @@
 ///        the ray mask, and to change x, d and alpha; a line of text with the pass times and the frame rate.
 #include "render/Renderer.h"
 #include "util/JobControl.h"
+#include "util/Knobs.h"
 #include "view/OrbitCamera.h"
 
 #include <string>
@@ -44,6 +45,29 @@ struct ViewOptions {
   static RenderSettings defaultRenderSettings();
   /// @throw SettingError naming the setting that is out of range.
   void validate() const;
+};
+
+/// @brief The viewer's own knobs (the picture's: RenderSettings and its parts); docs/settings.md.
+template <> struct KnobTable<ViewOptions> {
+  using S = ViewOptions;
+  static constexpr auto kKnobs = std::make_tuple(
+      knob("frames", &S::frames, "--frames", KnobRange::closed(0, 1000000),
+           "Show this many frames at fixed steps of 1/fps ending at the time (the frames render renders), then "
+           "close; 0: until the window is closed"),
+      knob("fps", &S::fps, "--fps", KnobRange::above(0), "Frames per second of scene time with frames > 0"),
+      knob("time", &S::time, "-t,--time", KnobRange::finite(), "Scene time of the last frame with frames > 0"),
+      knob("screenshot", &S::screenshot, "--screenshot", KnobRange::any(), "Write the last frame's picture to this .png"),
+      enumKnob(&S::view, "--view",
+               "What the picture shows first: the shaded scene, a horizontal slice of the fine SDF, or the ray mask "
+               "on that slice"),
+      knob("slice height", &S::sliceHeight, "--slice-height", KnobRange::finite().orNaN("the scene's middle"),
+           "World height (y) of the slice"),
+      flagKnob("overlay", &S::overlay, "!--no-overlay",
+               "A line of text (settings, pass times, frame rate) at the top; the flag hides it"),
+      knob("keys", &S::keys, "--keys", KnobRange::any(),
+           "Key presses replayed one per frame (a letter presses its key, upper case with Shift; + - move the "
+           "slice, < > turn the camera)"),
+      knob("device", &S::device, "--device", KnobRange::any(), "Vulkan device by index or name (see 'rtsdf info')"));
 };
 
 /// @brief What the viewer can change while it runs.

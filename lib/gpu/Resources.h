@@ -22,6 +22,12 @@ namespace rtsdf::gpu {
 
 /// @brief A VkBuffer with its own memory. Move-only; its buffer and memory are counted by its context (leak
 ///        report).
+/// @brief The usages of the pipeline's storage buffers: read and written by shaders only (kStorage), also filled
+///        or uploaded by transfers (kStorageFilled), also read back (kStorageRead).
+inline constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+inline constexpr VkBufferUsageFlags kStorageFilled = kStorage | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+inline constexpr VkBufferUsageFlags kStorageRead = kStorageFilled | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+
 class Buffer {
 public:
   /// @brief Where the buffer's memory lives.

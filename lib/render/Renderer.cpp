@@ -54,7 +54,7 @@ std::string lightChannelName(const Scene& scene, std::size_t light) {
 }
 
 namespace {
-const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+using gpu::kStorage;
 
 void checkRenderable(const Scene& scene) {
   if (!scene.hasCamera) throw Error(fmt::format("{}: the scene has no camera to render from", scene.path));

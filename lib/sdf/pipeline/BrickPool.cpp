@@ -10,11 +10,11 @@
 
 namespace rtsdf {
 using gpu::Buffer;
+using gpu::kStorage;
+using gpu::kStorageFilled;
+using gpu::kStorageRead;
 
 namespace {
-const VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-const VkBufferUsageFlags kStorageFilled = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-const VkBufferUsageFlags kStorageRead = kStorageFilled | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
 constexpr std::uint64_t kBrickBytes = gpu::shared::kBrickVoxels * 4;
 } // namespace
 

@@ -5,7 +5,7 @@
 namespace rtsdf {
 
 namespace {
-constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+using gpu::kStorage;
 } // namespace
 
 GpuSceneBvh::GpuSceneBvh(const gpu::VulkanContext& ctx, const Scene& scene, const glm::dvec3& frameOrigin)

@@ -3,7 +3,7 @@
 #include "grid/VdbIO.h"
 #include "reference/TriangleDistance.h"
 #include "reference/WindingNumber.h"
-#include "scene/MeshRepair.h"
+#include "reference/PieceUnion.h"
 #include "util/Error.h"
 #include "util/Progress.h"
 
@@ -179,21 +179,11 @@ bool onRim(const MeshData& md, const ExactDistanceField::Hit& hit) {
 
 } // namespace
 
-/// A closed piece whose box overlaps another closed piece's: a point outside the piece it is nearest to may still
-/// lie inside this one (parts passing through each other are a union).
-struct OverlappingPiece {
-  unsigned mesh = 0;
-  std::uint32_t piece = 0;
-  glm::vec3 lo{0.0f}, hi{0.0f};
-  std::unique_ptr<WindingNumberTree> winding; // of the piece alone: 1 inside, 0 outside
-};
-
 struct ExactDistanceField::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<MeshData> meshes;
-  std::vector<MeshPieces> pieces; // per mesh
-  std::vector<OverlappingPiece> overlapping;
+  std::unique_ptr<PieceUnion> pieces; // closed pieces passing through each other
   SignMethod sign;
 
   ~Impl() {
@@ -245,50 +235,6 @@ bool collectCallback(RTCPointQueryFunctionArguments* args) {
 
 } // namespace
 
-namespace {
-
-/// The closed pieces of @a geometry whose boxes overlap another closed piece's box, each with its winding tree.
-std::vector<OverlappingPiece> overlappingPieces(const SceneGeometry& geometry, const std::vector<MeshPieces>& pieces) {
-  std::vector<OverlappingPiece> closed;
-  for (unsigned m = 0; m < geometry.meshes.size(); ++m) {
-    const WorldMesh& wm = geometry.meshes[m];
-    std::vector<std::int64_t> slot(pieces[m].count(), -1);
-    for (std::uint32_t p = 0; p < pieces[m].count(); ++p)
-      if (pieces[m].closed[p]) {
-        slot[p] = std::int64_t(closed.size());
-        closed.push_back({m, p, glm::vec3(INFINITY), glm::vec3(-INFINITY), nullptr});
-      }
-    for (std::size_t t = 0; t < wm.triangles.size(); ++t) {
-      const std::int64_t k = slot[pieces[m].pieceOf[t]];
-      if (k < 0) continue;
-      for (int c = 0; c < 3; ++c) {
-        closed[std::size_t(k)].lo = glm::min(closed[std::size_t(k)].lo, wm.positions[wm.triangles[t][c]]);
-        closed[std::size_t(k)].hi = glm::max(closed[std::size_t(k)].hi, wm.positions[wm.triangles[t][c]]);
-      }
-    }
-  }
-  std::vector<bool> overlaps(closed.size(), false);
-  for (std::size_t a = 0; a < closed.size(); ++a)
-    for (std::size_t b = a + 1; b < closed.size(); ++b)
-      if (glm::all(glm::lessThanEqual(closed[a].lo, closed[b].hi)) &&
-          glm::all(glm::lessThanEqual(closed[b].lo, closed[a].hi)))
-        overlaps[a] = overlaps[b] = true;
-  std::vector<OverlappingPiece> out;
-  for (std::size_t k = 0; k < closed.size(); ++k) {
-    if (!overlaps[k]) continue;
-    OverlappingPiece& o = closed[k];
-    const WorldMesh& wm = geometry.meshes[o.mesh];
-    std::vector<glm::uvec3> tris;
-    for (std::size_t t = 0; t < wm.triangles.size(); ++t)
-      if (pieces[o.mesh].pieceOf[t] == o.piece) tris.push_back(wm.triangles[t]);
-    o.winding = std::make_unique<WindingNumberTree>(wm.positions, tris);
-    out.push_back(std::move(o));
-  }
-  return out;
-}
-
-} // namespace
-
 ExactDistanceField::ExactDistanceField(const SceneGeometry& geometry, SignMethod sign) : mImpl(new Impl) {
   Impl& im = *mImpl;
   im.sign = sign;
@@ -326,8 +272,7 @@ ExactDistanceField::ExactDistanceField(const SceneGeometry& geometry, SignMethod
   }
   rtcCommitScene(im.scene);
   if (rtcGetDeviceError(im.device) != RTC_ERROR_NONE) embreeFail(im.device, "building the BVH");
-  for (const WorldMesh& wm : geometry.meshes) im.pieces.push_back(meshPieces(wm.triangles));
-  im.overlapping = overlappingPieces(geometry, im.pieces);
+  im.pieces = std::make_unique<PieceUnion>(geometry);
 }
 
 ExactDistanceField::~ExactDistanceField() = default;
@@ -385,14 +330,7 @@ bool ExactDistanceField::inside(const glm::vec3& p, const Hit& hit) const {
   if (insideNearestPiece(p, hit)) return true;
   // Parts that pass through each other are a union: outside the part it is nearest to, a point may still lie
   // inside another closed part whose surface is farther.
-  const std::uint32_t nearestPiece = mImpl->pieces[hit.mesh].pieceOf[hit.triangle];
-  for (const OverlappingPiece& o : mImpl->overlapping) {
-    if ((o.mesh == hit.mesh && o.piece == nearestPiece) || glm::any(glm::lessThan(p, o.lo)) ||
-        glm::any(glm::greaterThan(p, o.hi)))
-      continue;
-    if (o.winding->evaluate(glm::dvec3(p)) >= 0.5) return true;
-  }
-  return false;
+  return mImpl->pieces->insideAnotherPiece(p, hit.mesh, hit.triangle);
 }
 
 bool ExactDistanceField::insideNearestPiece(const glm::vec3& p, const Hit& hit) const {

@@ -103,7 +103,10 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
                                    "shadows and shadow maps at 640x360 and 1280x720 with their image error against the "
                                    "ray-traced truth, and the ray tracer's time per sample count (PNGs beside "
                                    "--output); frame: the pipeline frame by frame on one scene (host, GPU and wall "
-                                   "time, mask, error against the exact field; --csv writes a row per frame)");
+                                   "time, mask, error against the exact field; --csv writes a row per frame); sign: every method's "
+                                   "signs on generated meshes whose faces lie (inside-out, flipped, parts through "
+                                   "each other, an inner shell; in two units) vs the clean solid and OpenVDB, at the "
+                                   "first --res");
   addEnum(cmd, "--size", s.frameSize, "Frame suite: S (coarse 64 / fine 128), M (128/256) or L (256/512)");
   noted(cmd->add_option("--frames", s.frames, "Frame suite: frames run (medians over frames 2..N)"), "frames", flags)
       ->check(inRange(1, 100000))->capture_default_str();

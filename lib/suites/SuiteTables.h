@@ -44,6 +44,12 @@ std::string refineSuite(const BenchOptions& s);
 ///        ray tracer's time per sample count, to find the samples at which it reaches the SDF's error.
 std::string renderSuite(const BenchOptions& s);
 
+/// @brief The sign suite: every method (exact, OpenVDB, closest mode with x = 0 and 1, rays mode with x = 10) on
+///        meshes whose faces lie (inside-out, 1/20/50% flipped, parts passing through each other, an inner shell),
+///        in units of 1 and of 1000: wrong signs and errors against the clean solid's closed form, sign
+///        disagreement with OpenVDB, time. At the first of the options' resolutions (default 96 in the CLI's table).
+std::string signSuite(const BenchOptions& s);
+
 /// @brief The reference suite: the exact SDF against OpenVDB's meshToLevelSet, same voxels and band.
 std::string referenceSuite(const BenchOptions& s);
 

@@ -1,5 +1,6 @@
 // rtsdf bench's suites: the builders against their anchors, same voxels and band, one run. Each suite's tables
-// are in a file of their own (CoarseSuite.cpp, RefineSuite.cpp, RenderSuite.cpp, ReferenceSuite.cpp, FrameSuite.cpp).
+// are in a file of their own (CoarseSuite.cpp, RefineSuite.cpp, RenderSuite.cpp, ReferenceSuite.cpp, SignSuite.cpp,
+// FrameSuite.cpp).
 #include "suites/Suites.h"
 
 #include "suites/FrameSuite.h"
@@ -75,6 +76,7 @@ std::string runBenchSuite(const BenchOptions& options, const JobControl& control
   case BenchSuite::Coarse: md += coarseSuite(s); break;
   case BenchSuite::Refine: md += refineSuite(s); break;
   case BenchSuite::Render: md += renderSuite(s); break;
+  case BenchSuite::Sign: md += signSuite(s); break;
   case BenchSuite::Frame: {
     const std::vector<FrameRow> rows = runFrames(s, control);
     md += frameReport(s, rows);

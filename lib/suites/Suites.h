@@ -18,7 +18,8 @@ enum class BenchSuite {
   Coarse,    ///< GPU voxelize + nearest-seed transform per pass and method vs CPU jump flooding, exact EDT, OpenVDB SDF
   Refine,    ///< the paper's ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet
   Render,    ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth
-  Frame      ///< the pipeline frame by frame on one scene: host / GPU / wall time, mask, error (suites/FrameSuite.h)
+  Frame,     ///< the pipeline frame by frame on one scene: host / GPU / wall time, mask, error (suites/FrameSuite.h)
+  Sign       ///< every method's signs on generated meshes whose faces lie, vs the clean solid and OpenVDB
 };
 
 /// @brief The paper's three sizes of the frame suite.
@@ -76,7 +77,8 @@ template <> struct EnumNames<bench::BenchSuite> {
                                                                           {"coarse", bench::BenchSuite::Coarse},
                                                                           {"refine", bench::BenchSuite::Refine},
                                                                           {"render", bench::BenchSuite::Render},
-                                                                          {"frame", bench::BenchSuite::Frame}};
+                                                                          {"frame", bench::BenchSuite::Frame},
+                                                                          {"sign", bench::BenchSuite::Sign}};
 };
 template <> struct EnumNames<bench::FrameSize> {
   static constexpr const char* kSetting = "frame size";

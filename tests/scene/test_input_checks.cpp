@@ -64,10 +64,20 @@ TEST(InputChecks, GltfBufferOutsideItsFolderIsRefused) {
   TempDir dir;
   fs::create_directories(dir / "m");
   writeText(dir / "m" / "t.gltf", triangleGltf(3, "../../../../../../etc/passwd", 42));
-  const std::string msg = errorOf([&] { loadMeshFile(dir / "m" / "t.gltf"); });
+  std::string msg = errorOf([&] { loadMeshFile(dir / "m" / "t.gltf"); });
   EXPECT_NE(msg.find("t.gltf: the reference '../../../../../../etc/passwd' is refused"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'..' leads out of it"), std::string::npos) << msg;
   EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  // Without indices the check before assimp reads no buffer: the confined file system refuses it.
+  std::string noIndices = triangleGltf(3, "../outside.bin", 44);
+  noIndices.replace(noIndices.find(R"(,"indices":1)"), 12, "");
+  writeText(dir / "outside.bin", triangleBuffer({0, 1, 2}));
+  writeText(dir / "m" / "n.gltf", noIndices);
+  msg = errorOf([&] { loadMeshFile(dir / "m" / "n.gltf"); });
+  EXPECT_NE(msg.find("n.gltf: the reference '../outside.bin' is refused"), std::string::npos) << msg;
+  MeshLoadOptions allow;
+  allow.allowOutsideReferences = true;
+  EXPECT_EQ(loadMeshFile(dir / "m" / "n.gltf", allow).triangles.size(), 1u);
 }
 
 TEST(InputChecks, GltfBufferInsideItsFolderLoads) {

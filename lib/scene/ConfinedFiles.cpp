@@ -36,7 +36,8 @@ std::string escapeFromFolder(const fs::path& root, const fs::path& target) {
     return std::find(target.begin(), target.end(), "..") != target.end() ? "'..' leads out of it"
                                                                           : "an absolute path outside it";
   std::error_code ec1, ec2;
-  const fs::path realRoot = fs::weakly_canonical(lexicalRoot, ec1), realTarget = fs::weakly_canonical(lexicalTarget, ec2);
+  const fs::path realRoot = fs::weakly_canonical(lexicalRoot, ec1);
+  const fs::path realTarget = fs::weakly_canonical(lexicalTarget, ec2);
   if (ec1 || ec2) return "its path cannot be resolved";
   if (!isWithin(realTarget, realRoot))
     return fmt::format("a symbolic link leads out of it, to {}", oneLine(realTarget.string(), 80));

@@ -114,7 +114,8 @@ private:
     const std::string uri = b["uri"];
     if (uri.rfind("data:", 0) == 0) {
       const std::size_t comma = uri.find(";base64,");
-      return comma == std::string::npos ? std::nullopt : std::optional<std::string>(decodeBase64(uri.substr(comma + 8)));
+      if (comma == std::string::npos) return std::nullopt;
+      return decodeBase64(uri.substr(comma + 8));
     }
     if (mFolder.empty()) return std::nullopt;
     const fs::path file = mFolder / uri;
@@ -150,8 +151,7 @@ void checkPrimitive(const json& doc, const json& prim, Buffers& buffers, const s
   const json& ii = prim["indices"];
   if (!ii.is_number_unsigned() || ii.get<std::size_t>() >= accessors.size()) return;
   const json& acc = accessors[ii.get<std::size_t>()];
-  if (!acc.is_object() || acc.contains("sparse") || !acc.contains("bufferView") || !acc["bufferView"].is_number_unsigned())
-    return;
+  if (!acc.is_object() || acc.contains("sparse") || !member(acc, "bufferView").is_number_unsigned()) return;
   const std::size_t viewIndex = acc["bufferView"];
   if (viewIndex >= views.size() || !views[viewIndex].is_object()) return;
   const json& view = views[viewIndex];
@@ -164,7 +164,8 @@ void checkPrimitive(const json& doc, const json& prim, Buffers& buffers, const s
   if (!data || start > data->size() || count > (data->size() - start) / size) return; // assimp: out of range
   for (std::uint64_t i = 0; i < count; ++i) {
     std::uint64_t index = 0;
-    for (std::size_t b = size; b-- > 0;) index = (index << 8) | static_cast<unsigned char>((*data)[start + i * size + b]);
+    for (std::size_t b = size; b-- > 0;) // little-endian
+      index = (index << 8) | static_cast<unsigned char>((*data)[start + i * size + b]);
     if (index >= vertices) {
       const std::uint64_t face = mode == 4 ? i / 3 : (i < 2 ? 0 : i - 2);
       throw Error(fmt::format("{}: {}: face {} uses vertex index {} but the primitive has {} vertices", name, where,

@@ -126,7 +126,8 @@ bool stlReadsAsAscii(const std::string& head, std::uint64_t fileSize) {
   const std::size_t start = head.find_first_not_of(" \t\r\n\f\v");
   if (start == std::string::npos || head.compare(start, 5, "solid") != 0 || start + 5 >= fileSize) return false;
   if (fileSize < 500) return true;
-  return std::all_of(head.begin() + std::ptrdiff_t(start), head.begin() + std::ptrdiff_t(std::min(head.size(), start + 500)),
+  const auto first = head.begin() + std::ptrdiff_t(start);
+  return std::all_of(first, first + std::ptrdiff_t(std::min(head.size() - start, std::size_t(500))),
                      [](char c) { return static_cast<unsigned char>(c) <= 127; });
 }
 

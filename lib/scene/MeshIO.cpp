@@ -13,10 +13,6 @@
 #include <assimp/scene.h>
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <cstdlib>
-#include <sstream>
-
 namespace rtsdf {
 namespace fs = std::filesystem;
 
@@ -27,7 +23,6 @@ namespace {
 // primitive types agree with the faces.
 constexpr unsigned kReadSteps = aiProcess_ValidateDataStructure;
 constexpr unsigned kPostSteps = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
-
 
 /// Every triangle of an imported scene, in one mesh.
 Mesh toMesh(const aiScene& scene, const std::string& name) {

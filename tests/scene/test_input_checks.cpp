@@ -43,7 +43,8 @@ std::string triangleBuffer(const std::vector<std::uint16_t>& indices) {
 std::string triangleGltf(std::size_t indices, const std::string& uri, std::size_t bufferBytes) {
   return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
          R"("meshes":[{"name":"tri","primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)"
-         R"("buffers":[{"byteLength":)" + std::to_string(bufferBytes) + (uri.empty() ? "" : R"(,"uri":")" + uri + "\"") +
+         R"("buffers":[{"byteLength":)" + std::to_string(bufferBytes) +
+         (uri.empty() ? "" : R"(,"uri":")" + uri + "\"") +
          R"(}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":)" +
          std::to_string(2 * indices) + R"(}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,)"
          R"("type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":)" +
@@ -225,7 +226,8 @@ TEST(InputChecks, NamesOfAMegabyteAreCutInMessages) {
 
 TEST(InputChecks, AMillionKeyframesParse) {
   // The parse used to be quadratic in the keyframes (1e5 took 4.6 s); docs/reliability.md has the timings.
-  std::string text = R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b", "animation": {"keyframes": [)";
+  std::string text =
+      R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b", "animation": {"keyframes": [)";
   constexpr int kFrames = 200000;
   for (int i = 0; i < kFrames; ++i)
     text += std::string(i ? "," : "") + R"({"time": )" + std::to_string(i) + R"(, "translate": [1, 0, 0]})";

@@ -56,8 +56,16 @@ void requireInsideFolder(const fs::path& referrer, const std::string& reference,
 ConfinedIOSystem::ConfinedIOSystem(const fs::path& file, std::string name)
     : mFile(file), mName(std::move(name)), mRoot(fs::absolute(file).parent_path()) {}
 
+ConfinedIOSystem::ConfinedIOSystem(std::string name) : mName(std::move(name)) {}
+
 bool ConfinedIOSystem::allowed(const char* path) const {
   if (path == nullptr) return false;
+  if (mRoot.empty()) { // a mesh in memory: no file is its neighbour
+    if (mRefusal.empty())
+      mRefusal = fmt::format("{}: the reference '{}' is refused: a mesh read from memory cannot refer to files",
+                             oneLine(mName, 120), oneLine(path, 60));
+    return false;
+  }
   if (fs::path(path) == mFile) return true; // the file itself, whatever folder a link puts it in
   try {
     requireInsideFolder(mName, referenceName(path), path, mRoot);

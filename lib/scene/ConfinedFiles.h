@@ -29,6 +29,10 @@ public:
   /// @param name what messages call it.
   ConfinedIOSystem(const std::filesystem::path& file, std::string name);
 
+  /// @brief A file system with no file at all, for a mesh read from memory (@a name: what messages call it):
+  ///        assimp would otherwise read the files it refers to from the working folder.
+  explicit ConfinedIOSystem(std::string name);
+
   bool Exists(const char* path) const override;
   Assimp::IOStream* Open(const char* path, const char* mode = "rb") override;
 

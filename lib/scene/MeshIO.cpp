@@ -123,10 +123,14 @@ Mesh loadMeshFromMemory(const std::string& bytes, const std::string& extension, 
   if (toLower(extension) == ".obj" || toLower(extension) == "obj") checkObjLines(bytes, name);
   Assimp::Importer importer;
   configure(importer);
+  // assimp's memory reader hands every other name to the importer's file system: this one has no file.
+  ConfinedIOSystem* files = new ConfinedIOSystem(name);
+  importer.SetIOHandler(files);
   const std::string hint = extension.empty() || extension[0] != '.' ? extension : extension.substr(1);
   const aiScene* scene =
       importer.ReadFileFromMemory(bytes.data(), bytes.size(), kReadSteps, hint.c_str()) ? postProcess(importer, name)
                                                                                         : nullptr;
+  if (!files->refusal().empty()) throw Error(files->refusal());
   if (!scene) throw Error(fmt::format("{}: cannot read mesh: {}", name, oneLine(importer.GetErrorString())));
   Mesh mesh = toMesh(*scene, name);
   mesh.source = mesh.name = name;

@@ -88,6 +88,16 @@ TEST(InputChecks, GltfBufferInsideItsFolderLoads) {
   EXPECT_EQ(loadMeshFile(dir / "t.gltf").triangles.size(), 1u);
 }
 
+TEST(InputChecks, MeshInMemoryReadsNoFile) {
+  std::string noIndices = triangleGltf(3, "/etc/passwd", 44);
+  noIndices.replace(noIndices.find(R"(,"indices":1)"), 12, "");
+  const std::string msg = errorOf([&] { loadMeshFromMemory(noIndices, ".gltf", "mem.gltf"); });
+  EXPECT_NE(msg.find("mem.gltf: the reference '/etc/passwd' is refused"), std::string::npos) << msg;
+  EXPECT_NE(errorOf([&] { loadMeshFromMemory(std::string("mtllib /etc/passwd\n") + kTetraObj, ".obj", "m.obj"); })
+                .find("m.obj: the reference '/etc/passwd' is refused"),
+            std::string::npos);
+}
+
 TEST(InputChecks, ObjMaterialLibraryOutsideIsRefusedUnlessAllowed) {
   TempDir dir;
   fs::create_directories(dir / "m");

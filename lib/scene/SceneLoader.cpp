@@ -1,5 +1,6 @@
 #include "scene/SceneLoader.h"
 
+#include "scene/ConfinedFiles.h"
 #include "scene/MeshIO.h"
 #include "util/Error.h"
 #include "util/InputFile.h"
@@ -14,6 +15,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <unordered_set>
 #include <sstream>
 
 namespace rtsdf {
@@ -21,6 +23,10 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 namespace {
+
+/// Names and keys come from the file: a message quotes at most this many characters of one (a hostile scene
+/// must not make an error line of a megabyte).
+constexpr std::size_t kQuoteChars = 60;
 
 /// Reads values from a JSON object while naming the file and the key path in every error.
 class Reader {
@@ -31,7 +37,8 @@ public:
   const std::string& file() const { return mFile; }
 
   [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-    throw Error(fmt::format("{}: {}: {}", mFile, where, what));
+    // Keys and names come from the file: each piece is cut to one line of bounded length.
+    throw Error(fmt::format("{}: {}: {}", mFile, oneLine(where, 100), oneLine(what, 180)));
   }
 
   void allowOnly(const json& obj, const std::string& where, std::initializer_list<const char*> keys) const {
@@ -41,7 +48,7 @@ public:
       if (!allowed.count(k)) {
         std::string list;
         for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        fail(where, fmt::format("unknown key '{}' (allowed: {})", k, list));
+        fail(where, fmt::format("unknown key '{}' (allowed: {})", oneLine(k, kQuoteChars), list));
       }
   }
 
@@ -144,33 +151,38 @@ Animation parseAnimation(const Reader& rd, const json& a, const std::string& whe
   return anim;
 }
 
-/// Where the parser is (the key path, for errors) and which keys each open object has had (duplicates are
-/// errors: JSON leaves them undefined, and nlohmann would silently keep the last).
-class KeyTracker {
-public:
-  explicit KeyTracker(const Reader& rd) : mRd(rd) {}
+/// nlohmann's DOM builder, told every key as it is read: it keeps the key path (for errors) and the keys each
+/// open object has had (duplicates are errors: JSON leaves them undefined, and nlohmann would silently keep the
+/// last). A SAX handler, not a parser callback: nlohmann's callback parser scans the whole parent container each
+/// time an object ends, which made a scene with 1e6 keyframes take minutes (quadratic); this is linear.
+/// sax_parse takes the handler by its type, so hiding the builder's (non-virtual) members is enough.
+class TrackingDomParser : public nlohmann::detail::json_sax_dom_parser<json> {
+  using Base = nlohmann::detail::json_sax_dom_parser<json>;
 
-  /// nlohmann's parser callback: keeps every value (returns true).
-  bool operator()(int, json::parse_event_t event, json& parsed) {
-    using E = json::parse_event_t;
-    if (event == E::object_start || event == E::array_start) mOpen.push_back({event == E::array_start, {}, {}});
-    if ((event == E::object_end || event == E::array_end) && !mOpen.empty()) mOpen.pop_back();
-    if (event == E::key && !mOpen.empty()) {
+public:
+  TrackingDomParser(json& doc, const Reader& rd) : Base(doc), mRd(rd) {}
+
+  bool start_object(std::size_t n) { return open(false), Base::start_object(n); }
+  bool start_array(std::size_t n) { return open(true), Base::start_array(n); }
+  bool end_object() { return close(), Base::end_object(); }
+  bool end_array() { return close(), Base::end_array(); }
+  bool key(std::string& k) {
+    if (!mOpen.empty()) {
       Level& top = mOpen.back();
-      const std::string k = parsed.get<std::string>();
       top.last.clear(); // the path names the object, not its previous key
-      if (!top.keys.insert(k).second) mRd.fail(path(), fmt::format("the key '{}' appears twice in one object", k));
+      if (!top.keys.insert(k).second)
+        mRd.fail(path(), fmt::format("the key '{}' appears twice in one object", oneLine(k, kQuoteChars)));
       top.last = k;
     }
-    return true;
+    return Base::key(k);
   }
 
-  /// The key path of the value being read ("meshes.s.sphere.radius", "instances[]").
+  /// The key path of the value being read ("meshes.s.sphere.radius", "instances[]"), each key cut short.
   std::string path() const {
     std::string p;
     for (const Level& l : mOpen) {
       if (l.array) p += "[]";
-      else if (!l.last.empty()) p += (p.empty() ? "" : ".") + l.last;
+      else if (!l.last.empty()) p += (p.empty() ? "" : ".") + oneLine(l.last, kQuoteChars);
     }
     return p.empty() ? "scene" : p;
   }
@@ -178,9 +190,13 @@ public:
 private:
   struct Level {
     bool array;
-    std::set<std::string> keys;
+    std::unordered_set<std::string> keys;
     std::string last;
   };
+  void open(bool array) { mOpen.push_back({array, {}, {}}); }
+  void close() {
+    if (!mOpen.empty()) mOpen.pop_back();
+  }
   const Reader& mRd;
   std::vector<Level> mOpen;
 };
@@ -188,17 +204,14 @@ private:
 /// The scene file's top-level object, with its keys and format version checked.
 json parseDocument(const Reader& rd, const std::string& text) {
   json doc;
-  KeyTracker keys(rd);
-  const json::parser_callback_t track = [&keys](int depth, json::parse_event_t event, json& parsed) {
-    return keys(depth, event, parsed);
-  };
+  TrackingDomParser parser(doc, rd);
   try {
-    doc = json::parse(text, track);
+    json::sax_parse(text, &parser);
   } catch (const json::parse_error& e) {
     throw Error(fmt::format("{}: malformed JSON: {}", rd.file(), oneLine(e.what())));
   } catch (const json::exception& e) {
     // e.g. out_of_range.406, a number beyond double (1e999): name where it is.
-    throw Error(fmt::format("{}: {}: unreadable value: {}", rd.file(), keys.path(), oneLine(e.what())));
+    throw Error(fmt::format("{}: {}: unreadable value: {}", rd.file(), parser.path(), oneLine(e.what())));
   }
   rd.allowOnly(doc, "scene", {"rtsdf_scene", "meshes", "instances", "lights", "camera", "comment"});
   if (doc.contains("rtsdf_scene") && (!doc["rtsdf_scene"].is_number_integer() || doc["rtsdf_scene"].get<int>() != 1))
@@ -222,19 +235,36 @@ Mesh sphereMesh(const Reader& rd, const json& sp, const std::string& where, cons
   return makeSphereMesh(float(radius), subdivisions, name);
 }
 
-/// One entry of "meshes": read from its file (relative to @a base) or generated, then validated into @a report.
-/// Errors from the mesh reader and validation get the scene file and the mesh's key in front.
-Mesh sceneMesh(const Reader& rd, const fs::path& base, const std::string& name, const json& m, MeshReport& report) {
-  const std::string w = "meshes." + name;
+/// Where a scene's mesh paths must lead (unless the load options allow more): the folder that holds the scene's
+/// folder, so that the bundled layout (data/scenes/*.json naming ../meshes/*.obj) reads as it is.
+fs::path meshRoot(const fs::path& base) {
+  const fs::path folder = fs::absolute(base).lexically_normal();
+  const fs::path above = (folder.has_filename() ? folder : folder.parent_path()).parent_path();
+  return above.empty() ? folder : above;
+}
+
+/// Where the meshes of a scene are read from, and how.
+struct MeshSource {
+  fs::path base;          ///< the scene's folder: relative paths start here
+  MeshLoadOptions options; ///< allowOutsideReferences lifts the check against meshRoot(base)
+};
+
+/// One entry of "meshes": read from its file (relative to the scene's folder) or generated, then validated into
+/// @a report. Errors from the mesh reader and validation get the scene file and the mesh's key in front.
+Mesh sceneMesh(const Reader& rd, const MeshSource& source, const std::string& name, const json& m,
+               MeshReport& report) {
+  const std::string w = "meshes." + oneLine(name, kQuoteChars);
   rd.allowOnly(m, w, {"path", "box", "sphere"});
   Mesh mesh;
   if (int(m.contains("path")) + int(m.contains("box")) + int(m.contains("sphere")) != 1)
     rd.fail(w, "needs exactly one of 'path', 'box' or 'sphere'");
   try {
     if (m.contains("path")) {
-      fs::path p = rd.string(m["path"], w + ".path");
-      if (p.is_relative()) p = base / p;
-      mesh = loadMeshFile(p);
+      const std::string reference = rd.string(m["path"], w + ".path");
+      fs::path p = reference;
+      if (p.is_relative()) p = source.base / p;
+      if (!source.options.allowOutsideReferences) requireInsideFolder(rd.file(), reference, p, meshRoot(source.base));
+      mesh = loadMeshFile(p, source.options);
     } else if (m.contains("box")) {
       mesh = makeBoxMesh(glm::vec3(rd.vec3(m["box"], w + ".box")), name);
     } else {
@@ -252,17 +282,18 @@ Mesh sceneMesh(const Reader& rd, const fs::path& base, const std::string& name, 
 
 /// "meshes" into scene.meshes and scene.meshReports.
 /// @return each mesh's index by its name, for the instances.
-std::map<std::string, std::size_t> parseMeshes(const Reader& rd, const json& doc, const fs::path& base, Scene& scene) {
+std::map<std::string, std::size_t> parseMeshes(const Reader& rd, const json& doc, const MeshSource& source,
+                                               Scene& scene) {
   std::map<std::string, std::size_t> meshIndex;
   if (!doc.contains("meshes") || !doc["meshes"].is_object() || doc["meshes"].empty())
     rd.fail("meshes", "a scene needs a non-empty 'meshes' object (name -> {\"path\": ...}, {\"box\": [x, y, z]} "
                       "or {\"sphere\": {\"radius\": r}})");
   for (const auto& [name, m] : doc["meshes"].items()) {
     MeshReport report;
-    Mesh mesh = sceneMesh(rd, base, name, m, report);
+    Mesh mesh = sceneMesh(rd, source, name, m, report);
     if (report.degenerateDropped)
-      spdlog::warn("{} (mesh '{}'): dropped {} zero-area triangle(s) of {}", mesh.source, name,
-                   report.degenerateDropped, report.inputTriangles);
+      spdlog::warn("{} (mesh '{}'): dropped {} zero-area triangle(s) of {}", oneLine(mesh.source, 200),
+                   oneLine(name, kQuoteChars), report.degenerateDropped, report.inputTriangles);
     meshIndex[name] = scene.meshes.size();
     scene.meshes.push_back(std::move(mesh));
     scene.meshReports.push_back(report);
@@ -275,7 +306,7 @@ void parseInstances(const Reader& rd, const json& doc, const std::map<std::strin
                     Scene& scene) {
   if (!doc.contains("instances") || !doc["instances"].is_array() || doc["instances"].empty())
     rd.fail("instances", "a scene needs a non-empty 'instances' array");
-  std::set<std::string> names;
+  std::unordered_set<std::string> names;
   for (std::size_t i = 0; i < doc["instances"].size(); ++i) {
     const json& in = doc["instances"][i];
     const std::string w = fmt::format("instances[{}]", i);
@@ -284,10 +315,11 @@ void parseInstances(const Reader& rd, const json& doc, const std::map<std::strin
     if (!in.contains("mesh")) rd.fail(w, "needs 'mesh' (a key of 'meshes')");
     const std::string meshName = rd.string(in["mesh"], w + ".mesh");
     const auto it = meshIndex.find(meshName);
-    if (it == meshIndex.end()) rd.fail(w + ".mesh", fmt::format("no mesh named '{}'", meshName));
+    if (it == meshIndex.end()) rd.fail(w + ".mesh", fmt::format("no mesh named '{}'", oneLine(meshName, kQuoteChars)));
     inst.mesh = it->second;
     inst.name = in.contains("name") ? rd.string(in["name"], w + ".name") : fmt::format("{}#{}", meshName, i);
-    if (!names.insert(inst.name).second) rd.fail(w + ".name", fmt::format("duplicate instance name '{}'", inst.name));
+    if (!names.insert(inst.name).second)
+      rd.fail(w + ".name", fmt::format("duplicate instance name '{}'", oneLine(inst.name, kQuoteChars)));
     inst.transform = rd.transform(in, w);
     if (in.contains("animation")) inst.animation = parseAnimation(rd, in["animation"], w + ".animation");
     scene.instances.push_back(std::move(inst));
@@ -346,15 +378,15 @@ Camera parseCamera(const Reader& rd, const json& c) {
 
 } // namespace
 
-Scene parseScene(const std::string& text, const fs::path& origin) {
+Scene parseScene(const std::string& text, const fs::path& origin, const MeshLoadOptions& options) {
   const std::string file = origin.string();
   const Reader rd(file);
   const json doc = parseDocument(rd, text);
 
   Scene scene;
   scene.path = file;
-  const fs::path base = origin.has_parent_path() ? origin.parent_path() : fs::path(".");
-  const std::map<std::string, std::size_t> meshIndex = parseMeshes(rd, doc, base, scene);
+  const MeshSource source{origin.has_parent_path() ? origin.parent_path() : fs::path("."), options};
+  const std::map<std::string, std::size_t> meshIndex = parseMeshes(rd, doc, source, scene);
   parseInstances(rd, doc, meshIndex, scene);
   if (doc.contains("lights")) {
     if (!doc["lights"].is_array()) rd.fail("lights", "must be an array");
@@ -367,16 +399,16 @@ Scene parseScene(const std::string& text, const fs::path& origin) {
   return scene;
 }
 
-Scene loadScene(const fs::path& path) {
+Scene loadScene(const fs::path& path, const MeshLoadOptions& options) {
   // A scene larger than this is not a scene description (meshes live in their own files).
   constexpr std::uint64_t kMaxSceneBytes = 64u << 20;
-  if (path.extension() == ".json") return parseScene(readFileBytes(path, "scene file", kMaxSceneBytes), path);
+  if (path.extension() == ".json") return parseScene(readFileBytes(path, "scene file", kMaxSceneBytes), path, options);
   checkInputFile(path, "scene file");
   if (!isMeshFile(path))
     throw Error(fmt::format("{}: neither a .json scene nor a mesh format assimp reads", path.string()));
   Scene scene;
   scene.path = path.string();
-  Mesh mesh = loadMeshFile(path);
+  Mesh mesh = loadMeshFile(path, options);
   MeshReport report = validateMesh(mesh);
   if (report.degenerateDropped)
     spdlog::warn("{}: dropped {} zero-area triangle(s) of {}", path.string(), report.degenerateDropped,

@@ -1,6 +1,7 @@
 #pragma once
 /// @file SceneLoader.h
 /// @brief Loading scenes: the JSON scene format (docs/scene-format.md) or a single mesh file.
+#include "scene/MeshIO.h"
 #include "scene/Scene.h"
 
 #include <filesystem>
@@ -10,12 +11,16 @@ namespace rtsdf {
 /// @brief Load a scene from a .json scene file, or wrap a mesh file (.obj, .ply, .stl, .gltf, ...) as a
 ///        one-instance scene.
 /// @param path the scene or mesh file; mesh paths inside a scene are relative to the scene's folder.
+/// @param options whether referenced files may lie outside their referrer's folder. By default a scene's mesh
+///        paths must resolve inside the folder that holds the scene's folder (the bundled layout: scenes/ next
+///        to meshes/), and a mesh's own references (glTF buffers, OBJ material libraries) inside the mesh's folder.
 /// @throw Error naming the file and the problem (missing file, malformed JSON, unknown keys, bad values,
-///        invalid meshes).
+///        invalid meshes, a reference that leads outside its folder).
 /// @note Every mesh is validated (validateMesh); what was dropped is logged and kept in Scene::meshReports.
-Scene loadScene(const std::filesystem::path& path);
+Scene loadScene(const std::filesystem::path& path, const MeshLoadOptions& options = {});
 
 /// @brief Parse a scene from JSON text; @a origin names it in messages and anchors relative mesh paths.
-Scene parseScene(const std::string& jsonText, const std::filesystem::path& origin);
+Scene parseScene(const std::string& jsonText, const std::filesystem::path& origin,
+                 const MeshLoadOptions& options = {});
 
 } // namespace rtsdf

@@ -1,0 +1,30 @@
+#pragma once
+/// @file GltfChecks.h
+/// @brief Checks on glTF 2.0 files before assimp reads them: a GLB's lengths against the file's size (assimp
+///        allocates what a chunk header says: 2.1 GB for a 616-byte file), and every triangle's vertex indices
+///        against its primitive's vertex count (assimp drops such a face without an error).
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace rtsdf {
+
+/// @brief When @a head starts a GLB (the magic "glTF"), check its header's total length and every chunk length
+///        that @a head holds against the file's size and the bytes that remain after the chunk's header.
+/// @param head the file's first bytes; chunks past them are not checked (see checkGlbFile).
+/// @throw Error "<name>: GLB chunk 0 (JSON) says 2147483648 bytes but 596 remain after its header".
+void checkGlbLengths(const std::string& head, std::uint64_t fileSize, const std::string& name);
+
+/// @brief checkGlbLengths over every chunk of a .glb or .gltf file, reading only the chunk headers.
+void checkGlbFile(const std::filesystem::path& path, std::uint64_t fileSize);
+
+/// @brief Check each triangle index of a glTF's meshes (in a .gltf's JSON or a .glb's chunks) against the
+///        vertex count of its primitive. Indices the check cannot reach (a buffer it cannot read, a sparse
+///        accessor, an accessor past its buffer) are left to assimp, which reports what is malformed.
+/// @param bytes the whole file; @param folder where its external buffers lie (empty: none are read).
+/// @param allowOutside whether an external buffer may lie outside @a folder.
+/// @throw Error "<name>: mesh 'tri' primitive 0: face 1 uses vertex index 99 but the primitive has 3 vertices".
+void checkGltfIndices(const std::string& bytes, const std::string& name, const std::filesystem::path& folder,
+                      bool allowOutside);
+
+} // namespace rtsdf

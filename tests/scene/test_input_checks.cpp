@@ -1,0 +1,249 @@
+// Hostile mesh and scene files (docs/reliability.md): references that lead out of their folder, headers whose
+// counts and lengths do not fit the file, indices past the vertices, names of a megabyte.
+#include "TestUtil.h"
+#include "scene/ConfinedFiles.h"
+#include "scene/MeshIO.h"
+#include "scene/SceneLoader.h"
+#include "util/Error.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+using namespace rtsdf;
+using rtsdf::test::TempDir;
+using rtsdf::test::writeText;
+namespace fs = std::filesystem;
+
+namespace {
+
+template <class F> std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kTetraObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+std::string u32(std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); }
+
+/// Three float3 positions, then uint16 indices: the glTF buffer of one primitive.
+std::string triangleBuffer(const std::vector<std::uint16_t>& indices) {
+  const float p[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  std::string bytes(reinterpret_cast<const char*>(p), sizeof p);
+  for (const std::uint16_t i : indices) bytes.append(reinterpret_cast<const char*>(&i), 2);
+  while (bytes.size() % 4) bytes += '\0';
+  return bytes;
+}
+
+/// A glTF's JSON for triangleBuffer(@a indices) named 'tri', the buffer at @a uri (none: the GLB's BIN chunk).
+std::string triangleGltf(std::size_t indices, const std::string& uri, std::size_t bufferBytes) {
+  return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
+         R"("meshes":[{"name":"tri","primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)"
+         R"("buffers":[{"byteLength":)" + std::to_string(bufferBytes) +
+         (uri.empty() ? "" : R"(,"uri":")" + uri + "\"") +
+         R"(}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":)" +
+         std::to_string(2 * indices) + R"(}],"accessors":[{"bufferView":0,"componentType":5126,"count":3,)"
+         R"("type":"VEC3","min":[0,0,0],"max":[1,1,0]},{"bufferView":1,"componentType":5123,"count":)" +
+         std::to_string(indices) + R"(,"type":"SCALAR"}]})";
+}
+
+/// A GLB of @a json and @a bin, its JSON chunk's length written as @a jsonLength when given.
+std::string glb(std::string json, const std::string& bin, std::uint32_t jsonLength = 0) {
+  while (json.size() % 4) json += ' ';
+  std::string body = u32(jsonLength ? jsonLength : std::uint32_t(json.size())) + "JSON" + json;
+  if (!bin.empty()) body += u32(std::uint32_t(bin.size())) + std::string("BIN\0", 4) + bin;
+  return "glTF" + u32(2) + u32(std::uint32_t(12 + body.size())) + body;
+}
+
+} // namespace
+
+TEST(InputChecks, GltfBufferOutsideItsFolderIsRefused) {
+  TempDir dir;
+  fs::create_directories(dir / "m");
+  writeText(dir / "m" / "t.gltf", triangleGltf(3, "../../../../../../etc/passwd", 42));
+  std::string msg = errorOf([&] { loadMeshFile(dir / "m" / "t.gltf"); });
+  EXPECT_NE(msg.find("t.gltf: the reference '../../../../../../etc/passwd' is refused"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'..' leads out of it"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  // Without indices the check before assimp reads no buffer: the confined file system refuses it.
+  std::string noIndices = triangleGltf(3, "../outside.bin", 44);
+  noIndices.replace(noIndices.find(R"(,"indices":1)"), 12, "");
+  writeText(dir / "outside.bin", triangleBuffer({0, 1, 2}));
+  writeText(dir / "m" / "n.gltf", noIndices);
+  msg = errorOf([&] { loadMeshFile(dir / "m" / "n.gltf"); });
+  EXPECT_NE(msg.find("n.gltf: the reference '../outside.bin' is refused"), std::string::npos) << msg;
+  MeshLoadOptions allow;
+  allow.allowOutsideReferences = true;
+  EXPECT_EQ(loadMeshFile(dir / "m" / "n.gltf", allow).triangles.size(), 1u);
+}
+
+TEST(InputChecks, GltfBufferInsideItsFolderLoads) {
+  TempDir dir;
+  writeText(dir / "t.bin", triangleBuffer({0, 1, 2}));
+  writeText(dir / "t.gltf", triangleGltf(3, "t.bin", 44));
+  EXPECT_EQ(loadMeshFile(dir / "t.gltf").triangles.size(), 1u);
+}
+
+TEST(InputChecks, MeshInMemoryReadsNoFile) {
+  std::string noIndices = triangleGltf(3, "/etc/passwd", 44);
+  noIndices.replace(noIndices.find(R"(,"indices":1)"), 12, "");
+  const std::string msg = errorOf([&] { loadMeshFromMemory(noIndices, ".gltf", "mem.gltf"); });
+  EXPECT_NE(msg.find("mem.gltf: the reference '/etc/passwd' is refused"), std::string::npos) << msg;
+  EXPECT_NE(errorOf([&] { loadMeshFromMemory(std::string("mtllib /etc/passwd\n") + kTetraObj, ".obj", "m.obj"); })
+                .find("m.obj: the reference '/etc/passwd' is refused"),
+            std::string::npos);
+}
+
+TEST(InputChecks, ObjMaterialLibraryOutsideIsRefusedUnlessAllowed) {
+  TempDir dir;
+  fs::create_directories(dir / "m");
+  writeText(dir / "outside.mtl", "newmtl a\nKd 1 0 0\n");
+  writeText(dir / "m" / "up.obj", std::string("mtllib ../outside.mtl\n") + kTetraObj);
+  std::string msg = errorOf([&] { loadMeshFile(dir / "m" / "up.obj"); });
+  EXPECT_NE(msg.find("up.obj: the reference '../outside.mtl' is refused"), std::string::npos) << msg;
+  // A symbolic link inside the folder that leads out of it.
+  fs::create_symlink(dir / "outside.mtl", dir / "m" / "link.mtl");
+  writeText(dir / "m" / "link.obj", std::string("mtllib link.mtl\n") + kTetraObj);
+  msg = errorOf([&] { loadMeshFile(dir / "m" / "link.obj"); });
+  EXPECT_NE(msg.find("link.obj: the reference 'link.mtl' is refused"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("symbolic link"), std::string::npos) << msg;
+  MeshLoadOptions allow;
+  allow.allowOutsideReferences = true;
+  EXPECT_EQ(loadMeshFile(dir / "m" / "up.obj", allow).triangles.size(), 4u);
+  EXPECT_EQ(loadMeshFile(dir / "m" / "link.obj", allow).triangles.size(), 4u);
+}
+
+TEST(InputChecks, EscapeFromFolderSaysWhy) {
+  TempDir dir;
+  fs::create_directories(dir / "a" / "b");
+  EXPECT_EQ(escapeFromFolder(dir / "a", dir / "a" / "b" / ".." / "x.obj"), "");
+  EXPECT_EQ(escapeFromFolder(dir / "a", dir / "a" / ".." / "x.obj"), "'..' leads out of it");
+  EXPECT_EQ(escapeFromFolder(dir / "a", "/etc/passwd"), "an absolute path outside it");
+  fs::create_directory_symlink(dir.path(), dir / "a" / "up");
+  EXPECT_NE(escapeFromFolder(dir / "a", dir / "a" / "up" / "x.obj").find("symbolic link"), std::string::npos);
+}
+
+TEST(InputChecks, SceneMeshPathsStayInTheScenesFolderOrBeside) {
+  TempDir dir;
+  fs::create_directories(dir / "p" / "scenes");
+  fs::create_directories(dir / "p" / "meshes");
+  writeText(dir / "p" / "meshes" / "t.obj", kTetraObj);
+  writeText(dir / "t.obj", kTetraObj);
+  const auto scene = [](const std::string& path) {
+    return R"({"meshes": {"m": {"path": ")" + path + R"("}}, "instances": [{"mesh": "m"}]})";
+  };
+  writeText(dir / "p" / "scenes" / "ok.json", scene("../meshes/t.obj"));
+  EXPECT_EQ(loadScene(dir / "p" / "scenes" / "ok.json").meshes.size(), 1u);
+  writeText(dir / "p" / "scenes" / "far.json", scene("../../t.obj"));
+  const std::string msg = errorOf([&] { loadScene(dir / "p" / "scenes" / "far.json"); });
+  EXPECT_NE(msg.find("far.json: the reference '../../t.obj' is refused"), std::string::npos) << msg;
+  MeshLoadOptions allow;
+  allow.allowOutsideReferences = true;
+  EXPECT_EQ(loadScene(dir / "p" / "scenes" / "far.json", allow).meshes.size(), 1u);
+}
+
+TEST(InputChecks, BinaryStlCountMustMatchTheSize) {
+  std::string stl(80, ' ');
+  stl += u32(1000000) + std::string(600, '\x01');
+  const std::string msg = errorOf([&] { loadMeshFromMemory(stl, ".stl", "bunny.stl"); });
+  EXPECT_EQ(msg, "bunny.stl: binary STL says 1000000 triangles (50000084 bytes) but the file has 684 bytes");
+  // Cut short: one triangle declared, half of it there.
+  std::string cut(80, 'x');
+  cut += u32(1) + std::string(25, '\0');
+  EXPECT_NE(errorOf([&] { loadMeshFromMemory(cut, ".stl", "cut.stl"); }).find("says 1 triangles (134 bytes)"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { loadMeshFromMemory(std::string(40, '\x02'), ".stl", "tiny.stl"); }).find("at least 84"),
+            std::string::npos);
+}
+
+TEST(InputChecks, BinaryPlyCountsMustFitAfterTheHeader) {
+  const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                             "property float y\nproperty float z\nelement face 1000\nproperty list uchar int "
+                             "vertex_indices\nend_header\n";
+  const std::string msg = errorOf([&] { loadMeshFromMemory(header + std::string(36 + 13, '\0'), ".ply", "f.ply"); });
+  EXPECT_NE(msg.find("f.ply: the PLY header declares element 'face' with 1000 records of at least 1 bytes"),
+            std::string::npos) << msg;
+  EXPECT_NE(msg.find("the file has 49 bytes after its header"), std::string::npos) << msg;
+  const std::string vertices =
+      errorOf([&] { loadMeshFromMemory(header + std::string(20, '\0'), ".ply", "v.ply"); });
+  EXPECT_NE(vertices.find("element 'vertex' with 3 records of at least 12 bytes"), std::string::npos) << vertices;
+}
+
+TEST(InputChecks, GlbLengthsMustFitTheFile) {
+  const std::string json = triangleGltf(3, "", 44);
+  const std::string good = glb(json, triangleBuffer({0, 1, 2}));
+  EXPECT_EQ(loadMeshFromMemory(good, ".glb", "good.glb").triangles.size(), 1u);
+  TempDir dir;
+  writeText(dir / "good.glb", good);
+  EXPECT_EQ(loadMeshFile(dir / "good.glb").triangles.size(), 1u);
+
+  writeText(dir / "lying.glb", glb(json, triangleBuffer({0, 1, 2}), 0x80000000u));
+  std::string msg = errorOf([&] { loadMeshFile(dir / "lying.glb"); });
+  EXPECT_NE(msg.find("lying.glb: GLB chunk 0 (JSON) says 2147483648 bytes but"), std::string::npos) << msg;
+  std::string longer = good;
+  const std::uint32_t claimed = 1u << 30;
+  std::memcpy(&longer[8], &claimed, 4);
+  writeText(dir / "long.glb", longer);
+  msg = errorOf([&] { loadMeshFile(dir / "long.glb"); });
+  EXPECT_NE(msg.find("long.glb: the GLB header says 1073741824 bytes but the file has"), std::string::npos) << msg;
+  // The BIN chunk past a JSON chunk of more than 64 KiB is checked too.
+  std::string big = glb(json + std::string(70000, ' '), triangleBuffer({0, 1, 2}));
+  const std::uint32_t binClaim = 1u << 31;
+  std::memcpy(&big[big.size() - 44 - 8], &binClaim, 4);
+  writeText(dir / "bin.glb", big);
+  msg = errorOf([&] { loadMeshFile(dir / "bin.glb"); });
+  EXPECT_NE(msg.find("bin.glb: GLB chunk 1 (BIN) says 2147483648 bytes but 44 remain"), std::string::npos) << msg;
+}
+
+TEST(InputChecks, GltfIndexPastTheVerticesNamesMeshAndFace) {
+  TempDir dir;
+  writeText(dir / "t.bin", triangleBuffer({0, 1, 2, 0, 2, 99}));
+  writeText(dir / "t.gltf", triangleGltf(6, "t.bin", 48));
+  const std::string msg = errorOf([&] { loadMeshFile(dir / "t.gltf"); });
+  EXPECT_EQ(msg, (dir / "t.gltf").string() +
+                     ": mesh 'tri' primitive 0: face 1 uses vertex index 99 but the primitive has 3 vertices");
+  const std::string inGlb = glb(triangleGltf(6, "", 48), triangleBuffer({0, 1, 2, 0, 2, 99}));
+  EXPECT_NE(errorOf([&] { loadMeshFromMemory(inGlb, ".glb", "i.glb"); }).find("i.glb: mesh 'tri' primitive 0: face 1"),
+            std::string::npos);
+}
+
+TEST(InputChecks, NamesOfAMegabyteAreCutInMessages) {
+  const std::string huge(1 << 20, 'n');
+  const std::vector<std::string> scenes = {
+      R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": ")" + huge + R"("}]})",
+      R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b", "name": ")" + huge +
+          R"("}, {"mesh": "b", "name": ")" + huge + R"("}]})",
+      R"({"meshes": {")" + huge + R"(": {"box": [1, 1, 0]}}, "instances": [{"mesh": "b"}]})",
+      R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b", ")" + huge + R"(": 1}]})",
+      R"({"meshes": {"b": {"box": [1, 1, 1], "box": [2, 2, 2]}}, ")" + huge + R"(": 1, ")" + huge + R"(": 2})",
+      R"({"meshes": {"b": {"path": ")" + huge + R"(.obj"}}, "instances": [{"mesh": "b"}]})"};
+  for (const std::string& text : scenes) {
+    std::string msg;
+    try {
+      parseScene(text, "s.json");
+    } catch (const Error& e) {
+      msg = e.what();
+    }
+    EXPECT_FALSE(msg.empty());
+    EXPECT_LE(msg.size(), 300u) << msg.substr(0, 400);
+    EXPECT_EQ(msg.find('\n'), std::string::npos);
+  }
+}
+
+TEST(InputChecks, AMillionKeyframesParse) {
+  // The parse used to be quadratic in the keyframes (1e5 took 4.6 s); docs/reliability.md has the timings.
+  std::string text =
+      R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b", "animation": {"keyframes": [)";
+  constexpr int kFrames = 200000;
+  for (int i = 0; i < kFrames; ++i)
+    text += std::string(i ? "," : "") + R"({"time": )" + std::to_string(i) + R"(, "translate": [1, 0, 0]})";
+  text += "]}}]}";
+  const Scene s = parseScene(text, "k.json");
+  ASSERT_EQ(s.instances.size(), 1u);
+  EXPECT_EQ(s.instances[0].animation.keyframes.size(), std::size_t(kFrames));
+  EXPECT_EQ(s.instances[0].animation.keyframes.back().time, kFrames - 1);
+}

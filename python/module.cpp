@@ -175,7 +175,7 @@ public:
   Field fine() const {
     const GridSpec& spec = mPipe->fineSpec();
     const float band = float(mPipe->settings().band > 0.0 ? mPipe->settings().band : spec.voxelSize);
-    return {denseToLevelSet(mPipe->fineField(), spec, band), spec, band};
+    return {mPipe->levelSet(band), spec, band};
   }
 
 private:

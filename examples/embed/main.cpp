@@ -49,8 +49,7 @@ int run(const std::string& scenePath, const std::string& outPrefix, int frames) 
   // The fine SDF's narrow band as an OpenVDB level set (what Blender and OpenVDB's tools read), stamped like the
   // command line's bakes, so `rtsdf compare OUT.vdb --against exact` finds its scene, band and moment.
   const double band = pipeline.settings().band, time = (frames - 1) / kFps;
-  const openvdb::FloatGrid::Ptr grid =
-      rtsdf::denseToLevelSet(pipeline.fineField(), pipeline.fineSpec(), static_cast<float>(band));
+  const openvdb::FloatGrid::Ptr grid = pipeline.levelSet(static_cast<float>(band));
   rtsdf::stampLevelSet(*grid, pipeline.fineSpec(),
                        {{"scene", scenePath}, {"band", std::to_string(band)}, {"time", std::to_string(time)}});
   rtsdf::writeVdb(outPrefix + ".vdb", {grid});

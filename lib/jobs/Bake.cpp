@@ -38,7 +38,7 @@ double fineLevelSetBand(const PipelineSettings& s, const GridSpec& fine) {
 
 openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions& o, double time) {
   const PipelineSettings& p = o.pipeline;
-  auto grid = denseToLevelSet(pipe.fineField(), pipe.fineSpec(), float(fineLevelSetBand(p, pipe.fineSpec())));
+  auto grid = pipe.levelSet(float(fineLevelSetBand(p, pipe.fineSpec())));
   stampLevelSet(*grid, pipe.fineSpec(),
                 {{"method", "rtsdf"}, {"scene", o.scene}, {"coarse", std::to_string(p.coarseRes)},
                  {"resolution", std::to_string(p.fineRes)}, {"band", fmt::format("{}", p.band)},

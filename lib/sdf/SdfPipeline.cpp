@@ -1,5 +1,7 @@
 #include "sdf/SdfPipeline.h"
 
+#include "grid/VdbIO.h"
+
 #include "sdf/refine/RefineCpu.h"
 #include "sdf/pipeline/BrickPool.h"
 #include "sdf/pipeline/FieldPasses.h"
@@ -11,6 +13,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace rtsdf {
 
@@ -169,6 +172,17 @@ RayMask SdfPipeline::rayMask() const {
   if (mFrame == 0 || mSettings.band <= 0.0) return RayMask{};
   waitForFrame();
   return mMask->readRayMask(mFrame);
+}
+
+openvdb::FloatGrid::Ptr SdfPipeline::levelSet(float band) const {
+  const std::vector<float> fine = fineField();
+  if (mSettings.band <= 0.0) return denseToLevelSet(fine, mFineSpec, band);
+  std::vector<std::pair<std::uint64_t, float>> refined;
+  for (const std::uint32_t packed : rayMask().fineVoxels) {
+    const std::uint64_t i = mFineSpec.linear(int(packed & 1023u), int((packed >> 10) & 1023u), int(packed >> 20 & 1023u));
+    if (std::fabs(fine[i]) <= band) refined.emplace_back(i, fine[i]);
+  }
+  return activeVoxelsToLevelSet(std::move(refined), mFineSpec, band);
 }
 
 std::vector<float> SdfPipeline::fineField() const {

@@ -79,6 +79,11 @@ public:
   ///        (FineStorage::Dense), or resolved on the host from the coarse SDF and the bricks read back (Sparse:
   ///        resolveFineCpu, the same values bit for bit).
   std::vector<float> fineField() const;
+  /// @brief The last frame's fine SDF as a sparse level set of half-width @a band: the refined voxels (those under
+  ///        the ray mask) with |f| <= @a band. Outside the mask the fine SDF is the coarse one upsampled, an unsigned
+  ///        distance minus beta that can lie within the band deep inside a solid: it is left out. With d = 0 (nothing
+  ///        refined) every voxel with |f| <= @a band. What a bake writes.
+  openvdb::FloatGrid::Ptr levelSet(float band) const;
   /// @brief Bricks per axis of the fine grid.
   glm::ivec3 brickDims() const;
   /// @brief The pool's capacity in bricks (0 before the first frame sizes it).

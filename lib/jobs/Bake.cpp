@@ -22,6 +22,10 @@ namespace fs = std::filesystem;
 void BakeOptions::validate() const {
   pipeline.validate();
   validateKnobs(*this);
+  // Rays mode signs the refined voxels by its rays' votes alone: with none, every sign would be outside.
+  if (method == BakeMethod::Rtsdf && pipeline.mode == RefineMode::Rays && pipeline.rays == 0 && pipeline.band > 0.0)
+    throw SettingError("rays", "rays mode with 0 rays [x] casts no ray to sign the voxels it refines: give 1 ray "
+                               "or more, or use the closest refinement (its nearest triangle's side signs them)");
   if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
   if (!(pipeline.band > 0.0))
     throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));

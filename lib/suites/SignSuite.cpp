@@ -6,6 +6,7 @@
 #include "jobs/Bake.h"
 #include "metrics/FieldError.h"
 #include "scene/Mesh.h"
+#include "util/Error.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -105,6 +106,8 @@ Scene sceneOf(const SignCase& c, double unit) {
 
 std::string signSuite(const BenchOptions& s) {
   const int res = s.resolutions.empty() ? 96 : s.resolutions.front();
+  if (res < 16) // the band of 3 voxels is 3 E / (res - 6) scene units: a few voxels across leave no band
+    throw SettingError("resolution", fmt::format("the sign suite needs at least 16 voxels across, not {}", res));
   std::string md = fmt::format(
       "Fine grid {} voxels across (rtsdf: coarse {}), band 3 voxels, each mesh in units of 1 and of 1000 (millimetres). "
       "Wrong sign: active voxels farther than 0.1 voxel from the clean solid's surface whose sign differs from its "

@@ -50,6 +50,7 @@ PieceUnion::PieceUnion(const SceneGeometry& geometry) {
 PieceUnion::~PieceUnion() = default;
 
 bool PieceUnion::insideAnotherPiece(const glm::vec3& p, unsigned mesh, std::uint32_t triangle) const {
+  if (mOverlapping.empty()) return false; // the common case, on every outside voxel of a bake
   const std::uint32_t nearest = mPieces[mesh].pieceOf[triangle];
   for (const Piece& o : mOverlapping) {
     if ((o.mesh == mesh && o.piece == nearest) || glm::any(glm::lessThan(p, o.lo)) ||

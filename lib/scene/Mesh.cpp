@@ -5,6 +5,7 @@
 #include "util/Error.h"
 
 #include <fmt/format.h>
+#include <glm/gtc/constants.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -201,6 +202,25 @@ Mesh cutHoles(const Mesh& mesh, int holes, float radius) {
   };
   for (const glm::uvec3& t : mesh.triangles)
     if (!nearAHole(t.x) && !nearAHole(t.y) && !nearAHole(t.z)) m.triangles.push_back(t);
+  return m;
+}
+
+Mesh makeTorusMesh(float R, float r, int rings, int sides, std::string name) {
+  Mesh m;
+  m.name = std::move(name);
+  m.source = "<torus>";
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sides; ++j) {
+      const float u = 2.0f * glm::pi<float>() * i / rings, v = 2.0f * glm::pi<float>() * j / sides;
+      m.positions.emplace_back((R + r * std::cos(v)) * std::cos(u), r * std::sin(v), (R + r * std::cos(v)) * std::sin(u));
+    }
+  auto id = [&](int i, int j) { return unsigned(((i + rings) % rings) * sides + (j + sides) % sides); };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sides; ++j) {
+      const unsigned a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      m.triangles.emplace_back(a, c, b);
+      m.triangles.emplace_back(a, d, c);
+    }
   return m;
 }
 

@@ -85,6 +85,11 @@ Mesh makeBoxMesh(const glm::vec3& size, std::string name = "box");
 /// @throw Error when the radius is not positive and finite or the subdivisions are out of range.
 Mesh makeSphereMesh(float radius, int subdivisions, std::string name = "sphere");
 
+/// @brief A closed torus (outward facing) around the y axis, centred at the origin: major radius @a R, minor
+///        radius @a r, @a rings x @a sides quads, each split in two. No checks: for generated test and benchmark
+///        meshes.
+Mesh makeTorusMesh(float R, float r, int rings, int sides, std::string name = "torus");
+
 /// @brief @a mesh with every triangle split in four at its edge midpoints, @a levels times: the same surface
 ///        with 4^levels times the triangles (how the benchmarks make a large mesh from a bundled one).
 /// @throw Error when @a levels is outside [0, 6].

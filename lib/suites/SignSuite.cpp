@@ -37,24 +37,6 @@ Mesh joined(Mesh a, const Mesh& b, const glm::vec3& offset) {
   return a;
 }
 
-/// A closed torus around the z axis (radii R and r), outward facing.
-Mesh torusMesh(float R, float r, int rings, int sides) {
-  Mesh m;
-  for (int i = 0; i < rings; ++i)
-    for (int j = 0; j < sides; ++j) {
-      const float u = 6.2831853f * float(i) / float(rings), v = 6.2831853f * float(j) / float(sides);
-      m.positions.emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
-                               r * std::sin(v));
-    }
-  const auto at = [&](int i, int j) { return unsigned((i % rings) * sides + j % sides); };
-  for (int i = 0; i < rings; ++i)
-    for (int j = 0; j < sides; ++j) {
-      m.triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      m.triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  return m;
-}
-
 std::vector<SignCase> signCases() {
   const Mesh sphere = makeSphereMesh(1.0f, 4);
   const auto ball = [](const glm::dvec3& p) { return glm::length(p) - 1.0; };
@@ -63,7 +45,7 @@ std::vector<SignCase> signCases() {
     return std::min(glm::length(p) - 1.0, glm::length(p - glm::dvec3(offset)) - 1.0);
   };
   const auto torus = [](const glm::dvec3& p) {
-    return glm::length(glm::dvec2(glm::length(glm::dvec2(p.x, p.y)) - 1.0, p.z)) - 0.35;
+    return glm::length(glm::dvec2(glm::length(glm::dvec2(p.x, p.z)) - 1.0, p.y)) - 0.35;
   };
   Mesh shell = makeSphereMesh(0.5f, 3); // an inner shell facing inward, as a hollow ball's cavity would
   return {{"sphere, clean", sphere, ball},
@@ -71,7 +53,7 @@ std::vector<SignCase> signCases() {
           {"sphere, 1% of faces flipped", reversed(sphere, 100), ball},
           {"sphere, 20% of faces flipped", reversed(sphere, 5), ball},
           {"sphere, 50% of faces flipped", reversed(sphere, 2), ball},
-          {"torus, inside-out", reversed(torusMesh(1.0f, 0.35f, 96, 32), 1), torus},
+          {"torus, inside-out", reversed(makeTorusMesh(1.0f, 0.35f, 96, 32), 1), torus},
           {"two spheres through each other", joined(sphere, reversed(sphere, 1), offset), twoBalls},
           {"sphere with an inner shell", joined(sphere, reversed(shell, 1), glm::vec3(0.0f)), ball}};
 }

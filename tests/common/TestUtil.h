@@ -66,20 +66,8 @@ inline Mesh makeSphere(float r, int n) { return makeSphereMesh(r, n, "sphere"); 
 
 /// Torus around the y axis (major radius R, minor r), nu x nv quads split in two, outward facing.
 inline Mesh makeTorus(float R, float r, int nu, int nv) {
-  Mesh m;
-  m.name = m.source = "torus";
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const float u = 2.0f * glm::pi<float>() * i / nu, v = 2.0f * glm::pi<float>() * j / nv;
-      m.positions.emplace_back((R + r * std::cos(v)) * std::cos(u), r * std::sin(v), (R + r * std::cos(v)) * std::sin(u));
-    }
-  auto id = [&](int i, int j) { return unsigned(((i + nu) % nu) * nv + (j + nv) % nv); };
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const unsigned a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      m.triangles.emplace_back(a, c, b);
-      m.triangles.emplace_back(a, d, c);
-    }
+  Mesh m = makeTorusMesh(R, r, nu, nv, "torus");
+  m.source = "torus";
   return m;
 }
 

@@ -406,13 +406,16 @@ Scene loadScene(const fs::path& path, const MeshLoadOptions& options) {
   checkInputFile(path, "scene file");
   if (!isMeshFile(path))
     throw Error(fmt::format("{}: neither a .json scene nor a mesh format assimp reads", path.string()));
+  return sceneFromMesh(loadMeshFile(path, options), path.string());
+}
+
+Scene sceneFromMesh(Mesh mesh, std::string path) {
   Scene scene;
-  scene.path = path.string();
-  Mesh mesh = loadMeshFile(path, options);
+  scene.path = std::move(path);
   MeshReport report = validateMesh(mesh);
   if (report.degenerateDropped)
-    spdlog::warn("{}: dropped {} zero-area triangle(s) of {}", path.string(), report.degenerateDropped,
-                 report.inputTriangles);
+    spdlog::warn("{}: dropped {} zero-area triangle(s) of {}", scene.path.empty() ? mesh.source : scene.path,
+                 report.degenerateDropped, report.inputTriangles);
   Instance inst;
   inst.name = mesh.name;
   scene.meshes.push_back(std::move(mesh));

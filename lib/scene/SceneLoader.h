@@ -5,6 +5,7 @@
 #include "scene/Scene.h"
 
 #include <filesystem>
+#include <string>
 
 namespace rtsdf {
 
@@ -18,6 +19,14 @@ namespace rtsdf {
 ///        invalid meshes, a reference that leads outside its folder).
 /// @note Every mesh is validated (validateMesh); what was dropped is logged and kept in Scene::meshReports.
 Scene loadScene(const std::filesystem::path& path, const MeshLoadOptions& options = {});
+
+/// @brief Wrap a mesh held in memory (built by a program, or arrays handed over by a caller) as a one-instance
+///        scene, validated and oriented exactly as a mesh file's (validateMesh, repairOrientation).
+/// @param mesh the mesh; its name and source name it in messages (a source in angle brackets, "<arrays>", marks
+///        it as no file: a bake's output may then take any name).
+/// @param path what Scene::path records (empty for none).
+/// @throw Error as validateMesh (non-finite or huge coordinates, an index out of range, no triangle left).
+Scene sceneFromMesh(Mesh mesh, std::string path = {});
 
 /// @brief Parse a scene from JSON text; @a origin names it in messages and anchors relative mesh paths.
 Scene parseScene(const std::string& jsonText, const std::filesystem::path& origin,

@@ -118,7 +118,7 @@ GridSpec bakeGrid(const BakeOptions& o, const SceneGeometry& geo, double padding
   return spec;
 }
 
-BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene) {
+BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene, const JobControl& control) {
   const double band = o.pipeline.band;
   const SceneGeometry geo = buildSceneGeometry(scene, o.time);
   const double padding = pipelinePadding(geo.bounds, o.pipeline);
@@ -129,6 +129,7 @@ BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene) {
     ExactSdfOptions opt;
     opt.band = o.fullDomain ? INFINITY : band;
     opt.sign = o.sign;
+    opt.control = &control;
     r.grid = exactSignedDistance(geo, r.spec, opt, &r.exact);
   } else if (o.method == BakeMethod::OpenVdb) {
     r.grid = openvdbLevelSet(geo, r.spec, band);
@@ -153,7 +154,8 @@ BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene) {
 BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const JobControl& control) {
   const std::string summary = detail::meshSummary(scene);
   spdlog::info("{}: {}", options.scene, summary);
-  BakeResult r = options.method == BakeMethod::Rtsdf ? bakeRtsdf(options, scene, control) : bakeOnGrid(options, scene);
+  BakeResult r = options.method == BakeMethod::Rtsdf ? bakeRtsdf(options, scene, control)
+                                                     : bakeOnGrid(options, scene, control);
   if (!options.allowEmpty && r.grid->activeVoxelCount() == 0)
     throw Error(fmt::format("{}: the {} level set on {} has no active voxel (band {:g} = {:.3g} voxels): widen the "
                             "band, raise the resolution or, to keep it, allow an empty result", options.scene,

@@ -525,11 +525,15 @@ openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const
   tbb::enumerable_thread_specific<BlockScratch> scratch;
   std::atomic<std::uint64_t> active{0}, evaluated{0}, winding{0};
   const glm::ivec3 blocks = (spec.dims + 7) / 8;
-  Progress progress("exact SDF", options.progress ? std::uint64_t(blocks.x) * blocks.y * blocks.z : 0);
+  const std::uint64_t blockCount = std::uint64_t(blocks.x) * blocks.y * blocks.z;
+  Progress progress("exact SDF", options.progress ? blockCount : 0);
+  JobPoll poll(options.control, "exact SDF", blockCount);
 
   auto fill = [&](const glm::ivec3& o, float* values, bool* act) -> bool {
+    if (poll.stopping()) return false;
     BlockScratch& s = scratch.local();
     progress.add();
+    poll.done();
     const glm::vec3 bc(spec.indexToWorld(glm::dvec3(o) + 3.5));
     if (!gatherCandidates(bandFill, bc, s)) return false;
     s.dist.resize(s.cand.size());
@@ -546,6 +550,7 @@ openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const
 
   openvdb::FloatGrid::Ptr grid = buildLevelSet(spec, band, fill);
   progress.finish();
+  if (poll.stopping()) throw Interrupted();
   if (stats) {
     stats->activeVoxels = active;
     stats->evaluatedVoxels = evaluated;

@@ -5,6 +5,7 @@
 #include "grid/GridSpec.h"
 #include "scene/SceneGeometry.h"
 #include "util/EnumNames.h"
+#include "util/JobControl.h"
 
 #include <openvdb/openvdb.h>
 
@@ -93,6 +94,9 @@ struct ExactSdfOptions {
   double band = 0.1;
   SignMethod sign = SignMethod::Auto;
   bool progress = true; ///< show a progress bar on stderr
+  /// Progress ("exact SDF", blocks done of all, about every 1%) and stop requests, polled before each 8^3 block
+  /// from the worker threads (the control must be thread-safe); a stop throws Interrupted. Null: neither.
+  const JobControl* control = nullptr;
 };
 
 /// @brief Counters of one exactSignedDistance run.
@@ -108,6 +112,7 @@ struct ExactSdfStats {
 /// @note Works block by block on OpenVDB's 8^3 leaves: one closest-point query per block culls blocks
 ///       farther than the band, then the triangles that can be nearest to any voxel of the block are
 ///       gathered once and tested per voxel (two levels: 8^3 and 4^3).
+/// @throw Interrupted when options.control asks to stop.
 openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const GridSpec& spec,
                                             const ExactSdfOptions& options, ExactSdfStats* stats = nullptr);
 

@@ -3,10 +3,34 @@
 #include "util/Error.h"
 #include "util/Progress.h"
 
+#include <algorithm>
+
 namespace rtsdf {
 
 void JobControl::checkStop() const {
   if (stopping()) throw Interrupted();
+}
+
+JobPoll::JobPoll(const JobControl* control, std::string stage, std::uint64_t total)
+    : mControl(control), mStage(std::move(stage)), mTotal(total) {}
+
+bool JobPoll::stopping() {
+  if (mStop.load(std::memory_order_relaxed)) return true;
+  if (!mControl || !mControl->stopping()) return false;
+  mStop = true;
+  return true;
+}
+
+void JobPoll::done(std::uint64_t n) {
+  if (!mControl || !mControl->progress || mTotal == 0) return;
+  const std::uint64_t now = mDone += n;
+  // About 100 reports a stage: only the item that crosses a percent reports.
+  if (now * 100 / mTotal == (now - n) * 100 / mTotal && now < mTotal) return;
+  const std::lock_guard<std::mutex> lock(mReportMutex);
+  const std::uint64_t latest = std::max(mDone.load(), mReported);
+  if (latest == mReported) return;
+  mReported = latest;
+  mControl->report(mStage, std::min(latest, mTotal), mTotal);
 }
 
 JobControl terminalJobControl(std::function<bool()> stop) {

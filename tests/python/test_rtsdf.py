@@ -55,7 +55,9 @@ def test_sphere_distances_equal_the_analytic_ones(sphere_obj):
     rng = np.random.default_rng(3)
     points = rng.uniform(-2.0, 2.0, size=(4000, 3))
     d = rtsdf.distance(sphere_obj, points)
-    assert d.shape == (4000,) and d.dtype == np.float32
+    # dtype in = dtype out: float64 points (numpy's default) give float64 distances, float32 ones float32.
+    assert d.shape == (4000,) and d.dtype == np.float64
+    assert rtsdf.distance(sphere_obj, points[:10].astype(np.float32)).dtype == np.float32
     analytic = np.linalg.norm(points, axis=1) - 1.0
     # The mesh lies inside the sphere by at most its sagitta (edges of ~0.076 at 4 levels: 7.3e-4).
     assert np.max(np.abs(d - analytic)) < 2e-3

@@ -1,0 +1,160 @@
+// bake, distance and Pipeline: each one call into the library, without the GIL, stopped by Ctrl-C.
+#include "Bindings.h"
+
+#include "gpu/VulkanContext.h"
+#include "jobs/Bake.h"
+#include "jobs/JobSupport.h"
+#include "reference/ExactSdf.h"
+#include "scene/SceneGeometry.h"
+#include "sdf/SdfPipeline.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <pybind11/numpy.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace rtsdf::python {
+namespace {
+
+Field bakeField(const py::handle& sceneOrPath, const std::string& method, int res, double band,
+                const py::object& progress, const py::kwargs& kw) {
+  const ScenePtr scene = sceneOf(sceneOrPath);
+  BakeOptions o;
+  o.scene = scene->path;
+  o.method = parseEnum<BakeMethod>(method);
+  o.resolution = res;
+  o.pipeline.band = band;
+  // res is the result's resolution: the coarse grid's for jfa, the fine grid's for rtsdf (coarse: half of it).
+  o.pipeline.coarseRes = o.method == BakeMethod::Jfa ? res : std::max(1, res / 2);
+  o.pipeline.fineRes = res;
+  applySettings(kw, nullptr, o.pipeline, o); // the bake's device is a knob of BakeOptions
+  PythonJob job(progress);
+  const BakeResult r = job.run([&] { return bake(*scene, o, job.control()); });
+  return {r.grid, r.spec, band, toString(o.method)};
+}
+
+/// Exact signed distances (negative inside) at points of shape (..., 3), in parallel without the GIL, in the
+/// points' precision (float32 stays float32, the rest float64).
+template <class Real> py::array distancesAs(const ScenePtr& scene, const py::array& points, double time,
+                                            const py::object& progress) {
+  const auto p = py::array_t<Real, py::array::c_style | py::array::forcecast>::ensure(points);
+  const std::size_t n = std::size_t(p.size() / 3);
+  const Real* xyz = p.data();
+  for (std::size_t i = 0; i < 3 * n; ++i)
+    if (!std::isfinite(xyz[i])) throw py::value_error(fmt::format("points: row {} is not finite", i / 3));
+  py::array_t<Real> out(std::vector<py::ssize_t>(p.shape(), p.shape() + p.ndim() - 1));
+  Real* d = out.mutable_data();
+  PythonJob job(progress);
+  job.run([&] {
+    const SceneGeometry geometry = buildSceneGeometry(*scene, time);
+    const ExactDistanceField field(geometry);
+    JobPoll poll(&job.control(), "distance", n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+      if (poll.stopping()) return;
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+        d[i] = Real(field.signedDistance(glm::vec3(float(xyz[3 * i]), float(xyz[3 * i + 1]), float(xyz[3 * i + 2]))));
+      poll.done(r.size());
+    });
+    if (poll.stopping()) throw Interrupted();
+    return 0;
+  });
+  return std::move(out);
+}
+
+py::array distances(const py::handle& sceneOrPath, const py::handle& points, double time, const py::object& progress) {
+  const py::array a = py::module_::import("numpy").attr("asarray")(points);
+  if (a.ndim() < 1 || a.shape(a.ndim() - 1) != 3)
+    throw py::value_error("points: must be an (N, 3) array (shape (..., 3): the last axis holds x, y, z)");
+  const ScenePtr scene = sceneOf(sceneOrPath);
+  if (a.dtype().kind() == 'f' && a.itemsize() == 4) return distancesAs<float>(scene, a, time, progress);
+  return distancesAs<double>(scene, a, time, progress);
+}
+
+/// Frames of the GPU pipeline on one scene, its grids covering `frames` frames at `fps` from time 0.
+class Pipeline {
+public:
+  Pipeline(const py::handle& sceneOrPath, int frames, double fps, const py::kwargs& kw) : mScene(sceneOf(sceneOrPath)) {
+    if (frames < 1 || !(fps > 0.0)) throw SettingError("frames", "frames must be >= 1 and fps > 0");
+    PipelineSettings s;
+    std::string device;
+    applySettings(kw, &device, s);
+    Bounds bounds;
+    for (int f = 0; f < frames; ++f) bounds.add(buildSceneGeometry(*mScene, f / fps).bounds);
+    mCtx = std::make_unique<gpu::VulkanContext>(deviceContextOptions(device));
+    mPipe = std::make_unique<SdfPipeline>(*mCtx, *mScene, bounds, s);
+  }
+  py::dict frame(double time) {
+    FrameStats st;
+    {
+      py::gil_scoped_release release;
+      st = mPipe->runFrame(time);
+    }
+    if (mCtx->validationErrors()) throw Error(std::to_string(mCtx->validationErrors()) + " Vulkan validation errors");
+    mFrames += 1;
+    py::dict d;
+    d["time"] = st.time;
+    d["mask_voxels"] = st.maskFineVoxels;
+    d["refined_voxels"] = st.refinedFineVoxels;
+    d["host_ms"] = st.hostMs;
+    d["wall_ms"] = st.wallMs;
+    py::dict passes;
+    for (const auto& [name, ms] : st.passMs) passes[py::str(name)] = ms;
+    d["pass_ms"] = passes;
+    return d;
+  }
+  Field fine() const {
+    const GridSpec& spec = mPipe->fineSpec();
+    const float band = float(mPipe->settings().band > 0.0 ? mPipe->settings().band : spec.voxelSize);
+    return {mPipe->levelSet(band), spec, band, "pipeline"};
+  }
+  std::string repr() const {
+    const GridSpec& c = mPipe->coarseSpec();
+    const GridSpec& f = mPipe->fineSpec();
+    const std::string scene = mScene->path.empty() ? fmt::format("<mesh '{}'>", mScene->meshes.front().name)
+                                                   : fmt::format("'{}'", mScene->path);
+    return fmt::format("rtsdf.Pipeline({}, coarse {} x {} x {}, fine {} x {} x {}, {} refinement, {} frames run, "
+                       "on {})", scene, c.dims.x, c.dims.y, c.dims.z, f.dims.x, f.dims.y, f.dims.z,
+                       toString(mPipe->settings().mode), mFrames, mCtx->info().name);
+  }
+
+private:
+  ScenePtr mScene;
+  std::unique_ptr<gpu::VulkanContext> mCtx;
+  std::unique_ptr<SdfPipeline> mPipe;
+  int mFrames = 0;
+};
+
+} // namespace
+
+void bindJobs(py::module_& m) {
+  static const std::string bakeDoc =
+      "Bake the signed distance field of a scene, an rtsdf.Mesh or a scene/mesh path; returns a Field.\n\n"
+      "method exact|openvdb|jfa|rtsdf, res voxels across the longest side (the fine grid for rtsdf, the coarse "
+      "grid for jfa), band d in scene units; progress: None or callable(stage, fraction). Ctrl-C raises "
+      "KeyboardInterrupt within a second. Settings (docs/settings.md): " + keywordsOf<PipelineSettings>() + ", " +
+      keywordsOf<BakeOptions>();
+  m.def("bake", &bakeField, py::arg("scene"), py::arg("method") = "exact", py::arg("res") = 128,
+        py::arg("band") = 0.1, py::kw_only(), py::arg("progress") = py::none(), bakeDoc.c_str());
+  m.def("distance", &distances, py::arg("scene"), py::arg("points"), py::arg("time") = 0.0, py::kw_only(),
+        py::arg("progress") = py::none(),
+        "Exact signed distances (negative inside) at world points of shape (..., 3) to a scene, an rtsdf.Mesh or "
+        "a scene/mesh path at a time (seconds); shape (...), float32 for float32 points, else float64. Ctrl-C "
+        "raises KeyboardInterrupt");
+  static const std::string pipelineDoc =
+      "Frames of the GPU SDF pipeline on a scene, an rtsdf.Mesh or a scene/mesh path, its grids covering `frames` "
+      "frames at `fps` from time 0. Settings (docs/settings.md): " + keywordsOf<PipelineSettings>() + ", device";
+  py::class_<Pipeline>(m, "Pipeline", pipelineDoc.c_str())
+      .def(py::init<const py::handle&, int, double, const py::kwargs&>(), py::arg("scene"), py::arg("frames") = 60,
+           py::arg("fps") = 30.0)
+      .def("frame", &Pipeline::frame, py::arg("time"),
+           "Run the frame at a time (seconds); returns its statistics: time, mask_voxels, refined_voxels, host_ms, "
+           "wall_ms, pass_ms (per pass)")
+      .def("fine", &Pipeline::fine, "The last frame's fine SDF as a Field (the refined voxels)")
+      .def("__repr__", &Pipeline::repr);
+}
+
+} // namespace rtsdf::python

@@ -153,12 +153,13 @@ BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene, const JobControl
 
 BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const JobControl& control) {
   const std::string summary = detail::meshSummary(scene);
-  spdlog::info("{}: {}", options.scene, summary);
+  const std::string name = options.scene.empty() ? "(scene in memory)" : options.scene;
+  spdlog::info("{}: {}", name, summary);
   BakeResult r = options.method == BakeMethod::Rtsdf ? bakeRtsdf(options, scene, control)
                                                      : bakeOnGrid(options, scene, control);
   if (!options.allowEmpty && r.grid->activeVoxelCount() == 0)
     throw Error(fmt::format("{}: the {} level set on {} has no active voxel (band {:g} = {:.3g} voxels): widen the "
-                            "band, raise the resolution or, to keep it, allow an empty result", options.scene,
+                            "band, raise the resolution or, to keep it, allow an empty result", name,
                             toString(options.method), r.spec.describe(), options.pipeline.band,
                             options.pipeline.band / r.spec.voxelSize));
   r.sceneSummary = summary;

@@ -16,6 +16,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -183,6 +185,57 @@ TEST(Jobs, RtsdfBakeReportsProgressPerFrameAndStopsWhenAsked) {
   control.stopRequested = [&] { return ++polls > 1; }; // stop before the second frame
   EXPECT_THROW(bake(o, control), Interrupted);
   EXPECT_EQ(polls, 2);
+}
+
+TEST(Jobs, ExactBakeReportsProgressFromItsBlocksAndStopsWhenAsked) {
+  const BakeOptions o = smallBake(BakeMethod::Exact);
+  std::vector<std::uint64_t> done;
+  std::uint64_t total = 0;
+  std::atomic<int> polls{0};
+  JobControl control;
+  control.progress = [&](const std::string& stage, std::uint64_t d, std::uint64_t t) {
+    EXPECT_EQ(stage, "exact SDF");
+    done.push_back(d);
+    total = t;
+  };
+  control.stopRequested = [&] { return ++polls < 0; }; // polled, never stops
+  bake(o, control);
+  ASSERT_GE(done.size(), 10u);
+  EXPECT_TRUE(std::is_sorted(done.begin(), done.end()));
+  EXPECT_EQ(done.back(), total);
+  EXPECT_LE(done.size(), 101u) << "about one report a percent";
+  EXPECT_GE(std::uint64_t(polls.load()), total) << "a poll before every block";
+
+  polls = 0;
+  control.progress = {};
+  control.stopRequested = [&] { return ++polls > 5; }; // stop at the sixth block
+  EXPECT_THROW(bake(o, control), Interrupted);
+}
+
+TEST(Jobs, BakeOfAMeshFromMemoryEqualsTheBakeOfItsFile) {
+  BakeOptions o = smallBake(BakeMethod::Exact);
+  o.scene = test::dataPath("meshes/bunny.obj");
+  o.pipeline.band = 0.6; // the bunny's file is about 10 units across: 2.4 voxels at 40
+  const Scene file = loadScene(o.scene);
+  ASSERT_EQ(file.instances.size(), 1u);
+  // The same triangles with every corner order reversed: sceneFromMesh repairs them as loading does.
+  Mesh mesh = file.meshes.front();
+  mesh.source = "<arrays>";
+  for (glm::uvec3& t : mesh.triangles) std::swap(t.y, t.z);
+  const Scene memory = sceneFromMesh(mesh);
+  EXPECT_EQ(memory.meshReports.front().orientation.reorientedTriangles, mesh.triangles.size());
+  EXPECT_TRUE(memory.meshReports.front().watertight());
+  o.scene.clear();
+  const BakeResult a = bake(memory, o);
+  const BakeResult b = bake(file, o);
+  EXPECT_EQ(a.grid->activeVoxelCount(), b.grid->activeVoxelCount());
+  auto acc = b.grid->getConstAccessor();
+  for (auto it = a.grid->cbeginValueOn(); it; ++it) {
+    ASSERT_TRUE(acc.isValueOn(it.getCoord()));
+    ASSERT_NEAR(*it, acc.getValue(it.getCoord()), 1e-5 * a.spec.voxelSize); // corner order: rounding alone
+    ASSERT_EQ(*it < 0.0f, acc.getValue(it.getCoord()) < 0.0f);
+  }
+  EXPECT_TRUE(a.inputs.empty()) << "a mesh from memory reads no file";
 }
 
 TEST(Jobs, ClosestModeRunsTheClosestRefinePass) {

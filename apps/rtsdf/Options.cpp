@@ -24,6 +24,9 @@ void bindRenderSettings(CLI::App* cmd, RenderSettings& r, SettingFlags& flags) {
   });
 }
 
+constexpr const char* kUpHelp = "The up axis of the .vdb written: y (as the scene is) or z (turned upright for "
+                                "Blender and other Z-up tools; recorded as rtsdf:up)";
+
 void bindBake(CLI::App& app, BakeCommand& c, SettingFlags& flags) {
   BakeOptions& o = c.options;
   CLI::App* cmd = app.add_subcommand("bake", "Build the signed distance field of a scene and write it as a .vdb");
@@ -34,6 +37,7 @@ void bindBake(CLI::App& app, BakeCommand& c, SettingFlags& flags) {
   cmd->add_flag("--fog", c.written.fog, "Also write a 'density' fog grid so Blender shows the volume");
   cmd->add_flag("--half", c.written.vdb.halfFloat, "Store values as 16-bit halves");
   addEnum(cmd, "--compression", c.written.vdb.compression, "blosc, zip or none");
+  addEnum(cmd, "--up", c.written.vdb.up, kUpHelp);
 }
 
 void bindAnimate(CLI::App& app, AnimateCommand& c, SettingFlags& flags) {
@@ -45,6 +49,7 @@ void bindAnimate(CLI::App& app, AnimateCommand& c, SettingFlags& flags) {
   cmd->add_option("--csv", c.csv, "Write per-frame statistics to this CSV file");
   bindKnobs(cmd, o, flags);
   bindKnobs(cmd, o.pipeline, flags);
+  addEnum(cmd, "--up", o.vdb.up, kUpHelp);
 }
 
 void bindRender(CLI::App& app, RenderCommand& c, SettingFlags& flags) {
@@ -158,6 +163,8 @@ void bindCompare(CLI::App& app, CompareCommand& c, SettingFlags& flags) {
   c.againstFlag->default_str("")->excludes(b);
   noted(cmd->add_option("--scene", c.options.scene, "The anchor's scene (default: the one A records)"), "scene", flags)
       ->needs(c.againstFlag);
+  noted(cmd->add_option("--grid", c.options.grid, "The grid to read from each file (default: the one named 'surface' "
+                                                  "or the only level set)"), "grid", flags);
 }
 
 } // namespace

@@ -167,6 +167,14 @@ void bindCompare(CLI::App& app, CompareCommand& c, SettingFlags& flags) {
                                                   "or the only level set)"), "grid", flags);
 }
 
+void bindMesh(CLI::App& app, MeshOptions& o, SettingFlags& flags) {
+  CLI::App* cmd = app.add_subcommand("mesh", "Write the zero level set of a .vdb as a triangle mesh (OpenVDB's "
+                                             "volumeToMesh; .obj, .ply or .stl by the output's extension)");
+  cmd->add_option("input", o.input, "The level set (.vdb)")->required();
+  cmd->add_option("-o,--output", o.output, "Output mesh: .obj, .ply or .stl (written atomically)")->required();
+  bindKnobs(cmd, o, flags);
+}
+
 } // namespace
 
 std::string helpSettings() {
@@ -192,6 +200,8 @@ std::string helpSettings() {
   md += knobMarkdown<RenderJobOptions>({{"default", render}}, false);
   md += "\n## ViewOptions (view/Viewer.h): `rtsdf view`\n\n";
   md += knobMarkdown<ViewOptions>({{"default", view}}, false);
+  md += "\n## MeshOptions (jobs/MeshJob.h): `rtsdf mesh`\n\n";
+  md += knobMarkdown<MeshOptions>({{"default", MeshOptions{}}}, false);
   md += "\n## RenderSettings (render/Renderer.h): the picture of `render` and `view`\n\n";
   md += knobMarkdown<RenderSettings>({{"render", render.render}, {"view", view.render}}, false);
   md += "\n### SdfShadowSettings: the SDF march\n\n";
@@ -217,6 +227,7 @@ void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet) {
   app.add_subcommand("info", "Print versions, Vulkan devices with their limits, and embedded shaders");
   bindCompare(app, c.compare, c.flags);
   bindBench(app, c.bench, c.flags);
+  bindMesh(app, c.mesh, c.flags);
   // Hidden: writes docs/settings.md (the test Docs.SettingsAreGenerated compares).
   CLI::App* settings = app.add_subcommand("help-settings", "Print every settings struct's knobs")->group("");
   settings->add_flag("--markdown", "As Markdown (the only form)");

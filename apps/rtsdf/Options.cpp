@@ -24,6 +24,9 @@ void bindRenderSettings(CLI::App* cmd, RenderSettings& r, SettingFlags& flags) {
   });
 }
 
+constexpr const char* kUpHelp = "The up axis of the .vdb written: y (as the scene is) or z (turned upright for "
+                                "Blender and other Z-up tools; recorded as rtsdf:up)";
+
 void bindBake(CLI::App& app, BakeCommand& c, SettingFlags& flags) {
   BakeOptions& o = c.options;
   CLI::App* cmd = app.add_subcommand("bake", "Build the signed distance field of a scene and write it as a .vdb");
@@ -34,6 +37,7 @@ void bindBake(CLI::App& app, BakeCommand& c, SettingFlags& flags) {
   cmd->add_flag("--fog", c.written.fog, "Also write a 'density' fog grid so Blender shows the volume");
   cmd->add_flag("--half", c.written.vdb.halfFloat, "Store values as 16-bit halves");
   addEnum(cmd, "--compression", c.written.vdb.compression, "blosc, zip or none");
+  addEnum(cmd, "--up", c.written.vdb.up, kUpHelp);
 }
 
 void bindAnimate(CLI::App& app, AnimateCommand& c, SettingFlags& flags) {
@@ -45,6 +49,7 @@ void bindAnimate(CLI::App& app, AnimateCommand& c, SettingFlags& flags) {
   cmd->add_option("--csv", c.csv, "Write per-frame statistics to this CSV file");
   bindKnobs(cmd, o, flags);
   bindKnobs(cmd, o.pipeline, flags);
+  addEnum(cmd, "--up", o.vdb.up, kUpHelp);
 }
 
 void bindRender(CLI::App& app, RenderCommand& c, SettingFlags& flags) {
@@ -158,6 +163,16 @@ void bindCompare(CLI::App& app, CompareCommand& c, SettingFlags& flags) {
   c.againstFlag->default_str("")->excludes(b);
   noted(cmd->add_option("--scene", c.options.scene, "The anchor's scene (default: the one A records)"), "scene", flags)
       ->needs(c.againstFlag);
+  noted(cmd->add_option("--grid", c.options.grid, "The grid to read from each file (default: the one named 'surface' "
+                                                  "or the only level set)"), "grid", flags);
+}
+
+void bindMesh(CLI::App& app, MeshOptions& o, SettingFlags& flags) {
+  CLI::App* cmd = app.add_subcommand("mesh", "Write the zero level set of a .vdb as a triangle mesh (OpenVDB's "
+                                             "volumeToMesh; .obj, .ply or .stl by the output's extension)");
+  cmd->add_option("input", o.input, "The level set (.vdb)")->required();
+  cmd->add_option("-o,--output", o.output, "Output mesh: .obj, .ply or .stl (written atomically)")->required();
+  bindKnobs(cmd, o, flags);
 }
 
 } // namespace
@@ -185,6 +200,8 @@ std::string helpSettings() {
   md += knobMarkdown<RenderJobOptions>({{"default", render}}, false);
   md += "\n## ViewOptions (view/Viewer.h): `rtsdf view`\n\n";
   md += knobMarkdown<ViewOptions>({{"default", view}}, false);
+  md += "\n## MeshOptions (jobs/MeshJob.h): `rtsdf mesh`\n\n";
+  md += knobMarkdown<MeshOptions>({{"default", MeshOptions{}}}, false);
   md += "\n## RenderSettings (render/Renderer.h): the picture of `render` and `view`\n\n";
   md += knobMarkdown<RenderSettings>({{"render", render.render}, {"view", view.render}}, false);
   md += "\n### SdfShadowSettings: the SDF march\n\n";
@@ -210,6 +227,7 @@ void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet) {
   app.add_subcommand("info", "Print versions, Vulkan devices with their limits, and embedded shaders");
   bindCompare(app, c.compare, c.flags);
   bindBench(app, c.bench, c.flags);
+  bindMesh(app, c.mesh, c.flags);
   // Hidden: writes docs/settings.md (the test Docs.SettingsAreGenerated compares).
   CLI::App* settings = app.add_subcommand("help-settings", "Print every settings struct's knobs")->group("");
   settings->add_flag("--markdown", "As Markdown (the only form)");

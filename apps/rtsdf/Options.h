@@ -7,6 +7,7 @@
 #include "jobs/Animate.h"
 #include "jobs/Bake.h"
 #include "jobs/Compare.h"
+#include "jobs/MeshJob.h"
 #include "jobs/RenderJob.h"
 #include "view/Viewer.h"
 
@@ -55,6 +56,7 @@ struct Commands {
   RenderCommand render;
   BenchCommand bench;
   CompareCommand compare;
+  MeshOptions mesh;
   ViewOptions view;
   SettingFlags flags; ///< the flag of each setting the commands bind, for errors naming a setting
 };

@@ -5,6 +5,7 @@
 #include "jobs/Animate.h"
 #include "jobs/Bake.h"
 #include "jobs/Compare.h"
+#include "jobs/MeshJob.h"
 #include "jobs/RenderJob.h"
 #include "jobs/SystemInfo.h"
 #include "util/AtomicFile.h"
@@ -36,6 +37,11 @@ int runBake(const BakeCommand& c) {
 int runCompare(CompareCommand c) {
   if (c.againstFlag->count()) c.options.against = c.anchor;
   fmt::print("{}", compare(c.options, terminalJobControl()).report());
+  return 0;
+}
+
+int runMesh(const MeshOptions& o) {
+  fmt::print("{}", meshLevelSet(o, terminalJobControl()).report(o));
   return 0;
 }
 
@@ -124,6 +130,7 @@ int run(const Commands& c) {
   if (c.which == "view") return runView(c.view);
   if (c.which == "bench") return runBench(c.bench);
   if (c.which == "compare") return runCompare(c.compare);
+  if (c.which == "mesh") return runMesh(c.mesh);
   if (c.which == "help-settings") {
     fmt::print("{}", helpSettings());
     return 0;

@@ -51,7 +51,7 @@ int run(const std::string& scenePath, const std::string& outPrefix, int frames) 
   const double band = pipeline.settings().band, time = (frames - 1) / kFps;
   const openvdb::FloatGrid::Ptr grid = pipeline.levelSet(static_cast<float>(band));
   rtsdf::stampLevelSet(*grid, pipeline.fineSpec(),
-                       {{"scene", scenePath}, {"band", std::to_string(band)}, {"time", std::to_string(time)}});
+                       {{"scene", rtsdf::recordedScenePath(scenePath)}, {"band", band}, {"time", time}});
   rtsdf::writeVdb(outPrefix + ".vdb", {grid});
   std::printf("%s.vdb: %llu active voxels\n", outPrefix.c_str(),
               static_cast<unsigned long long>(grid->activeVoxelCount()));

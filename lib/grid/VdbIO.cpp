@@ -35,7 +35,21 @@ double minVdbVoxelSize() {
   return std::cbrt(3.0 * openvdb::math::Tolerance<double>::value()) * (1.0 + 1e-9);
 }
 
-openvdb::math::Transform::Ptr makeTransform(const GridSpec& spec) {
+namespace {
+
+/// The turn of a Y-up frame to a Z-up one, (x, y, z) -> (x, -z, y), in OpenVDB's row-vector convention
+/// (world = index * M); @a inverse turns back. Only 0 and +-1: products with it are exact.
+openvdb::Mat4d upTurn(bool inverse) {
+  const double s = inverse ? -1.0 : 1.0;
+  return openvdb::Mat4d(1.0, 0.0, 0.0, 0.0, //
+                        0.0, 0.0, s, 0.0,   //
+                        0.0, -s, 0.0, 0.0,  //
+                        0.0, 0.0, 0.0, 1.0);
+}
+
+} // namespace
+
+openvdb::math::Transform::Ptr makeTransform(const GridSpec& spec, UpAxis up) {
   if (!(spec.voxelSize >= minVdbVoxelSize()))
     throw Error(fmt::format("OpenVDB grid: voxel size {:.3g} is below the smallest OpenVDB transforms accept "
                             "({:.3g}): the scene's units are too small for this resolution (scale the scene up or "
@@ -43,6 +57,7 @@ openvdb::math::Transform::Ptr makeTransform(const GridSpec& spec) {
   auto xf = openvdb::math::Transform::createLinearTransform(spec.voxelSize);
   const glm::dvec3 c = spec.origin + 0.5 * spec.voxelSize;
   xf->postTranslate(openvdb::Vec3d(c.x, c.y, c.z));
+  if (up == UpAxis::Z) xf->postMult(upTurn(false));
   return xf;
 }
 
@@ -147,14 +162,66 @@ std::vector<float> levelSetToDense(const FloatGrid& grid, const GridSpec& spec) 
   return out;
 }
 
-void stampLevelSet(FloatGrid& grid, const GridSpec& spec, const std::map<std::string, std::string>& settings) {
+void stampLevelSet(FloatGrid& grid, const GridSpec& spec, const std::map<std::string, MetaValue>& settings) {
   grid.setName("surface");
   grid.setGridClass(openvdb::GRID_LEVEL_SET);
   grid.setTransform(makeTransform(spec));
   grid.insertMeta("rtsdf:dims", openvdb::Vec3IMetadata(openvdb::Vec3i(spec.dims.x, spec.dims.y, spec.dims.z)));
   grid.insertMeta("rtsdf:origin", openvdb::Vec3DMetadata(openvdb::Vec3d(spec.origin.x, spec.origin.y, spec.origin.z)));
   grid.insertMeta("rtsdf:voxel_size", openvdb::DoubleMetadata(spec.voxelSize));
-  for (const auto& [k, v] : settings) grid.insertMeta("rtsdf:" + k, openvdb::StringMetadata(v));
+  for (const auto& [k, v] : settings) {
+    const std::string key = "rtsdf:" + k;
+    if (const auto* text = std::get_if<std::string>(&v)) grid.insertMeta(key, openvdb::StringMetadata(*text));
+    else if (const auto* real = std::get_if<double>(&v)) grid.insertMeta(key, openvdb::DoubleMetadata(*real));
+    else if (const auto* i32 = std::get_if<int>(&v)) grid.insertMeta(key, openvdb::Int32Metadata(*i32));
+    else grid.insertMeta(key, openvdb::Int64Metadata(std::get<std::int64_t>(v)));
+  }
+}
+
+std::string recordedScenePath(const std::string& scene) {
+  if (scene.empty() || scene.front() == '<') return scene; // a scene in memory has no file
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(scene, ec);
+  return ec ? scene : absolute.lexically_normal().string();
+}
+
+std::optional<double> numberMeta(const openvdb::GridBase& grid, const std::string& key) {
+  const openvdb::Metadata::ConstPtr m = grid[key];
+  if (!m) return std::nullopt;
+  if (const auto d = grid.getMetadata<openvdb::DoubleMetadata>(key)) return d->value();
+  if (const auto f = grid.getMetadata<openvdb::FloatMetadata>(key)) return double(f->value());
+  if (const auto i = grid.getMetadata<openvdb::Int32Metadata>(key)) return double(i->value());
+  if (const auto l = grid.getMetadata<openvdb::Int64Metadata>(key)) return double(l->value());
+  if (const auto t = grid.getMetadata<openvdb::StringMetadata>(key)) {
+    // Older files stored numbers as text ("0.3", "inf").
+    const std::string& text = t->value();
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (!text.empty() && end == text.c_str() + text.size()) return v;
+  }
+  return std::nullopt;
+}
+
+std::string stringMeta(const openvdb::GridBase& grid, const std::string& key) {
+  const openvdb::Metadata::ConstPtr m = grid[key];
+  return m ? m->str() : std::string();
+}
+
+UpAxis upAxisOf(const openvdb::GridBase& grid) {
+  const std::string up = stringMeta(grid, "rtsdf:up");
+  if (up.empty() || up == "y") return UpAxis::Y;
+  if (up == "z") return UpAxis::Z;
+  throw Error(fmt::format("grid '{}': rtsdf:up is '{}' (y or z)", oneLine(grid.getName(), 80), oneLine(up, 80)));
+}
+
+FloatGrid::Ptr inSceneFrame(const FloatGrid::Ptr& grid) {
+  if (upAxisOf(*grid) == UpAxis::Y) return grid;
+  FloatGrid::Ptr copy = grid->copy(); // shares the tree
+  auto xf = grid->transform().copy();
+  xf->postMult(upTurn(true));
+  copy->setTransform(xf);
+  copy->insertMeta("rtsdf:up", openvdb::StringMetadata("y"));
+  return copy;
 }
 
 GridSpec gridSpecOf(const FloatGrid& grid) {
@@ -169,7 +236,7 @@ GridSpec gridSpecOf(const FloatGrid& grid) {
   spec.voxelSize = h->value();
   if (!(spec.voxelSize > 0) || spec.dims.x < 1 || spec.dims.y < 1 || spec.dims.z < 1)
     throw Error(fmt::format("grid '{}': invalid rtsdf layout metadata", grid.getName()));
-  if (*makeTransform(spec) != grid.transform())
+  if (*makeTransform(spec, upAxisOf(grid)) != grid.transform())
     throw Error(fmt::format("grid '{}': transform disagrees with its rtsdf layout metadata", grid.getName()));
   return spec;
 }
@@ -210,6 +277,30 @@ void requireReadsBack(const fs::path& tmp, const openvdb::GridPtrVec& written, c
   }
 }
 
+/// Shallow copies of @a grids as they are written to @a path: turned to @a up, the scene's path relative to the file.
+openvdb::GridPtrVec asWritten(const openvdb::GridPtrVec& grids, const fs::path& path, UpAxis up) {
+  openvdb::GridPtrVec out;
+  for (const auto& g : grids) {
+    openvdb::GridBase::Ptr copy = g->copyGrid(); // shares the tree and the transform
+    if (up == UpAxis::Z && upAxisOf(*g) == UpAxis::Y) {
+      auto xf = g->transform().copy();
+      xf->postMult(upTurn(false));
+      copy->setTransform(xf);
+      copy->insertMeta("rtsdf:up", openvdb::StringMetadata("z"));
+    }
+    const fs::path scene = stringMeta(*g, "rtsdf:scene");
+    if (scene.is_absolute()) {
+      std::error_code ec;
+      const fs::path folder = fs::absolute(path, ec).parent_path().lexically_normal();
+      if (!ec)
+        copy->insertMeta("rtsdf:scene_relative",
+                         openvdb::StringMetadata(scene.lexically_relative(folder).generic_string()));
+    }
+    out.push_back(copy);
+  }
+  return out;
+}
+
 } // namespace
 
 void writeVdb(const fs::path& path, const openvdb::GridPtrVec& grids, const VdbWriteOptions& options) {
@@ -217,36 +308,22 @@ void writeVdb(const fs::path& path, const openvdb::GridPtrVec& grids, const VdbW
   if (grids.empty()) throw Error(fmt::format("{}: no grids to write", path.string()));
   for (const auto& g : grids)
     if (!g) throw Error(fmt::format("{}: cannot write a null grid", path.string()));
+  const openvdb::GridPtrVec written = asWritten(grids, path, options.up);
   writeFileAtomically(path, [&](const fs::path& tmp) {
     try {
-      for (const auto& g : grids) g->setSaveFloatAsHalf(options.halfFloat);
+      for (const auto& g : written) g->setSaveFloatAsHalf(options.halfFloat);
       openvdb::io::File file(tmp.string());
       std::uint32_t flags = openvdb::io::COMPRESS_ACTIVE_MASK;
       if (options.compression == VdbCompression::Zip) flags |= openvdb::io::COMPRESS_ZIP;
       if (options.compression == VdbCompression::Blosc) flags |= openvdb::io::COMPRESS_BLOSC;
       file.setCompression(flags);
-      file.write(grids);
+      file.write(written);
       file.close();
     } catch (const openvdb::Exception& e) {
       throw Error(fmt::format("{}: cannot write .vdb: {}", path.string(), e.what()));
     }
-    requireReadsBack(tmp, grids, path);
+    requireReadsBack(tmp, written, path);
   });
-}
-
-FloatGrid::Ptr readLevelSet(const fs::path& path) {
-  const openvdb::GridPtrVec grids = readVdb(path);
-  FloatGrid::Ptr only;
-  int levelSets = 0;
-  for (const auto& g : grids) {
-    auto f = openvdb::gridPtrCast<FloatGrid>(g);
-    if (!f) continue;
-    if (f->getName() == "surface") return f;
-    if (f->getGridClass() == openvdb::GRID_LEVEL_SET) { only = f; ++levelSets; }
-  }
-  if (levelSets == 1) return only;
-  throw Error(fmt::format("{}: no float grid named 'surface' and {} level-set grids (need exactly one)", path.string(),
-                          levelSets));
 }
 
 } // namespace rtsdf

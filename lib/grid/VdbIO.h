@@ -10,8 +10,10 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace rtsdf {
@@ -20,10 +22,21 @@ namespace rtsdf {
 ///        determinant h^3 is below 3e-15 ("Non-zero scale values required"), i.e. h below about 1.44e-5.
 double minVdbVoxelSize();
 
-/// @brief OpenVDB transform of a cell-centred grid: scale h, translated to voxel (0,0,0)'s centre.
+/// @brief The axis that points up in a written .vdb. Scenes are Y-up (glTF, OBJ by custom); Blender is Z-up.
+enum class UpAxis {
+  Y, ///< as the scene is
+  Z  ///< turned +90 degrees about X, (x, y, z) -> (x, -z, y), as Blender's glTF import turns a Y-up scene
+};
+template <> struct EnumNames<UpAxis> {
+  static constexpr const char* kSetting = "up axis";
+  static constexpr std::pair<const char*, UpAxis> kValues[] = {{"y", UpAxis::Y}, {"z", UpAxis::Z}};
+};
+
+/// @brief OpenVDB transform of a cell-centred grid: scale h, translated to voxel (0,0,0)'s centre, then turned so
+///        that @a up points up (exactly: the turn's matrix holds only 0 and +-1).
 /// @throw Error naming the voxel size when it is below minVdbVoxelSize() (the scene's units are too small
 ///        for OpenVDB at this resolution: scale the scene up or lower the resolution).
-openvdb::math::Transform::Ptr makeTransform(const GridSpec& spec);
+openvdb::math::Transform::Ptr makeTransform(const GridSpec& spec, UpAxis up = UpAxis::Y);
 
 /// @brief Fills one 8x8x8 block of a level set. @a origin is the block's first voxel; @a values and
 ///        @a active hold 512 entries in OpenVDB leaf order (z fastest: offset = (x*8 + y)*8 + z, local
@@ -51,11 +64,36 @@ openvdb::FloatGrid::Ptr activeVoxelsToLevelSet(std::vector<std::pair<std::uint64
 /// @note The grid's transform must equal makeTransform(spec).
 std::vector<float> levelSetToDense(const openvdb::FloatGrid& grid, const GridSpec& spec);
 
+/// @brief One rtsdf:* metadata value: text, or a number stored as a number (Blender and OpenVDB's tools show it
+///        as one). An int is stored as a 32-bit integer, a std::int64_t as a 64-bit one, a double as a double.
+using MetaValue = std::variant<std::string, double, int, std::int64_t>;
+
 /// @brief Mark @a grid as rtsdf's level set: class GRID_LEVEL_SET, name "surface", the cell-centred
 ///        transform of @a spec, and rtsdf:* metadata with the grid layout and the @a settings that made it.
-void stampLevelSet(openvdb::FloatGrid& grid, const GridSpec& spec, const std::map<std::string, std::string>& settings);
+void stampLevelSet(openvdb::FloatGrid& grid, const GridSpec& spec, const std::map<std::string, MetaValue>& settings);
 
-/// @brief The grid layout recorded by stampLevelSet (dims and origin), checked against the transform.
+/// @brief The scene's path as a file records it (rtsdf:scene): absolute, so that it is found from any folder
+///        (writeVdb adds the path relative to the file); empty, or a name in angle brackets (a scene in memory),
+///        as it is.
+std::string recordedScenePath(const std::string& scene);
+
+/// @brief The number a metadata entry holds: a number of any OpenVDB type, or text that is a number (files written
+///        before numbers were stored as numbers); empty when absent or not a number.
+std::optional<double> numberMeta(const openvdb::GridBase& grid, const std::string& key);
+
+/// @brief The text a metadata entry holds (a number as OpenVDB prints it); empty when absent.
+std::string stringMeta(const openvdb::GridBase& grid, const std::string& key);
+
+/// @brief The up axis a grid was written with (rtsdf:up; Y when absent).
+/// @throw Error naming the grid when rtsdf:up holds anything but "y" or "z".
+UpAxis upAxisOf(const openvdb::GridBase& grid);
+
+/// @brief @a grid in its scene's frame: itself when Y-up, else a copy sharing its tree whose transform undoes the
+///        turn an --up z write added (exactly, so that it equals makeTransform of its layout again).
+openvdb::FloatGrid::Ptr inSceneFrame(const openvdb::FloatGrid::Ptr& grid);
+
+/// @brief The grid layout recorded by stampLevelSet (dims and origin), checked against the transform (turned as
+///        rtsdf:up says).
 /// @throw Error when the metadata is missing or inconsistent (a .vdb not written by rtsdf).
 GridSpec gridSpecOf(const openvdb::FloatGrid& grid);
 
@@ -78,9 +116,14 @@ template <> struct EnumNames<VdbCompression> {
 struct VdbWriteOptions {
   VdbCompression compression = VdbCompression::Blosc;
   bool halfFloat = false; ///< store float grids as 16-bit halves (smaller files, ~3 significant digits)
+  UpAxis up = UpAxis::Y;  ///< Z: every grid's transform turned so the scene stands upright in Z-up tools (Blender)
 };
 
 /// @brief Write @a grids to @a path atomically (temporary file, then rename).
+/// @details The grids written are shallow copies (the trees are shared, the caller's grids are left as they are):
+///          with options.up Z each transform is turned (makeTransform) and rtsdf:up = "z" recorded; a grid that
+///          records its scene (rtsdf:scene, an absolute path) also gets rtsdf:scene_relative, the scene's path
+///          relative to @a path's folder, so that the scene is found when both move together.
 /// @throw Error naming the file on any failure; no partial file is left behind.
 void writeVdb(const std::filesystem::path& path, const openvdb::GridPtrVec& grids, const VdbWriteOptions& options = {});
 
@@ -96,8 +139,14 @@ openvdb::GridPtrVec readVdb(const std::filesystem::path& path);
 /// @throw Error naming @a name, the problem and its byte offset, on one short line.
 openvdb::GridPtrVec readVdbBytes(const std::string& bytes, const std::string& name);
 
-/// @brief Read the level set of a .vdb: the float grid named "surface", else the only float level set.
-/// @throw Error naming the file when there is no such grid.
-openvdb::FloatGrid::Ptr readLevelSet(const std::filesystem::path& path);
+/// @brief Read the level set of a .vdb, checked (LevelSetRead.cpp): the grid named @a gridName, else the one
+///        candidate (a grid named "surface" or of class level set; the only grid when there is no candidate). It
+///        must hold floats, be of class level set, have a linear transform with cubic voxels, a positive finite
+///        background and finite values. Active tiles are turned into their voxels (tools that count or visit
+///        active voxels leaf by leaf would skip them).
+/// @throw SettingError("grid") naming the file and listing the candidates when there are several; Error naming
+///        the file, the grid and what is wrong otherwise (no such grid, not a level set, not float, a frustum or
+///        non-uniform transform, values that are NaN or infinite, tiles too large to expand in memory).
+openvdb::FloatGrid::Ptr readLevelSet(const std::filesystem::path& path, const std::string& gridName = {});
 
 } // namespace rtsdf

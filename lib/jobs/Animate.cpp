@@ -118,7 +118,7 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
     if (a.measureError) fr.error = frameError(scene, pipe, fr.time, a.focus.empty() ? nullptr : &box);
     if (!a.vdbDir.empty()) {
       const fs::path file = a.vdbDir / fmt::format("frame{:04d}.vdb", f);
-      writeVdb(file, {fineLevelSet(pipe, stamp, fr.time)}, {});
+      writeVdb(file, {fineLevelSet(pipe, stamp, fr.time)}, a.vdb);
       written.add(file);
     }
     result.frames.push_back(fr);

@@ -2,6 +2,7 @@
 /// @file Animate.h
 /// @brief The RTSDF pipeline over an animation: per frame the ray mask, the GPU pass times, the host's CPU
 ///        time and the error against the exact field of the same moment (ghosting), optionally a .vdb per frame.
+#include "grid/VdbIO.h"
 #include "metrics/FieldError.h"
 #include "sdf/SdfPipeline.h"
 #include "util/JobControl.h"
@@ -23,6 +24,7 @@ struct AnimateOptions {
   bool measureError = true;   ///< each frame against the exact field of the same moment
   std::string focus;          ///< measure only in the box this instance sweeps over the animation (ghosting)
   std::filesystem::path vdbDir; ///< write frameNNNN.vdb (the fine SDF's band) into this folder; empty: none
+  VdbWriteOptions vdb;        ///< how the frameNNNN.vdb files are written (compression, up axis)
   std::string device;         ///< Vulkan device by index or name; empty: the best one
   /// Seconds of untimed full frames at time 0, on a pipeline of its own, before the first frame: a GPU's clocks
   /// rise only under sustained load (warmUpGpu). The frames measured are the same with or without it.

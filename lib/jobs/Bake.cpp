@@ -44,11 +44,10 @@ openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions&
   const PipelineSettings& p = o.pipeline;
   auto grid = pipe.levelSet(float(fineLevelSetBand(p, pipe.fineSpec())));
   stampLevelSet(*grid, pipe.fineSpec(),
-                {{"method", "rtsdf"}, {"scene", o.scene}, {"coarse", std::to_string(p.coarseRes)},
-                 {"resolution", std::to_string(p.fineRes)}, {"band", fmt::format("{}", p.band)},
-                 {"alpha", fmt::format("{}", p.alpha)}, {"rays", std::to_string(p.rays)},
-                 {"frames", std::to_string(o.frames)}, {"refine", toString(p.mode)}, {"coarse_method", toString(p.coarseMethod)},
-                 {"seed", std::to_string(p.seed)}, {"time", fmt::format("{}", time)}, {"version", detail::version()}});
+                {{"method", "rtsdf"}, {"scene", recordedScenePath(o.scene)}, {"coarse", p.coarseRes},
+                 {"resolution", p.fineRes}, {"band", p.band}, {"alpha", p.alpha}, {"rays", p.rays},
+                 {"frames", o.frames}, {"refine", toString(p.mode)}, {"coarse_method", toString(p.coarseMethod)},
+                 {"seed", std::int64_t(p.seed)}, {"time", time}, {"version", detail::version()}});
   return grid;
 }
 
@@ -140,11 +139,11 @@ BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene, const JobControl
   const bool jfa = o.method == BakeMethod::Jfa;
   stampLevelSet(*r.grid, r.spec,
                 {{"method", toString(o.method)},
-                 {"scene", o.scene},
-                 {"resolution", std::to_string(jfa ? o.pipeline.coarseRes : o.resolution)},
-                 {"band", fmt::format("{}", o.fullDomain ? INFINITY : band)},
-                 {"padding", fmt::format("{}", padding)},
-                 {"time", fmt::format("{}", o.time)},
+                 {"scene", recordedScenePath(o.scene)},
+                 {"resolution", jfa ? o.pipeline.coarseRes : o.resolution},
+                 {"band", o.fullDomain ? double(INFINITY) : band},
+                 {"padding", padding},
+                 {"time", o.time},
                  {"sign", signDescription(o)},
                  {"coarse_method", jfa ? toString(o.pipeline.coarseMethod) : ""},
                  {"version", detail::version()}});

@@ -3,11 +3,14 @@
 #include "grid/VdbIO.h"
 #include "jobs/Bake.h"
 #include "util/Error.h"
+#include "util/Text.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace rtsdf {
 namespace fs = std::filesystem;
@@ -47,7 +50,26 @@ void requireSharedVoxels(const FloatGrid& a, const FloatGrid& b, const FileCompa
                           c.alignment.empty() ? "" : " (" + c.alignment + ")"));
 }
 
-FileComparison compareGrids(const FloatGrid& a, const FloatGrid& b, std::string nameA, std::string nameB) {
+/// One line when A and B look like fields of different scenes: they record different scenes, or their active
+/// voxels' boxes overlap by less than half of the smaller box.
+std::string differentScenes(const FloatGrid& a, const FloatGrid& b, const FileComparison& c) {
+  const fs::path sa = stringMeta(a, "rtsdf:scene"), sb = stringMeta(b, "rtsdf:scene");
+  if (!sa.empty() && !sb.empty() && sa.lexically_normal() != sb.lexically_normal())
+    return fmt::format("{} and {} are fields of different scenes ({} and {}): their differences measure the scenes, "
+                       "not the methods", c.nameA, c.nameB, oneLine(sa.string(), 60), oneLine(sb.string(), 60));
+  const openvdb::BBoxd ba = activeWorldBox(a), bb = activeWorldBox(b);
+  if (!ba.hasOverlap(bb)) return {}; // requireSharedVoxels has refused it: nothing was compared
+  const openvdb::BBoxd both(openvdb::math::maxComponent(ba.min(), bb.min()),
+                            openvdb::math::minComponent(ba.max(), bb.max()));
+  const double overlap = both.volume() / std::min(ba.volume(), bb.volume());
+  if (overlap >= 0.5) return {};
+  return fmt::format("{} and {} may be fields of different scenes: their active voxels' boxes overlap by {:.0f}% of "
+                     "the smaller (A {}, B {})", c.nameA, c.nameB, 100.0 * overlap, bboxText(ba), bboxText(bb));
+}
+
+/// @a anchored: B was baked from A's scene (no warning about different scenes).
+FileComparison compareGrids(const FloatGrid& a, const FloatGrid& b, std::string nameA, std::string nameB,
+                            bool anchored) {
   FileComparison c;
   c.nameA = std::move(nameA);
   c.nameB = std::move(nameB);
@@ -57,15 +79,13 @@ FileComparison compareGrids(const FloatGrid& a, const FloatGrid& b, std::string 
   c.error = compareFields(a, b);
   c.voxelSize = voxelUnit(a);
   requireSharedVoxels(a, b, c);
+  if (!anchored) c.warning = differentScenes(a, b, c);
+  if (!c.warning.empty()) spdlog::warn("{}", c.warning);
   return c;
 }
 
-std::string stringMeta(const FloatGrid& g, const std::string& key) {
-  const auto m = g.getMetadata<openvdb::StringMetadata>(key);
-  return m ? m->value() : std::string();
-}
-
-/// The anchor's scene: as given, else A's rtsdf:scene as written (relative to the working folder), else beside A.
+/// The anchor's scene: as given; else A's rtsdf:scene, an absolute path; else rtsdf:scene_relative beside A; else
+/// (older files recorded the path as given to bake) rtsdf:scene as written, then beside A.
 std::string anchorScene(const FloatGrid& a, const CompareOptions& o) {
   if (!o.scene.empty()) return o.scene;
   const std::string recorded = stringMeta(a, "rtsdf:scene");
@@ -73,11 +93,15 @@ std::string anchorScene(const FloatGrid& a, const CompareOptions& o) {
     throw SettingError("scene", fmt::format("{} records no scene (no rtsdf:scene metadata): give the scene to bake "
                                             "the anchor from", o.a.string()));
   std::error_code ec;
-  if (fs::exists(recorded, ec)) return recorded;
-  const fs::path beside = o.a.parent_path() / recorded;
-  if (fs::path(recorded).is_relative() && fs::exists(beside, ec)) return beside.string();
-  throw SettingError("scene", fmt::format("{} records the scene '{}', which is not found: give the scene to bake the "
-                                          "anchor from", o.a.string(), recorded));
+  std::vector<fs::path> tried{recorded};
+  const std::string relative = stringMeta(a, "rtsdf:scene_relative");
+  if (!relative.empty()) tried.push_back(o.a.parent_path() / relative);
+  if (fs::path(recorded).is_relative()) tried.push_back(o.a.parent_path() / recorded);
+  for (const fs::path& p : tried)
+    if (fs::exists(p, ec)) return p.lexically_normal().string();
+  throw SettingError("scene", fmt::format("{} records the scene '{}'{}, which is not found: give the scene to bake "
+                                          "the anchor from", o.a.string(), recorded,
+                                          relative.empty() ? "" : fmt::format(" ('{}' from its folder)", relative)));
 }
 
 /// A's voxels: its rtsdf layout, or for a file from another tool the box of its active voxels on its lattice.
@@ -99,12 +123,10 @@ BakeOptions anchorBake(const FloatGrid& a, const CompareOptions& o) {
   bo.method = *o.against == CompareAnchor::Exact ? BakeMethod::Exact : BakeMethod::OpenVdb;
   bo.grid = anchorGrid(a);
   // A level set's background is its band's half-width; an exact full-domain file records an infinite band.
-  const std::string band = stringMeta(a, "rtsdf:band");
-  const double recorded = band.empty() ? NAN : std::strtod(band.c_str(), nullptr);
+  const double recorded = numberMeta(a, "rtsdf:band").value_or(NAN);
   bo.fullDomain = std::isinf(recorded) && bo.method == BakeMethod::Exact;
   bo.pipeline.band = recorded > 0.0 && std::isfinite(recorded) ? recorded : double(a.background());
-  const std::string time = stringMeta(a, "rtsdf:time");
-  bo.time = time.empty() ? 0.0 : std::strtod(time.c_str(), nullptr);
+  bo.time = numberMeta(a, "rtsdf:time").value_or(0.0);
   return bo;
 }
 
@@ -112,8 +134,9 @@ BakeOptions anchorBake(const FloatGrid& a, const CompareOptions& o) {
 
 FileComparison compare(const CompareOptions& o, const JobControl& control) {
   o.validate();
-  const FloatGrid::Ptr a = readLevelSet(o.a);
-  if (!o.against) return compareGrids(*a, *readLevelSet(o.b), o.a.string(), o.b.string());
+  const FloatGrid::Ptr a = inSceneFrame(readLevelSet(o.a, o.grid));
+  if (!o.against) return compareGrids(*a, *inSceneFrame(readLevelSet(o.b, o.grid)), o.a.string(), o.b.string(),
+                                        false);
   // Before baking: an empty level set has no voxels to bake the anchor on.
   if (a->activeVoxelCount() == 0) throw Error(fmt::format("{}: the level set has no active voxels", o.a.string()));
   const BakeOptions bo = anchorBake(*a, o);
@@ -124,7 +147,8 @@ FileComparison compare(const CompareOptions& o, const JobControl& control) {
   control.report("baking the anchor", 1, 1);
   return compareGrids(*a, *anchor.grid, o.a.string(),
                       fmt::format("{} bake of {} on A's voxels (band {:.6g}{}, time {})", toString(bo.method),
-                                  bo.scene, bo.pipeline.band, bo.fullDomain ? ", full domain" : "", bo.time));
+                                  bo.scene, bo.pipeline.band, bo.fullDomain ? ", full domain" : "", bo.time),
+                      true);
 }
 
 FileComparison compareFiles(const fs::path& a, const fs::path& b) {

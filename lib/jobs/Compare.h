@@ -30,9 +30,12 @@ struct CompareOptions {
   std::filesystem::path a;              ///< the level set measured (its voxels are the unit)
   std::filesystem::path b;              ///< the level set it is compared with; empty when @a against is set
   std::optional<CompareAnchor> against; ///< bake this anchor on A's voxels and band instead of reading B
-  /// The anchor's scene (.json or mesh); empty: the one A's rtsdf:scene metadata records, looked up as written
-  /// and then beside A. The anchor is baked at A's rtsdf:time (0 when absent).
+  /// The anchor's scene (.json or mesh); empty: the one A's metadata records, found by its absolute path
+  /// (rtsdf:scene), else by its path relative to A (rtsdf:scene_relative), else (files of older versions) as
+  /// written and beside A. The anchor is baked at A's rtsdf:time (0 when absent).
   std::string scene;
+  /// The grid to read from each file; empty: the one candidate (readLevelSet: "surface" or the only level set).
+  std::string grid;
   /// @throw SettingError unless exactly one of @a b and @a against is given, or when @a scene is given without
   ///        @a against.
   void validate() const;
@@ -45,14 +48,23 @@ struct FileComparison {
   double voxelSize = 0.0;           ///< A's voxel size, the unit of the error
   std::string alignment;            ///< how B was read at A's voxels ("" for the same voxels)
   std::string nameA, nameB;         ///< the files, or what was baked for B
+  /// One line when A and B look like fields of different scenes (they record different scenes, or their active
+  /// voxels' boxes do not overlap): their differences then measure the scenes, not a method; also logged as a
+  /// warning. Empty otherwise.
+  std::string warning;
   /// @brief The lines `rtsdf compare` prints.
   std::string report() const;
 };
 
 /// @brief Compare as @a options say (metrics/FieldError.h's compareFields on the two level sets).
-/// @throw SettingError on contradictory options; Error naming the file when one cannot be read or holds no level
-///        set, when either level set has no active voxel, when they do not overlap or share no defined voxel,
-///        and as bake() does for the anchor (its scene missing or bad); Interrupted when @a control asks to stop.
+/// @details Each file's level set is read and checked by readLevelSet (class, float values, a uniform linear
+///          transform, finite values; active tiles count as their voxels) and compared in its scene's frame (a file
+///          written with --up z is turned back).
+/// @throw SettingError on contradictory options or, naming "grid", when a file holds several candidate level
+///        sets; Error naming the file when one cannot be read or holds no level set or a grid that is not one
+///        (readLevelSet says why), when either level set has no active voxel, when they do not overlap or share no
+///        defined voxel, and as bake() does for the anchor (its scene missing or bad); Interrupted when @a control
+///        asks to stop.
 FileComparison compare(const CompareOptions& options, const JobControl& control = {});
 
 /// @brief compare() of two files.

@@ -4,6 +4,7 @@
 // is short (no line longer than 300 characters), it leaves no file behind (no output, no temporary) and it
 // changes none of its inputs. Then SIGINT and SIGTERM, which must leave nothing behind either.
 #include "TestUtil.h"
+#include "LevelSetFiles.h"
 #include "grid/VdbIO.h"
 #include "util/AtomicFile.h"
 #include "util/Interrupt.h"
@@ -82,6 +83,7 @@ private:
     stampLevelSet(*empty, g, {{"method", "test"}});
     writeVdb(mDir.path() / "empty.vdb", {empty});
     test::writeText(mDir.path() / "cube.obj", cubeObj());
+    test::writeLevelSetFiles(mDir.path()); // fog.vdb, nan.vdb, two.vdb, ...: files compare must refuse or read
   }
   void writeSphere(const std::string& name, const GridSpec& g, double radius) {
     auto grid = denseToLevelSet(test::sphereField(g, {0, 0, 0}, radius), g, float(3 * g.voxelSize));

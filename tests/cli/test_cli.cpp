@@ -71,7 +71,7 @@ TEST(Cli, BakesTheDefaultSceneWithBothMethodsAndCompares) {
   const auto grid = readLevelSet(dir / "exact.vdb");
   EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
   EXPECT_EQ(grid->metaValue<std::string>("rtsdf:method"), "exact");
-  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:resolution"), "48");
+  EXPECT_EQ(grid->metaValue<int>("rtsdf:resolution"), 48); // numbers are stored as numbers
   EXPECT_GT(grid->activeVoxelCount(), 1000u);
   EXPECT_EQ(readVdb(dir / "exact.vdb").size(), 2u); // surface + density
 
@@ -196,7 +196,7 @@ TEST(Cli, BakesTheRefinedSdfAndAnimates) {
   EXPECT_NE(r.output.find("RayRefinePass"), std::string::npos) << r.output;
   const auto grid = readLevelSet(dir / "fine.vdb");
   EXPECT_EQ(grid->metaValue<std::string>("rtsdf:method"), "rtsdf");
-  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:rays"), "2");
+  EXPECT_EQ(grid->metaValue<int>("rtsdf:rays"), 2);
   EXPECT_GT(grid->activeVoxelCount(), 1000u);
 
   std::filesystem::create_directories(dir / "frames");
@@ -557,4 +557,56 @@ TEST(Cli, SweepRefusesBadInputWithoutCreatingItsFolder) {
   r = rtsdfCmd("bench " + scene + " --sweep quick --out " + q(dir / "file"));
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("not a folder"), std::string::npos) << r.output;
+}
+
+// A bake records its scene by absolute path and by the path from the .vdb's folder: compare --against finds it from
+// any folder, and after the scene and the bake move together.
+TEST(Cli, CompareAgainstExactFindsTheSceneFromAnotherFolderAndAfterAMove) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "project" / "scenes");
+  std::filesystem::create_directories(dir / "project" / "out");
+  std::filesystem::copy_file(test::dataPath("meshes/bunny.obj"), dir / "project" / "scenes" / "bunny.obj");
+  // Baked from the scene's folder with a relative path, as a user types it.
+  const std::string inScenes = "cd " + q(dir / "project" / "scenes") + " && " + std::string(RTSDF_BINARY);
+  int status = 0;
+  const std::string baked = test::runCommand(inScenes + " bake bunny.obj --res 24 --band 0.9 -o ../out/b.vdb 2>&1",
+                                             status);
+  ASSERT_EQ(status, 0) << baked;
+  const auto grid = readLevelSet(dir / "project" / "out" / "b.vdb");
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:scene"), (dir / "project" / "scenes" / "bunny.obj").string());
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:scene_relative"), "../scenes/bunny.obj");
+  EXPECT_EQ(grid->metaValue<double>("rtsdf:band"), 0.9);
+  EXPECT_EQ(grid->metaValue<int>("rtsdf:resolution"), 24);
+  // From another folder: the absolute path.
+  const std::string elsewhere = "cd / && " + std::string(RTSDF_BINARY);
+  std::string out = test::runCommand(elsewhere + " compare " + q(dir / "project" / "out" / "b.vdb") +
+                                     " --against exact 2>&1", status);
+  ASSERT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("max 0.0000 voxels"), std::string::npos) << out;
+  EXPECT_NE(out.find("0 voxels disagree"), std::string::npos) << out;
+  // Moved with its scene: the path relative to the .vdb.
+  std::filesystem::rename(dir / "project", dir / "moved");
+  out = test::runCommand(elsewhere + " compare " + q(dir / "moved" / "out" / "b.vdb") + " --against exact 2>&1",
+                         status);
+  ASSERT_EQ(status, 0) << out;
+  EXPECT_NE(out.find((dir / "moved" / "scenes" / "bunny.obj").string()), std::string::npos) << out;
+  EXPECT_NE(out.find("max 0.0000 voxels"), std::string::npos) << out;
+}
+
+// --up z turns every .vdb a command writes: a bake and animate's frames.
+TEST(Cli, UpZTurnsTheBakeAndTheAnimatedFrames) {
+  TempDir dir;
+  const std::string scene = q(test::dataPath("scenes/default.json"));
+  const Result b = rtsdfCmd("bake " + scene + " --res 24 --up z -o " + q(dir / "z.vdb"));
+  ASSERT_EQ(b.exitCode, 0) << b.output;
+  const auto baked = readLevelSet(dir / "z.vdb");
+  EXPECT_EQ(upAxisOf(*baked), UpAxis::Z);
+  EXPECT_EQ(gridSpecOf(*baked).dims, gridSpecOf(*inSceneFrame(baked)).dims);
+  std::filesystem::create_directories(dir / "frames");
+  const Result a = rtsdfCmd("animate " + scene + " --frames 1 --coarse 8 --fine 16 --up z --vdb-dir " +
+                            q(dir / "frames"));
+  ASSERT_EQ(a.exitCode, 0) << a.output;
+  const auto frame = readLevelSet(dir / "frames" / "frame0000.vdb");
+  EXPECT_EQ(upAxisOf(*frame), UpAxis::Z);
+  EXPECT_EQ(frame->metaValue<int>("rtsdf:resolution"), 16);
 }

@@ -190,3 +190,67 @@ TEST(VdbIO, DefensiveReaderTakesBothLayoutsAndRefusesEveryTruncation) {
     EXPECT_GT(refused, 50);
   }
 }
+
+// Numbers in rtsdf:* metadata are numbers; files that stored them as text still read.
+TEST(VdbIO, MetadataNumbersAreStoredAsNumbersAndOldTextNumbersStillRead) {
+  const GridSpec g = GridSpec::fromBounds({{-1, -1, -1}, {1, 1, 1}}, 16, 0.2);
+  auto grid = denseToLevelSet(sphereField(g, {0, 0, 0}, 0.6), g, 0.3f);
+  stampLevelSet(*grid, g, {{"method", "test"}, {"band", 0.3}, {"resolution", 16}, {"seed", std::int64_t(1) << 40},
+                           {"old", "0.25"}, {"word", "abc"}});
+  EXPECT_EQ(grid->metaValue<double>("rtsdf:band"), 0.3);
+  EXPECT_EQ(grid->metaValue<int>("rtsdf:resolution"), 16);
+  EXPECT_EQ(grid->metaValue<std::int64_t>("rtsdf:seed"), std::int64_t(1) << 40);
+  EXPECT_EQ(grid->metaValue<std::string>("rtsdf:method"), "test");
+  EXPECT_EQ(numberMeta(*grid, "rtsdf:band").value_or(-1.0), 0.3);
+  EXPECT_EQ(numberMeta(*grid, "rtsdf:resolution").value_or(-1.0), 16.0);
+  EXPECT_EQ(numberMeta(*grid, "rtsdf:old").value_or(-1.0), 0.25); // text, as files of older versions hold it
+  EXPECT_FALSE(numberMeta(*grid, "rtsdf:word").has_value());
+  EXPECT_FALSE(numberMeta(*grid, "rtsdf:missing").has_value());
+  EXPECT_EQ(stringMeta(*grid, "rtsdf:resolution"), "16");
+}
+
+// --up z: the transform turned (x, y, z) -> (x, -z, y), recorded, undone exactly by inSceneFrame; the caller's grid
+// is left as it was.
+TEST(VdbIO, UpZTurnsTheWrittenTransformAndReadersTurnItBack) {
+  TempDir dir;
+  const GridSpec g = GridSpec::fromBounds({{-0.5, 0.0, -0.3}, {0.7, 1.1, 0.4}}, 24, 0.1);
+  auto grid = denseToLevelSet(sphereField(g, {0.1, 0.5, 0.05}, 0.3), g, 0.15f);
+  stampLevelSet(*grid, g, {{"method", "test"}});
+  const openvdb::math::Transform before = grid->transform();
+  VdbWriteOptions o;
+  o.up = UpAxis::Z;
+  writeVdb(dir / "z.vdb", {grid}, o);
+  EXPECT_EQ(grid->transform(), before);
+  EXPECT_EQ(upAxisOf(*grid), UpAxis::Y);
+  const auto z = readLevelSet(dir / "z.vdb");
+  EXPECT_EQ(upAxisOf(*z), UpAxis::Z);
+  EXPECT_EQ(z->metaValue<std::string>("rtsdf:up"), "z");
+  const openvdb::Coord ijk(3, 17, 9);
+  const openvdb::Vec3d yUp = before.indexToWorld(ijk), zUp = z->transform().indexToWorld(ijk);
+  EXPECT_LT((zUp - openvdb::Vec3d(yUp.x(), -yUp.z(), yUp.y())).length(), 1e-12);
+  EXPECT_TRUE(z->hasUniformVoxels());
+  EXPECT_NEAR(z->voxelSize()[0], g.voxelSize, 1e-12);
+  const GridSpec back = gridSpecOf(*z); // checked against the turned transform
+  EXPECT_EQ(back.dims, g.dims);
+  const auto scene = inSceneFrame(z);
+  EXPECT_EQ(scene->transform(), *makeTransform(g));
+  EXPECT_EQ(upAxisOf(*scene), UpAxis::Y);
+  EXPECT_EQ(z->transform().indexToWorld(ijk), zUp); // the file's grid is not changed by inSceneFrame
+  auto odd = grid->deepCopy();
+  odd->insertMeta("rtsdf:up", openvdb::StringMetadata("x"));
+  EXPECT_THROW(upAxisOf(*odd), Error);
+}
+
+// A grid that records an absolute scene also records it relative to the file's folder.
+TEST(VdbIO, WritingAGridThatRecordsItsSceneAddsThePathRelativeToTheFile) {
+  TempDir dir;
+  std::filesystem::create_directories(dir / "out");
+  const GridSpec g = GridSpec::fromBounds({{-1, -1, -1}, {1, 1, 1}}, 16, 0.2);
+  auto grid = denseToLevelSet(sphereField(g, {0, 0, 0}, 0.6), g, 0.3f);
+  stampLevelSet(*grid, g, {{"scene", (dir / "scenes" / "s.json").string()}});
+  writeVdb(dir / "out" / "a.vdb", {grid});
+  const auto read = readLevelSet(dir / "out" / "a.vdb");
+  EXPECT_EQ(read->metaValue<std::string>("rtsdf:scene"), (dir / "scenes" / "s.json").string());
+  EXPECT_EQ(read->metaValue<std::string>("rtsdf:scene_relative"), "../scenes/s.json");
+  EXPECT_FALSE((*grid)["rtsdf:scene_relative"]); // the caller's grid is left as it was
+}

@@ -2,6 +2,7 @@
 // resampled ones, a file written by pyopenvdb), or one file against an anchor baked on its own voxels; the
 // errors that remain (no active voxel, no overlap); and the voxels an rtsdf bake shares with an exact one.
 #include "TestUtil.h"
+#include "LevelSetFiles.h"
 #include "grid/VdbIO.h"
 #include "jobs/Bake.h"
 #include "jobs/Compare.h"
@@ -192,5 +193,107 @@ TEST(Compare, AnRtsdfBakeAndAnExactBakeAtTheSameResolutionShareTheirVoxels) {
     EXPECT_EQ(exact.spec.origin, fine.origin) << scene;
     EXPECT_EQ(exact.spec.voxelSize, fine.voxelSize) << scene;
     EXPECT_EQ(*makeTransform(fine), exact.grid->transform()) << scene;
+  }
+}
+
+// What compare reads is checked: each file that is not a float level set of cubic voxels with finite values is
+// refused naming the file, the grid and what is wrong.
+TEST(Compare, RefusesGridsThatAreNotFiniteFloatLevelSetsOfCubicVoxels) {
+  TempDir dir;
+  test::writeLevelSetFiles(dir.path());
+  writeVdb(dir / "sphere.vdb", {test::sphereLevelSet()});
+  const std::pair<const char*, const char*> cases[] = {
+      {"fog.vdb", "grid 'surface' is a fog volume, not a level set"},
+      {"double.vdb", "grid 'surface' holds double values"},
+      {"nonuniform.vdb", "voxels of 0.03125 x 0.03125 x 0.0625, not cubes"},
+      {"frustum.vdb", "has a frustum transform, not a linear one"},
+      {"nan.vdb", "holds 1 values that are NaN or infinite"}};
+  for (const auto& [file, why] : cases)
+    for (const bool asA : {true, false}) {
+      CompareOptions o;
+      o.a = dir / (asA ? file : "sphere.vdb");
+      o.b = dir / (asA ? "sphere.vdb" : file);
+      const std::string e = errorOf(o);
+      EXPECT_NE(e.find((dir / file).string() + ": grid"), std::string::npos) << e;
+      EXPECT_NE(e.find(why), std::string::npos) << e;
+    }
+  // Each is still what it says, so the refusal is the check's, not the file's.
+  EXPECT_EQ(readVdb(dir / "fog.vdb").front()->getGridClass(), openvdb::GRID_FOG_VOLUME);
+}
+
+TEST(Compare, SeveralCandidateLevelSetsAreAnErrorListingThemAndGridPicksOne) {
+  TempDir dir;
+  test::writeLevelSetFiles(dir.path());
+  CompareOptions o;
+  o.a = o.b = dir / "two.vdb";
+  try {
+    compare(o);
+    ADD_FAILURE() << "two level sets were compared without --grid";
+  } catch (const SettingError& e) {
+    EXPECT_EQ(e.setting(), "grid");
+    const std::string m = e.what();
+    EXPECT_NE(m.find("two.vdb holds 2 candidate level sets: 'left' (float level set), 'right' (float level set)"),
+              std::string::npos) << m;
+  }
+  o.grid = "right";
+  const FileComparison same = compare(o);
+  EXPECT_GT(same.error.voxels, 1000u);
+  EXPECT_EQ(same.error.maxAbs, 0.0);
+  o.b = dir / "sphere_left.vdb";
+  auto left = readLevelSet(dir / "two.vdb", "left");
+  left->setName("right"); // the left sphere under the name 'right': --grid reads it, not the first grid
+  writeVdb(o.b, {left});
+  const FileComparison moved = compare(o); // spheres 0.1 = 3.2 voxels apart in x: |A - B| up to 3.2 voxels
+  EXPECT_GT(moved.error.meanAbs, 0.5);
+  EXPECT_LE(moved.error.maxAbs, 3.2 + 1e-3);
+  o.grid = "middle";
+  const std::string e = errorOf(o);
+  EXPECT_NE(e.find("two.vdb: no grid named 'middle' (grids: 'left'"), std::string::npos) << e;
+}
+
+TEST(Compare, ActiveTilesCountAsTheirVoxels) {
+  TempDir dir;
+  test::writeLevelSetFiles(dir.path());
+  ASSERT_GT(readVdb(dir / "tiles_a.vdb").front()->baseTreePtr()->activeTileCount(), 0u);
+  ASSERT_EQ(openvdb::gridPtrCast<openvdb::FloatGrid>(readVdb(dir / "tiles_a.vdb").front())->tree().leafCount(), 0u);
+  const FileComparison c = compareFiles(dir / "tiles_a.vdb", dir / "tiles_b.vdb");
+  EXPECT_EQ(c.activeA, 4096u);
+  EXPECT_EQ(c.error.voxels, 512u); // the 8^3 voxels the two boxes share
+  EXPECT_EQ(c.error.onlyInA, 4096u - 512u);
+  EXPECT_NEAR(c.error.meanAbs, 0.1, 1e-6);
+}
+
+TEST(Compare, WarnsWhenTheFilesLookLikeFieldsOfDifferentScenes) {
+  TempDir dir;
+  test::writeLevelSetFiles(dir.path());
+  const FileComparison scenes = compareFiles(dir / "scene_a.vdb", dir / "scene_b.vdb");
+  EXPECT_NE(scenes.warning.find("are fields of different scenes (/scenes/a.obj and /scenes/b.obj)"),
+            std::string::npos) << scenes.warning;
+  EXPECT_EQ(compareFiles(dir / "scene_a.vdb", dir / "scene_a.vdb").warning, "");
+  // No scene recorded: boxes of active voxels that overlap by under half of the smaller one.
+  const GridSpec g = GridSpec::fromBounds({{-1.5, -1.5, -1.5}, {1.5, 1.5, 1.5}}, 96, 0.0);
+  writeSphere(dir / "here.vdb", g, {0, 0, 0}, 0.1f);
+  writeSphere(dir / "near.vdb", g, {0.2, 0, 0}, 0.1f);
+  writeSphere(dir / "far.vdb", g, {0.7, 0, 0}, 0.1f);
+  EXPECT_EQ(compareFiles(dir / "here.vdb", dir / "near.vdb").warning, "");
+  const FileComparison far = compareFiles(dir / "here.vdb", dir / "far.vdb");
+  EXPECT_NE(far.warning.find("may be fields of different scenes: their active voxels' boxes overlap by"),
+            std::string::npos) << far.warning;
+  EXPECT_EQ(far.report().find("warning"), std::string::npos); // one line, logged; not in the report
+}
+
+// A file written with --up z compares with its Y-up twin voxel for voxel: compare reads both in the scene's frame.
+TEST(Compare, AFileWrittenUpZComparesWithItsYUpTwinVoxelForVoxel) {
+  TempDir dir;
+  auto grid = test::sphereLevelSet({0.1, 0.2, 0});
+  writeVdb(dir / "y.vdb", {grid});
+  VdbWriteOptions up;
+  up.up = UpAxis::Z;
+  writeVdb(dir / "z.vdb", {grid}, up);
+  for (const auto& [a, b] : {std::pair{"y.vdb", "z.vdb"}, std::pair{"z.vdb", "y.vdb"}}) {
+    const FileComparison c = compareFiles(dir / a, dir / b);
+    EXPECT_EQ(c.alignment, "") << a;
+    EXPECT_EQ(c.error.voxels, grid->activeVoxelCount()) << a;
+    EXPECT_EQ(c.error.maxAbs, 0.0) << a;
   }
 }

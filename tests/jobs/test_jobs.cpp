@@ -150,7 +150,7 @@ TEST(Jobs, BakeFromAPathEqualsBakeOfTheLoadedSceneAndWrites) {
   auto acc = b.grid->getConstAccessor();
   for (auto it = a.grid->cbeginValueOn(); it; ++it) ASSERT_EQ(*it, acc.getValue(it.getCoord()));
   EXPECT_EQ(a.grid->metaValue<std::string>("rtsdf:method"), "exact");
-  EXPECT_EQ(a.grid->metaValue<std::string>("rtsdf:resolution"), "40");
+  EXPECT_EQ(a.grid->metaValue<int>("rtsdf:resolution"), 40); // numbers are stored as numbers
   TempDir dir;
   BakeOutputOptions out;
   out.fog = true;
@@ -178,7 +178,7 @@ TEST(Jobs, RtsdfBakeReportsProgressPerFrameAndStopsWhenAsked) {
   EXPECT_GT(r.lastFrame.passTotal(RayRefinePass::kName), 0.0);
   EXPECT_EQ(r.lastFrame.passTotal(ClosestRefinePass::kName), 0.0) << "rays mode runs the ray shader alone";
   EXPECT_EQ(r.lastFrame.refineMs(), r.lastFrame.passTotal(RayRefinePass::kName));
-  EXPECT_EQ(r.grid->metaValue<std::string>("rtsdf:frames"), "3");
+  EXPECT_EQ(r.grid->metaValue<int>("rtsdf:frames"), 3);
 
   int polls = 0;
   control.progress = {};

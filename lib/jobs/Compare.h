@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace rtsdf {
 
@@ -45,14 +46,18 @@ struct FileComparison {
   double voxelSize = 0.0;           ///< A's voxel size, the unit of the error
   std::string alignment;            ///< how B was read at A's voxels ("" for the same voxels)
   std::string nameA, nameB;         ///< the files, or what was baked for B
-  /// @brief The lines `rtsdf compare` prints.
+  /// A file of cascade levels (CascadeBake.h) against an anchor: each level compared on its own voxels, finest
+  /// first; the fields above are level 0's.
+  std::vector<FileComparison> levels;
+  /// @brief The lines `rtsdf compare` prints (one block per level for cascades).
   std::string report() const;
 };
 
 /// @brief Compare as @a options say (metrics/FieldError.h's compareFields on the two level sets).
 /// @throw SettingError on contradictory options; Error naming the file when one cannot be read or holds no level
 ///        set, when either level set has no active voxel, when they do not overlap or share no defined voxel,
-///        and as bake() does for the anchor (its scene missing or bad); Interrupted when @a control asks to stop.
+///        and as bake() does for the anchor (its scene missing or bad); SettingError "anchor" when A holds cascade
+///        levels and B is a file (levels are compared against an anchor); Interrupted when @a control asks to stop.
 FileComparison compare(const CompareOptions& options, const JobControl& control = {});
 
 /// @brief compare() of two files.

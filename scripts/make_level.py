@@ -201,8 +201,8 @@ def level(size, seed, meshes_dir, out):
         for j, cz in enumerate(centres):
             kind = rng.choice(kinds)
             yaw = 90 * rng.randrange(4)
-            instances.append({"name": f"house_{i}_{j}", "mesh": kind, "rotate": [0, yaw, 0],
-                              "translate": [float(fmt(cx + rng.uniform(-1, 1))), 0, float(fmt(cz + rng.uniform(-1, 1)))]})
+            at = [float(fmt(cx + rng.uniform(-1, 1))), 0, float(fmt(cz + rng.uniform(-1, 1)))]
+            instances.append({"name": f"house_{i}_{j}", "mesh": kind, "rotate": [0, yaw, 0], "translate": at})
             for p in range(3):  # on the pavement along the block's -z side
                 px = cx + rng.uniform(-BLOCK / 2 + STREET / 2 + 0.5, BLOCK / 2 - STREET / 2 - 0.5)
                 pz = cz - BLOCK / 2 + STREET / 2 + 0.8
@@ -224,8 +224,8 @@ def level(size, seed, meshes_dir, out):
     scene = {
         "rtsdf_scene": 1,
         "comment": (f"Town level {fmt(size)} m, seed {seed} (scripts/make_level.py): {len(centres) ** 2} blocks, "
-                    f"{cars} cars; camera walks at {WALK_SPEED} m/s for t in [0, {fmt(walk_seconds)}] s, then drives at "
-                    f"{DRIVE_SPEED} m/s until t = {fmt(end)} s."),
+                    f"{cars} cars; camera walks at {WALK_SPEED} m/s for t in [0, {fmt(walk_seconds)}] s, "
+                    f"then drives at {DRIVE_SPEED} m/s until t = {fmt(end)} s."),
         "meshes": meshes,
         "instances": instances,
         "lights": [{"name": "sun", "type": "directional", "direction": [-0.45, -1.0, -0.3],

@@ -84,8 +84,8 @@ std::string cascadeReport(const BakeResult& r) {
     const GridSpec spec = gridSpecOf(*r.levels[i]);
     const auto band = r.levels[i]->getMetadata<openvdb::StringMetadata>("rtsdf:band");
     const FrameStats* st = i < r.levelFrames.size() ? &r.levelFrames[i] : nullptr;
-    t += fmt::format("level {}    {} '{}': {}, band {}, mask {} coarse voxels, {} active voxels\n", i,
-                     i < 10 ? " " : "", cascadeGridName(int(i)), spec.describe(), band ? band->value() : "?",
+    t += fmt::format("level {:<5}'{}': {}, band {}, mask {} coarse voxels, {} active voxels\n", i,
+                     cascadeGridName(int(i)), spec.describe(), band ? band->value() : "?",
                      st ? st->maskCoarseVoxels : 0, r.levels[i]->activeVoxelCount());
   }
   return t;

@@ -424,7 +424,8 @@ Camera parseCamera(const Reader& rd, const json& c, std::vector<CameraKeyframe>&
     camera.verticalFov = path.front().verticalFov;
     return camera;
   }
-  if (!c.contains("position") || !c.contains("look_at")) rd.fail("camera", "needs 'position' and 'look_at' (or 'keyframes')");
+  if (!c.contains("position") || !c.contains("look_at"))
+    rd.fail("camera", "needs 'position' and 'look_at' (or 'keyframes')");
   camera.position = rd.vec3(c["position"], "camera.position");
   camera.target = rd.vec3(c["look_at"], "camera.look_at");
   if (glm::length(camera.target - camera.position) < 1e-12) rd.fail("camera", "position and look_at must differ");

@@ -6,6 +6,7 @@
 #include "scene/SceneLoader.h"
 #include "sdf/cascade/CascadeLayout.h"
 #include "sdf/cascade/CascadeMemory.h"
+#include "sdf/cascade/CascadeSamplerCpu.h"
 #include "sdf/cascade/CascadeScene.h"
 #include "sdf/cascade/SingleBoxCheck.h"
 #include "sdf/cascade/ToroidalLevelCpu.h"
@@ -74,7 +75,8 @@ TEST(CascadeLayout, ACameraPathMovesLevelsByWholeCoarseVoxelsOnly) {
     for (std::size_t i = 0; i < 4; ++i) {
       const double c = shape.coarseVoxel(int(i));
       // The same lattice before and after: the old voxel centres are new voxel centres (no swimming).
-      const glm::dvec3 moved = (now.levels[i].fine.origin - before.levels[i].fine.origin) / now.levels[i].fine.voxelSize;
+      const glm::dvec3 moved =
+          (now.levels[i].fine.origin - before.levels[i].fine.origin) / now.levels[i].fine.voxelSize;
       EXPECT_EQ(moved, glm::floor(moved)) << "level " << i << " step " << step;
       EXPECT_EQ(now.levels[i].coarse.origin - before.levels[i].coarse.origin, glm::dvec3(shift[i]) * c);
       moves[i] += std::abs(shift[i].x) + std::abs(shift[i].y) + std::abs(shift[i].z);
@@ -119,7 +121,8 @@ TEST(CascadeScene, ALevelKeepsTheInstancesNearItsBoxAndEveryMovingOne) {
   EXPECT_LT(near.instances.size(), scene.instances.size());
   EXPECT_LT(near.meshes.size(), scene.meshes.size()) << "only the meshes the kept instances use";
   std::map<std::string, std::size_t> trianglesByInstance;
-  for (const Instance& inst : scene.instances) trianglesByInstance[inst.name] = scene.meshes[inst.mesh].triangles.size();
+  for (const Instance& inst : scene.instances)
+    trianglesByInstance[inst.name] = scene.meshes[inst.mesh].triangles.size();
   bool teapot = false, bunny = false, backWall = false;
   for (const Instance& inst : near.instances) {
     teapot = teapot || inst.name == "teapot";
@@ -278,4 +281,61 @@ TEST(ToroidalLevelCpu, AMoveChangesVoxelsItKeepsAndTheUpdateFollows) {
   // The same world cell is level index (11, 8, 8) now, one cell from the wall.
   EXPECT_EQ(a.distances()[std::size_t((8 * 16 + 8) * 16 + 11)], 1.0f);
   EXPECT_LT(a.transformedLast(), 16u * 16u * 16u);
+}
+
+namespace {
+
+/// Level @a level's fine voxels filled with the distance to a sphere (centre @a c, radius @a r): each level holds
+/// the closed form at its own voxel centres.
+std::vector<float> sphereOnLevel(const CascadeLevel& level, const glm::dvec3& c, double r) {
+  return test::sphereField(level.fine, c, r);
+}
+
+/// The largest change of @a sampler between samples @a step apart along the segment from @a a to @a b.
+double largestStep(const CascadeSamplerCpu& sampler, const glm::dvec3& a, const glm::dvec3& b, double step) {
+  const glm::dvec3 dir = glm::normalize(b - a);
+  const int n = int(glm::length(b - a) / step);
+  double worst = 0.0;
+  float previous = sampler.sample(a);
+  for (int k = 1; k <= n; ++k) {
+    const float v = sampler.sample(a + double(k) * step * dir);
+    worst = std::max(worst, double(std::fabs(v - previous)));
+    previous = v;
+  }
+  return worst;
+}
+
+} // namespace
+
+TEST(CascadeSamplerCpu, LevelBordersBlendWithoutASeamOnAClosedFormSphere) {
+  CascadeShape shape;
+  shape.levels = 3;
+  shape.coarseRes = 16;
+  shape.fineRes = 32;
+  shape.levelZeroExtent = 1.0;
+  const glm::dvec3 camera(0.013, 0.021, 0.007);
+  const CascadeLayout layout = CascadeLayout::around(camera, shape);
+  const double h0 = layout.levels[0].fine.voxelSize, h1 = layout.levels[1].fine.voxelSize;
+  // A small sphere (radius 4 level-1 voxels) straddling level 0's border on the +x side, off the sampled line: the
+  // levels' trilinear values differ most there (curvature), which a hard switch shows as a step.
+  const double border = layout.levels[0].box().max.x - h0;
+  const double radius = 4.0 * h1;
+  const glm::dvec3 centre(border + 0.3 * radius, camera.y + 0.3 * radius, camera.z + 0.2 * radius);
+  std::vector<std::vector<float>> fields;
+  for (const CascadeLevel& l : layout.levels) fields.push_back(sphereOnLevel(l, centre, radius));
+  const CascadeSamplerCpu blended(layout, fields, 4.0), hard(layout, fields, 0.0);
+  const glm::dvec3 from = camera, to = camera + glm::dvec3(1.5, 0.0, 0.0); // out past level 1's border
+  const double step = 1e-4;
+  const double smooth = largestStep(blended, from, to, step), seam = largestStep(hard, from, to, step);
+  std::printf("largest change per %g step: blended %.3g, hard switch %.3g\n", step, smooth, seam);
+  // Each level's trilinear field changes by at most the step (a distance field is 1-Lipschitz); the blend adds the
+  // levels' difference over the band, small. A hard switch jumps by that difference at once.
+  EXPECT_LT(smooth, 1.1 * step);
+  EXPECT_GT(seam, 5.0 * step);
+  // Deep inside level 0 the sample is level 0's; on the margin itself it is level 1's.
+  const glm::dvec3 deep = camera + glm::dvec3(0.1, 0.05, 0.0);
+  EXPECT_EQ(blended.sample(deep), blended.sampleLevel(0, deep));
+  const glm::dvec3 onMargin(border, camera.y + 0.3 * radius, camera.z + 0.2 * radius);
+  EXPECT_NEAR(blended.sample(onMargin), blended.sampleLevel(1, onMargin), 1e-6);
+  EXPECT_THROW(CascadeSamplerCpu(layout, {fields[0]}, 1.0), Error) << "a field per level";
 }

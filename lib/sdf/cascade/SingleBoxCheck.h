@@ -29,7 +29,8 @@ SingleBoxFit singleBoxFit(const Scene& scene, const GridSpec& coarse, const Grid
 
 /// @brief "" when one box suits @a scene; else one line saying why it is too coarse (a fine voxel over
 ///        kMaxFineOverFeature of the typical feature, or fewer than kMinCoarseVoxelsAcross coarse voxels along an
-///        axis of a flat grid) and naming the cascades (--cascades), which keep the voxels near the camera fine in any world.
+///        axis of a flat grid) and naming the cascades (--cascades), which keep the voxels near the camera fine in any
+///        world.
 std::string singleBoxAdvice(const Scene& scene, const GridSpec& coarse, const GridSpec& fine);
 
 } // namespace rtsdf

@@ -1,5 +1,6 @@
 #include "jobs/Bake.h"
 
+#include "jobs/CascadeBake.h"
 #include "jobs/JobSupport.h"
 #include "reference/OpenVdbLevelSet.h"
 #include "scene/SceneGeometry.h"
@@ -26,6 +27,9 @@ void BakeOptions::validate() const {
   if (method == BakeMethod::Rtsdf && pipeline.mode == RefineMode::Rays && pipeline.rays == 0 && pipeline.band > 0.0)
     throw SettingError("rays", "rays mode with 0 rays [x] casts no ray to sign the voxels it refines: give 1 ray "
                                "or more, or use the closest refinement (its nearest triangle's side signs them)");
+  if (pipeline.cascades > 1 && method != BakeMethod::Rtsdf)
+    throw SettingError("cascades", fmt::format("cascades {}: cascade levels are baked by the rtsdf method (compare "
+                                               "--against exact checks each level)", pipeline.cascades));
   if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
   if (!(pipeline.band > 0.0))
     throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));
@@ -154,9 +158,13 @@ BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const J
   const std::string summary = detail::meshSummary(scene);
   const std::string name = options.scene.empty() ? "(scene in memory)" : options.scene;
   spdlog::info("{}: {}", name, summary);
-  BakeResult r = options.method == BakeMethod::Rtsdf ? bakeRtsdf(options, scene, control)
-                                                     : bakeOnGrid(options, scene, control);
-  if (!options.allowEmpty && r.grid->activeVoxelCount() == 0)
+  BakeResult r = options.method != BakeMethod::Rtsdf ? bakeOnGrid(options, scene, control)
+                 : options.pipeline.cascades > 1    ? bakeCascades(options, scene, control)
+                                                    : bakeRtsdf(options, scene, control);
+  // A cascade level may lie in empty air (a camera above an open field): only all of them empty is an error.
+  std::uint64_t active = r.grid->activeVoxelCount();
+  for (const auto& level : r.levels) active += level->activeVoxelCount();
+  if (!options.allowEmpty && active == 0)
     throw Error(fmt::format("{}: the {} level set on {} has no active voxel (band {:g} = {:.3g} voxels): widen the "
                             "band, raise the resolution or, to keep it, allow an empty result", name,
                             toString(options.method), r.spec.describe(), options.pipeline.band,
@@ -183,8 +191,18 @@ BakeResult bake(const Scene& scene, const BakeOptions& options, const JobControl
 
 void writeBake(const BakeResult& result, const fs::path& path, const BakeOutputOptions& output) {
   checkOutputPath(path, ".vdb", result.inputs);
-  openvdb::GridPtrVec grids{result.grid};
-  if (output.fog) grids.push_back(makeFogGrid(*result.grid));
+  openvdb::GridPtrVec grids;
+  for (const auto& level : result.levels) {
+    grids.push_back(level);
+    if (output.fog) {
+      grids.push_back(makeFogGrid(*level));
+      grids.back()->setName("density_" + level->getName().substr(level->getName().rfind('_') + 1));
+    }
+  }
+  if (result.levels.empty()) {
+    grids.push_back(result.grid);
+    if (output.fog) grids.push_back(makeFogGrid(*result.grid));
+  }
   writeVdb(path, grids, output.vdb);
 }
 
@@ -211,7 +229,7 @@ std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::pat
   t += fmt::format("last frame {}host (CPU) {:.1f} ms\n", passes, st.hostMs);
   t += fmt::format("time       {:.3f} s for {} frames on {}\n", r.seconds, o.frames, r.device);
   t += fmt::format("output     {} ({} active voxels)\n", output.string(), r.grid->activeVoxelCount());
-  return t;
+  return t + cascadeReport(r);
 }
 
 } // namespace

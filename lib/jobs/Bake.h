@@ -70,6 +70,10 @@ struct BakeResult {
   std::string device;             ///< the Vulkan device that ran (jfa, rtsdf)
   std::string sceneSummary;       ///< meshes, instances, triangles, dropped triangles
   std::vector<std::filesystem::path> inputs; ///< the scene and mesh files read (an output never replaces one)
+  /// Cascades (pipeline.cascades > 1, CascadeBake.h): one level set per level, finest first, named
+  /// cascadeGridName(level); grid is level 0. writeBake writes these instead of grid.
+  std::vector<openvdb::FloatGrid::Ptr> levels;
+  std::vector<FrameStats> levelFrames; ///< cascades: each level's last frame
 };
 
 /// @brief A bake's own knobs (the pipeline's: KnobTable<PipelineSettings>); docs/settings.md.

@@ -2,6 +2,7 @@
 
 #include "grid/VdbIO.h"
 #include "jobs/Bake.h"
+#include "jobs/CascadeBake.h"
 #include "util/Error.h"
 #include "util/Text.h"
 
@@ -130,25 +131,57 @@ BakeOptions anchorBake(const FloatGrid& a, const CompareOptions& o) {
   return bo;
 }
 
-} // namespace
-
-FileComparison compare(const CompareOptions& o, const JobControl& control) {
-  o.validate();
-  const FloatGrid::Ptr a = inSceneFrame(readLevelSet(o.a, o.grid));
-  if (!o.against) return compareGrids(*a, *inSceneFrame(readLevelSet(o.b, o.grid)), o.a.string(), o.b.string(),
-                                        false);
+/// A against the anchor @a o asks for, baked on A's voxels, band and moment.
+FileComparison compareWithAnchor(const FloatGrid& a, const std::string& nameA, const CompareOptions& o,
+                                 const JobControl& control) {
   // Before baking: an empty level set has no voxels to bake the anchor on.
-  if (a->activeVoxelCount() == 0) throw Error(fmt::format("{}: the level set has no active voxels", o.a.string()));
-  const BakeOptions bo = anchorBake(*a, o);
+  if (a.activeVoxelCount() == 0) throw Error(fmt::format("{}: the level set has no active voxels", nameA));
+  const BakeOptions bo = anchorBake(a, o);
   spdlog::info("baking the {} anchor of {} on {}, band {:.6g}", toString(bo.method), bo.scene, bo.grid->describe(),
                bo.pipeline.band);
   control.report("baking the anchor", 0, 1);
   const BakeResult anchor = bake(bo, control);
   control.report("baking the anchor", 1, 1);
-  return compareGrids(*a, *anchor.grid, o.a.string(),
+  return compareGrids(a, *anchor.grid, nameA,
                       fmt::format("{} bake of {} on A's voxels (band {:.6g}{}, time {})", toString(bo.method),
                                   bo.scene, bo.pipeline.band, bo.fullDomain ? ", full domain" : "", bo.time),
                       true);
+}
+
+/// Each cascade level of A against the anchor on the level's own voxels.
+FileComparison compareCascade(const std::vector<FloatGrid::Ptr>& levels, const CompareOptions& o,
+                              const JobControl& control) {
+  if (!o.against)
+    throw SettingError("anchor", fmt::format("{} holds {} cascade levels: compare it against an anchor (exact or "
+                                             "openvdb), which checks each level on its own voxels", o.a.string(),
+                                             levels.size()));
+  std::vector<FileComparison> each;
+  for (const FloatGrid::Ptr& level : levels) {
+    const std::string name = fmt::format("{} ({})", o.a.string(), level->getName());
+    if (level->activeVoxelCount() > 0) {
+      each.push_back(compareWithAnchor(*level, name, o, control));
+    } else { // a level in empty air: nothing to compare
+      each.emplace_back();
+      each.back().nameA = name;
+      each.back().voxelSize = voxelUnit(*level);
+    }
+  }
+  FileComparison c = each.front();
+  c.levels = std::move(each);
+  return c;
+}
+
+} // namespace
+
+FileComparison compare(const CompareOptions& o, const JobControl& control) {
+  o.validate();
+  std::vector<FloatGrid::Ptr> levels = cascadeLevelGrids(readVdb(o.a));
+  for (FloatGrid::Ptr& level : levels) level = inSceneFrame(level);
+  if (!levels.empty()) return compareCascade(levels, o, control);
+  const FloatGrid::Ptr a = inSceneFrame(readLevelSet(o.a, o.grid));
+  if (!o.against) return compareGrids(*a, *inSceneFrame(readLevelSet(o.b, o.grid)), o.a.string(), o.b.string(),
+                                        false);
+  return compareWithAnchor(*a, o.a.string(), o, control);
 }
 
 FileComparison compareFiles(const fs::path& a, const fs::path& b) {
@@ -159,6 +192,13 @@ FileComparison compareFiles(const fs::path& a, const fs::path& b) {
 }
 
 std::string FileComparison::report() const {
+  if (!levels.empty()) {
+    std::string t;
+    for (std::size_t i = 0; i < levels.size(); ++i)
+      t += fmt::format("cascade level {}\n{}", i, levels[i].activeA ? levels[i].report()
+                                                                      : "no active voxel: nothing to compare\n");
+    return t;
+  }
   const FieldError& e = error;
   std::string t = fmt::format("A          {} ({} active voxels)\n", nameA, activeA);
   t += fmt::format("B          {} ({} active voxels)\n", nameB, activeB);

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace rtsdf {
 
@@ -52,7 +53,10 @@ struct FileComparison {
   /// voxels' boxes do not overlap): their differences then measure the scenes, not a method; also logged as a
   /// warning. Empty otherwise.
   std::string warning;
-  /// @brief The lines `rtsdf compare` prints.
+  /// A file of cascade levels (CascadeBake.h) against an anchor: each level compared on its own voxels, finest
+  /// first; the fields above are level 0's.
+  std::vector<FileComparison> levels;
+  /// @brief The lines `rtsdf compare` prints (one block per level for cascades).
   std::string report() const;
 };
 
@@ -63,8 +67,9 @@ struct FileComparison {
 /// @throw SettingError on contradictory options or, naming "grid", when a file holds several candidate level
 ///        sets; Error naming the file when one cannot be read or holds no level set or a grid that is not one
 ///        (readLevelSet says why), when either level set has no active voxel, when they do not overlap or share no
-///        defined voxel, and as bake() does for the anchor (its scene missing or bad); Interrupted when @a control
-///        asks to stop.
+///        defined voxel, and as bake() does for the anchor (its scene missing or bad); SettingError "anchor" when A
+///        holds cascade levels and B is a file (levels are compared against an anchor); Interrupted when
+///        @a control asks to stop.
 FileComparison compare(const CompareOptions& options, const JobControl& control = {});
 
 /// @brief compare() of two files.

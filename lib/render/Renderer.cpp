@@ -190,6 +190,8 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   RenderedFrame out;
   out.time = time;
   ++mFrame;
+  if (mFollowsSceneCamera && !mScene.cameraPath.empty())
+    mCamera = makeCameraParams(mScene.cameraAt(time), mSettings.width, mSettings.height, mFrameOrigin);
   const GpuSceneBvh* bvh = nullptr;
   if (mSdf) {
     out.sdf = mSdf->runFrame(time);
@@ -249,6 +251,7 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
 
 void Renderer::setCamera(const Camera& camera) {
   mCamera = makeCameraParams(camera, mSettings.width, mSettings.height, mFrameOrigin);
+  mFollowsSceneCamera = false;
 }
 
 const GpuGBuffer& Renderer::gpuGBuffer() const { return mGpu->gbuffer; }
@@ -274,7 +277,7 @@ RenderedFrame renderRayTraced(const Scene& scene, double time, const RenderSetti
   out.time = time;
   const SceneGeometry geo = buildSceneGeometry(scene, time);
   const auto t0 = std::chrono::steady_clock::now();
-  out.gbuffer = traceGBuffer(geo, makeCameraParams(scene.camera, settings.width, settings.height));
+  out.gbuffer = traceGBuffer(geo, makeCameraParams(scene.cameraAt(time), settings.width, settings.height));
   const auto t1 = std::chrono::steady_clock::now();
   out.visibility = rayTracedVisibility(geo, scene.lights, out.gbuffer, settings.rayTraced);
   const auto t2 = std::chrono::steady_clock::now();

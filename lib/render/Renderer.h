@@ -216,12 +216,14 @@ public:
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// @brief Render the frame at @a time seconds (the frames of one Renderer form the TAA sequence).
+  /// @brief Render the frame at @a time seconds (the frames of one Renderer form the TAA sequence), from the scene
+  ///        camera at that time (Scene::cameraAt) until setCamera() is called.
   /// @param readBack download the G-buffer and visibility (off for benchmarks of the GPU time alone).
   RenderedFrame renderFrame(double time, bool readBack = true);
 
   const SdfPipeline* sdfPipeline() const { return mSdf.get(); }
-  /// @brief Render the next frames from @a camera (an orbiting viewer's); the TAA history is kept.
+  /// @brief Render the next frames from @a camera (an orbiting viewer's) instead of the scene camera's path; the TAA
+  ///        history is kept.
   /// @throw Error when the camera is degenerate.
   void setCamera(const Camera& camera);
   /// @brief The camera as the GPU passes see it (relative to frameOrigin()).
@@ -256,6 +258,7 @@ private:
   Bounds mBounds;
   glm::dvec3 mFrameOrigin{0.0};
   gpu::shared::CameraParams mCamera{};
+  bool mFollowsSceneCamera = true; ///< the camera moves along the scene's path; false after setCamera()
   std::vector<gpu::shared::GpuLight> mLights;
   gpu::shared::SdfShadowParams mSdfParams{};
   gpu::shared::ContactShadowParams mContactParams{};

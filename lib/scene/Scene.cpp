@@ -59,4 +59,25 @@ glm::dmat4 Instance::matrixAt(double time) const {
   return base;
 }
 
+Camera Scene::cameraAt(double time) const {
+  if (cameraPath.empty()) return camera;
+  Camera c = camera;
+  const auto set = [&c](const CameraKeyframe& k) {
+    c.position = k.position;
+    c.target = k.target;
+    c.verticalFov = k.verticalFov;
+  };
+  if (time <= cameraPath.front().time) return set(cameraPath.front()), c;
+  if (time >= cameraPath.back().time) return set(cameraPath.back()), c;
+  const auto hi = std::upper_bound(cameraPath.begin(), cameraPath.end(), time,
+                                   [](double t, const CameraKeyframe& f) { return t < f.time; });
+  const auto lo = hi - 1;
+  const double span = hi->time - lo->time;
+  const double s = span > 0.0 ? (time - lo->time) / span : 0.0;
+  c.position = glm::mix(lo->position, hi->position, s);
+  c.target = glm::mix(lo->target, hi->target, s);
+  c.verticalFov = lo->verticalFov + s * (hi->verticalFov - lo->verticalFov);
+  return c;
+}
+
 } // namespace rtsdf

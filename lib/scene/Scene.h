@@ -73,6 +73,14 @@ struct Camera {
   double verticalFov = 0.785398; ///< radians
 };
 
+/// @brief One keyframe of the scene camera's path (time in seconds); `up` stays the camera's.
+struct CameraKeyframe {
+  double time = 0.0;
+  glm::dvec3 position{0.0};
+  glm::dvec3 target{0.0};
+  double verticalFov = 0.785398; ///< radians
+};
+
 /// @brief Everything a scene file describes. Meshes are validated when loaded.
 struct Scene {
   std::string path; ///< the file it was loaded from
@@ -80,8 +88,13 @@ struct Scene {
   std::vector<MeshReport> meshReports; ///< parallel to meshes
   std::vector<Instance> instances;
   std::vector<Light> lights;
-  Camera camera;
+  Camera camera;      ///< the camera at time 0 (the path's first keyframe when there is a path)
   bool hasCamera = false;
+  /// @brief The camera's path, sorted by time; empty for a fixed camera. Interpolated like instance keyframes:
+  ///        position, target and field of view linearly between keyframes, clamped at the ends.
+  std::vector<CameraKeyframe> cameraPath;
+  /// @brief The camera at @a time seconds: `camera` when there is no path.
+  Camera cameraAt(double time) const;
 };
 
 } // namespace rtsdf

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -359,19 +360,74 @@ Light parseLight(const Reader& rd, const json& l, std::size_t i) {
   return light;
 }
 
-/// "camera": a position and a point to look at (they must differ), optionally up and the vertical field of view.
-Camera parseCamera(const Reader& rd, const json& c) {
+/// A vertical field of view in degrees at @a where, in (0, 180), as radians.
+double fieldOfView(const Reader& rd, const json& v, const std::string& where) {
+  const double f = rd.number(v, where);
+  if (!(f > 0.0 && f < 180.0)) rd.fail(where, fmt::format("must be in (0, 180) (got {})", f));
+  return glm::radians(f);
+}
+
+/// The least |a + s (b - a)| over s in [0, 1]: how close a linearly interpolated vector comes to zero.
+double leastNormBetween(const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 d = b - a;
+  const double dd = glm::dot(d, d);
+  const double s = dd > 0.0 ? std::clamp(-glm::dot(a, d) / dd, 0.0, 1.0) : 0.0;
+  return glm::length(a + s * d);
+}
+
+/// "camera.keyframes": times that increase, each with a position and a point to look at. Between two keyframes the
+/// view direction is interpolated linearly, so it must not pass through zero or along `up` there (the camera would
+/// have no orientation at that moment).
+std::vector<CameraKeyframe> parseCameraPath(const Reader& rd, const json& k, const Camera& camera) {
+  if (!k.is_array() || k.empty()) rd.fail("camera.keyframes", "must be a non-empty array");
+  std::vector<CameraKeyframe> path;
+  for (std::size_t i = 0; i < k.size(); ++i) {
+    const std::string w = fmt::format("camera.keyframes[{}]", i);
+    rd.allowOnly(k[i], w, {"time", "position", "look_at", "fov_deg"});
+    for (const char* key : {"time", "position", "look_at"})
+      if (!k[i].contains(key)) rd.fail(w, fmt::format("needs '{}'", key));
+    CameraKeyframe f;
+    f.time = rd.number(k[i]["time"], w + ".time");
+    if (!path.empty() && f.time <= path.back().time) rd.fail(w + ".time", "keyframe times must increase");
+    f.position = rd.vec3(k[i]["position"], w + ".position");
+    f.target = rd.vec3(k[i]["look_at"], w + ".look_at");
+    f.verticalFov = k[i].contains("fov_deg") ? fieldOfView(rd, k[i]["fov_deg"], w + ".fov_deg") : camera.verticalFov;
+    const glm::dvec3 view = f.target - f.position;
+    if (glm::length(view) < 1e-12) rd.fail(w, "position and look_at must differ");
+    if (glm::length(glm::cross(view, camera.up)) <= 1e-9 * glm::length(view))
+      rd.fail(w, "the view direction is parallel to the camera's 'up'");
+    if (!path.empty()) {
+      const glm::dvec3 before = path.back().target - path.back().position;
+      const double least = leastNormBetween(glm::cross(before, camera.up), glm::cross(view, camera.up));
+      if (least <= 1e-9 * std::max(glm::length(before), glm::length(view)))
+        rd.fail(w, fmt::format("between keyframes {} and {} the view direction passes through zero or along 'up'",
+                               i - 1, i));
+    }
+    path.push_back(f);
+  }
+  return path;
+}
+
+/// "camera": a position and a point to look at (they must differ), or a path of keyframes; optionally up and the
+/// vertical field of view (the keyframes' default).
+Camera parseCamera(const Reader& rd, const json& c, std::vector<CameraKeyframe>& path) {
   Camera camera;
-  rd.allowOnly(c, "camera", {"position", "look_at", "up", "fov_deg"});
-  if (!c.contains("position") || !c.contains("look_at")) rd.fail("camera", "needs 'position' and 'look_at'");
+  rd.allowOnly(c, "camera", {"position", "look_at", "up", "fov_deg", "keyframes"});
+  if (c.contains("up")) camera.up = rd.unit(c["up"], "camera.up");
+  if (c.contains("fov_deg")) camera.verticalFov = fieldOfView(rd, c["fov_deg"], "camera.fov_deg");
+  if (c.contains("keyframes")) {
+    if (c.contains("position") || c.contains("look_at"))
+      rd.fail("camera", "takes 'position' and 'look_at', or 'keyframes', not both");
+    path = parseCameraPath(rd, c["keyframes"], camera);
+    camera.position = path.front().position;
+    camera.target = path.front().target;
+    camera.verticalFov = path.front().verticalFov;
+    return camera;
+  }
+  if (!c.contains("position") || !c.contains("look_at"))
+    rd.fail("camera", "needs 'position' and 'look_at' (or 'keyframes')");
   camera.position = rd.vec3(c["position"], "camera.position");
   camera.target = rd.vec3(c["look_at"], "camera.look_at");
-  if (c.contains("up")) camera.up = rd.unit(c["up"], "camera.up");
-  if (c.contains("fov_deg")) {
-    const double f = rd.number(c["fov_deg"], "camera.fov_deg");
-    if (!(f > 0.0 && f < 180.0)) rd.fail("camera.fov_deg", "must be in (0, 180)");
-    camera.verticalFov = glm::radians(f);
-  }
   if (glm::length(camera.target - camera.position) < 1e-12) rd.fail("camera", "position and look_at must differ");
   return camera;
 }
@@ -393,7 +449,7 @@ Scene parseScene(const std::string& text, const fs::path& origin, const MeshLoad
     for (std::size_t i = 0; i < doc["lights"].size(); ++i) scene.lights.push_back(parseLight(rd, doc["lights"][i], i));
   }
   if (doc.contains("camera")) {
-    scene.camera = parseCamera(rd, doc["camera"]);
+    scene.camera = parseCamera(rd, doc["camera"], scene.cameraPath);
     scene.hasCamera = true;
   }
   return scene;

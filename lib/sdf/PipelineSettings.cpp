@@ -67,17 +67,21 @@ GridSpec coarseGridOver(const GridSpec& fine, const Bounds& bounds, int coarseRe
   return c;
 }
 
-std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& s) {
-  s.validate();
-  const double padding = pipelinePadding(bounds, s);
-  const GridSpec fine = GridSpec::fromBounds(bounds, s.fineRes, padding);
-  const GridSpec coarse = coarseGridOver(fine, bounds, s.coarseRes, padding);
+void requirePipelineGrids(const GridSpec& coarse, const GridSpec& fine, const PipelineSettings& s) {
   // No band limit here: a ray-mask band beyond the grid masks every voxel, a knob's legitimate extreme.
   requireBetaWithin(coarse, s.beta);
   for (int a = 0; a < 3; ++a)
     if (fine.dims[a] > gpu::shared::kMaxSeedAxis)
       throw SettingError("fine resolution", fmt::format("fine grid {}: more than {} voxels along an axis (lower the "
                                                         "fine resolution)", fine.describe(), gpu::shared::kMaxSeedAxis));
+}
+
+std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& s) {
+  s.validate();
+  const double padding = pipelinePadding(bounds, s);
+  const GridSpec fine = GridSpec::fromBounds(bounds, s.fineRes, padding);
+  const GridSpec coarse = coarseGridOver(fine, bounds, s.coarseRes, padding);
+  requirePipelineGrids(coarse, fine, s);
   return {coarse, fine};
 }
 

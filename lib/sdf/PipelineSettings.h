@@ -65,6 +65,9 @@ template <> struct EnumNames<FineStorage> {
                                                                     {"sparse", FineStorage::Sparse}};
 };
 
+/// @brief The most cascade levels: level 9's voxel is 512 times level 0's.
+constexpr int kMaxCascades = 10;
+
 /// @brief Every knob of the pipeline (scene units for lengths).
 struct PipelineSettings {
   int coarseRes = 128;   ///< voxels across the scene for the coarse SDF
@@ -92,6 +95,12 @@ struct PipelineSettings {
   /// The brick pool's capacity at the first frame; 0: sized by the first frame's band (poolBricksFor). A pool that
   /// overflows is regrown from the next frame on.
   std::int64_t poolBricks = 0;
+  /// Camera-centred cascade levels (lib/sdf/cascade): 1 is one box fitted to the scene; K > 1 gives K boxes of these
+  /// coarse and fine voxel counts around the camera, level i's voxels 2^i times level 0's (CascadeLayout).
+  int cascades = 1;
+  /// The side of cascade level 0 in scene units (cascades > 1); < 0: the scene's longest side / 2^(cascades - 1), so
+  /// that the outermost level spans the scene.
+  double cascadeExtent = -1.0;
   /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
   void validate() const;
 };
@@ -138,7 +147,13 @@ template <> struct KnobTable<PipelineSettings> {
                "dense: the bricks under the band and a dense fine SDF resolved every frame (what shading samples); "
                "sparse: the bricks only (memory grows with the band, not the grid: size L on small devices)"),
       knob("pool bricks", &S::poolBricks, "", KnobRange::closed(0, 4294967296.0).noting("0: sized by the first frame's band"),
-           "Capacity of the brick pool at the first frame, in bricks (regrown when it overflows)"));
+           "Capacity of the brick pool at the first frame, in bricks (regrown when it overflows)"),
+      knob("cascades", &S::cascades, "--cascades", KnobRange::closed(1, kMaxCascades),
+           "Camera-centred cascade levels, each of the coarse and fine voxel counts, level i's voxel 2^i times level "
+           "0's (1: one box fitted to the scene)"),
+      knob("cascade extent", &S::cascadeExtent, "--cascade-extent",
+           KnobRange::above(0).orNegative("the scene's longest side / 2^(cascades - 1)"),
+           "Side of cascade level 0 in scene units (cascades > 1)"));
 };
 
 /// @brief The refinements in a row after which a voxel is settled under @a s: 0 with fullRecompute (every voxel is
@@ -172,6 +187,10 @@ void requireBetaWithin(const GridSpec& coarse, double beta);
 /// @brief The coarse grid over a fine grid: the same corner, the voxel size of GridSpec::fromBounds(@a bounds,
 ///        @a coarseRes, @a padding), and enough voxels to cover the fine grid.
 GridSpec coarseGridOver(const GridSpec& fine, const Bounds& bounds, int coarseRes, double padding);
+
+/// @brief Grids SdfPipeline can run on under @a s: beta within the coarse grid, at most 1024 fine voxels an axis.
+/// @throw SettingError naming "beta" or "fine resolution".
+void requirePipelineGrids(const GridSpec& coarse, const GridSpec& fine, const PipelineSettings& s);
 
 /// @brief The coarse and fine grids SdfPipeline builds for @a bounds and @a s. The fine grid is
 ///        GridSpec::fromBounds(bounds, fineRes, pipelinePadding), the very voxels an exact or OpenVDB bake at

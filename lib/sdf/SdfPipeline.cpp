@@ -2,6 +2,7 @@
 
 #include "grid/VdbIO.h"
 
+#include "sdf/cascade/SingleBoxCheck.h"
 #include "sdf/refine/RefineCpu.h"
 #include "sdf/pipeline/BrickPool.h"
 #include "sdf/pipeline/FieldPasses.h"
@@ -11,6 +12,7 @@
 #include "util/Error.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +21,21 @@ namespace rtsdf {
 
 SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
                          const PipelineSettings& s)
+    : SdfPipeline(ctx, scene, pipelineGrids(bounds, s), s) {
+  // One box over the whole scene: say when it is too coarse for the scene (what the cascades are for).
+  const std::string advice = singleBoxAdvice(scene, mCoarseSpec, mFineSpec);
+  if (!advice.empty()) spdlog::warn("{}", advice);
+}
+
+SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
+                         const std::pair<GridSpec, GridSpec>& grids, const PipelineSettings& s)
     : mCtx(ctx), mSettings(s) {
+  s.validate();
+  if (s.cascades != 1)
+    throw SettingError("cascades", fmt::format("cascades {}: one SdfPipeline is one box; a bake builds cascade levels "
+                                               "(CascadeSet), shading, animation and the viewer use one box so far "
+                                               "(cascades 1)", s.cascades));
+  requirePipelineGrids(grids.first, grids.second, s);
   const bool cpuShaders = s.shaderTarget == ShaderTarget::Device ? ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
                                                                  : s.shaderTarget == ShaderTarget::Cpu;
   // The settings in effect (settings()): the target and the search resolved for this device.
@@ -30,7 +46,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, cons
   // Everything is checked before anything is allocated (the brick pool, sized by the first frame's band, then).
   std::uint64_t triangles = 0;
   for (const Instance& inst : scene.instances) triangles += scene.meshes.at(inst.mesh).triangles.size();
-  mMemory = estimatePipelineMemory(bounds, s, triangles);
+  mMemory = estimatePipelineMemory(grids, s, triangles);
   checkPipelineMemory(mMemory, memoryLimits(ctx.info()));
   mCoarseSpec = mMemory.coarse;
   mFineSpec = mMemory.fine;

@@ -57,6 +57,11 @@ public:
   /// @throw Error when a setting is out of range, or (before anything is allocated) when the grids would
   ///        not fit the device's buffers and heap or the host's available memory (checkPipelineMemory).
   SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds, const PipelineSettings& s);
+  /// @brief A pipeline on given (coarse, fine) @a grids (a cascade level's, CascadeLayout): the coarse grid shares
+  ///        the fine one's corner and covers it.
+  /// @throw Error as the other constructor; SettingError "cascades" when s.cascades is not 1 (a pipeline is one box).
+  SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const std::pair<GridSpec, GridSpec>& grids,
+              const PipelineSettings& s);
   ~SdfPipeline();
   SdfPipeline(const SdfPipeline&) = delete;
   SdfPipeline& operator=(const SdfPipeline&) = delete;

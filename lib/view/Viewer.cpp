@@ -123,13 +123,15 @@ public:
 private:
   void rebuild();
   RenderSettings settings() const;
-  Camera camera() const { return mState.orbiting ? mState.orbit.camera() : mScene.camera; }
+  /// The orbit's camera, or the scene camera at the time shown (it follows the scene's camera path).
+  Camera camera() const { return mState.orbiting ? mState.orbit.camera() : mScene.cameraAt(mTime); }
   void recordCompose(VkCommandBuffer cmd, const sh::ComposeParams& params);
   sh::ComposeParams composeParams() const;
   std::string statusLine(double wallMs) const;
 
   const ViewOptions& mOptions;
   Scene mScene;
+  double mTime = 0.0; ///< the scene time of the frame shown
   Bounds mBounds;
   Window mWindow;
   std::unique_ptr<gpu::VulkanContext> mCtx;
@@ -209,11 +211,11 @@ void ViewSession::handleInput(const WindowInput& input) {
   bool rebuildNeeded = false;
   const ViewState before = mState;
   for (const auto& [key, shift] : input.keys) {
-    const KeyEffect e = applyViewKey(mState, mScene.camera, key, shift);
+    const KeyEffect e = applyViewKey(mState, mScene.cameraAt(mTime), key, shift);
     rebuildNeeded = rebuildNeeded || e == KeyEffect::Technique || e == KeyEffect::Pipeline;
   }
   if (input.drag != glm::dvec2(0.0) || input.scroll != 0.0) {
-    if (!mState.orbiting) mState.orbit = OrbitCamera::from(mScene.camera);
+    if (!mState.orbiting) mState.orbit = OrbitCamera::from(mScene.cameraAt(mTime));
     mState.orbiting = true;
     mState.orbit.rotate(-0.005 * input.drag.x, 0.005 * input.drag.y);
     mState.orbit.zoom(input.scroll);
@@ -269,16 +271,20 @@ void ViewSession::showFrame(double time, double wallMs) {
   // One frame in flight: the renderer writes the buffers the previous picture read.
   mSwapchain->waitForFrame();
   const PassTimes composed = mComposed ? mProfiler->results() : PassTimes{};
+  mTime = time;
   if (mRenderer) {
     mRenderer->setCamera(camera());
     mPassMs = mRenderer->renderFrame(time, false).passMs;
   } else {
     Scene& scene = mScene; // the truth renders the scene's camera: put the orbit's there for this frame
     const Camera kept = scene.camera;
+    std::vector<CameraKeyframe> keptPath = std::move(scene.cameraPath);
     scene.camera = camera();
+    scene.cameraPath.clear();
     RenderSettings s = settings();
     const RenderedFrame f = renderRayTraced(scene, time, s);
     scene.camera = kept;
+    scene.cameraPath = std::move(keptPath);
     mPassMs = f.passMs;
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     mUploaded.gbuffer.reserve(*mCtx, mWidth, mHeight);

@@ -19,8 +19,13 @@ std::string PipelineMemory::describe() const {
 }
 
 PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettings& s, std::uint64_t triangles) {
+  return estimatePipelineMemory(pipelineGrids(bounds, s), s, triangles);
+}
+
+PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids, const PipelineSettings& s,
+                                      std::uint64_t triangles) {
   PipelineMemory m;
-  std::tie(m.coarse, m.fine) = pipelineGrids(bounds, s);
+  std::tie(m.coarse, m.fine) = grids;
   const std::uint64_t nc = m.coarse.voxelCount(), nf = m.fine.voxelCount();
   const bool dense = s.fineStorage == FineStorage::Dense;
   const std::uint64_t coarseBuf = nc * 4, fineBuf = dense ? nf * 4 : 0;

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 
 namespace rtsdf {
 
@@ -36,6 +37,10 @@ struct PipelineMemory {
 /// @brief Estimate the memory of a pipeline (see PipelineMemory) for @a triangles triangles.
 /// @throw Error as pipelineGrids does.
 PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettings& s, std::uint64_t triangles = 0);
+
+/// @brief Estimate the memory of a pipeline on the given (coarse, fine) @a grids (a cascade level's).
+PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids, const PipelineSettings& s,
+                                      std::uint64_t triangles = 0);
 
 /// @brief Limits an estimate is checked against.
 struct MemoryLimits {

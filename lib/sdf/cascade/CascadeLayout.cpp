@@ -1,0 +1,74 @@
+#include "sdf/cascade/CascadeLayout.h"
+
+#include "util/Error.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace rtsdf {
+
+double CascadeShape::coarseVoxel(int i) const { return std::ldexp(levelZeroExtent / coarseRes, i); }
+
+double CascadeShape::fineVoxel(int i) const { return std::ldexp(levelZeroExtent / fineRes, i); }
+
+CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const PipelineSettings& s) {
+  s.validate();
+  CascadeShape shape;
+  shape.levels = s.cascades;
+  shape.coarseRes = s.coarseRes;
+  shape.fineRes = s.fineRes;
+  if (s.cascadeExtent > 0.0) {
+    shape.levelZeroExtent = s.cascadeExtent;
+  } else {
+    if (!(sceneBounds.maxExtent() > 0.0))
+      throw Error("cascades: the scene has no extent to size level 0 by (give the cascade extent)");
+    shape.levelZeroExtent = std::ldexp(sceneBounds.maxExtent(), 1 - s.cascades);
+  }
+  return shape;
+}
+
+Bounds CascadeLevel::box() const { return fine.bounds(); }
+
+CascadeLayout CascadeLayout::around(const glm::dvec3& camera, const CascadeShape& shape) {
+  CascadeLayout layout;
+  layout.shape = shape;
+  layout.camera = camera;
+  for (int i = 0; i < shape.levels; ++i) {
+    const double c = shape.coarseVoxel(i);
+    CascadeLevel level;
+    level.index = i;
+    // The lattice point nearest the camera: the level moves only when the camera crosses half a coarse voxel, and
+    // then by whole coarse voxels (a multiple of c in double: the same voxel centres before and after).
+    for (int a = 0; a < 3; ++a) level.centreCell[a] = std::int64_t(std::floor(camera[a] / c + 0.5));
+    const glm::dvec3 corner = glm::dvec3(level.centreCell - glm::i64vec3(shape.coarseRes / 2));
+    level.coarse.origin = corner * c;
+    level.coarse.voxelSize = c;
+    level.coarse.dims = glm::ivec3(shape.coarseRes);
+    level.fine.origin = level.coarse.origin;
+    level.fine.voxelSize = shape.fineVoxel(i);
+    level.fine.dims = glm::ivec3(shape.fineRes);
+    layout.levels.push_back(level);
+  }
+  return layout;
+}
+
+int CascadeLayout::finestHolding(const glm::dvec3& p, double margin) const {
+  for (const CascadeLevel& level : levels) {
+    const Bounds b = level.box();
+    if (glm::all(glm::greaterThanEqual(p, b.min + margin)) && glm::all(glm::lessThanEqual(p, b.max - margin)))
+      return level.index;
+  }
+  return -1;
+}
+
+std::vector<glm::i64vec3> CascadeLayout::shiftSince(const CascadeLayout& before) const {
+  if (before.levels.size() != levels.size())
+    throw Error(fmt::format("cascades: a layout of {} levels cannot follow one of {}", levels.size(),
+                            before.levels.size()));
+  std::vector<glm::i64vec3> shift;
+  for (std::size_t i = 0; i < levels.size(); ++i) shift.push_back(levels[i].centreCell - before.levels[i].centreCell);
+  return shift;
+}
+
+} // namespace rtsdf

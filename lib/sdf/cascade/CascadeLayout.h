@@ -1,0 +1,61 @@
+#pragma once
+/// @file CascadeLayout.h
+/// @brief Where the cascade levels lie for a camera position (CascadeLayout): K boxes of the same coarse and fine
+///        voxel counts, level i's voxels 2^i times level 0's, each centred on the camera and snapped to its own
+///        coarse voxel, so a level moves by whole coarse voxels and its voxels never swim. Pure: no GPU, no scene.
+#include "grid/GridSpec.h"
+#include "sdf/PipelineSettings.h"
+#include "util/Bounds.h"
+
+#include <glm/glm.hpp>
+
+#include <utility>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief The shape every level shares: counts and level 0's size.
+struct CascadeShape {
+  int levels = 1;            ///< K
+  int coarseRes = 128;       ///< coarse voxels along each axis of every level
+  int fineRes = 256;         ///< fine voxels along each axis of every level
+  double levelZeroExtent = 1.0; ///< level 0's side in scene units (level i's: 2^i times it)
+  /// @brief Level @a i's coarse voxel: levelZeroExtent / coarseRes * 2^i.
+  double coarseVoxel(int i) const;
+  /// @brief Level @a i's fine voxel: levelZeroExtent / fineRes * 2^i.
+  double fineVoxel(int i) const;
+};
+
+/// @brief The shape @a s asks for over a scene of @a sceneBounds: s.cascades levels of s.coarseRes and s.fineRes
+///        voxels; level 0's side s.cascadeExtent, or by default the scene's longest side / 2^(K - 1), so that the
+///        outermost level spans the scene.
+/// @throw SettingError as PipelineSettings::validate; Error when @a sceneBounds is empty and no extent is given.
+CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const PipelineSettings& s);
+
+/// @brief One level: its coarse and fine grids (the same corner; the coarse covers the fine exactly).
+struct CascadeLevel {
+  int index = 0;
+  GridSpec coarse, fine;
+  glm::i64vec3 centreCell{0}; ///< the camera's nearest coarse lattice point, in level coarse voxels from the origin
+  /// @brief The level's box in world units.
+  Bounds box() const;
+  /// @brief The grids as SdfPipeline takes them (coarse, fine).
+  std::pair<GridSpec, GridSpec> grids() const { return {coarse, fine}; }
+};
+
+/// @brief The levels around one camera position.
+struct CascadeLayout {
+  CascadeShape shape;
+  glm::dvec3 camera{0.0};
+  std::vector<CascadeLevel> levels; ///< finest first
+  /// @brief The layout for @a camera: level i's coarse voxel c_i, its centre the coarse lattice point nearest the
+  ///        camera (round(camera / c_i) c_i), its corner coarseRes / 2 coarse voxels below that.
+  static CascadeLayout around(const glm::dvec3& camera, const CascadeShape& shape);
+  /// @brief The finest level whose box holds @a p at least @a margin (scene units) inside its faces, or -1.
+  int finestHolding(const glm::dvec3& p, double margin = 0.0) const;
+  /// @brief Per level, the whole coarse voxels the level moved from @a before to this layout (the slabs a
+  ///        toroidal update would rebuild).
+  std::vector<glm::i64vec3> shiftSince(const CascadeLayout& before) const;
+};
+
+} // namespace rtsdf

@@ -1,0 +1,59 @@
+#include "sdf/cascade/CascadeMemory.h"
+
+#include "sdf/cascade/CascadeScene.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace rtsdf {
+
+PipelineSettings levelSettings(const PipelineSettings& s, int level) {
+  PipelineSettings out = s;
+  out.cascades = 1;
+  out.cascadeExtent = -1.0;
+  out.padding = 0.0;
+  out.band = std::ldexp(s.band, level);
+  return out;
+}
+
+PipelineMemory CascadeMemory::total() const {
+  PipelineMemory t;
+  if (levels.empty()) return t;
+  t.coarse = levels.back().coarse;
+  t.fine = levels.back().fine;
+  for (const PipelineMemory& m : levels)
+    if (m.largestBuffer >= t.largestBuffer) {
+      t.largestBuffer = m.largestBuffer;
+      t.largestBufferName = m.largestBufferName;
+    }
+  t.deviceBytes = deviceBytes;
+  t.hostBytes = hostBytes;
+  return t;
+}
+
+std::string CascadeMemory::describe() const {
+  std::string t = fmt::format("{} levels: device {}, host {}", levels.size(), formatMiB(deviceBytes),
+                              formatMiB(hostBytes));
+  for (std::size_t i = 0; i < levels.size(); ++i)
+    t += fmt::format("; L{} fine voxel {:.4g}, {} triangles, device {}", i, levels[i].fine.voxelSize, triangles[i],
+                     formatMiB(levels[i].deviceBytes));
+  return t;
+}
+
+CascadeMemory estimateCascadeMemory(const Scene& scene, const CascadeLayout& layout, const PipelineSettings& s) {
+  CascadeMemory m;
+  for (const CascadeLevel& level : layout.levels) {
+    const PipelineSettings ls = levelSettings(s, level.index);
+    const double margin = levelSceneMargin(ls.band, level.coarse.voxelSize, level.fine.voxelSize);
+    const std::uint64_t triangles = instanceTriangles(levelScene(scene, level.box(), margin));
+    m.levels.push_back(estimatePipelineMemory(level.grids(), ls, triangles));
+    m.triangles.push_back(triangles);
+    m.deviceBytes += m.levels.back().deviceBytes;
+    m.hostBytes = std::max(m.hostBytes, m.levels.back().hostBytes);
+  }
+  return m;
+}
+
+} // namespace rtsdf

@@ -1,0 +1,60 @@
+#include "sdf/cascade/CascadeSet.h"
+
+#include "sdf/cascade/CascadeScene.h"
+
+#include <spdlog/spdlog.h>
+
+namespace rtsdf {
+
+CascadeSet::CascadeSet(const gpu::VulkanContext& ctx, const Scene& scene, const CascadeLayout& layout,
+                       const PipelineSettings& s)
+    : mCtx(ctx), mScene(scene), mSettings(s), mLayout(layout) {
+  s.validate();
+  mMemory = estimateCascadeMemory(scene, layout, s);
+  checkPipelineMemory(mMemory.total(), memoryLimits(ctx.info()));
+  for (int i = 0; i < int(layout.levels.size()); ++i) mLevels.push_back(buildLevel(i));
+}
+
+CascadeSet::~CascadeSet() = default;
+
+CascadeSet::Level CascadeSet::buildLevel(int i) const {
+  const CascadeLevel& level = mLayout.levels.at(std::size_t(i));
+  Level out;
+  const PipelineSettings settings = levelSettings(mSettings, i);
+  const double margin = levelSceneMargin(settings.band, level.coarse.voxelSize, level.fine.voxelSize);
+  out.scene = std::make_unique<Scene>(rtsdf::levelScene(mScene, level.box(), margin));
+  if (out.scene->instances.empty()) {
+    // Nothing near this level: one instance far outside keeps the pipeline's buffers non-empty; it lies beyond the
+    // margin, so every voxel stays out of the band, as with no geometry at all.
+    const Instance& first = mScene.instances.at(0);
+    out.scene->meshes.push_back(mScene.meshes.at(first.mesh));
+    out.scene->instances.push_back(first);
+    out.scene->instances.back().mesh = 0;
+  }
+  out.pipeline = std::make_unique<SdfPipeline>(mCtx, *out.scene, level.grids(), settings);
+  spdlog::info("cascade level {}: coarse {}, fine {}, {} of {} instances", i, level.coarse.describe(),
+               level.fine.describe(), out.scene->instances.size(), mScene.instances.size());
+  return out;
+}
+
+std::vector<FrameStats> CascadeSet::runFrame(double time) {
+  std::vector<FrameStats> stats;
+  for (Level& level : mLevels) stats.push_back(level.pipeline->runFrame(time));
+  return stats;
+}
+
+std::vector<int> CascadeSet::moveTo(const glm::dvec3& camera) {
+  const CascadeLayout next = CascadeLayout::around(camera, mLayout.shape);
+  const std::vector<glm::i64vec3> shift = next.shiftSince(mLayout);
+  mLayout = next;
+  std::vector<int> rebuilt;
+  for (int i = 0; i < levels(); ++i)
+    if (shift[std::size_t(i)] != glm::i64vec3(0)) {
+      mLevels[std::size_t(i)] = Level{}; // the old level's buffers go before the new one's are made
+      mLevels[std::size_t(i)] = buildLevel(i);
+      rebuilt.push_back(i);
+    }
+  return rebuilt;
+}
+
+} // namespace rtsdf

@@ -1,0 +1,58 @@
+#pragma once
+/// @file CascadeSet.h
+/// @brief Camera-centred cascade levels on the GPU: one set of pipeline parts per level (an SdfPipeline on the level's
+///        grids, over the instances near its box), each with its own coarse SDF, ray mask, brick pool and refinement
+///        state, so a level's memory is that of one box of today's counts whatever the world's size.
+#include "gpu/VulkanContext.h"
+#include "scene/Scene.h"
+#include "sdf/SdfPipeline.h"
+#include "sdf/cascade/CascadeLayout.h"
+#include "sdf/cascade/CascadeMemory.h"
+
+#include <memory>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief K levels around a camera position (CascadeLayout), each an SdfPipeline of its own. A camera move that
+///        changes a level's snapped box rebuilds that level from scratch (moveTo); the toroidal update that would
+///        rebuild only the slabs that entered it is not built yet.
+class CascadeSet {
+public:
+  /// @throw SettingError as SdfPipeline, and naming the fine resolution when all levels together do not fit the
+  ///        device or host (checked before any level is allocated).
+  CascadeSet(const gpu::VulkanContext& ctx, const Scene& scene, const CascadeLayout& layout,
+             const PipelineSettings& s);
+  ~CascadeSet();
+  CascadeSet(const CascadeSet&) = delete;
+  CascadeSet& operator=(const CascadeSet&) = delete;
+
+  /// @brief One frame of every level at @a time seconds, finest first; their statistics.
+  std::vector<FrameStats> runFrame(double time);
+  /// @brief Centre the levels on @a camera; a level whose snapped box changed is rebuilt (its history lost).
+  /// @return the indices of the levels rebuilt.
+  std::vector<int> moveTo(const glm::dvec3& camera);
+  int levels() const { return int(mLevels.size()); }
+  const SdfPipeline& level(int i) const { return *mLevels.at(std::size_t(i)).pipeline; }
+  /// @brief The instances level @a i places (levelScene).
+  const Scene& levelScene(int i) const { return *mLevels.at(std::size_t(i)).scene; }
+  const CascadeLayout& layout() const { return mLayout; }
+  /// @brief The estimate checked at construction.
+  const CascadeMemory& memory() const { return mMemory; }
+
+private:
+  struct Level {
+    std::unique_ptr<Scene> scene; ///< outlives its pipeline, which keeps a reference
+    std::unique_ptr<SdfPipeline> pipeline;
+  };
+  /// Level @a i of the layout: its part of the scene and its pipeline.
+  Level buildLevel(int i) const;
+  const gpu::VulkanContext& mCtx;
+  const Scene& mScene;
+  PipelineSettings mSettings;
+  CascadeLayout mLayout;
+  CascadeMemory mMemory;
+  std::vector<Level> mLevels;
+};
+
+} // namespace rtsdf

@@ -1,0 +1,163 @@
+// Cascade levels on lavapipe: each level's part of the scene gives the field the whole scene gives on the level's
+// voxels, the refined voxels are the exact distance, a camera move rebuilds only the levels whose box moved, and a
+// bake writes one level set per level that compare checks on each level's own voxels.
+#include "GpuFixture.h"
+#include "TestUtil.h"
+#include "grid/VdbIO.h"
+#include "jobs/Bake.h"
+#include "jobs/CascadeBake.h"
+#include "jobs/Compare.h"
+#include "reference/ExactSdf.h"
+#include "scene/SceneGeometry.h"
+#include "scene/SceneLoader.h"
+#include "sdf/cascade/CascadeSet.h"
+#include "util/Error.h"
+
+#include <gtest/gtest.h>
+
+using namespace rtsdf;
+
+namespace {
+
+struct CascadeTag : test::NoSuiteObjects {};
+using CascadeSetGpu = test::VulkanSuite<CascadeTag>;
+
+/// Three levels of coarse 16 / fine 32 in closest mode without sign rays; level 0 is 0.6 wide, level 2 spans the room.
+PipelineSettings threeLevels() {
+  PipelineSettings s;
+  s.coarseRes = 16;
+  s.fineRes = 32;
+  s.mode = RefineMode::Closest;
+  s.rays = 0;
+  s.band = 0.05;
+  s.cascades = 3;
+  s.cascadeExtent = 0.6;
+  return s;
+}
+
+Scene room() { return loadScene(test::dataPath("scenes/default.json")); }
+
+std::uint64_t differing(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size()) return std::max(a.size(), b.size());
+  std::uint64_t n = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) n += a[i] != b[i];
+  return n;
+}
+
+} // namespace
+
+TEST_F(CascadeSetGpu, EachLevelEqualsTheWholeSceneOnItsVoxelsAndIsExactUnderItsBand) {
+  const Scene scene = room();
+  const PipelineSettings s = threeLevels();
+  const glm::dvec3 camera(-0.3, 0.45, 0.1);
+  const CascadeLayout layout = CascadeLayout::around(camera, cascadeShapeFor(buildSceneGeometry(scene).bounds, s));
+  CascadeSet set(*sCtx, scene, layout, s);
+  set.runFrame(0.0);
+  const SceneGeometry geometry = buildSceneGeometry(scene, 0.0); // the field keeps a reference to it
+  const ExactDistanceField exact(geometry);
+  for (int i = 0; i < set.levels(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    const SdfPipeline& level = set.level(i);
+    EXPECT_EQ(level.fineSpec().voxelSize, 0.6 / 32 * (1 << i));
+    EXPECT_EQ(level.settings().band, 0.05 * (1 << i)) << "the band keeps its voxels at every level";
+    if (i < 2) EXPECT_LT(set.levelScene(i).instances.size(), scene.instances.size()) << "far instances left out";
+    // The whole scene on the same grids: the same field, voxel for voxel.
+    SdfPipeline whole(*sCtx, scene, layout.levels[std::size_t(i)].grids(), levelSettings(s, i));
+    whole.runFrame(0.0);
+    EXPECT_EQ(differing(level.coarseField(), whole.coarseField()), 0u);
+    EXPECT_EQ(differing(level.fineField(), whole.fineField()), 0u);
+    // Under the band the refinement is the exact distance (float rounding).
+    const auto grid = level.levelSet(float(level.settings().band));
+    const GridSpec& fs = level.fineSpec();
+    std::uint64_t voxels = 0;
+    double worst = 0.0;
+    for (auto it = grid->cbeginValueOn(); it; ++it) {
+      const openvdb::Coord c = it.getCoord();
+      const float d = exact.signedDistance(glm::vec3(fs.indexToWorld(glm::dvec3(c.x(), c.y(), c.z()))));
+      worst = std::max(worst, double(std::fabs(std::fabs(*it) - std::fabs(d))) / fs.voxelSize);
+      ++voxels;
+    }
+    EXPECT_GT(voxels, 500u);
+    EXPECT_LT(worst, 1e-3) << "fine voxels";
+  }
+}
+
+TEST_F(CascadeSetGpu, ACameraMoveRebuildsOnlyTheLevelsWhoseBoxMoved) {
+  const Scene scene = room();
+  const PipelineSettings s = threeLevels();
+  const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene).bounds, s);
+  const double c0 = shape.coarseVoxel(0);
+  // Start at a level-2 lattice point, so that one level-0 voxel of movement moves no coarser level.
+  const glm::dvec3 start = glm::dvec3(0.0, 4.0, 0.0) * shape.coarseVoxel(2);
+  CascadeSet set(*sCtx, scene, CascadeLayout::around(start, shape), s);
+  set.runFrame(0.0);
+  EXPECT_TRUE(set.moveTo(start + glm::dvec3(0.3 * c0, 0, 0)).empty()) << "within half a coarse voxel";
+  const glm::dvec3 next = start + glm::dvec3(0.8 * c0, 0, 0); // past half a level-0 voxel, under half a level-1 one
+  EXPECT_EQ(set.moveTo(next), std::vector<int>{0});
+  set.runFrame(0.0);
+  CascadeSet fresh(*sCtx, scene, CascadeLayout::around(next, shape), s);
+  fresh.runFrame(0.0);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(differing(set.level(i).fineField(), fresh.level(i).fineField()), 0u) << i;
+}
+
+TEST_F(CascadeSetGpu, APipelineIsOneBox) {
+  const Scene scene = room();
+  PipelineSettings s = threeLevels();
+  try {
+    SdfPipeline pipe(*sCtx, scene, buildSceneGeometry(scene).bounds, s);
+    FAIL() << "a pipeline of 3 cascades";
+  } catch (const SettingError& e) {
+    EXPECT_EQ(e.setting(), "cascades");
+  }
+}
+
+TEST(CascadeBake, WritesOneLevelSetPerLevelThatCompareChecksOnItsOwnVoxels) {
+  test::TempDir dir;
+  // A floor, a wall and a ball, the camera among them (levels are centred on it).
+  test::writeText(dir / "corner.json", R"({"meshes": {"floor": {"box": [2, 0.04, 2]}, "wall": {"box": [0.04, 1, 2]},
+    "ball": {"sphere": {"radius": 0.2}}},
+    "instances": [{"mesh": "floor", "translate": [0, -0.02, 0]}, {"mesh": "wall", "translate": [-0.5, 0.5, 0]},
+                  {"mesh": "ball", "translate": [0.2, 0.2, 0]}],
+    "camera": {"position": [0.1, 0.3, 0.3], "look_at": [0, 0, 0]}})");
+  BakeOptions o;
+  o.scene = (dir / "corner.json").string();
+  o.method = BakeMethod::Rtsdf;
+  o.pipeline = threeLevels();
+  o.frames = 1;
+  const BakeResult r = bake(o);
+  ASSERT_EQ(r.levels.size(), 3u);
+  writeBake(r, dir / "levels.vdb");
+  const std::vector<openvdb::FloatGrid::Ptr> levels = cascadeLevelGrids(readVdb(dir / "levels.vdb"));
+  ASSERT_EQ(levels.size(), 3u);
+  const Scene scene = loadScene(dir / "corner.json");
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(levels[std::size_t(i)]->getName(), "surface_L" + std::to_string(i));
+    const GridSpec spec = gridSpecOf(*levels[std::size_t(i)]);
+    EXPECT_DOUBLE_EQ(spec.voxelSize, 0.6 / 32 * (1 << i));
+    EXPECT_EQ(levels[std::size_t(i)]->metaValue<std::string>("rtsdf:cascade_level"), std::to_string(i));
+    EXPECT_GT(levels[std::size_t(i)]->activeVoxelCount(), 0u);
+    // Centred on the scene camera.
+    const glm::dvec3 cam = scene.cameraAt(0.0).position;
+    EXPECT_LE(glm::length(spec.bounds().center() - cam), std::sqrt(3.0) * spec.voxelSize * 32 / 16);
+  }
+  EXPECT_THROW(readLevelSet(dir / "levels.vdb"), Error) << "no single 'surface' grid";
+  CompareOptions c;
+  c.a = dir / "levels.vdb";
+  c.against = CompareAnchor::Exact;
+  const FileComparison cmp = compare(c);
+  ASSERT_EQ(cmp.levels.size(), 3u);
+  for (const FileComparison& level : cmp.levels) {
+    EXPECT_GT(level.error.voxels, 100u) << level.nameA;
+    EXPECT_LT(level.error.meanAbs, 0.01) << level.nameA;
+    EXPECT_LT(level.error.signErrorRate(), 0.01) << level.nameA;
+  }
+  EXPECT_NE(cmp.report().find("cascade level 2"), std::string::npos);
+  // Two files: levels are compared against an anchor only.
+  CompareOptions two;
+  two.a = c.a;
+  two.b = c.a;
+  EXPECT_THROW(compare(two), SettingError);
+  // Cascades are an rtsdf bake.
+  o.method = BakeMethod::Exact;
+  EXPECT_THROW(bake(o), SettingError);
+}

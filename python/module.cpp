@@ -186,7 +186,9 @@ private:
 
 } // namespace
 
-PYBIND11_MODULE(rtsdf, m) {
+void bindBatch(py::module_& m); // batch.cpp
+
+PYBIND11_MODULE(_rtsdf, m) {
   m.doc() = "rtsdf: signed distance fields of triangle-mesh scenes (exact, OpenVDB, GPU jump flooding / exact "
             "transform, and the RTSDF pipeline)";
   openvdb::initialize();
@@ -253,4 +255,5 @@ PYBIND11_MODULE(rtsdf, m) {
            py::arg("fps") = 30.0)
       .def("frame", &Pipeline::frame, py::arg("time"), "Run the frame at a time (seconds); returns its statistics")
       .def("fine", &Pipeline::fine, "The last frame's fine SDF as a Field");
+  bindBatch(m);
 }

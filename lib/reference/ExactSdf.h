@@ -93,6 +93,9 @@ struct ExactSdfOptions {
   double band = 0.1;
   SignMethod sign = SignMethod::Auto;
   bool progress = true; ///< show a progress bar on stderr
+  /// Bake only the 8^3 blocks whose first voxel lies in this box of index space (one tile of a bake split
+  /// across workers, jobs/TileBake.h); empty (the default): every block.
+  openvdb::CoordBBox window;
 };
 
 /// @brief Counters of one exactSignedDistance run.

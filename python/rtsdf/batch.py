@@ -92,7 +92,8 @@ def make_items(inputs, settings, samples):
         if len(stems[name]) > 1:  # two inputs with one stem: the path tells them apart
             name = f"{name}-{hashlib.sha1(os.path.abspath(path).encode()).hexdigest()[:8]}"
         item_samples = int(row.pop("samples", samples))
-        item = {"input": path, "name": name, "settings": {**settings, **row}, "samples": item_samples}
+        item = {"input": path, "path": os.path.abspath(path), "name": name, "settings": {**settings, **row},
+                "samples": item_samples}
         try:
             with open(path, "rb") as f:
                 data = f.read()
@@ -124,7 +125,8 @@ def _worker_setup():
     try:
         from distributed import get_worker
         worker = get_worker()
-        address, threads = worker.address, getattr(worker, "nthreads", 0)
+        address = worker.address
+        threads = worker.state.nthreads if hasattr(worker, "state") else worker.nthreads
     except (ImportError, ValueError, AttributeError):
         address, threads = f"{socket.gethostname()}:{os.getpid()}", 0
     if not _threads_set:
@@ -135,9 +137,9 @@ def _worker_setup():
 
 def _mesh_path(item, folder):
     """The input where this worker sees it, else the bytes the task carried, written into folder."""
-    if item.get("bytes") is None or os.path.isfile(item["input"]):
-        return item["input"]
-    path = os.path.join(folder, os.path.basename(item["input"]))
+    if item.get("bytes") is None or os.path.isfile(item["path"]):
+        return item["path"]
+    path = os.path.join(folder, os.path.basename(item["path"]))
     with open(path, "wb") as f:
         f.write(item["bytes"])
     return path
@@ -175,7 +177,7 @@ def _active_voxels(rtsdf, path, field):
 
 def bake_item(item):
     """Bake one item on a worker: the .vdb (and .npz) bytes and the counts, or the one-line error. Never raises."""
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     rtsdf, worker = _worker_setup()
     result, shipped = {"worker": worker}, None
     try:
@@ -197,10 +199,10 @@ def bake_item(item):
         result["status"] = "done"
     except Exception as e:  # a bad mesh or setting is this item's failure, not the batch's
         error = _one_line(e)
-        if shipped and shipped != item["input"]:  # the library names the copy the task carried: name the input
+        if shipped:  # the library names the file it read: name the input as given
             error = error.replace(shipped, item["input"])
         result.update(status="failed", error=error)
-    result["seconds"] = time.perf_counter() - start
+    result["seconds"], result["cpu_seconds"] = time.perf_counter() - start, time.process_time() - cpu
     return result
 
 
@@ -342,6 +344,7 @@ class _Deferred:
 def _finish(item, result, folder, manifest, progress, on_row):
     row = {"input": item["input"], "name": item["name"], "hash": item["hash"], "settings": item["settings"],
            "status": result["status"], "seconds": round(result.get("seconds", 0.0), 4),
+           "cpu_seconds": round(result.get("cpu_seconds", 0.0), 4),
            "worker": result.get("worker", ""), "triangles": result.get("triangles"),
            "active_voxels": result.get("active_voxels"), "outputs": {}, "sha256": {}, "error": result.get("error"),
            "time": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
@@ -461,8 +464,8 @@ def run(inputs, out_dir, *, workers=None, scheduler=None, client=None, threads_p
             if row is None:
                 todo.append(item)
                 continue
-            cached = {**row, "status": "cached", "seconds": 0.0, "worker": "", "input": item["input"],
-                      "time": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+            cached = {**row, "status": "cached", "seconds": 0.0, "cpu_seconds": 0.0, "worker": "",
+                      "input": item["input"], "time": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
             manifest.append(cached)
             progress.row(cached)
             if on_row:
@@ -470,6 +473,10 @@ def run(inputs, out_dir, *, workers=None, scheduler=None, client=None, threads_p
         if todo:
             gpu = any(i["settings"].get("method") in GPU_METHODS for i in todo)
             client, close = _cluster(client, scheduler, workers, threads_per_worker, gpu)
+            offered = [w.get("resources", {}).get("GPU", 0) for w in client.scheduler_info()["workers"].values()]
+            if gpu and not any(offered):
+                raise ValueError("the GPU methods need workers that offer the resource GPU (dask worker ... "
+                                 "--resources GPU=1); none of this cluster's does")
             if tiles:
                 _bake_tiled(client, todo, tiles, out_dir, manifest, progress, on_row)
             else:

@@ -79,8 +79,9 @@ def _stem(path):
     return os.path.splitext(os.path.basename(path))[0] or "item"
 
 
-def make_items(inputs, settings, samples):
-    """The batch's items: input, output name (unique in DIR), settings, samples and content hash."""
+def make_items(inputs, settings, samples, ship=False):
+    """The batch's items: input, output name (unique in DIR), settings, samples and content hash; with ship, the
+    bytes of single-file meshes too (for workers that do not see the client's files)."""
     expanded = expand_inputs(inputs)
     stems = {}
     for path, row in expanded:
@@ -100,7 +101,7 @@ def make_items(inputs, settings, samples):
             h = hashlib.sha256(data)
             h.update(json.dumps([item["settings"], item_samples], sort_keys=True).encode())
             item["hash"] = h.hexdigest()
-            item["bytes"] = data if path.lower().endswith(SELF_CONTAINED) else None
+            item["bytes"] = data if ship and path.lower().endswith(SELF_CONTAINED) else None
         except OSError as e:
             item["hash"], item["bytes"], item["error"] = "", None, f"{path}: {e.strerror or e}"
         items.append(item)
@@ -435,14 +436,16 @@ def _bake_tiled(client, items, tiles, folder, manifest, progress, on_row):
 
 
 def run(inputs, out_dir, *, workers=None, scheduler=None, client=None, threads_per_worker=1, method="exact",
-        res=128, band=0.1, samples=0, tiles=0, settings=None, stream=None, on_row=None):
+        res=128, band=0.1, samples=0, tiles=0, settings=None, ship=None, stream=None, on_row=None):
     """Bake every input into out_dir on Dask; returns the summary (done, cached, failed, meshes_per_minute ...).
 
     workers: processes of the local cluster (default: one per core) when neither scheduler (an address such as
     tcp://host:8786) nor client (a distributed.Client) is given. settings: further bake keywords (rtsdf.bake's).
     samples: points per kind (uniform, near the surface) in DIR/NAME.npz. tiles: bake each item by this many tiles
-    (exact method). on_row(row) is called after each manifest row. KeyboardInterrupt propagates after the cluster
-    this run started is closed; every row written stands.
+    (exact method). ship: send the bytes of single-file meshes with their tasks (default: with a scheduler
+    address, not to a local cluster or a given client, whose workers read the client's files). on_row(row) is
+    called after each manifest row. KeyboardInterrupt propagates after the cluster this run started is closed;
+    every row written stands.
     """
     if isinstance(inputs, (str, os.PathLike)):
         inputs = [inputs]
@@ -452,7 +455,7 @@ def run(inputs, out_dir, *, workers=None, scheduler=None, client=None, threads_p
     if tiles and settings["method"] != "exact":
         raise ValueError(f"--tiles bakes with the exact method, not {settings['method']}")
     os.makedirs(out_dir, exist_ok=True)
-    items = make_items([os.fspath(i) for i in inputs], settings, samples)
+    items = make_items([os.fspath(i) for i in inputs], settings, samples, bool(scheduler) if ship is None else ship)
     manifest = Manifest(out_dir)
     progress = Progress(len(items), stream)
     interrupted = False
@@ -524,6 +527,9 @@ def parse_args(argv):
                    help="any other bake keyword (docs/settings.md), e.g. --set sign=winding --set padding=0.05")
     p.add_argument("--samples", type=int, default=0, metavar="N",
                    help="write NAME.npz: N uniform points and N near the surface with their signed distances")
+    p.add_argument("--no-ship", dest="ship", action="store_false", default=None,
+                   help="with --scheduler: the workers read the inputs at the same paths (a shared folder) instead of "
+                        "receiving the bytes of single-file meshes with their tasks")
     p.add_argument("--tiles", type=int, default=0, metavar="N",
                    help="bake each input as N tiles on the workers, merged into one .vdb (exact method)")
     args = p.parse_args(argv)
@@ -544,7 +550,7 @@ def main(argv=None):
     try:
         summary = run(args.inputs, args.output, workers=args.workers, scheduler=args.scheduler,
                       threads_per_worker=args.threads_per_worker, method=args.method, res=args.res, band=args.band,
-                      samples=args.samples, tiles=args.tiles, settings=dict(args.settings))
+                      samples=args.samples, tiles=args.tiles, settings=dict(args.settings), ship=args.ship)
     except KeyboardInterrupt:
         return 130
     except (ValueError, OSError) as e:

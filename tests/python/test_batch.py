@@ -221,6 +221,24 @@ def test_tiled_bake_equals_the_whole_one(client, tmp_path):
     assert rtsdf.count_different_values(whole, str(tmp_path / "one.vdb")) > 1000
 
 
+def test_a_task_carries_the_mesh_to_a_worker_that_does_not_see_it(meshes, tmp_path):
+    source = meshes[0] / "sphere05.obj"
+    (item,) = batch.make_items([str(source)], {"method": "exact", "res": RES, "band": BAND}, 0, ship=True)
+    assert item["bytes"] == source.read_bytes()
+    item["path"] = str(tmp_path / "elsewhere" / "sphere05.obj")  # not on this worker
+    result = batch.bake_item(item)
+    assert result["status"] == "done", result
+    assert result["triangles"] == 20 * 4 ** 3 and len(result["vdb"]) > 1000
+    (bad,) = batch.make_items([str(meshes[0] / "bad_nan.obj")], {"method": "exact", "res": RES, "band": BAND}, 0,
+                              ship=True)
+    bad["path"] = str(tmp_path / "elsewhere" / "bad_nan.obj")
+    failed = batch.bake_item(bad)
+    assert failed["status"] == "failed" and "non-finite" in failed["error"]
+    assert str(meshes[0] / "bad_nan.obj") in failed["error"]  # the input's name, not the worker's copy
+    (local,) = batch.make_items([str(source)], {"res": RES}, 0)
+    assert local["bytes"] is None  # a local cluster reads the file itself
+
+
 def test_bad_settings_are_refused_before_any_work(tmp_path):
     with pytest.raises(ValueError, match="exact"):
         batch.run([os.path.join(DATA, "meshes", "bunny.obj")], str(tmp_path), method="openvdb", tiles=2)

@@ -301,6 +301,8 @@ class Progress:
         self.counts[row["status"]] += 1
         n = sum(self.counts.values())
         if self.bar:
+            if row["status"] == "failed":  # above the bar, which is drawn again below it
+                self.stream.write(f"\r\033[Krtsdf.batch: failed {row['name']}: {row.get('error')}\n")
             filled = int(30 * n / max(self.total, 1))
             self.stream.write(f"\r[{'#' * filled}{'.' * (30 - filled)}] {n}/{self.total} done {self.counts['done']} "
                               f"cached {self.counts['cached']} failed {self.counts['failed']} "
@@ -328,7 +330,9 @@ class _Deferred:
 
     def __enter__(self):
         self.caught, self.previous = False, None
-        if threading.current_thread() is threading.main_thread():
+        # Only Python's own Ctrl-C (KeyboardInterrupt) is held back: an ignored SIGINT stays ignored.
+        if threading.current_thread() is threading.main_thread() and \
+                signal.getsignal(signal.SIGINT) is signal.default_int_handler:
             self.previous = signal.signal(signal.SIGINT, self._hold)
         return self
 

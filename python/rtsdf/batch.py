@@ -209,6 +209,7 @@ def bake_item(item):
 
 def bake_tile(item, tile, tiles):
     """Bake one tile of an item's exact bake on a worker: the tile's .vdb bytes and counts (raises on error)."""
+    cpu = time.process_time()
     rtsdf, worker = _worker_setup()
     method, res, band, extra = _bake_settings(item["settings"])
     if method != "exact":
@@ -218,7 +219,7 @@ def bake_tile(item, tile, tiles):
         info = rtsdf.bake_tile(_mesh_path(item, folder), out, tile, tiles, res=res, band=band, **extra)
         with open(out, "rb") as f:
             info["vdb"] = f.read()
-    info["worker"] = worker
+    info["worker"], info["cpu_seconds"] = worker, time.process_time() - cpu
     return info
 
 
@@ -432,6 +433,7 @@ def _bake_tiled(client, items, tiles, folder, manifest, progress, on_row):
                 merged = _rtsdf.merge_tiles([p["vdb"] for p in parts], out)
             result = {"status": "done", "written": True, "active_voxels": merged["active_voxels"],
                       "triangles": parts[0]["triangles"], "tiles": tiles,
+                      "cpu_seconds": sum(p["cpu_seconds"] for p in parts),
                       "worker": ",".join(sorted({p["worker"] for p in parts}))}
         except Exception as e:
             result = {"status": "failed", "error": _one_line(e)}

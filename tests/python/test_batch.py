@@ -221,6 +221,25 @@ def test_tiled_bake_equals_the_whole_one(client, tmp_path):
     assert rtsdf.count_different_values(whole, str(tmp_path / "one.vdb")) > 1000
 
 
+def test_a_manifest_gives_per_item_settings_and_names(meshes, client, tmp_path):
+    listing = tmp_path / "list.jsonl"
+    rel = os.path.relpath(meshes[0], tmp_path)
+    listing.write_text(json.dumps({"input": f"{rel}/sphere03.obj", "name": "fine", "res": 40}) + "\n\n" +
+                       json.dumps({"input": f"{rel}/sphere04.obj", "samples": 50, "sign": "winding"}) + "\n")
+    out = str(tmp_path / "out")
+    summary = batch.run([str(listing), str(meshes[0] / "sphere0[5-6].obj")], out, client=client, res=RES, band=BAND)
+    assert (summary["done"], summary["failed"]) == (4, 0)
+    rows = {r["name"]: r for r in check_consistent(out)}
+    assert sorted(rows) == ["fine", "sphere04", "sphere05", "sphere06"]
+    assert rows["fine"]["settings"]["res"] == 40 and rows["sphere05"]["settings"]["res"] == RES
+    assert rows["sphere04"]["settings"]["sign"] == "winding" and set(rows["sphere04"]["outputs"]) == {"vdb", "npz"}
+    assert pyopenvdb.read(os.path.join(out, "fine.vdb"), "surface").evalActiveVoxelBoundingBox()[1][0] > \
+        pyopenvdb.read(os.path.join(out, "sphere05.vdb"), "surface").evalActiveVoxelBoundingBox()[1][0]
+    listing.write_text('{"no input": 1}\n')
+    with pytest.raises(ValueError, match="list.jsonl:1"):
+        batch.run([str(listing)], out, client=client)
+
+
 def test_a_task_carries_the_mesh_to_a_worker_that_does_not_see_it(meshes, tmp_path):
     source = meshes[0] / "sphere05.obj"
     (item,) = batch.make_items([str(source)], {"method": "exact", "res": RES, "band": BAND}, 0, ship=True)

@@ -9,7 +9,9 @@
 namespace py = pybind11;
 using namespace rtsdf;
 
-PYBIND11_MODULE(rtsdf, m) {
+void bindBatch(py::module_& m); // batch.cpp
+
+PYBIND11_MODULE(_rtsdf, m) {
   m.doc() = "rtsdf: signed distance fields of triangle-mesh scenes (exact, OpenVDB, GPU jump flooding / exact "
             "transform, and the RTSDF pipeline)";
   openvdb::initialize();
@@ -36,4 +38,5 @@ PYBIND11_MODULE(rtsdf, m) {
   python::bindScenes(m);
   python::bindFields(m);
   python::bindJobs(m);
+  bindBatch(m);
 }

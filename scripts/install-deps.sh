@@ -10,7 +10,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers glslc vulkan-validationlayers vulkan-tools
   libassimp-dev libcgal-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3-dev pybind11-dev python3-numpy python3-pytest
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-distributed
   libglfw3-dev libstb-dev xvfb xauth
   gnuplot-nox
   clang libclang-rt-14-dev

@@ -534,6 +534,7 @@ openvdb::FloatGrid::Ptr exactSignedDistance(const SceneGeometry& geometry, const
     BlockScratch& s = scratch.local();
     progress.add();
     poll.done();
+    if (!options.window.empty() && !options.window.isInside(openvdb::Coord(o.x, o.y, o.z))) return false;
     const glm::vec3 bc(spec.indexToWorld(glm::dvec3(o) + 3.5));
     if (!gatherCandidates(bandFill, bc, s)) return false;
     s.dist.resize(s.cand.size());

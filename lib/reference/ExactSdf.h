@@ -97,6 +97,9 @@ struct ExactSdfOptions {
   /// Progress ("exact SDF", blocks done of all, about every 1%) and stop requests, polled before each 8^3 block
   /// from the worker threads (the control must be thread-safe); a stop throws Interrupted. Null: neither.
   const JobControl* control = nullptr;
+  /// Bake only the 8^3 blocks whose first voxel lies in this box of index space (one tile of a bake split
+  /// across workers, jobs/TileBake.h); empty (the default): every block.
+  openvdb::CoordBBox window;
 };
 
 /// @brief Counters of one exactSignedDistance run.

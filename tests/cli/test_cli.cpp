@@ -558,3 +558,30 @@ TEST(Cli, SweepRefusesBadInputWithoutCreatingItsFolder) {
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("not a folder"), std::string::npos) << r.output;
 }
+
+// Every GPU job refuses its results after a Vulkan validation error, one reported at the device's destruction (an
+// object left alive) included. The build's test hook (RTSDF_TEST_VALIDATION_ERROR) commits a deliberate one; the
+// same commands pass without it. (The sweep's check: SweepRunner.FinishRefusesASweepWithAValidationError.)
+TEST(Cli, AValidationErrorFailsRenderAndTheBenchSuites) {
+  const TempDir dir;
+  const std::string scene = q(test::dataPath("scenes/analytic.json"));
+  const std::string mesh = q(test::dataPath("meshes/bunny.obj"));
+  const std::vector<std::string> commands = {
+      "-q render " + scene + " --shadows sdf --width 32 --height 18 --coarse 32 --fine 64 -o " + q(dir / "r.exr"),
+      "-q bench " + mesh + " --suite coarse --res 32 --repeats 1 --warm-up 0 -o " + q(dir / "coarse.md"),
+  };
+  for (const std::string& cmd : commands) {
+    SCOPED_TRACE(cmd);
+    ASSERT_EQ(::unsetenv("RTSDF_TEST_VALIDATION_ERROR"), 0);
+    const Result clean = rtsdfCmd(cmd);
+    ASSERT_EQ(clean.exitCode, 0) << clean.output;
+    for (const char* kind : {"now", "leak"}) {
+      SCOPED_TRACE(kind);
+      ASSERT_EQ(::setenv("RTSDF_TEST_VALIDATION_ERROR", kind, 1), 0);
+      const Result r = rtsdfCmd(cmd);
+      ::unsetenv("RTSDF_TEST_VALIDATION_ERROR");
+      EXPECT_NE(r.exitCode, 0) << r.output;
+      EXPECT_NE(r.output.find("Vulkan validation reported"), std::string::npos) << r.output;
+    }
+  }
+}

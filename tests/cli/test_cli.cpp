@@ -97,6 +97,19 @@ TEST(Cli, BakesTheDefaultSceneWithBothMethodsAndCompares) {
   ASSERT_EQ(anchored.exitCode, 0) << anchored.output;
   EXPECT_EQ(numberAfter(anchored.output, "|A - B|    mean "), 0.0) << anchored.output;
   EXPECT_EQ(numberAfter(anchored.output, "compared   "), double(grid->activeVoxelCount())) << anchored.output;
+  // The same anchor against a field whose difference the test knows independently: the exact file with a quarter
+  // voxel added to every active value (written here, metadata kept) differs from the anchor by exactly that.
+  {
+    openvdb::FloatGrid::Ptr shifted = grid->deepCopy();
+    const float quarter = 0.25f * float(grid->voxelSize()[0]);
+    for (auto it = shifted->beginValueOn(); it; ++it) it.setValue(*it + quarter);
+    writeVdb(dir / "shifted.vdb", {shifted});
+  }
+  const Result shiftedCmp = rtsdfCmd("compare " + q(dir / "shifted.vdb") + " --against exact");
+  ASSERT_EQ(shiftedCmp.exitCode, 0) << shiftedCmp.output;
+  EXPECT_EQ(numberAfter(shiftedCmp.output, "compared   "), double(grid->activeVoxelCount())) << shiftedCmp.output;
+  EXPECT_NEAR(numberAfter(shiftedCmp.output, "|A - B|    mean "), 0.25, 1e-3) << shiftedCmp.output;
+  EXPECT_NEAR(numberAfter(shiftedCmp.output, ", max "), 0.25, 1e-3) << shiftedCmp.output;
   const Result both = rtsdfCmd("compare " + q(dir / "exact.vdb") + " " + q(dir / "vdb.vdb") + " --against exact");
   EXPECT_NE(both.exitCode, 0);
   EXPECT_NE(both.output.find("excludes"), std::string::npos) << both.output;
@@ -462,8 +475,14 @@ TEST(Cli, RenderRefusesBadInputWithoutWritingAnything) {
       {ok + " --width 0", "--width"},
       {ok + " --max-step 0", "--max-step"},
       {ok + " --taa-blend 0", "--taa-blend"},
-      {ok + " --shadows shadowmap --shadow-map-res 8192", "storage buffer limit"}, // lavapipe: 128 MiB
+      // Three lights' depth maps at 8192 need 4.5 GiB: beyond every device's limit (a 32-bit byte count).
+      {q(dir / "three_suns.json") + " --shadows shadowmap --shadow-map-res 8192", "storage buffer limit"},
   };
+  writeText(dir / "three_suns.json", R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b"}],
+    "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
+    "lights": [{"name": "a", "type": "directional", "direction": [0, -1, 0]},
+               {"name": "b", "type": "directional", "direction": [1, -1, 0]},
+               {"name": "c", "type": "directional", "direction": [0, -1, 1]}]})");
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
     const Result r = rtsdfCmd("-q render " + c.args + " --width 16 --height 9 -o " + q(dir / "out.exr"));

@@ -91,7 +91,7 @@ private:
 AnimateResult animate(const AnimateOptions& a, const JobControl& control,
                       const std::function<void(const AnimateFrame&)>& onFrame) {
   a.validate();
-  const Scene scene = loadScene(a.scene);
+  const Scene scene = loadScene(a.scene, a.meshLoad);
   const std::size_t focus = a.focus.empty() ? 0 : focusInstance(scene, a);
   // Grids fixed over the whole animation: the union of the scene's bounds at every frame.
   Bounds bounds;

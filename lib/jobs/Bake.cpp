@@ -173,7 +173,7 @@ BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const J
 
 BakeResult bake(const BakeOptions& options, const JobControl& control) {
   options.validate(); // before reading the scene: bad settings are refused before any work
-  return bakeValidated(loadScene(options.scene), options, control);
+  return bakeValidated(loadScene(options.scene, options.meshLoad), options, control);
 }
 
 BakeResult bake(const Scene& scene, const BakeOptions& options, const JobControl& control) {

@@ -86,7 +86,7 @@ Image visibilityErrorImage(const Scene& scene, const RenderedFrame& frame, const
 
 RenderJobResult renderScene(const RenderJobOptions& o, const JobControl& control) {
   o.validate();
-  const Scene scene = loadScene(o.scene);
+  const Scene scene = loadScene(o.scene, o.meshLoad);
   if (!scene.hasCamera) throw Error(fmt::format("{}: the scene has no camera to render from", o.scene));
   if (scene.lights.empty()) throw Error(fmt::format("{}: the scene has no light to cast shadows", o.scene));
   RenderJobResult result;

@@ -604,3 +604,25 @@ TEST(Cli, AValidationErrorFailsRenderAndTheBenchSuites) {
     }
   }
 }
+
+// A scene's mesh path that leaves the folder holding the scene's folder is refused by default (a row of the
+// bad-input table); --allow-outside-references lets bake read it, and the field is the one of the mesh itself.
+TEST(Cli, AllowOutsideReferencesLetsASceneReachItsMesh) {
+  const TempDir dir;
+  std::filesystem::create_directories(dir / "sub" / "scenes");
+  std::filesystem::copy_file(test::dataPath("meshes/bunny.obj"), dir / "m.obj");
+  writeText(dir / "sub" / "scenes" / "s.json",
+            R"({"meshes": {"m": {"path": "../../m.obj"}}, "instances": [{"mesh": "m"}]})");
+  const std::string scene = q(dir / "sub" / "scenes" / "s.json");
+  const Result refused = rtsdfCmd("bake " + scene + " --res 16 -o " + q(dir / "refused.vdb"));
+  EXPECT_NE(refused.exitCode, 0);
+  EXPECT_NE(refused.output.find("'../../m.obj' is refused"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "refused.vdb"));
+
+  const Result allowed = rtsdfCmd("bake " + scene + " --res 16 --allow-outside-references -o " + q(dir / "a.vdb"));
+  ASSERT_EQ(allowed.exitCode, 0) << allowed.output;
+  ASSERT_EQ(rtsdfCmd("bake " + q(dir / "m.obj") + " --res 16 -o " + q(dir / "direct.vdb")).exitCode, 0);
+  const auto viaScene = readLevelSet(dir / "a.vdb"), direct = readLevelSet(dir / "direct.vdb");
+  EXPECT_EQ(viaScene->activeVoxelCount(), direct->activeVoxelCount());
+  EXPECT_GT(viaScene->activeVoxelCount(), 100u);
+}

@@ -3,23 +3,35 @@
 # every saved crash input in fuzz/regressions/<target>/. Any crash, leak, sanitizer report, timeout or memory
 # blow-up fails the script and leaves the input under build-fuzz/artifacts/: add it to
 # fuzz/regressions/<target>/ (and, for a CLI-reachable case, a row to tests/cli/bad_inputs.json) with the fix.
-# Usage: scripts/fuzz.sh                  CI: a fixed seed and a fixed number of inputs per target (about a
-#                                         minute each on 2 cores; runs still differ a little: coverage
-#                                         feedback depends on addresses)
+# Usage: scripts/fuzz.sh                  CI: a fixed seed and at most a fixed number of inputs per target, each
+#                                         target capped in time (seconds below: about three minutes in all on
+#                                         2 cores; runs still differ a little: coverage feedback depends on
+#                                         addresses)
 #        scripts/fuzz.sh --explore SECONDS  a random seed for SECONDS per target: to find new inputs
+# Seeds: fuzz/seeds/<target>/ (files rtsdf wrote: .vdb with zip and blosc, half floats; binary PLY/STL, GLB,
+# glTF; scenes of built-in meshes; command lines) and seeds made here from data/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 explore=""
 if [ "${1:-}" = "--explore" ]; then explore="${2:?--explore needs seconds per target}"; fi
-# Inputs per target in CI: about a minute each (executions a second: scene ~1900, mesh ~200, .vdb ~40000).
-declare -A runs=([fuzz_scene_json]=100000 [fuzz_mesh]=12000 [fuzz_vdb]=2000000)
+# Inputs per target in CI (executions a second on 2 cores: scene ~1900, mesh ~200, .vdb ~40000), and the time
+# each may take at most: CI's fuzzing stays within a few minutes whatever the machine.
+targets=(fuzz_scene_json fuzz_mesh fuzz_vdb fuzz_mesh_binary fuzz_gltf fuzz_scene_geometry fuzz_compare fuzz_cli)
+declare -A runs=([fuzz_scene_json]=100000 [fuzz_mesh]=12000 [fuzz_vdb]=2000000 [fuzz_mesh_binary]=20000
+                 [fuzz_gltf]=20000 [fuzz_scene_geometry]=50000 [fuzz_compare]=20000 [fuzz_cli]=50000)
+declare -A seconds=([fuzz_scene_json]=25 [fuzz_mesh]=25 [fuzz_vdb]=20 [fuzz_mesh_binary]=20 [fuzz_gltf]=20
+                    [fuzz_scene_geometry]=20 [fuzz_compare]=25 [fuzz_cli]=20)
 ./scripts/install-deps.sh
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Fuzz -DRTSDF_BUILD_TESTS=OFF >/dev/null
-ninja -C build-fuzz fuzz_scene_json fuzz_mesh fuzz_vdb
+ninja -C build-fuzz "${targets[@]}"
 
 seeds=build-fuzz/seeds
 rm -rf "$seeds" build-fuzz/artifacts
-mkdir -p "$seeds"/{fuzz_scene_json,fuzz_mesh,fuzz_vdb} build-fuzz/artifacts
+mkdir -p build-fuzz/artifacts
+for target in "${targets[@]}"; do
+  mkdir -p "$seeds/$target"
+  if [ -d "fuzz/seeds/$target" ]; then cp -r "fuzz/seeds/$target/." "$seeds/$target/"; fi
+done
 cp data/scenes/*.json "$seeds/fuzz_scene_json/"
 # Mesh seeds: the first byte picks the format (0 obj, 1 ply, 2 stl, 3 off), as fuzz/fuzz_mesh.cpp reads it.
 { printf '\0'; head -c 4000 data/meshes/teapot.obj; } > "$seeds/fuzz_mesh/teapot-head.obj"
@@ -35,13 +47,20 @@ g = vdb.createLevelSetSphere(radius=1.0, center=(0, 0, 0), voxelSize=0.25, halfW
 g.name = "surface"
 vdb.write(sys.argv[1] + "/sphere.vdb", grids=[g])
 PY
+# Two-file compare: the first 4 bytes say where the first file ends (fuzz/fuzz_compare.cpp).
+pair() { /usr/bin/python3 -c 'import sys,struct; a=open(sys.argv[1],"rb").read(); b=open(sys.argv[2],"rb").read()
+open(sys.argv[3],"wb").write(struct.pack("<I",len(a))+a+b)' "$@"; }
+pair fuzz/seeds/fuzz_vdb/bunny-zip-half.vdb fuzz/seeds/fuzz_vdb/bunny-blosc.vdb "$seeds/fuzz_compare/zip-half-blosc"
+pair fuzz/seeds/fuzz_vdb/bunny-blosc.vdb "$seeds/fuzz_vdb/sphere.vdb" "$seeds/fuzz_compare/bunny-sphere"
+pair "$seeds/fuzz_vdb/sphere.vdb" "$seeds/fuzz_vdb/sphere.vdb" "$seeds/fuzz_compare/sphere-sphere"
 
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 status=0
-for target in fuzz_scene_json fuzz_mesh fuzz_vdb; do
+for target in "${targets[@]}"; do
   regressions="fuzz/regressions/$target"
   mkdir -p "$regressions"
-  if [ -n "$explore" ]; then bound=(-max_total_time="$explore"); else bound=(-seed=1 -runs="${runs[$target]}"); fi
+  bound=(-seed=1 -runs="${runs[$target]}" -max_total_time="${seconds[$target]}")
+  if [ -n "$explore" ]; then bound=(-max_total_time="$explore"); fi
   echo "== $target: ${bound[*]} (seeds: $(ls "$seeds/$target" | wc -l), regressions: $(ls "$regressions" | wc -l))"
   if ! "build-fuzz/fuzz/$target" "$seeds/$target" "$regressions" "${bound[@]}" -max_len=65536 \
        -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -artifact_prefix="build-fuzz/artifacts/$target-" \

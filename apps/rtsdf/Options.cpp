@@ -27,10 +27,18 @@ void bindRenderSettings(CLI::App* cmd, RenderSettings& r, SettingFlags& flags) {
 constexpr const char* kUpHelp = "The up axis of the .vdb written: y (as the scene is) or z (turned upright for "
                                 "Blender and other Z-up tools; recorded as rtsdf:up)";
 
+/// --allow-outside-references, on every command that loads a scene.
+void bindMeshLoad(CLI::App* cmd, MeshLoadOptions& m) {
+  cmd->add_flag("--allow-outside-references", m.allowOutsideReferences,
+                "Let the scene's mesh paths and each mesh's references (glTF buffers and images, OBJ materials) "
+                "resolve outside their folder ('..', absolute paths, symbolic links); refused without it");
+}
+
 void bindBake(CLI::App& app, BakeCommand& c, SettingFlags& flags) {
   BakeOptions& o = c.options;
   CLI::App* cmd = app.add_subcommand("bake", "Build the signed distance field of a scene and write it as a .vdb");
   cmd->add_option("scene", o.scene, "Scene (.json) or mesh file (.obj, .ply, .stl, .gltf, ...)")->required();
+  bindMeshLoad(cmd, o.meshLoad);
   cmd->add_option("-o,--output", c.output, "Output .vdb file (written atomically)")->required();
   bindKnobs(cmd, o, flags);
   bindKnobs(cmd, o.pipeline, flags);
@@ -46,6 +54,7 @@ void bindAnimate(CLI::App& app, AnimateCommand& c, SettingFlags& flags) {
       "animate", "Run the RTSDF pipeline over an animation: per-frame mask size, pass times and error against the "
                  "exact field of the same moment (ghosting), optionally per-frame .vdb files");
   cmd->add_option("scene", o.scene, "Scene (.json) or mesh file")->required();
+  bindMeshLoad(cmd, o.meshLoad);
   cmd->add_option("--csv", c.csv, "Write per-frame statistics to this CSV file");
   bindKnobs(cmd, o, flags);
   bindKnobs(cmd, o.pipeline, flags);
@@ -59,6 +68,7 @@ void bindRender(CLI::App& app, RenderCommand& c, SettingFlags& flags) {
       "render", "Render the scene camera's view with soft shadows (SDF sphere tracing, shadow maps or ray-traced "
                 "truth) to a linear EXR (R, G, B and each light's visibility) and an sRGB PNG");
   cmd->add_option("scene", o.scene, "Scene (.json) with a camera and lights")->required();
+  bindMeshLoad(cmd, o.meshLoad);
   cmd->add_option("-o,--output", c.output, "Output .exr (written atomically)")->required();
   cmd->add_option("--png", c.png, "Output .png (default: the .exr's name with .png)");
   bindKnobs(cmd, o, flags);
@@ -75,6 +85,7 @@ void bindView(CLI::App& app, ViewOptions& o, SettingFlags& flags) {
               "X/D/A (Shift: down): rays x, band d, alpha; M: closest/rays refinement; R: scene camera; Space: pause; "
               "Esc: quit");
   cmd->add_option("scene", o.scene, "Scene (.json) with a camera and lights")->required();
+  bindMeshLoad(cmd, o.meshLoad);
   bindKnobs(cmd, o, flags);
   bindRenderSettings(cmd, r, flags);
   cmd->callback([&r] { r.rayTraced.seed = r.pipeline.seed; });

@@ -134,6 +134,31 @@ std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
   return devices;
 }
 
+/// A deliberate validation error for the tests that prove every job refuses one (RTSDF_TEST_VALIDATION_ERROR:
+/// "now", an invalid shader module at once; "leak", a buffer left alive, reported at vkDestroyDevice). Only in a
+/// build with test hooks (RTSDF_TEST_HOOKS, on with the test suite).
+void provokeValidationErrorForTests([[maybe_unused]] VkDevice device) {
+#ifdef RTSDF_TEST_HOOKS
+  const char* v = std::getenv("RTSDF_TEST_VALIDATION_ERROR");
+  const std::string kind = v ? v : "";
+  if (kind == "now") {
+    const std::uint32_t junk[5] = {0x07230203u, 0x00010000u, 0u, 0u, 0u};
+    VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    ci.codeSize = sizeof(junk);
+    ci.pCode = junk;
+    VkShaderModule m = VK_NULL_HANDLE;
+    vkCreateShaderModule(device, &ci, nullptr, &m);
+    if (m) vkDestroyShaderModule(device, m, nullptr);
+  } else if (kind == "leak") {
+    VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bi.size = 256;
+    bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    VkBuffer b = VK_NULL_HANDLE;
+    vkCreateBuffer(device, &bi, nullptr, &b);
+  }
+#endif
+}
+
 } // namespace
 
 struct VulkanContext::Messages {
@@ -268,6 +293,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
         vkGetDeviceProcAddr(mDevice, "vkCmdPushDescriptorSetKHR"));
     if (!mPushDescriptorSet) throw VulkanError(VK_ERROR_EXTENSION_NOT_PRESENT, "loading vkCmdPushDescriptorSetKHR");
     vkGetPhysicalDeviceMemoryProperties(mPhysical, &mMemory);
+    if (options.validation) provokeValidationErrorForTests(mDevice);
     spdlog::debug("Vulkan device: {} ({}){}", mInfo.name, mInfo.typeName, options.validation ? ", validation on" : "");
   } catch (...) {
     release();
@@ -277,13 +303,14 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
 
 VulkanContext::~VulkanContext() { release(); }
 
-void VulkanContext::release() {
+void VulkanContext::close() {
   if (mMessages && mMessages->live.load() != 0)
     spdlog::error("Vulkan: {} object(s) created by rtsdf were still alive at shutdown (leak)",
                   mMessages->live.load());
+  const std::uint32_t before = validationErrors();
   if (mDevice) {
     vkDeviceWaitIdle(mDevice);
-    vkDestroyDevice(mDevice, nullptr);
+    vkDestroyDevice(mDevice, nullptr); // the validation layer reports objects left alive here
     mDevice = VK_NULL_HANDLE;
   }
   if (mMessenger) {
@@ -296,6 +323,13 @@ void VulkanContext::release() {
     vkDestroyInstance(mInstance, nullptr);
     mInstance = VK_NULL_HANDLE;
   }
+  if (validationErrors() > before)
+    spdlog::error("Vulkan validation reported {} error(s) while the device was destroyed",
+                  validationErrors() - before);
+}
+
+void VulkanContext::release() {
+  close();
   delete mMessages;
   mMessages = nullptr;
 }

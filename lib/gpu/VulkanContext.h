@@ -74,7 +74,11 @@ public:
   std::uint32_t queueFamily() const { return mQueueFamily; }
   const DeviceInfo& info() const { return mInfo; }
   bool validationEnabled() const { return mMessenger != VK_NULL_HANDLE; }
-  /// @brief Validation errors reported since the context was created.
+  /// @brief Destroy the device and the instance now, before the context itself: the validation layer reports
+  ///        objects still alive at vkDestroyDevice, and those errors are counted. The counts stay readable;
+  ///        nothing else may be used after. Every object made on this context must be destroyed first.
+  void close();
+  /// @brief Validation errors reported since the context was created (those at close() included).
   std::uint32_t validationErrors() const;
   /// @brief The last validation error message (empty if none).
   std::string lastValidationMessage() const;

@@ -91,41 +91,42 @@ private:
 AnimateResult animate(const AnimateOptions& a, const JobControl& control,
                       const std::function<void(const AnimateFrame&)>& onFrame) {
   a.validate();
-  const Scene scene = loadScene(a.scene);
+  const Scene scene = loadScene(a.scene, a.meshLoad);
   const std::size_t focus = a.focus.empty() ? 0 : focusInstance(scene, a);
   // Grids fixed over the whole animation: the union of the scene's bounds at every frame.
   Bounds bounds;
   for (int f = 0; f < a.frames; ++f) bounds.add(buildSceneGeometry(scene, a.still ? 0.0 : f / a.fps).bounds);
-  gpu::VulkanContext ctx(deviceContextOptions(a.device));
-  warmUpPipeline(ctx, scene, bounds, a.pipeline, a.warmUpSeconds);
-  SdfPipeline pipe(ctx, scene, bounds, a.pipeline);
-  spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
-  openvdb::CoordBBox box;
-  if (!a.focus.empty()) box = focusBox(scene, a, focus, pipe.fineSpec());
-  BakeOptions stamp; // the per-frame files carry the pipeline's settings
-  stamp.scene = a.scene;
-  stamp.pipeline = a.pipeline;
-  AnimateResult result;
-  result.coarse = pipe.coarseSpec();
-  result.fine = pipe.fineSpec();
-  WrittenFrames written;
-  for (int f = 0; f < a.frames; ++f) {
-    control.checkStop();
-    AnimateFrame fr;
-    fr.frame = f;
-    fr.time = a.still ? 0.0 : f / a.fps;
-    fr.stats = pipe.runFrame(fr.time);
-    if (a.measureError) fr.error = frameError(scene, pipe, fr.time, a.focus.empty() ? nullptr : &box);
-    if (!a.vdbDir.empty()) {
-      const fs::path file = a.vdbDir / fmt::format("frame{:04d}.vdb", f);
-      writeVdb(file, {fineLevelSet(pipe, stamp, fr.time)}, a.vdb);
-      written.add(file);
+  WrittenFrames written; // removed unless the whole animation ran without a validation error
+  AnimateResult result = runOnDevice(deviceContextOptions(a.device), [&](const gpu::VulkanContext& ctx) {
+    warmUpPipeline(ctx, scene, bounds, a.pipeline, a.warmUpSeconds);
+    SdfPipeline pipe(ctx, scene, bounds, a.pipeline);
+    spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
+    openvdb::CoordBBox box;
+    if (!a.focus.empty()) box = focusBox(scene, a, focus, pipe.fineSpec());
+    BakeOptions stamp; // the per-frame files carry the pipeline's settings
+    stamp.scene = a.scene;
+    stamp.pipeline = a.pipeline;
+    AnimateResult run;
+    run.coarse = pipe.coarseSpec();
+    run.fine = pipe.fineSpec();
+    for (int f = 0; f < a.frames; ++f) {
+      control.checkStop();
+      AnimateFrame fr;
+      fr.frame = f;
+      fr.time = a.still ? 0.0 : f / a.fps;
+      fr.stats = pipe.runFrame(fr.time);
+      if (a.measureError) fr.error = frameError(scene, pipe, fr.time, a.focus.empty() ? nullptr : &box);
+      if (!a.vdbDir.empty()) {
+        const fs::path file = a.vdbDir / fmt::format("frame{:04d}.vdb", f);
+        writeVdb(file, {fineLevelSet(pipe, stamp, fr.time)}, a.vdb);
+        written.add(file);
+      }
+      run.frames.push_back(fr);
+      if (onFrame) onFrame(fr);
+      control.report("animate", std::uint64_t(f + 1), std::uint64_t(a.frames));
     }
-    result.frames.push_back(fr);
-    if (onFrame) onFrame(fr);
-    control.report("animate", std::uint64_t(f + 1), std::uint64_t(a.frames));
-  }
-  throwOnValidationErrors(ctx);
+    return run;
+  });
   written.keep();
   return result;
 }

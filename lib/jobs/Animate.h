@@ -4,6 +4,7 @@
 ///        time and the error against the exact field of the same moment (ghosting), optionally a .vdb per frame.
 #include "grid/VdbIO.h"
 #include "metrics/FieldError.h"
+#include "scene/MeshIO.h"
 #include "sdf/SdfPipeline.h"
 #include "util/JobControl.h"
 #include "util/Knobs.h"
@@ -18,6 +19,7 @@ namespace rtsdf {
 /// @brief Everything an animation run needs.
 struct AnimateOptions {
   std::string scene;          ///< scene (.json) or mesh file
+  MeshLoadOptions meshLoad;   ///< whether the scene's mesh paths and meshes' references may leave their folder
   int frames = 60;
   double fps = 30.0;          ///< frames per second of scene time
   bool still = false;         ///< every frame at time 0: the scene held still (a static scene's frames)

@@ -58,43 +58,45 @@ openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions&
 namespace {
 
 BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const JobControl& control) {
-  gpu::VulkanContext ctx(deviceContextOptions(o.device));
-  SdfPipeline pipe(ctx, scene, buildSceneGeometry(scene, o.time).bounds, o.pipeline);
-  spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
-  BakeResult r;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int f = 0; f < o.frames; ++f) {
-    control.checkStop();
-    r.lastFrame = pipe.runFrame(o.time);
-    control.report("refining", std::uint64_t(f + 1), std::uint64_t(o.frames));
-  }
-  r.seconds = secondsSince(t0);
-  throwOnValidationErrors(ctx);
-  r.grid = fineLevelSet(pipe, o, o.time);
-  r.spec = pipe.fineSpec();
-  r.coarseSpec = pipe.coarseSpec();
-  r.device = ctx.info().name;
-  return r;
+  return runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
+    SdfPipeline pipe(ctx, scene, buildSceneGeometry(scene, o.time).bounds, o.pipeline);
+    spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
+    BakeResult r;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int f = 0; f < o.frames; ++f) {
+      control.checkStop();
+      r.lastFrame = pipe.runFrame(o.time);
+      control.report("refining", std::uint64_t(f + 1), std::uint64_t(o.frames));
+    }
+    r.seconds = secondsSince(t0);
+    throwOnValidationErrors(ctx);
+    r.grid = fineLevelSet(pipe, o, o.time);
+    r.spec = pipe.fineSpec();
+    r.coarseSpec = pipe.coarseSpec();
+    r.device = ctx.info().name;
+    return r;
+  });
 }
 
 openvdb::FloatGrid::Ptr bakeCoarse(const BakeOptions& o, const SceneGeometry& geo, const GridSpec& spec,
                                    BakeResult& r) {
-  gpu::VulkanContext ctx(deviceContextOptions(o.device));
-  CoarseSdfSettings cs;
-  cs.method = o.pipeline.coarseMethod;
-  cs.beta = o.pipeline.beta;
-  CoarseSdfBuilder builder(ctx);
-  const CoarseSdf coarse = builder.build(geo, spec, cs);
-  r.lastFrame.passMs = coarse.passMs;
-  r.device = ctx.info().name;
-  spdlog::info("GPU {}: {}", ctx.info().name, [&] {
-    std::string t;
-    for (const char* p : {VoxelizePass::kName, coarseTransformPass(cs.method), CoarseDistancePass::kName})
-      t += fmt::format("{} {:.2f} ms  ", p, coarse.passTotal(p));
-    return t;
-  }());
-  throwOnValidationErrors(ctx);
-  return denseToLevelSet(coarse.distance, spec, float(o.pipeline.band));
+  return runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
+    CoarseSdfSettings cs;
+    cs.method = o.pipeline.coarseMethod;
+    cs.beta = o.pipeline.beta;
+    CoarseSdfBuilder builder(ctx);
+    const CoarseSdf coarse = builder.build(geo, spec, cs);
+    r.lastFrame.passMs = coarse.passMs;
+    r.device = ctx.info().name;
+    spdlog::info("GPU {}: {}", ctx.info().name, [&] {
+      std::string t;
+      for (const char* p : {VoxelizePass::kName, coarseTransformPass(cs.method), CoarseDistancePass::kName})
+        t += fmt::format("{} {:.2f} ms  ", p, coarse.passTotal(p));
+      return t;
+    }());
+    throwOnValidationErrors(ctx);
+    return denseToLevelSet(coarse.distance, spec, float(o.pipeline.band));
+  });
 }
 
 const char* signDescription(const BakeOptions& o) {
@@ -181,7 +183,7 @@ BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const J
 
 BakeResult bake(const BakeOptions& options, const JobControl& control) {
   options.validate(); // before reading the scene: bad settings are refused before any work
-  return bakeValidated(loadScene(options.scene), options, control);
+  return bakeValidated(loadScene(options.scene, options.meshLoad), options, control);
 }
 
 BakeResult bake(const Scene& scene, const BakeOptions& options, const JobControl& control) {

@@ -5,6 +5,7 @@
 ///        pipeline), and its .vdb file.
 #include "grid/VdbIO.h"
 #include "reference/ExactSdf.h"
+#include "scene/MeshIO.h"
 #include "scene/Scene.h"
 #include "sdf/SdfPipeline.h"
 #include "util/EnumNames.h"
@@ -39,6 +40,7 @@ template <> struct EnumNames<BakeMethod> {
 /// @brief Everything a bake needs. Lengths in scene units.
 struct BakeOptions {
   std::string scene;                   ///< scene (.json) or mesh file; recorded in the file's metadata
+  MeshLoadOptions meshLoad;            ///< whether the scene's mesh paths and meshes' references may leave their folder
   BakeMethod method = BakeMethod::Exact;
   int resolution = 128;                ///< voxels across the longest side (exact, openvdb)
   bool fullDomain = false;             ///< every voxel active (exact only)

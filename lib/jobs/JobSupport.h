@@ -8,6 +8,7 @@
 #include <chrono>
 #include <functional>
 #include <string>
+#include <utility>
 
 namespace rtsdf {
 struct Bounds;
@@ -27,6 +28,19 @@ gpu::ContextOptions deviceContextOptions(const std::string& device);
 /// @brief Refuse results computed while the validation layer reported errors.
 /// @throw Error with the count and the last message.
 void throwOnValidationErrors(const gpu::VulkanContext& ctx);
+
+/// @brief Run @a work on a new Vulkan context of @a options, then destroy the device (gpu::VulkanContext::close)
+///        and refuse the result when the validation layer reported any error, those at the device's destruction
+///        (objects left alive) included. Every GPU job, suite and sweep opens its context this way.
+/// @param work called with the context; every GPU object it makes must be gone when it returns.
+/// @throw Error from throwOnValidationErrors, or whatever @a work throws.
+template <typename Work> auto runOnDevice(const gpu::ContextOptions& options, Work&& work) {
+  gpu::VulkanContext ctx(options);
+  auto result = std::forward<Work>(work)(static_cast<const gpu::VulkanContext&>(ctx));
+  ctx.close();
+  throwOnValidationErrors(ctx);
+  return result;
+}
 
 /// @brief Seconds since @a t0.
 inline double secondsSince(std::chrono::steady_clock::time_point t0) {

@@ -51,19 +51,20 @@ RenderedFrame renderOnGpu(const RenderJobOptions& o, const Scene& scene, RenderJ
   const double t0 = o.time - double(o.frames - 1) / o.fps;
   Bounds bounds;
   for (int f = 0; f < o.frames; ++f) bounds.add(buildSceneGeometry(scene, t0 + f / o.fps).bounds);
-  gpu::VulkanContext ctx(deviceContextOptions(o.device));
-  Renderer renderer(ctx, scene, bounds, o.render);
-  if (const SdfPipeline* sdf = renderer.sdfPipeline()) {
-    result.sdfGrids = fmt::format("coarse {}, fine {}", sdf->coarseSpec().describe(), sdf->fineSpec().describe());
-    spdlog::info("SDF: {}", result.sdfGrids);
-  }
-  RenderedFrame frame;
-  for (int f = 0; f < o.frames; ++f) {
-    control.checkStop();
-    frame = renderer.renderFrame(t0 + f / o.fps, f + 1 == o.frames);
-    control.report("render", std::uint64_t(f + 1), std::uint64_t(o.frames));
-  }
-  return frame;
+  return runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
+    Renderer renderer(ctx, scene, bounds, o.render);
+    if (const SdfPipeline* sdf = renderer.sdfPipeline()) {
+      result.sdfGrids = fmt::format("coarse {}, fine {}", sdf->coarseSpec().describe(), sdf->fineSpec().describe());
+      spdlog::info("SDF: {}", result.sdfGrids);
+    }
+    RenderedFrame frame;
+    for (int f = 0; f < o.frames; ++f) {
+      control.checkStop();
+      frame = renderer.renderFrame(t0 + f / o.fps, f + 1 == o.frames);
+      control.report("render", std::uint64_t(f + 1), std::uint64_t(o.frames));
+    }
+    return frame;
+  });
 }
 
 /// The visibility error as a picture: red where the frame is too dark, green where it is too bright.
@@ -85,7 +86,7 @@ Image visibilityErrorImage(const Scene& scene, const RenderedFrame& frame, const
 
 RenderJobResult renderScene(const RenderJobOptions& o, const JobControl& control) {
   o.validate();
-  const Scene scene = loadScene(o.scene);
+  const Scene scene = loadScene(o.scene, o.meshLoad);
   if (!scene.hasCamera) throw Error(fmt::format("{}: the scene has no camera to render from", o.scene));
   if (scene.lights.empty()) throw Error(fmt::format("{}: the scene has no light to cast shadows", o.scene));
   RenderJobResult result;

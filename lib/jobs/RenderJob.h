@@ -4,6 +4,7 @@
 ///        over several frames, the picture of the last one, and optionally its error against the truth.
 #include "image/Image.h"
 #include "render/Renderer.h"
+#include "scene/MeshIO.h"
 #include "util/JobControl.h"
 #include "util/Knobs.h"
 
@@ -15,6 +16,7 @@ namespace rtsdf {
 /// @brief Everything a render needs.
 struct RenderJobOptions {
   std::string scene;          ///< scene (.json) with a camera and lights
+  MeshLoadOptions meshLoad;   ///< whether the scene's mesh paths and meshes' references may leave their folder
   int frames = 8;             ///< frames rendered (SDF refinement and TAA accumulate); the last is kept
   double fps = 30.0;          ///< frames per second of scene time
   double time = 0.0;          ///< scene time of the last frame

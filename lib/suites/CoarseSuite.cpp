@@ -37,12 +37,8 @@ std::string voxelizeChunkRow(CoarseSdfBuilder& builder, const BenchOptions& s, c
   return row + "\n";
 }
 
-} // namespace
-
-std::string coarseSuite(const BenchOptions& s) {
-  gpu::ContextOptions copt = deviceContextOptions(s.device);
-  copt.validation = false;
-  gpu::VulkanContext ctx(copt);
+/// The coarse suite's tables on @a ctx.
+std::string coarseTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
   CoarseSdfBuilder builder(ctx);
   std::string md = fmt::format("GPU: {} ({}). GPU times: median of {} runs after one warm-up and {} s of warm-up "
                                "runs, from GPU timestamps. CPU times: median of {} runs (OpenVDB: 1 run). Transform: "
@@ -107,6 +103,13 @@ std::string coarseSuite(const BenchOptions& s) {
     }
   }
   return md + chunks;
+}
+
+} // namespace
+
+std::string coarseSuite(const BenchOptions& s) {
+  return runOnDevice(deviceContextOptions(s.device),
+                     [&](const gpu::VulkanContext& ctx) { return coarseTables(ctx, s); });
 }
 
 } // namespace rtsdf::bench

@@ -151,12 +151,8 @@ std::string volumeFillTable(const gpu::VulkanContext& ctx, const SceneGeometry& 
   return md;
 }
 
-} // namespace
-
-std::string refineSuite(const BenchOptions& s) {
-  gpu::ContextOptions copt = deviceContextOptions(s.device);
-  copt.validation = false;
-  gpu::VulkanContext ctx(copt);
+/// The refine suite's tables on @a ctx.
+std::string refineTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
   const int frames = 2;
   std::string md = fmt::format("GPU: {} ({}). Each point runs {} frames (static scene) after {} s of warm-up frames "
                                "on a pipeline of its own; times are the last frame's GPU timestamps; errors are after "
@@ -220,6 +216,13 @@ std::string refineSuite(const BenchOptions& s) {
     md += "\n";
   }
   return md;
+}
+
+} // namespace
+
+std::string refineSuite(const BenchOptions& s) {
+  return runOnDevice(deviceContextOptions(s.device),
+                     [&](const gpu::VulkanContext& ctx) { return refineTables(ctx, s); });
 }
 
 } // namespace rtsdf::bench

@@ -127,10 +127,8 @@ std::string renderSize(const gpu::VulkanContext& ctx, const BenchOptions& s, con
   return md;
 }
 
-} // namespace
-
-std::string renderSuite(const BenchOptions& s) {
-  gpu::VulkanContext ctx(deviceContextOptions(s.device));
+/// The render suite's tables on @a ctx.
+std::string renderTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
   std::string md = fmt::format(
       "GPU: {} ({}). GPU pass times: median over {} frames after {} warm-up frames and {} s of frames on a renderer "
       "of its own (GPU timestamps). Error against "
@@ -145,6 +143,13 @@ std::string renderSuite(const BenchOptions& s) {
       md += renderSize(ctx, s, path, scene, size);
   }
   return md;
+}
+
+} // namespace
+
+std::string renderSuite(const BenchOptions& s) {
+  return runOnDevice(deviceContextOptions(s.device),
+                     [&](const gpu::VulkanContext& ctx) { return renderTables(ctx, s); });
 }
 
 } // namespace rtsdf::bench

@@ -131,6 +131,7 @@ SweepJobResult runSweep(const SweepJobOptions& o, const JobControl& control) {
                "points)", toString(o.preset), ctx.scene, plan.size(), result.dir.string());
   runPoints(runner, plan, o.run.repeats, csv, csvPath, fmt::format("sweep {}", toString(o.preset)), control, result);
   csv.close();
+  runner.finish();
   // A stop request after the last point stopped nothing.
   result.interrupted = control.stopping() && result.finished < plan.size();
   ctx.interrupted = result.interrupted;

@@ -1,6 +1,7 @@
 #include "suites/SweepRunner.h"
 
 #include "grid/GridSpec.h"
+#include "jobs/JobSupport.h"
 #include "grid/VdbIO.h"
 #include "metrics/FieldError.h"
 #include "reference/ExactSdf.h"
@@ -102,6 +103,11 @@ SweepRunner::SweepRunner(const Scene& scene, const SweepRunOptions& o) : mScene(
 }
 
 SweepRunner::~SweepRunner() = default;
+
+void SweepRunner::finish() {
+  mCtx->close();
+  throwOnValidationErrors(*mCtx);
+}
 
 void SweepRunner::stopIfRequested() const {
   if (mOptions.stopRequested && mOptions.stopRequested()) throw SweepInterrupted();

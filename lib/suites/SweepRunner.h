@@ -50,6 +50,11 @@ public:
   /// @throw SweepInterrupted when a stop was requested mid-point.
   std::vector<SweepRecord> run(const SweepPoint& point);
 
+  /// @brief Destroy the device after the last point and refuse the sweep when the validation layer reported any
+  ///        error during it (those at the device's destruction included). No point may run after.
+  /// @throw Error from throwOnValidationErrors.
+  void finish();
+
   bool animated() const { return mAnimated; }
   /// @brief Whether shadow errors are measured (the scene has a camera and a light, and shadows are on).
   bool measuresShadows() const { return mTruth != nullptr; }

@@ -342,7 +342,7 @@ void ViewSession::writeScreenshot(const std::string& path) {
 ViewResult runViewer(const ViewOptions& o, const JobControl& control) {
   o.validate();
   if (!o.screenshot.empty()) checkOutputPath(o.screenshot, ".png", {o.scene});
-  Scene scene = loadScene(o.scene);
+  Scene scene = loadScene(o.scene, o.meshLoad);
   if (!scene.hasCamera) throw Error(fmt::format("{}: the scene has no camera to render from", o.scene));
   if (scene.lights.empty()) throw Error(fmt::format("{}: the scene has no light to cast shadows", o.scene));
   ViewSession session(o, std::move(scene));

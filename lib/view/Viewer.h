@@ -4,6 +4,7 @@
 ///        camera, keys to switch shadows (SDF / shadow map / ray-traced truth), to show a slice of the fine SDF or
 ///        the ray mask, and to change x, d and alpha; a line of text with the pass times and the frame rate.
 #include "render/Renderer.h"
+#include "scene/MeshIO.h"
 #include "util/JobControl.h"
 #include "util/Knobs.h"
 #include "view/OrbitCamera.h"
@@ -27,6 +28,7 @@ template <> struct EnumNames<ViewMode> {
 /// @brief Everything the viewer needs.
 struct ViewOptions {
   std::string scene;  ///< scene (.json) with a camera and lights
+  MeshLoadOptions meshLoad; ///< whether the scene's mesh paths and meshes' references may leave their folder
   std::string device; ///< Vulkan device by index or name; empty: the best one
   /// > 0: render this many frames at fixed steps of 1 / fps ending at @a time (the frames `render` renders, so a
   /// screenshot equals its picture), then close; 0: until the window is closed, the wall clock driving time.

@@ -97,6 +97,19 @@ TEST(Cli, BakesTheDefaultSceneWithBothMethodsAndCompares) {
   ASSERT_EQ(anchored.exitCode, 0) << anchored.output;
   EXPECT_EQ(numberAfter(anchored.output, "|A - B|    mean "), 0.0) << anchored.output;
   EXPECT_EQ(numberAfter(anchored.output, "compared   "), double(grid->activeVoxelCount())) << anchored.output;
+  // The same anchor against a field whose difference the test knows independently: the exact file with a quarter
+  // voxel added to every active value (written here, metadata kept) differs from the anchor by exactly that.
+  {
+    openvdb::FloatGrid::Ptr shifted = grid->deepCopy();
+    const float quarter = 0.25f * float(grid->voxelSize()[0]);
+    for (auto it = shifted->beginValueOn(); it; ++it) it.setValue(*it + quarter);
+    writeVdb(dir / "shifted.vdb", {shifted});
+  }
+  const Result shiftedCmp = rtsdfCmd("compare " + q(dir / "shifted.vdb") + " --against exact");
+  ASSERT_EQ(shiftedCmp.exitCode, 0) << shiftedCmp.output;
+  EXPECT_EQ(numberAfter(shiftedCmp.output, "compared   "), double(grid->activeVoxelCount())) << shiftedCmp.output;
+  EXPECT_NEAR(numberAfter(shiftedCmp.output, "|A - B|    mean "), 0.25, 1e-3) << shiftedCmp.output;
+  EXPECT_NEAR(numberAfter(shiftedCmp.output, ", max "), 0.25, 1e-3) << shiftedCmp.output;
   const Result both = rtsdfCmd("compare " + q(dir / "exact.vdb") + " " + q(dir / "vdb.vdb") + " --against exact");
   EXPECT_NE(both.exitCode, 0);
   EXPECT_NE(both.output.find("excludes"), std::string::npos) << both.output;
@@ -462,8 +475,14 @@ TEST(Cli, RenderRefusesBadInputWithoutWritingAnything) {
       {ok + " --width 0", "--width"},
       {ok + " --max-step 0", "--max-step"},
       {ok + " --taa-blend 0", "--taa-blend"},
-      {ok + " --shadows shadowmap --shadow-map-res 8192", "storage buffer limit"}, // lavapipe: 128 MiB
+      // Three lights' depth maps at 8192 need 4.5 GiB: beyond every device's limit (a 32-bit byte count).
+      {q(dir / "three_suns.json") + " --shadows shadowmap --shadow-map-res 8192", "storage buffer limit"},
   };
+  writeText(dir / "three_suns.json", R"({"meshes": {"b": {"box": [1, 1, 1]}}, "instances": [{"mesh": "b"}],
+    "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
+    "lights": [{"name": "a", "type": "directional", "direction": [0, -1, 0]},
+               {"name": "b", "type": "directional", "direction": [1, -1, 0]},
+               {"name": "c", "type": "directional", "direction": [0, -1, 1]}]})");
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
     const Result r = rtsdfCmd("-q render " + c.args + " --width 16 --height 9 -o " + q(dir / "out.exr"));
@@ -609,4 +628,53 @@ TEST(Cli, UpZTurnsTheBakeAndTheAnimatedFrames) {
   const auto frame = readLevelSet(dir / "frames" / "frame0000.vdb");
   EXPECT_EQ(upAxisOf(*frame), UpAxis::Z);
   EXPECT_EQ(frame->metaValue<int>("rtsdf:resolution"), 16);
+}
+
+// Every GPU job refuses its results after a Vulkan validation error, one reported at the device's destruction (an
+// object left alive) included. The build's test hook (RTSDF_TEST_VALIDATION_ERROR) commits a deliberate one; the
+// same commands pass without it. (The sweep's check: SweepRunner.FinishRefusesASweepWithAValidationError.)
+TEST(Cli, AValidationErrorFailsRenderAndTheBenchSuites) {
+  const TempDir dir;
+  const std::string scene = q(test::dataPath("scenes/analytic.json"));
+  const std::string mesh = q(test::dataPath("meshes/bunny.obj"));
+  const std::vector<std::string> commands = {
+      "-q render " + scene + " --shadows sdf --width 32 --height 18 --coarse 32 --fine 64 -o " + q(dir / "r.exr"),
+      "-q bench " + mesh + " --suite coarse --res 32 --repeats 1 --warm-up 0 -o " + q(dir / "coarse.md"),
+  };
+  for (const std::string& cmd : commands) {
+    SCOPED_TRACE(cmd);
+    ASSERT_EQ(::unsetenv("RTSDF_TEST_VALIDATION_ERROR"), 0);
+    const Result clean = rtsdfCmd(cmd);
+    ASSERT_EQ(clean.exitCode, 0) << clean.output;
+    for (const char* kind : {"now", "leak"}) {
+      SCOPED_TRACE(kind);
+      ASSERT_EQ(::setenv("RTSDF_TEST_VALIDATION_ERROR", kind, 1), 0);
+      const Result r = rtsdfCmd(cmd);
+      ::unsetenv("RTSDF_TEST_VALIDATION_ERROR");
+      EXPECT_NE(r.exitCode, 0) << r.output;
+      EXPECT_NE(r.output.find("Vulkan validation reported"), std::string::npos) << r.output;
+    }
+  }
+}
+
+// A scene's mesh path that leaves the folder holding the scene's folder is refused by default (a row of the
+// bad-input table); --allow-outside-references lets bake read it, and the field is the one of the mesh itself.
+TEST(Cli, AllowOutsideReferencesLetsASceneReachItsMesh) {
+  const TempDir dir;
+  std::filesystem::create_directories(dir / "sub" / "scenes");
+  std::filesystem::copy_file(test::dataPath("meshes/bunny.obj"), dir / "m.obj");
+  writeText(dir / "sub" / "scenes" / "s.json",
+            R"({"meshes": {"m": {"path": "../../m.obj"}}, "instances": [{"mesh": "m"}]})");
+  const std::string scene = q(dir / "sub" / "scenes" / "s.json");
+  const Result refused = rtsdfCmd("bake " + scene + " --res 16 -o " + q(dir / "refused.vdb"));
+  EXPECT_NE(refused.exitCode, 0);
+  EXPECT_NE(refused.output.find("'../../m.obj' is refused"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "refused.vdb"));
+
+  const Result allowed = rtsdfCmd("bake " + scene + " --res 16 --allow-outside-references -o " + q(dir / "a.vdb"));
+  ASSERT_EQ(allowed.exitCode, 0) << allowed.output;
+  ASSERT_EQ(rtsdfCmd("bake " + q(dir / "m.obj") + " --res 16 -o " + q(dir / "direct.vdb")).exitCode, 0);
+  const auto viaScene = readLevelSet(dir / "a.vdb"), direct = readLevelSet(dir / "direct.vdb");
+  EXPECT_EQ(viaScene->activeVoxelCount(), direct->activeVoxelCount());
+  EXPECT_GT(viaScene->activeVoxelCount(), 100u);
 }

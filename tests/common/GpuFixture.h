@@ -21,6 +21,8 @@ protected:
     Tag::releaseSuiteObjects();
     EXPECT_EQ(sCtx->liveObjects(), 0);
     EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage();
+    sCtx->close(); // errors reported at vkDestroyDevice (objects left alive) count too
+    EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage();
     sCtx.reset();
   }
   void TearDown() override { EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage(); }

@@ -64,6 +64,24 @@ TEST(VulkanContext, ValidationErrorsAreCounted) {
   EXPECT_GT(ctx.validationErrors(), 0u);
 }
 
+TEST(VulkanContext, ObjectsLeftAliveAreCountedWhenTheDeviceIsDestroyed) {
+  // The validation layer reports a buffer still alive at vkDestroyDevice; close() destroys the device while the
+  // messenger still listens, so that error is counted and readable after.
+  ContextOptions opt;
+  opt.validation = true;
+  VulkanContext ctx(opt);
+  VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bi.size = 256;
+  bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  VkBuffer leaked = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateBuffer(ctx.device(), &bi, nullptr, &leaked), VK_SUCCESS);
+  EXPECT_EQ(ctx.validationErrors(), 0u) << ctx.lastValidationMessage();
+  ctx.close();
+  EXPECT_EQ(ctx.device(), VK_NULL_HANDLE);
+  EXPECT_GT(ctx.validationErrors(), 0u);
+  EXPECT_NE(ctx.lastValidationMessage().find("VkBuffer"), std::string::npos) << ctx.lastValidationMessage();
+}
+
 TEST(VulkanContext, SynchronizationValidationReportsAMissingBarrier) {
   // Prove the synchronization-validation switch works: a buffer fill followed by a copy that reads the
   // buffer, with no barrier between them, is a read-after-write hazard.

@@ -238,15 +238,20 @@ TEST(RefineParts, BoxesCoverTheRunsWithAsFewWalksAsTheBoxSizeAllows) {
 }
 
 // ClosestSearch::Auto takes the faster search of the kind of device the shaders are for: the cell search on a CPU
-// device (lavapipe, these tests' device), the per-voxel walk on a GPU; the choice and the target are reported as
-// the settings in effect, and the closest variant's shader is named after them.
+// device (lavapipe), the per-voxel walk on a GPU; the choice and the target are reported as the settings in
+// effect, and the closest variant's shader is named after them. The device's own kind is read, not assumed.
 TEST_F(Refine, AutoClosestSearchFollowsTheShaderTarget) {
   const Scene scene = bunny();
   PipelineSettings s = closestAt32(0);
   ASSERT_EQ(s.closestSearch, ClosestSearch::Auto);
+  const bool cpuDevice = sCtx->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
   SdfPipeline onDevice(*sCtx, scene, boundsOf(scene), s);
-  EXPECT_EQ(onDevice.settings().shaderTarget, ShaderTarget::Cpu) << "lavapipe is a CPU device";
-  EXPECT_EQ(onDevice.settings().closestSearch, ClosestSearch::Cell);
+  EXPECT_EQ(onDevice.settings().shaderTarget, cpuDevice ? ShaderTarget::Cpu : ShaderTarget::Gpu)
+      << sCtx->info().name << " is a " << sCtx->info().typeName << " device";
+  EXPECT_EQ(onDevice.settings().closestSearch, cpuDevice ? ClosestSearch::Cell : ClosestSearch::Voxel);
+  s.shaderTarget = ShaderTarget::Cpu;
+  SdfPipeline cpuVariants(*sCtx, scene, boundsOf(scene), s);
+  EXPECT_EQ(cpuVariants.settings().closestSearch, ClosestSearch::Cell);
   s.shaderTarget = ShaderTarget::Gpu;
   SdfPipeline gpuVariants(*sCtx, scene, boundsOf(scene), s);
   EXPECT_EQ(gpuVariants.settings().closestSearch, ClosestSearch::Voxel);

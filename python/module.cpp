@@ -71,11 +71,20 @@ struct Field {
   }
 };
 
+/// A length from Python: a number (scene units) or a string such as "3vox" (util/Length.h).
+Length lengthOf(const py::handle& value) {
+  if (!py::isinstance<py::str>(value)) return Length(value.cast<double>());
+  const std::string text = value.cast<std::string>();
+  if (const std::optional<Length> l = Length::parse(text)) return *l;
+  throw py::value_error("'" + text + "' is not a length (" + std::string(kLengthSyntax) + ")");
+}
+
 /// Sets the member of the knob named by a Python keyword (util/Knobs.h) from a Python value.
 struct SetFromPython {
   const py::handle& value;
   template <class K, class T> void operator()(const K&, T& member) const {
     if constexpr (IsNamedEnum<T>::value) member = parseEnum<T>(value.cast<std::string>());
+    else if constexpr (std::is_same_v<T, Length>) member = lengthOf(value);
     else member = value.cast<T>();
   }
 };
@@ -99,24 +108,22 @@ template <class S> std::string keywordsOf() {
   return s;
 }
 
-Field bakeField(const py::object& sceneOrPath, const std::string& method, int res, double band,
+Field bakeField(const py::object& sceneOrPath, const std::string& method, int res, const py::object& band,
                 const py::kwargs& kw) {
   const ScenePtr scene = sceneOf(sceneOrPath);
   BakeOptions o;
   o.scene = scene->path;
   o.method = parseEnum<BakeMethod>(method);
-  o.resolution = res;
-  o.pipeline.band = band;
+  if (!band.is_none()) o.pipeline.band = lengthOf(band);
   // res is the result's resolution: the coarse grid's for jfa, the fine grid's for rtsdf (coarse: half of it).
-  o.pipeline.coarseRes = o.method == BakeMethod::Jfa ? res : std::max(1, res / 2);
-  o.pipeline.fineRes = res;
+  setOutputResolution(o, res);
   applySettings(kw, o.pipeline, &o, nullptr); // the bake's device is a knob of BakeOptions
   BakeResult r;
   {
     py::gil_scoped_release release;
     r = bake(*scene, o);
   }
-  return {r.grid, r.spec, band};
+  return {r.grid, r.spec, r.options.pipeline.band};
 }
 
 /// Exact signed distances of (N, 3) points (the exact bake's sign rules), in parallel without the GIL.
@@ -240,10 +247,11 @@ PYBIND11_MODULE(rtsdf, m) {
       }, "The level set as a pyopenvdb.FloatGrid (needs pyopenvdb)");
 
   static const std::string bakeDoc =
-      "Bake a scene's SDF: method exact|openvdb|jfa|rtsdf, res voxels across its longest side, band d; settings "
+      "Bake a scene's SDF: method exact|openvdb|jfa|rtsdf, res voxels of the output grid across its longest side (rtsdf: the fine grid, jfa: the coarse), "
+      "band d (a length: a number in scene units or a string such as '3vox'; default: the pipeline's); settings "
       "(docs/settings.md): " + keywordsOf<PipelineSettings>() + ", " + keywordsOf<BakeOptions>();
   m.def("bake", &bakeField, py::arg("scene"), py::arg("method") = "exact", py::arg("res") = 128,
-        py::arg("band") = 0.1, bakeDoc.c_str());
+        py::arg("band") = py::none(), bakeDoc.c_str());
   m.def("distance", &distances, py::arg("scene"), py::arg("points"), py::arg("time") = 0.0,
         "Exact signed distances (negative inside) of an (N, 3) array of points to a scene or mesh file");
   static const std::string pipelineDoc =

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace rtsdf {
 namespace fs = std::filesystem;
@@ -23,21 +24,68 @@ void BakeOptions::validate() const {
   pipeline.validate();
   validateKnobs(*this);
   // Rays mode signs the refined voxels by its rays' votes alone: with none, every sign would be outside.
-  if (method == BakeMethod::Rtsdf && pipeline.mode == RefineMode::Rays && pipeline.rays == 0 && pipeline.band > 0.0)
+  if (method == BakeMethod::Rtsdf && pipeline.mode == RefineMode::Rays && pipeline.rays == 0 &&
+      pipeline.band.value > 0.0)
     throw SettingError("rays", "rays mode with 0 rays [x] casts no ray to sign the voxels it refines: give 1 ray "
                                "or more, or use the closest refinement (its nearest triangle's side signs them)");
-  if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
-  if (!(pipeline.band > 0.0))
-    throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));
-  if (grid && method == BakeMethod::Rtsdf)
-    throw SettingError("grid", "the rtsdf method builds its own coarse and fine grids (set the fine resolution)");
   if (fullDomain && method != BakeMethod::Exact)
     throw SettingError("full domain", "a full-domain field needs the exact method (OpenVDB's meshToLevelSet builds "
                                       "a narrow band only)");
+  if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
+  if (!(pipeline.band.value > 0.0))
+    throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));
+  if (grid && method == BakeMethod::Rtsdf)
+    throw SettingError("grid", "the rtsdf method builds its own coarse and fine grids (set the fine resolution)");
+}
+
+void setOutputResolution(BakeOptions& o, int res) {
+  o.resolution = res;
+  if (o.method == BakeMethod::Jfa) o.pipeline.coarseRes = res;
+  if (o.method != BakeMethod::Rtsdf) return;
+  o.pipeline.fineRes = res;
+  o.pipeline.coarseRes = std::max(1, res / 2);
+}
+
+int outputResolution(const BakeOptions& o) {
+  switch (o.method) {
+  case BakeMethod::Rtsdf: return o.pipeline.fineRes;
+  case BakeMethod::Jfa: return o.pipeline.coarseRes;
+  default: return o.resolution;
+  }
+}
+
+int bakeFrames(const BakeOptions& o) {
+  if (o.frames > 0) return o.frames;
+  return o.pipeline.mode == RefineMode::Closest && o.pipeline.rays == 0 ? 1 : 16;
+}
+
+bool bakeMethodUses(BakeMethod method, const std::string& setting) {
+  // Settings every method reads: the method, the resolution, the band and padding, the time, an empty result.
+  for (const char* all : {"bake method", "resolution", "band", "padding", "time", "allow empty"})
+    if (setting == all) return true;
+  switch (method) {
+  case BakeMethod::Exact: return setting == "full domain" || setting == "sign method";
+  case BakeMethod::OpenVdb: return false;
+  case BakeMethod::Jfa:
+    for (const char* s : {"coarse resolution", "coarse method", "beta", "device"})
+      if (setting == s) return true;
+    return false;
+  case BakeMethod::Rtsdf: return setting != "full domain" && setting != "sign method";
+  }
+  return false;
+}
+
+BakeOptions bakeOptionsResolved(const BakeOptions& options, const Bounds& bounds) {
+  BakeOptions o = options;
+  const double voxel = o.grid ? o.grid->voxelSize : bounds.maxExtent() / std::max(1, outputResolution(o));
+  o.pipeline = withLengthsResolved(o.pipeline, voxel);
+  if (!o.fullDomain) requireBandOfAVoxel(o.pipeline.band, voxel);
+  o.frames = bakeFrames(o);
+  return o;
 }
 
 double fineLevelSetBand(const PipelineSettings& s, const GridSpec& fine) {
-  return s.band > 0.0 ? s.band : 3.0 * fine.voxelSize;
+  return s.band > 0.0 ? double(s.band) : 3.0 * fine.voxelSize;
 }
 
 openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions& o, double time) {
@@ -54,9 +102,9 @@ openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions&
 
 namespace {
 
-BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const JobControl& control) {
+BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const Bounds& bounds, const JobControl& control) {
   gpu::VulkanContext ctx(deviceContextOptions(o.device));
-  SdfPipeline pipe(ctx, scene, buildSceneGeometry(scene, o.time).bounds, o.pipeline);
+  SdfPipeline pipe(ctx, scene, bounds, o.pipeline);
   spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
   BakeResult r;
   const auto t0 = std::chrono::steady_clock::now();
@@ -118,9 +166,8 @@ GridSpec bakeGrid(const BakeOptions& o, const SceneGeometry& geo, double padding
   return spec;
 }
 
-BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene) {
+BakeResult bakeOnGrid(const BakeOptions& o, const SceneGeometry& geo) {
   const double band = o.pipeline.band;
-  const SceneGeometry geo = buildSceneGeometry(scene, o.time);
   const double padding = pipelinePadding(geo.bounds, o.pipeline);
   BakeResult r;
   r.spec = bakeGrid(o, geo, padding);
@@ -150,14 +197,26 @@ BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene) {
   return r;
 }
 
-BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const JobControl& control) {
+BakeResult bakeValidated(const Scene& scene, const BakeOptions& given, const JobControl& control) {
   const std::string summary = detail::meshSummary(scene);
-  spdlog::info("{}: {}", options.scene, summary);
-  BakeResult r = options.method == BakeMethod::Rtsdf ? bakeRtsdf(options, scene, control) : bakeOnGrid(options, scene);
+  spdlog::info("{}: {}", given.scene, summary);
+  // The rtsdf method builds its own geometry per frame; the others bake this one.
+  std::optional<SceneGeometry> geo;
+  geo.emplace(buildSceneGeometry(scene, given.time));
+  const BakeOptions options = bakeOptionsResolved(given, geo->bounds);
+  BakeResult r;
+  if (options.method == BakeMethod::Rtsdf) {
+    const Bounds bounds = geo->bounds;
+    geo.reset();
+    r = bakeRtsdf(options, scene, bounds, control);
+  } else {
+    r = bakeOnGrid(options, *geo);
+  }
+  r.options = options;
   if (!options.allowEmpty && r.grid->activeVoxelCount() == 0)
     throw Error(fmt::format("{}: the {} level set on {} has no active voxel (band {:g} = {:.3g} voxels): widen the "
                             "band, raise the resolution or, to keep it, allow an empty result", options.scene,
-                            toString(options.method), r.spec.describe(), options.pipeline.band,
+                            toString(options.method), r.spec.describe(), double(options.pipeline.band),
                             options.pipeline.band / r.spec.voxelSize));
   r.sceneSummary = summary;
   // The files read: writeBake never replaces one of them.
@@ -188,7 +247,8 @@ void writeBake(const BakeResult& result, const fs::path& path, const BakeOutputO
 
 namespace {
 
-std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::path& output) {
+std::string rtsdfReport(const BakeResult& r, const fs::path& output) {
+  const BakeOptions& o = r.options;
   const PipelineSettings& p = o.pipeline;
   const FrameStats& st = r.lastFrame;
   // Every pass that ran, in recording order, a pass recorded several times once with its total.
@@ -214,9 +274,10 @@ std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::pat
 
 } // namespace
 
-std::string bakeReport(const BakeOptions& o, const BakeResult& r, const fs::path& output,
+std::string bakeReport(const BakeOptions&, const BakeResult& r, const fs::path& output,
                        const BakeOutputOptions& written) {
-  if (o.method == BakeMethod::Rtsdf) return rtsdfReport(o, r, output);
+  const BakeOptions& o = r.options; // with its lengths in scene units
+  if (o.method == BakeMethod::Rtsdf) return rtsdfReport(r, output);
   const double band = o.pipeline.band;
   const std::uint64_t active = r.grid->activeVoxelCount();
   std::error_code ec;

@@ -118,13 +118,13 @@ FileComparison compare(const CompareOptions& o, const JobControl& control) {
   if (a->activeVoxelCount() == 0) throw Error(fmt::format("{}: the level set has no active voxels", o.a.string()));
   const BakeOptions bo = anchorBake(*a, o);
   spdlog::info("baking the {} anchor of {} on {}, band {:.6g}", toString(bo.method), bo.scene, bo.grid->describe(),
-               bo.pipeline.band);
+               double(bo.pipeline.band));
   control.report("baking the anchor", 0, 1);
   const BakeResult anchor = bake(bo, control);
   control.report("baking the anchor", 1, 1);
   return compareGrids(*a, *anchor.grid, o.a.string(),
                       fmt::format("{} bake of {} on A's voxels (band {:.6g}{}, time {})", toString(bo.method),
-                                  bo.scene, bo.pipeline.band, bo.fullDomain ? ", full domain" : "", bo.time));
+                                  bo.scene, double(bo.pipeline.band), bo.fullDomain ? ", full domain" : "", bo.time));
 }
 
 FileComparison compareFiles(const fs::path& a, const fs::path& b) {

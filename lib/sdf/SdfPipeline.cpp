@@ -18,8 +18,9 @@
 namespace rtsdf {
 
 SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
-                         const PipelineSettings& s)
-    : mCtx(ctx), mSettings(s) {
+                         const PipelineSettings& given)
+    : mCtx(ctx), mSettings(withLengthsResolved(given, bounds)) {
+  const PipelineSettings& s = mSettings; // lengths in scene units from here on
   const bool cpuShaders = s.shaderTarget == ShaderTarget::Device ? ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU
                                                                  : s.shaderTarget == ShaderTarget::Cpu;
   // The settings in effect (settings()): the target and the search resolved for this device.

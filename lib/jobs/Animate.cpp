@@ -103,6 +103,7 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
   BakeOptions stamp; // the per-frame files carry the pipeline's settings
   stamp.scene = a.scene;
   stamp.pipeline = pipe.settings(); // lengths in scene units
+  stamp.frames = a.frames;
   AnimateResult result;
   result.coarse = pipe.coarseSpec();
   result.fine = pipe.fineSpec();

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <optional>
 
 namespace rtsdf {
@@ -60,19 +61,18 @@ int bakeFrames(const BakeOptions& o) {
 }
 
 bool bakeMethodUses(BakeMethod method, const std::string& setting) {
-  // Settings every method reads: the method, the resolution, the band and padding, the time, an empty result.
-  for (const char* all : {"bake method", "resolution", "band", "padding", "time", "allow empty"})
-    if (setting == all) return true;
-  switch (method) {
-  case BakeMethod::Exact: return setting == "full domain" || setting == "sign method";
-  case BakeMethod::OpenVdb: return false;
-  case BakeMethod::Jfa:
-    for (const char* s : {"coarse resolution", "coarse method", "beta", "device"})
-      if (setting == s) return true;
-    return false;
-  case BakeMethod::Rtsdf: return setting != "full domain" && setting != "sign method";
-  }
-  return false;
+  const auto among = [&](std::initializer_list<const char*> names) {
+    return std::any_of(names.begin(), names.end(), [&](const char* n) { return setting == n; });
+  };
+  // The settings of some methods only; every other setting (the resolution, the band, the time, ...) is read by
+  // every method.
+  if (among({"full domain", "sign method"})) return method == BakeMethod::Exact;
+  if (among({"coarse resolution", "coarse method", "beta", "device"}))
+    return method == BakeMethod::Jfa || method == BakeMethod::Rtsdf;
+  if (among({"fine resolution", "rays", "alpha", "refinement mode", "closest search", "seed", "full recompute",
+             "settle frames", "refresh period", "fine storage", "pool bricks", "frames"}))
+    return method == BakeMethod::Rtsdf;
+  return true;
 }
 
 BakeOptions bakeOptionsResolved(const BakeOptions& options, const Bounds& bounds) {
@@ -264,8 +264,8 @@ std::string rtsdfReport(const BakeResult& r, const fs::path& output) {
                    p.alpha, o.frames, toString(p.coarseMethod));
   t += fmt::format("coarse     {}\n", r.coarseSpec.describe());
   t += fmt::format("fine       {}\n", r.spec.describe());
-  t += fmt::format("ray mask   {} coarse voxels, {} fine voxels (band {})\n", st.maskCoarseVoxels, st.maskFineVoxels,
-                   p.band);
+  t += fmt::format("ray mask   {} coarse voxels, {} fine voxels (band {:.6g} = {:.2f} fine voxels)\n",
+                   st.maskCoarseVoxels, st.maskFineVoxels, double(p.band), p.band / r.spec.voxelSize);
   t += fmt::format("last frame {}host (CPU) {:.1f} ms\n", passes, st.hostMs);
   t += fmt::format("time       {:.3f} s for {} frames on {}\n", r.seconds, o.frames, r.device);
   t += fmt::format("output     {} ({} active voxels)\n", output.string(), r.grid->activeVoxelCount());
@@ -286,7 +286,7 @@ std::string bakeReport(const BakeOptions&, const BakeResult& r, const fs::path& 
   t += fmt::format("method     {}{}\n", toString(o.method),
                    o.method == BakeMethod::Exact ? fmt::format(" (sign: {})", toString(o.sign)) : "");
   t += fmt::format("grid       {}\n", r.spec.describe());
-  t += fmt::format("band       {} scene units = {:.2f} voxels{}\n", band, band / r.spec.voxelSize,
+  t += fmt::format("band       {:.6g} scene units = {:.2f} voxels{}\n", band, band / r.spec.voxelSize,
                    o.fullDomain ? " (full domain: all voxels active)" : "");
   t += fmt::format("active     {} voxels of {} ({:.2f}%)\n", active, r.spec.voxelCount(),
                    100.0 * double(active) / double(r.spec.voxelCount()));

@@ -71,7 +71,8 @@ int outputResolution(const BakeOptions& o);
 int bakeFrames(const BakeOptions& o);
 
 /// @brief Whether @a method reads the setting named @a setting (SettingError::setting(), knob rows): a front
-///        end refuses a setting given for a method that would ignore it.
+///        end refuses a setting given for a method that would ignore it. A setting not listed as one of some
+///        methods only is read by every method (a new knob of the GPU pipeline alone must be listed here).
 bool bakeMethodUses(BakeMethod method, const std::string& setting);
 
 /// @brief @a o with its pipeline's lengths in scene units, voxels measured on the output grid over @a bounds (or

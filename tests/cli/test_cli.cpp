@@ -593,9 +593,12 @@ TEST(Cli, GlobalFlagsWorkAnywhereOnTheLine) {
     const Result r = rtsdfCmd(line);
     EXPECT_EQ(r.exitCode, 0) << line << ": " << r.output;
   }
-  // -v after the subcommand raises the log level: the info lines appear.
-  const Result v = rtsdfCmd("bake " + q(dir / "s.json") + " --res 16 -o " + q(dir / "d.vdb") + " -v");
-  EXPECT_NE(v.output.find("[info]"), std::string::npos) << v.output;
+  // -q after the subcommand and its arguments silences the log's info lines as it does before them.
+  const Result loud = rtsdfCmd("bake " + q(dir / "s.json") + " --res 16 -o " + q(dir / "d.vdb"));
+  EXPECT_NE(loud.output.find("[info]"), std::string::npos) << loud.output;
+  const Result quiet = rtsdfCmd("bake " + q(dir / "s.json") + " --res 16 -o " + q(dir / "e.vdb") + " -q");
+  EXPECT_EQ(quiet.exitCode, 0) << quiet.output;
+  EXPECT_EQ(quiet.output.find("[info]"), std::string::npos) << quiet.output;
 }
 
 // A bake whose stderr is a pipe still says what it is doing: one line per stage or every few seconds.

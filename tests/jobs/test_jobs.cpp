@@ -240,6 +240,8 @@ TEST(Jobs, AnimateGivesOneFramePerStepWithItsErrorAndCsv) {
   o.pipeline.coarseRes = 24;
   o.pipeline.fineRes = 48;
   o.pipeline.rays = 2;
+  o.pipeline.mode = RefineMode::Rays; // the former defaults, which the measured errors below were taken with
+  o.pipeline.band = 0.1;
   int calls = 0;
   const AnimateResult r = animate(o, {}, [&](const AnimateFrame& f) { EXPECT_EQ(f.frame, calls++); });
   ASSERT_EQ(r.frames.size(), 2u);
@@ -269,6 +271,7 @@ TEST(Jobs, RenderJobComparesWithTheTruthAndWritesEveryFile) {
   o.render.height = 27;
   o.render.pipeline.coarseRes = 24;
   o.render.pipeline.fineRes = 48;
+  o.render.pipeline.band = 0.1; // the renderer's former default, which the measured error below was taken with
   o.render.rayTraced.samples = 16;
   EXPECT_EQ(o.render.pipeline.mode, RefineMode::Closest) << "the renderer's own defaults";
   const RenderJobResult r = renderScene(o);
@@ -322,11 +325,11 @@ TEST(Jobs, RtsdfBakeOfAnInsideOutSphereHasTheSolidsSignsAndDistances) {
 // same field in voxels with default settings (the band and padding default to voxels of the output grid).
 TEST(Jobs, AMeshInMillimetresBakesTheSameFieldInVoxelsAsInMetres) {
   TempDir dir;
-  const std::string bunny = test::dataPath("meshes/bunny.obj");
+  std::filesystem::copy_file(test::dataPath("meshes/bunny.obj"), dir / "bunny.obj");
   const auto sceneAt = [&](const char* name, double scale) {
     const std::filesystem::path p = dir / name;
-    test::writeText(p, fmt::format("{{\"meshes\": {{\"b\": {{\"path\": \"{}\"}}}}, \"instances\": "
-                                   "[{{\"mesh\": \"b\", \"scale\": {}}}]}}", bunny, scale));
+    test::writeText(p, fmt::format("{{\"rtsdf_scene\": 1, \"meshes\": {{\"b\": {{\"path\": \"bunny.obj\"}}}}, "
+                                   "\"instances\": [{{\"mesh\": \"b\", \"scale\": {}}}]}}", scale));
     return p.string();
   };
   const std::string metres = sceneAt("m.json", 0.2), millimetres = sceneAt("mm.json", 200.0);

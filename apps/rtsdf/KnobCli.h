@@ -79,7 +79,9 @@ inline CLI::Validator lengthCheck(const KnobRange& r) {
   return CLI::Validator(
       [r](std::string& text) -> std::string {
         const std::optional<Length> l = Length::parse(text);
-        if (!l) return "'" + text + "' is not a length (" + kLengthSyntax + ")";
+        if (!l)
+          return "'" + text + "' is not a length: not a number (or beyond the range of a double) nor a number of "
+                 "voxels (" + kLengthSyntax + ")";
         if (!r.contains(l->value)) return text + " is out of range: it must be " + r.text();
         return {};
       },

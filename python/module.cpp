@@ -181,7 +181,7 @@ public:
   }
   Field fine() const {
     const GridSpec& spec = mPipe->fineSpec();
-    const float band = float(mPipe->settings().band > 0.0 ? mPipe->settings().band : spec.voxelSize);
+    const float band = float(mPipe->settings().band > 0.0 ? double(mPipe->settings().band) : spec.voxelSize);
     return {mPipe->levelSet(band), spec, band};
   }
 

@@ -73,7 +73,7 @@ KeyEffect applyViewKey(ViewState& s, const Camera& sceneCamera, int key, bool sh
   case GLFW_KEY_UP: s.sliceHeight += s.sliceStep; return KeyEffect::View;
   case GLFW_KEY_DOWN: s.sliceHeight -= s.sliceStep; return KeyEffect::View;
   case GLFW_KEY_X: s.pipeline.rays = std::clamp(s.pipeline.rays + (shift ? -1 : 1), 1, 1024); return KeyEffect::Pipeline;
-  case GLFW_KEY_D: s.pipeline.band = s.pipeline.band * (shift ? 1.0 / 1.25 : 1.25); return KeyEffect::Pipeline;
+  case GLFW_KEY_D: s.pipeline.band.value *= shift ? 1.0 / 1.25 : 1.25; return KeyEffect::Pipeline; // either unit
   case GLFW_KEY_A:
     s.pipeline.alpha = std::clamp(std::round((s.pipeline.alpha + (shift ? -0.01 : 0.01)) * 100.0) / 100.0, 0.0, 1.0);
     return KeyEffect::Pipeline;

@@ -29,7 +29,8 @@ void BM_PipelineFrame(benchmark::State& state) {
   s.coarseRes = 128;
   s.fineRes = 256;
   s.rays = 1;
-  if (state.range(1) == 1) s.mode = RefineMode::Closest;
+  s.band = 0.1; // scene units, as the recorded figures
+  s.mode = state.range(1) == 1 ? RefineMode::Closest : RefineMode::Rays;
   s.fullRecompute = state.range(2) == 1;
   SdfPipeline pipe(context(), scene, buildSceneGeometry(scene, 0.0).bounds, s);
   FrameStats last = pipe.runFrame(0.0);

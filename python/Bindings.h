@@ -5,6 +5,7 @@
 #include "scene/Scene.h"
 #include "util/JobControl.h"
 #include "util/Knobs.h"
+#include "util/Length.h"
 #include "util/EnumNames.h"
 
 #include <openvdb/openvdb.h>
@@ -13,6 +14,7 @@
 #include <atomic>
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -102,10 +104,20 @@ void bindJobs(py::module_& m);
 // ---------------------------------------------------------------------------------------------------------------
 
 /// Sets the member of the knob named by a Python keyword (util/Knobs.h) from a Python value.
+/// @brief A length from Python: a number (scene units) or a string such as "3vox" (util/Length.h).
+/// @throw py::value_error naming the text when it is not a length.
+inline Length lengthOf(const py::handle& value) {
+  if (!py::isinstance<py::str>(value)) return Length(value.cast<double>());
+  const std::string text = value.cast<std::string>();
+  if (const std::optional<Length> l = Length::parse(text)) return *l;
+  throw py::value_error("'" + text + "' is not a length (" + std::string(kLengthSyntax) + ")");
+}
+
 struct SetFromPython {
   const py::handle& value;
   template <class K, class T> void operator()(const K&, T& member) const {
     if constexpr (IsNamedEnum<T>::value) member = parseEnum<T>(value.cast<std::string>());
+    else if constexpr (std::is_same_v<T, Length>) member = lengthOf(value);
     else member = value.cast<T>();
   }
 };

@@ -20,21 +20,19 @@
 namespace rtsdf::python {
 namespace {
 
-Field bakeField(const py::handle& sceneOrPath, const std::string& method, int res, double band,
+Field bakeField(const py::handle& sceneOrPath, const std::string& method, int res, const py::object& band,
                 const py::object& progress, const py::kwargs& kw) {
   const ScenePtr scene = sceneOf(sceneOrPath);
   BakeOptions o;
   o.scene = scene->path;
   o.method = parseEnum<BakeMethod>(method);
-  o.resolution = res;
-  o.pipeline.band = band;
+  if (!band.is_none()) o.pipeline.band = lengthOf(band);
   // res is the result's resolution: the coarse grid's for jfa, the fine grid's for rtsdf (coarse: half of it).
-  o.pipeline.coarseRes = o.method == BakeMethod::Jfa ? res : std::max(1, res / 2);
-  o.pipeline.fineRes = res;
+  setOutputResolution(o, res);
   applySettings(kw, nullptr, o.pipeline, o); // the bake's device is a knob of BakeOptions
   PythonJob job(progress);
   const BakeResult r = job.run([&] { return bake(*scene, o, job.control()); });
-  return {r.grid, r.spec, band, toString(o.method)};
+  return {r.grid, r.spec, double(r.options.pipeline.band), toString(o.method)};
 }
 
 /// Exact signed distances (negative inside) at points of shape (..., 3), in parallel without the GIL, in the
@@ -108,7 +106,7 @@ public:
   }
   Field fine() const {
     const GridSpec& spec = mPipe->fineSpec();
-    const float band = float(mPipe->settings().band > 0.0 ? mPipe->settings().band : spec.voxelSize);
+    const float band = float(mPipe->settings().band > 0.0 ? double(mPipe->settings().band) : spec.voxelSize);
     return {mPipe->levelSet(band), spec, band, "pipeline"};
   }
   std::string repr() const {
@@ -134,11 +132,11 @@ void bindJobs(py::module_& m) {
   static const std::string bakeDoc =
       "Bake the signed distance field of a scene, an rtsdf.Mesh or a scene/mesh path; returns a Field.\n\n"
       "method exact|openvdb|jfa|rtsdf, res voxels across the longest side (the fine grid for rtsdf, the coarse "
-      "grid for jfa), band d in scene units; progress: None or callable(stage, fraction). Ctrl-C raises "
+      "grid for jfa), band d (a number in scene units or a string such as '3vox'; default: the pipeline's, 6 voxels); progress: None or callable(stage, fraction). Ctrl-C raises "
       "KeyboardInterrupt within a second. Settings (docs/settings.md): " + keywordsOf<PipelineSettings>() + ", " +
       keywordsOf<BakeOptions>();
   m.def("bake", &bakeField, py::arg("scene"), py::arg("method") = "exact", py::arg("res") = 128,
-        py::arg("band") = 0.1, py::kw_only(), py::arg("progress") = py::none(), bakeDoc.c_str());
+        py::arg("band") = py::none(), py::kw_only(), py::arg("progress") = py::none(), bakeDoc.c_str());
   m.def("distance", &distances, py::arg("scene"), py::arg("points"), py::arg("time") = 0.0, py::kw_only(),
         py::arg("progress") = py::none(),
         "Exact signed distances (negative inside) at world points of shape (..., 3) to a scene, an rtsdf.Mesh or "

@@ -7,5 +7,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/build.sh Release
 mkdir -p out
-./build/apps/rtsdf/rtsdf bake data/scenes/default.json --method exact --res 128 --band 0.1 --fog -o out/default.vdb
+./build/apps/rtsdf/rtsdf bake data/scenes/default.json --fog -o out/default.vdb
 ./build/apps/rtsdf/rtsdf render data/scenes/default.json --shadows sdf --frames 4 --compare -o out/default.exr

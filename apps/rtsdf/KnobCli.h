@@ -23,16 +23,23 @@ namespace rtsdf::app {
 class SettingFlags {
 public:
   void add(const std::string& setting, const std::string& flag) {
-    if (!flag.empty()) mFlags.emplace(setting, flag);
+    if (flag.empty()) return;
+    mFlags.emplace(setting, flag);
+    mSettings.emplace(flag, setting);
   }
   /// @brief The flag of @a setting, or the setting itself when no flag sets it.
   std::string flagOf(const std::string& setting) const {
     const auto it = mFlags.find(setting);
     return it == mFlags.end() ? setting : it->second;
   }
+  /// @brief The setting @a flag ("--band") sets, or "" when it sets none (an output, a file format).
+  std::string settingOf(const std::string& flag) const {
+    const auto it = mSettings.find(flag);
+    return it == mSettings.end() ? std::string() : it->second;
+  }
 
 private:
-  std::map<std::string, std::string> mFlags;
+  std::map<std::string, std::string> mFlags, mSettings;
 };
 
 namespace detail {
@@ -67,6 +74,20 @@ inline CLI::Validator rangeCheck(const KnobRange& r) {
 }
 inline CLI::Validator inRange(double lo, double hi) { return rangeCheck(KnobRange::closed(lo, hi)); }
 
+/// @brief The check of a length option (util/Length.h): "0.02" or "3vox", its number in @a r.
+inline CLI::Validator lengthCheck(const KnobRange& r) {
+  return CLI::Validator(
+      [r](std::string& text) -> std::string {
+        const std::optional<Length> l = Length::parse(text);
+        if (!l)
+          return "'" + text + "' is not a length: not a number (or beyond the range of a double) nor a number of "
+                 "voxels (" + kLengthSyntax + ")";
+        if (!r.contains(l->value)) return text + " is out of range: it must be " + r.text();
+        return {};
+      },
+      "LENGTH", "length");
+}
+
 /// @brief An enum option: its choices come from the enum's name table (names only), its default is printed by name.
 template <class E> CLI::Option* addEnum(CLI::App* cmd, const std::string& flag, E& value, const std::string& help) {
   const CLI::Validator byName(
@@ -96,7 +117,16 @@ template <class K, class T> void bindKnob(CLI::App* cmd, const K& k, T& value, S
   if (r.special != KnobRange::Auto::None) help += fmt::format(" (default: {})", r.meaning);
   else if (*r.meaning) help += fmt::format(" ({})", r.meaning);
   if constexpr (std::is_same_v<T, bool>) {
-    cmd->add_flag(k.flags, value, help);
+    // A flag that turns a knob off ("!--no-taa") sets false; bound as a callback so that the help does not print
+    // CLI11's default flag value ("--no-taa{false}").
+    if (*k.flags == '!') cmd->add_flag_callback(k.flags + 1, [&value] { value = false; }, help);
+    else cmd->add_flag(k.flags, value, help);
+  } else if constexpr (std::is_same_v<T, Length>) {
+    CLI::Option* o = cmd->add_option_function<std::string>(
+        k.flags, [&value](const std::string& text) { value = *Length::parse(text); },
+        help + " (" + kLengthSyntax + ")");
+    o->check(lengthCheck(r))->type_name("LENGTH");
+    if (!r.isSpecial(value.value)) o->default_str(value.text());
   } else if constexpr (IsNamedEnum<T>::value) {
     addEnum(cmd, k.flags, value, help);
   } else {
@@ -107,6 +137,21 @@ template <class K, class T> void bindKnob(CLI::App* cmd, const K& k, T& value, S
       if (!r.isSpecial(double(value))) o->capture_default_str();
     }
   }
+}
+
+/// @brief Whether the flag of row @a k was given on @a cmd's command line.
+template <class K> bool givenOn(const CLI::App* cmd, const K& k) {
+  const std::string flag = longFlag(k.flags);
+  if (flag.empty()) return false;
+  const CLI::Option* o = cmd->get_option_no_throw(flag);
+  return o && o->count() > 0;
+}
+
+/// @brief Every member of @a s whose flag @a cmd was not given, from @a preset (a named preset under the flags).
+template <class S> void applyPreset(const CLI::App* cmd, S& s, const S& preset) {
+  forEachKnob<S>([&](const auto& k) {
+    if (*k.flags && !givenOn(cmd, k)) s.*(k.member) = preset.*(k.member);
+  });
 }
 
 /// @brief Every row of S's table that has a flag, bound onto @a cmd for the members of @a s.

@@ -40,6 +40,7 @@ struct BenchCommand {
   bench::BenchOptions suite;
   std::string sweep; ///< quick, default or paper: the sweep instead of a suite (empty: a suite)
   bench::SweepJobOptions sweepOptions;
+  bool announce = false; ///< say what will run and for how long first (`rtsdf bench` with no arguments)
 };
 
 struct CompareCommand {
@@ -58,11 +59,17 @@ struct Commands {
   CompareCommand compare;
   MeshOptions mesh;
   ViewOptions view;
+  Preset preset = Preset::Default; ///< --preset of bake, animate, render and view (under the flags given)
   SettingFlags flags; ///< the flag of each setting the commands bind, for errors naming a setting
 };
 
 /// @brief Add the subcommands and global flags to @a app, bound onto @a c, @a verbosity and @a quiet.
 void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet);
+
+/// @brief After parsing: the preset under the flags not given, a bake's resolution as its method's output grid
+///        (--coarse and --fine override), and a refusal of every flag the chosen bake method would ignore.
+/// @throw Error naming the flag and the method.
+void finishCommands(CLI::App& app, Commands& c);
 
 /// @brief Every settings struct's knob table as Markdown (`rtsdf help-settings --markdown`, docs/settings.md).
 std::string helpSettings();

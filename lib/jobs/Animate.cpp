@@ -19,10 +19,7 @@ namespace rtsdf {
 namespace fs = std::filesystem;
 
 PipelineSettings AnimateOptions::defaultPipeline() {
-  PipelineSettings p;
-  p.coarseRes = 64;
-  p.fineRes = 128;
-  return p;
+  return PipelineSettings{};
 }
 
 void AnimateOptions::validate() const {
@@ -49,8 +46,9 @@ openvdb::CoordBBox focusBox(const Scene& scene, const AnimateOptions& a, std::si
     const SceneGeometry g = buildSceneGeometry(scene, a.still ? 0.0 : f / a.fps);
     for (const glm::vec3& p : g.meshes[idx].positions) swept.add(glm::dvec3(p));
   }
-  const glm::dvec3 lo = fine.worldToIndex(swept.min - a.pipeline.band);
-  const glm::dvec3 hi = fine.worldToIndex(swept.max + a.pipeline.band);
+  const double band = a.pipeline.band.sceneUnits(fine.voxelSize);
+  const glm::dvec3 lo = fine.worldToIndex(swept.min - band);
+  const glm::dvec3 hi = fine.worldToIndex(swept.max + band);
   return openvdb::CoordBBox(openvdb::Coord(int(std::floor(lo.x)), int(std::floor(lo.y)), int(std::floor(lo.z))),
                             openvdb::Coord(int(std::ceil(hi.x)), int(std::ceil(hi.y)), int(std::ceil(hi.z))));
 }
@@ -105,7 +103,8 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
     if (!a.focus.empty()) box = focusBox(scene, a, focus, pipe.fineSpec());
     BakeOptions stamp; // the per-frame files carry the pipeline's settings
     stamp.scene = a.scene;
-    stamp.pipeline = a.pipeline;
+    stamp.pipeline = pipe.settings(); // lengths in scene units
+    stamp.frames = a.frames;
     AnimateResult run;
     run.coarse = pipe.coarseSpec();
     run.fine = pipe.fineSpec();

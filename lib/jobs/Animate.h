@@ -32,7 +32,7 @@ struct AnimateOptions {
   /// rise only under sustained load (warmUpGpu). The frames measured are the same with or without it.
   double warmUpSeconds = 0.0;
   PipelineSettings pipeline = defaultPipeline();
-  /// @brief Animations run at coarse 64 / fine 128 by default: many frames, each measured.
+  /// @brief The pipeline's own defaults (PipelineSettings), the same as every other job's.
   static PipelineSettings defaultPipeline();
   /// @throw SettingError naming the setting that is out of range (or a vdbDir that is not a folder).
   void validate() const;

@@ -16,6 +16,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <optional>
 
 namespace rtsdf {
 namespace fs = std::filesystem;
@@ -24,24 +26,71 @@ void BakeOptions::validate() const {
   pipeline.validate();
   validateKnobs(*this);
   // Rays mode signs the refined voxels by its rays' votes alone: with none, every sign would be outside.
-  if (method == BakeMethod::Rtsdf && pipeline.mode == RefineMode::Rays && pipeline.rays == 0 && pipeline.band > 0.0)
+  if (method == BakeMethod::Rtsdf && pipeline.mode == RefineMode::Rays && pipeline.rays == 0 &&
+      pipeline.band.value > 0.0)
     throw SettingError("rays", "rays mode with 0 rays [x] casts no ray to sign the voxels it refines: give 1 ray "
                                "or more, or use the closest refinement (its nearest triangle's side signs them)");
   if (pipeline.cascades > 1 && method != BakeMethod::Rtsdf)
     throw SettingError("cascades", fmt::format("cascades {}: cascade levels are baked by the rtsdf method (compare "
                                                "--against exact checks each level)", pipeline.cascades));
-  if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
-  if (!(pipeline.band > 0.0))
-    throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));
-  if (grid && method == BakeMethod::Rtsdf)
-    throw SettingError("grid", "the rtsdf method builds its own coarse and fine grids (set the fine resolution)");
   if (fullDomain && method != BakeMethod::Exact)
     throw SettingError("full domain", "a full-domain field needs the exact method (OpenVDB's meshToLevelSet builds "
                                       "a narrow band only)");
+  if (method == BakeMethod::Rtsdf) return; // a band of 0 refines nothing but is still a bake
+  if (!(pipeline.band.value > 0.0))
+    throw SettingError("band", fmt::format("band {} must be positive and finite", pipeline.band));
+  if (grid && method == BakeMethod::Rtsdf)
+    throw SettingError("grid", "the rtsdf method builds its own coarse and fine grids (set the fine resolution)");
+}
+
+void setOutputResolution(BakeOptions& o, int res) {
+  o.resolution = res;
+  if (o.method == BakeMethod::Jfa) o.pipeline.coarseRes = res;
+  if (o.method != BakeMethod::Rtsdf) return;
+  o.pipeline.fineRes = res;
+  o.pipeline.coarseRes = std::max(1, res / 2);
+}
+
+int outputResolution(const BakeOptions& o) {
+  switch (o.method) {
+  case BakeMethod::Rtsdf: return o.pipeline.fineRes;
+  case BakeMethod::Jfa: return o.pipeline.coarseRes;
+  default: return o.resolution;
+  }
+}
+
+int bakeFrames(const BakeOptions& o) {
+  if (o.frames > 0) return o.frames;
+  return o.pipeline.mode == RefineMode::Closest && o.pipeline.rays == 0 ? 1 : 16;
+}
+
+bool bakeMethodUses(BakeMethod method, const std::string& setting) {
+  const auto among = [&](std::initializer_list<const char*> names) {
+    return std::any_of(names.begin(), names.end(), [&](const char* n) { return setting == n; });
+  };
+  // The settings of some methods only; every other setting (the resolution, the band, the time, ...) is read by
+  // every method.
+  if (among({"full domain", "sign method"})) return method == BakeMethod::Exact;
+  if (among({"coarse resolution", "coarse method", "beta", "device"}))
+    return method == BakeMethod::Jfa || method == BakeMethod::Rtsdf;
+  if (among({"fine resolution", "rays", "alpha", "refinement mode", "closest search", "seed", "full recompute",
+             "settle frames", "refresh period", "fine storage", "pool bricks", "frames", "cascades",
+             "cascade extent"}))
+    return method == BakeMethod::Rtsdf;
+  return true;
+}
+
+BakeOptions bakeOptionsResolved(const BakeOptions& options, const Bounds& bounds) {
+  BakeOptions o = options;
+  const double voxel = o.grid ? o.grid->voxelSize : bounds.maxExtent() / std::max(1, outputResolution(o));
+  o.pipeline = withLengthsResolved(o.pipeline, voxel);
+  if (!o.fullDomain) requireBandOfAVoxel(o.pipeline.band, voxel);
+  o.frames = bakeFrames(o);
+  return o;
 }
 
 double fineLevelSetBand(const PipelineSettings& s, const GridSpec& fine) {
-  return s.band > 0.0 ? s.band : 3.0 * fine.voxelSize;
+  return s.band > 0.0 ? double(s.band) : 3.0 * fine.voxelSize;
 }
 
 openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions& o, double time) {
@@ -49,7 +98,7 @@ openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions&
   auto grid = pipe.levelSet(float(fineLevelSetBand(p, pipe.fineSpec())));
   stampLevelSet(*grid, pipe.fineSpec(),
                 {{"method", "rtsdf"}, {"scene", recordedScenePath(o.scene)}, {"coarse", p.coarseRes},
-                 {"resolution", p.fineRes}, {"band", p.band}, {"alpha", p.alpha}, {"rays", p.rays},
+                 {"resolution", p.fineRes}, {"band", double(p.band)}, {"alpha", p.alpha}, {"rays", p.rays},
                  {"frames", o.frames}, {"refine", toString(p.mode)}, {"coarse_method", toString(p.coarseMethod)},
                  {"seed", std::int64_t(p.seed)}, {"time", time}, {"version", detail::version()}});
   return grid;
@@ -57,9 +106,9 @@ openvdb::FloatGrid::Ptr fineLevelSet(const SdfPipeline& pipe, const BakeOptions&
 
 namespace {
 
-BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const JobControl& control) {
+BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const Bounds& bounds, const JobControl& control) {
   return runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
-    SdfPipeline pipe(ctx, scene, buildSceneGeometry(scene, o.time).bounds, o.pipeline);
+    SdfPipeline pipe(ctx, scene, bounds, o.pipeline);
     spdlog::info("coarse {}, fine {}", pipe.coarseSpec().describe(), pipe.fineSpec().describe());
     BakeResult r;
     const auto t0 = std::chrono::steady_clock::now();
@@ -123,9 +172,8 @@ GridSpec bakeGrid(const BakeOptions& o, const SceneGeometry& geo, double padding
   return spec;
 }
 
-BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene, const JobControl& control) {
+BakeResult bakeOnGrid(const BakeOptions& o, const SceneGeometry& geo, const JobControl& control) {
   const double band = o.pipeline.band;
-  const SceneGeometry geo = buildSceneGeometry(scene, o.time);
   const double padding = pipelinePadding(geo.bounds, o.pipeline);
   BakeResult r;
   r.spec = bakeGrid(o, geo, padding);
@@ -156,20 +204,40 @@ BakeResult bakeOnGrid(const BakeOptions& o, const Scene& scene, const JobControl
   return r;
 }
 
-BakeResult bakeValidated(const Scene& scene, const BakeOptions& options, const JobControl& control) {
+BakeResult bakeValidated(const Scene& scene, const BakeOptions& given, const JobControl& control) {
   const std::string summary = detail::meshSummary(scene);
-  const std::string name = options.scene.empty() ? "(scene in memory)" : options.scene;
+  const std::string name = given.scene.empty() ? "(scene in memory)" : given.scene;
   spdlog::info("{}: {}", name, summary);
-  BakeResult r = options.method != BakeMethod::Rtsdf ? bakeOnGrid(options, scene, control)
-                 : options.pipeline.cascades > 1    ? bakeCascades(options, scene, control)
-                                                    : bakeRtsdf(options, scene, control);
+  // The rtsdf method builds its own geometry per frame; the others bake this one.
+  std::optional<SceneGeometry> geo;
+  geo.emplace(buildSceneGeometry(scene, given.time));
+  BakeResult r;
+  if (given.method == BakeMethod::Rtsdf && given.pipeline.cascades > 1) {
+    // Each level resolves the lengths in its own voxels (CascadeBake.h).
+    BakeOptions levels = given;
+    levels.frames = bakeFrames(given);
+    geo.reset();
+    r = bakeCascades(levels, scene, control);
+    r.options = levels;
+  } else {
+    const BakeOptions options = bakeOptionsResolved(given, geo->bounds);
+    if (options.method == BakeMethod::Rtsdf) {
+      const Bounds bounds = geo->bounds;
+      geo.reset();
+      r = bakeRtsdf(options, scene, bounds, control);
+    } else {
+      r = bakeOnGrid(options, *geo, control);
+    }
+    r.options = options;
+  }
+  const BakeOptions& options = r.options;
   // A cascade level may lie in empty air (a camera above an open field): only all of them empty is an error.
   std::uint64_t active = r.grid->activeVoxelCount();
   for (const auto& level : r.levels) active += level->activeVoxelCount();
   if (!options.allowEmpty && active == 0)
     throw Error(fmt::format("{}: the {} level set on {} has no active voxel (band {:g} = {:.3g} voxels): widen the "
                             "band, raise the resolution or, to keep it, allow an empty result", name,
-                            toString(options.method), r.spec.describe(), options.pipeline.band,
+                            toString(options.method), r.spec.describe(), double(options.pipeline.band),
                             options.pipeline.band / r.spec.voxelSize));
   r.sceneSummary = summary;
   // The files read: writeBake never replaces one of them.
@@ -210,7 +278,8 @@ void writeBake(const BakeResult& result, const fs::path& path, const BakeOutputO
 
 namespace {
 
-std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::path& output) {
+std::string rtsdfReport(const BakeResult& r, const fs::path& output) {
+  const BakeOptions& o = r.options;
   const PipelineSettings& p = o.pipeline;
   const FrameStats& st = r.lastFrame;
   // Every pass that ran, in recording order, a pass recorded several times once with its total.
@@ -226,8 +295,8 @@ std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::pat
                    p.alpha, o.frames, toString(p.coarseMethod));
   t += fmt::format("coarse     {}\n", r.coarseSpec.describe());
   t += fmt::format("fine       {}\n", r.spec.describe());
-  t += fmt::format("ray mask   {} coarse voxels, {} fine voxels (band {})\n", st.maskCoarseVoxels, st.maskFineVoxels,
-                   p.band);
+  t += fmt::format("ray mask   {} coarse voxels, {} fine voxels (band {:.6g} = {:.2f} fine voxels)\n",
+                   st.maskCoarseVoxels, st.maskFineVoxels, double(p.band), p.band / r.spec.voxelSize);
   t += fmt::format("last frame {}host (CPU) {:.1f} ms\n", passes, st.hostMs);
   t += fmt::format("time       {:.3f} s for {} frames on {}\n", r.seconds, o.frames, r.device);
   t += fmt::format("output     {} ({} active voxels)\n", output.string(), r.grid->activeVoxelCount());
@@ -236,9 +305,10 @@ std::string rtsdfReport(const BakeOptions& o, const BakeResult& r, const fs::pat
 
 } // namespace
 
-std::string bakeReport(const BakeOptions& o, const BakeResult& r, const fs::path& output,
+std::string bakeReport(const BakeOptions&, const BakeResult& r, const fs::path& output,
                        const BakeOutputOptions& written) {
-  if (o.method == BakeMethod::Rtsdf) return rtsdfReport(o, r, output);
+  const BakeOptions& o = r.options; // with its lengths in scene units
+  if (o.method == BakeMethod::Rtsdf) return rtsdfReport(r, output);
   const double band = o.pipeline.band;
   const std::uint64_t active = r.grid->activeVoxelCount();
   std::error_code ec;
@@ -247,7 +317,7 @@ std::string bakeReport(const BakeOptions& o, const BakeResult& r, const fs::path
   t += fmt::format("method     {}{}\n", toString(o.method),
                    o.method == BakeMethod::Exact ? fmt::format(" (sign: {})", toString(o.sign)) : "");
   t += fmt::format("grid       {}\n", r.spec.describe());
-  t += fmt::format("band       {} scene units = {:.2f} voxels{}\n", band, band / r.spec.voxelSize,
+  t += fmt::format("band       {:.6g} scene units = {:.2f} voxels{}\n", band, band / r.spec.voxelSize,
                    o.fullDomain ? " (full domain: all voxels active)" : "");
   t += fmt::format("active     {} voxels of {} ({:.2f}%)\n", active, r.spec.voxelCount(),
                    100.0 * double(active) / double(r.spec.voxelCount()));

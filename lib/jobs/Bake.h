@@ -37,16 +37,16 @@ template <> struct EnumNames<BakeMethod> {
                                                                    {"rtsdf", BakeMethod::Rtsdf}};
 };
 
-/// @brief Everything a bake needs. Lengths in scene units.
+/// @brief Everything a bake needs. Lengths (the band, the padding) in scene units or in voxels of the output grid.
 struct BakeOptions {
   std::string scene;                   ///< scene (.json) or mesh file; recorded in the file's metadata
   MeshLoadOptions meshLoad;            ///< whether the scene's mesh paths and meshes' references may leave their folder
   BakeMethod method = BakeMethod::Exact;
-  int resolution = 128;                ///< voxels across the longest side (exact, openvdb)
+  int resolution = 128;                ///< voxels across the longest side (exact, openvdb; see setOutputResolution)
   bool fullDomain = false;             ///< every voxel active (exact only)
   double time = 0.0;                   ///< animation time in seconds
   SignMethod sign = SignMethod::Auto;  ///< sign rule of the exact method
-  int frames = 16;                     ///< refinement frames to accumulate (rtsdf)
+  int frames = -1;                     ///< refinement frames to accumulate (rtsdf); < 0: bakeFrames()
   bool allowEmpty = false;             ///< a level set with no active voxel is a result, not an error
   std::string device;                  ///< Vulkan device by index or name; empty: the best one (jfa, rtsdf)
   /// The band d and the padding for every method (pipeline.band: active voxels |d| <= band; for rtsdf also the
@@ -60,6 +60,27 @@ struct BakeOptions {
   /// @throw SettingError naming the setting that is out of range.
   void validate() const;
 };
+
+/// @brief Set the output grid of @a o.method to @a res voxels across the scene: the fine grid for rtsdf (the
+///        coarse one at half of it), the coarse grid for jfa, the resolution for exact and openvdb.
+void setOutputResolution(BakeOptions& o, int res);
+
+/// @brief The voxels across the scene of @a o's output grid (the fine grid for rtsdf, the coarse for jfa).
+int outputResolution(const BakeOptions& o);
+
+/// @brief The refinement frames of an rtsdf bake: o.frames when > 0; else 1 in closest mode without sign rays (an
+///        exact value settles in one refinement), 16 otherwise (votes and decayed history accumulate).
+int bakeFrames(const BakeOptions& o);
+
+/// @brief Whether @a method reads the setting named @a setting (SettingError::setting(), knob rows): a front
+///        end refuses a setting given for a method that would ignore it. A setting not listed as one of some
+///        methods only is read by every method (a new knob of the GPU pipeline alone must be listed here).
+bool bakeMethodUses(BakeMethod method, const std::string& setting);
+
+/// @brief @a o with its pipeline's lengths in scene units, voxels measured on the output grid over @a bounds (or
+///        o.grid's voxels), and its frames chosen (bakeFrames).
+/// @throw SettingError "band" when the band is under one voxel of the output grid (requireBandOfAVoxel).
+BakeOptions bakeOptionsResolved(const BakeOptions& o, const Bounds& bounds);
 
 /// @brief A finished bake.
 struct BakeResult {
@@ -76,6 +97,7 @@ struct BakeResult {
   /// cascadeGridName(level); grid is level 0. writeBake writes these instead of grid.
   std::vector<openvdb::FloatGrid::Ptr> levels;
   std::vector<FrameStats> levelFrames; ///< cascades: each level's last frame
+  BakeOptions options;            ///< the options in effect (bakeOptionsResolved: lengths in scene units)
 };
 
 /// @brief A bake's own knobs (the pipeline's: KnobTable<PipelineSettings>); docs/settings.md.
@@ -87,14 +109,16 @@ template <> struct KnobTable<BakeOptions> {
                "nearest seeds by the coarse method, distance minus beta); rtsdf: coarse SDF, ray mask compacted on "
                "the GPU and fine SDF refined through the GPU BVH"),
       knob("resolution", &S::resolution, "-r,--res", KnobRange::closed(1, GridSpec::kMaxResolution),
-           "Voxels along the scene's longest axis (other axes follow; exact, openvdb)"),
+           "Voxels of the output grid along the scene's longest axis, other axes following (rtsdf: the fine grid, "
+           "the coarse at half of it; jfa: the coarse grid; --coarse and --fine override)"),
       flagKnob("full domain", &S::fullDomain, "--full", "Full-domain field: every voxel active (exact method only)",
                "full_domain"),
       knob("time", &S::time, "-t,--time", KnobRange::finite(), "Animation time in seconds"),
       enumKnob(&S::sign, "--sign",
                "Sign rule of the exact method: auto (pseudo-normal for closed meshes, winding number for open ones), "
                "pseudonormal, winding"),
-      knob("frames", &S::frames, "--frames", KnobRange::closed(1, 100000),
+      knob("frames", &S::frames, "--frames",
+           KnobRange::closed(1, 100000).orNegative("by the refinement mode: 1 closest without rays, 16 otherwise"),
            "Frames of refinement to accumulate (method rtsdf)"),
       flagKnob("allow empty", &S::allowEmpty, "--allow-empty",
                "Write the level set even when no voxel is active (else an error)"),

@@ -138,13 +138,13 @@ FileComparison compareWithAnchor(const FloatGrid& a, const std::string& nameA, c
   if (a.activeVoxelCount() == 0) throw Error(fmt::format("{}: the level set has no active voxels", nameA));
   const BakeOptions bo = anchorBake(a, o);
   spdlog::info("baking the {} anchor of {} on {}, band {:.6g}", toString(bo.method), bo.scene, bo.grid->describe(),
-               bo.pipeline.band);
+               double(bo.pipeline.band));
   control.report("baking the anchor", 0, 1);
   const BakeResult anchor = bake(bo, control);
   control.report("baking the anchor", 1, 1);
   return compareGrids(a, *anchor.grid, nameA,
                       fmt::format("{} bake of {} on A's voxels (band {:.6g}{}, time {})", toString(bo.method),
-                                  bo.scene, bo.pipeline.band, bo.fullDomain ? ", full domain" : "", bo.time),
+                                  bo.scene, double(bo.pipeline.band), bo.fullDomain ? ", full domain" : "", bo.time),
                       true);
 }
 

@@ -18,13 +18,7 @@ namespace rtsdf {
 namespace fs = std::filesystem;
 
 RenderSettings RenderJobOptions::defaultRenderSettings() {
-  RenderSettings r;
-  r.pipeline.coarseRes = 64;
-  r.pipeline.fineRes = 256;
-  r.pipeline.band = 0.1;
-  r.pipeline.mode = RefineMode::Closest;
-  r.pipeline.rays = 0;
-  return r;
+  return RenderSettings{};
 }
 
 void RenderJobOptions::validate() const {

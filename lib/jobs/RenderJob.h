@@ -23,9 +23,8 @@ struct RenderJobOptions {
   bool compare = false;       ///< also ray trace the truth and measure the image error
   std::string device;         ///< Vulkan device by index or name; empty: the best one
   RenderSettings render = defaultRenderSettings();
-  /// @brief The renderer's defaults, with the SDF pipeline at coarse 64 / fine 256 (the paper's size M: the
-  ///        default scene's sun penumbrae are only a few voxels wide at 128), closest-point refinement and no
-  ///        ray votes (signs from the closest triangle: decayed votes lag behind moving objects).
+  /// @brief The renderer's defaults, with the pipeline's own (PipelineSettings: closest-point refinement, no
+  ///        ray votes, whose decayed votes lag behind moving objects), the same as every other job's.
   static RenderSettings defaultRenderSettings();
   /// @throw SettingError naming the setting that is out of range.
   void validate() const;

@@ -146,8 +146,9 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     p.epsilon = float(settings.sdf.epsilonVoxels * f.voxelSize);
     p.bias = float(settings.sdf.biasVoxels * f.voxelSize);
     p.minStep = float(settings.sdf.minStepVoxels * f.voxelSize);
-    p.maxStep = float(std::max({settings.sdf.maxStep, double(p.epsilon), double(p.minStep)}));
-    p.normalOffset = float(settings.sdf.normalOffset >= 0.0 ? settings.sdf.normalOffset : double(p.bias));
+    p.maxStep = float(std::max({settings.sdf.maxStep.sceneUnits(f.voxelSize), double(p.epsilon), double(p.minStep)}));
+    const double normalOffset = settings.sdf.normalOffset.sceneUnits(f.voxelSize);
+    p.normalOffset = float(normalOffset >= 0.0 ? normalOffset : double(p.bias));
     p.maxSteps = std::uint32_t(settings.sdf.maxSteps);
     p.penumbra = settings.sdf.penumbra == PenumbraEstimate::Classic    ? sh::kPenumbraClassic
                  : settings.sdf.penumbra == PenumbraEstimate::Improved ? sh::kPenumbraImproved

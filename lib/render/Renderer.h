@@ -70,13 +70,13 @@ struct SdfShadowSettings {
   /// against trilinear filtering's overestimate of the distance at convex edges (docs/design.md).
   double biasVoxels = 0.15;
   double minStepVoxels = 0.5; ///< shortest march step in fine voxels: samples the closest approach to an edge
-  double maxStep = 0.05;      ///< longest march step, against banding
+  Length maxStep = Length::voxels(4); ///< longest march step, against banding (scene units or fine voxels)
   int maxSteps = 256;         ///< march steps at most
   bool jitter = true;         ///< jitter the start (over [0.25, 1.25] epsilon), the probes' and umbra samples' turn
                               ///< per pixel and frame (TAA averages the noise away)
-  /// March start off the surface along its normal (scene units); < 0: the bias, so that a flat receiver's own
-  /// plane, biased, is exactly its geometric horizon (docs/design.md).
-  double normalOffset = -1.0;
+  /// March start off the surface along its normal (scene units or fine voxels); < 0: the bias, so that a flat
+  /// receiver's own plane, biased, is exactly its geometric horizon (docs/design.md).
+  Length normalOffset = -1.0;
   /// Centred estimate: SDF samples around the light's cone where the march came closest to an occluder, so
   /// that a plate thinner than the cone does not pass for an edge and leak light (docs/design.md); 0: off
   /// (the centre's signed distance alone, as before).
@@ -137,10 +137,10 @@ template <> struct KnobTable<SdfShadowSettings> {
       knob("min step", &S::minStepVoxels, "--min-step", KnobRange::closed(0.05, 64).in(" fine voxels"),
            "Shortest SDF march step in fine voxels: how densely the march samples near occluders"),
       knob("max step", &S::maxStep, "--max-step", KnobRange::above(0),
-           "Longest SDF march step in scene units, against banding"),
+           "Longest SDF march step, against banding"),
       knob("max steps", &S::maxSteps, "--max-steps", KnobRange::closed(1, 4096), "SDF march steps at most"),
       knob("normal offset", &S::normalOffset, "--normal-offset", KnobRange::atLeast(0).orNegative("the bias"),
-           "SDF march start off the surface along its normal, in scene units"),
+           "SDF march start off the surface along its normal"),
       knob("lateral probes", &S::lateralProbes, "--lateral-probes", KnobRange::closed(0, 64),
            "Centered estimate: SDF samples around the light's cone where the march came closest to an occluder, so "
            "that thin plates hold their umbra (0: off)"),

@@ -29,15 +29,51 @@ int refreshPeriodFor(const PipelineSettings& s) {
   return s.mode == RefineMode::Closest ? 0 : 8;
 }
 
+PipelineSettings pipelinePreset(Preset preset) {
+  PipelineSettings s;
+  if (preset == Preset::Paper) {
+    s.coarseRes = 128;
+    s.fineRes = 256;
+    s.mode = RefineMode::Rays;
+    s.rays = 10;
+    s.alpha = 0.95;
+    s.coarseMethod = CoarseMethod::OnePlusJfa;
+  }
+  return s;
+}
+
+double fineVoxelSize(const Bounds& bounds, const PipelineSettings& s) {
+  return bounds.maxExtent() / std::max(1, s.fineRes);
+}
+
+PipelineSettings withLengthsResolved(const PipelineSettings& s, double voxelSize) {
+  PipelineSettings r = s;
+  r.band = s.band.sceneUnits(voxelSize);
+  r.padding = s.padding.sceneUnits(voxelSize);
+  return r;
+}
+
+PipelineSettings withLengthsResolved(const PipelineSettings& s, const Bounds& bounds) {
+  return withLengthsResolved(s, fineVoxelSize(bounds, s));
+}
+
+void requireBandOfAVoxel(double band, double voxelSize) {
+  if (band > 0.0 && band < voxelSize * (1.0 - 1e-9))
+    throw SettingError("band", fmt::format("band {:g} is {:.3g} voxels (voxel size {:g}): a level set needs at least "
+                                           "one voxel on each side of the surface; give at least {:g} or 1vox",
+                                           band, band / voxelSize, voxelSize, voxelSize));
+}
+
 double defaultPadding(const Bounds& bounds, double band) { return std::min(band, 0.25 * bounds.maxExtent()); }
 
-double pipelinePadding(const Bounds& bounds, const PipelineSettings& s) {
+double pipelinePadding(const Bounds& bounds, const PipelineSettings& given) {
+  const PipelineSettings s = withLengthsResolved(given, bounds);
   if (s.padding < 0.0) return defaultPadding(bounds, s.band);
   // A margin wider than the scene models mostly empty space (and at 1e30 overflows the grid's size).
   const double longest = bounds.maxExtent();
   if (longest > 0.0 && s.padding > longest)
     throw SettingError("padding", fmt::format("padding {:g} is more than the scene's longest side ({:g}): at most "
-                                              "{:g}", s.padding, longest, longest));
+                                              "{:g}", double(s.padding), longest, longest));
   return s.padding;
 }
 
@@ -76,8 +112,9 @@ void requirePipelineGrids(const GridSpec& coarse, const GridSpec& fine, const Pi
                                                         "fine resolution)", fine.describe(), gpu::shared::kMaxSeedAxis));
 }
 
-std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& s) {
-  s.validate();
+std::pair<GridSpec, GridSpec> pipelineGrids(const Bounds& bounds, const PipelineSettings& given) {
+  given.validate();
+  const PipelineSettings s = withLengthsResolved(given, bounds);
   const double padding = pipelinePadding(bounds, s);
   const GridSpec fine = GridSpec::fromBounds(bounds, s.fineRes, padding);
   const GridSpec coarse = coarseGridOver(fine, bounds, s.coarseRes, padding);

@@ -7,6 +7,7 @@
 #include "util/Bounds.h"
 #include "util/EnumNames.h"
 #include "util/Knobs.h"
+#include "util/Length.h"
 
 #include <cstdint>
 #include <utility>
@@ -68,15 +69,18 @@ template <> struct EnumNames<FineStorage> {
 /// @brief The most cascade levels: level 9's voxel is 512 times level 0's.
 constexpr int kMaxCascades = 10;
 
-/// @brief Every knob of the pipeline (scene units for lengths).
+/// @brief Every knob of the pipeline. The defaults are the fast and accurate point of the speed/accuracy tables
+///        (docs/results.md, "Defaults"): closest-point refinement at coarse 64 / fine 128 with a band of 6 fine
+///        voxels; pipelinePreset(Preset::Paper) gives the paper's. Lengths may be in voxels of the fine grid until
+///        a job resolves them (withLengthsResolved); the pipeline itself works in scene units.
 struct PipelineSettings {
-  int coarseRes = 128;   ///< voxels across the scene for the coarse SDF
-  int fineRes = 256;     ///< voxels across the scene for the fine SDF (>= coarseRes)
-  double band = 0.1;     ///< d: refine where |c| <= d
-  double padding = -1.0; ///< margin around the scene bounds; < 0: defaultPadding (the band, at most a quarter)
+  int coarseRes = 64;    ///< voxels across the scene for the coarse SDF
+  int fineRes = 128;     ///< voxels across the scene for the fine SDF (>= coarseRes)
+  Length band = Length::voxels(6); ///< d: refine where |c| <= d
+  Length padding = -1.0; ///< margin around the scene bounds; < 0: defaultPadding (the band, at most a quarter)
   double alpha = 0.95;   ///< history decay
-  int rays = 10;         ///< x: rays per masked voxel per frame
-  RefineMode mode = RefineMode::Rays;
+  int rays = 0;          ///< x: rays per masked voxel per frame (closest mode: sign rays)
+  RefineMode mode = RefineMode::Closest;
   ClosestSearch closestSearch = ClosestSearch::Auto; ///< closest mode: one walk per box of voxels or per voxel
   ShaderTarget shaderTarget = ShaderTarget::Device; ///< the kind of device the shader variants are for
   CoarseMethod coarseMethod = CoarseMethod::Edt; ///< how the coarse SDF finds nearest seeds
@@ -115,14 +119,16 @@ template <> struct KnobTable<PipelineSettings> {
       knob("fine resolution", &S::fineRes, "--fine", KnobRange::closed(1, 1024),
            "Fine SDF resolution: voxels across the scene (method rtsdf), at least the coarse resolution"),
       knob("band", &S::band, "-d,--band", KnobRange::atLeast(0),
-           "Narrow-band half-width in scene units: refine where |coarse SDF| <= band, the level set's active voxels "
-           "(0: no refinement) [d]"),
+           "Narrow-band half-width: refine where |coarse SDF| <= band, the level set's active voxels; at least one "
+           "voxel (0: no refinement, method rtsdf) [d]"),
       knob("padding", &S::padding, "--padding",
            KnobRange::atLeast(0).orNegative("the band, at most a quarter of the scene's longest side"),
-           "Margin around the scene bounds in scene units, at most the scene's longest side"),
-      knob("rays", &S::rays, "--rays", KnobRange::closed(0, 1024), "Rays per masked fine voxel per frame [x]"),
+           "Margin around the scene bounds, at most the scene's longest side"),
+      knob("rays", &S::rays, "--rays", KnobRange::closed(0, 1024),
+           "Rays cast per masked fine voxel per frame (closest mode: rays that vote on the sign) [x]"),
       knob("alpha", &S::alpha, "--alpha", KnobRange::closed(0, 1),
-           "History decay: f = min(alpha f' + (1 - alpha) c, r) [alpha]"),
+           "How much of its history a voxel keeps each frame in rays mode: the new distance is the smaller of the "
+           "ray hit and alpha times the old one plus (1 - alpha) times the coarse one [alpha]"),
       enumKnob(&S::mode, "--refine", "rays: the paper's random rays; closest: exact closest-point distance"),
       enumKnob(&S::closestSearch, "--closest-search",
                "Closest mode: cell (one BVH walk per box of fine voxels collects the triangles they test), voxel "
@@ -132,7 +138,7 @@ template <> struct KnobTable<PipelineSettings> {
                "How the coarse SDF finds each voxel's nearest seed: edt (exact separable transform) or the "
                "jump-flooding variants jfa, 1+jfa (the paper's) and jfa+2; --jfa is the older name"),
       knob("beta", &S::beta, "--beta", KnobRange::atLeast(0).orNegative("half a coarse voxel"),
-           "Coarse SDF shell: distance minus beta, in scene units [beta]"),
+           "Shell subtracted from the coarse distances, in scene units [beta]"),
       knob("seed", &S::seed, "--seed", KnobRange::any(), "Random seed of the ray directions"),
       flagKnob("full recompute", &S::fullRecompute, "--full-recompute",
                "Refine every masked voxel every frame (the paper's frame); default: only voxels new to the band, "
@@ -155,6 +161,34 @@ template <> struct KnobTable<PipelineSettings> {
            KnobRange::above(0).orNegative("the scene's longest side / 2^(cascades - 1)"),
            "Side of cascade level 0 in scene units (cascades > 1)"));
 };
+
+/// @brief Named sets of settings.
+enum class Preset {
+  Default, ///< the defaults: fast on a CPU device and accurate (closest, coarse 64 / fine 128)
+  Paper    ///< the paper's: rays mode, x = 10, alpha = 0.95, 1+JFA, coarse 128 / fine 256, 16 frames
+};
+template <> struct EnumNames<Preset> {
+  static constexpr const char* kSetting = "preset";
+  static constexpr std::pair<const char*, Preset> kValues[] = {{"default", Preset::Default}, {"paper", Preset::Paper}};
+};
+
+/// @brief The pipeline's settings of @a preset.
+PipelineSettings pipelinePreset(Preset preset);
+
+/// @brief The voxel size the lengths of @a s given in voxels are measured in: the fine grid's over @a bounds.
+double fineVoxelSize(const Bounds& bounds, const PipelineSettings& s);
+
+/// @brief @a s with every length in scene units: a length in voxels times @a voxelSize. Lengths already in scene
+///        units are kept, so resolving twice changes nothing.
+PipelineSettings withLengthsResolved(const PipelineSettings& s, double voxelSize);
+
+/// @brief @a s with its lengths resolved against the fine grid over @a bounds (fineVoxelSize).
+PipelineSettings withLengthsResolved(const PipelineSettings& s, const Bounds& bounds);
+
+/// @brief A level set's band of at least one voxel of @a voxelSize (0 < band < 1 voxel would leave a level set
+///        with no voxel inside its band).
+/// @throw SettingError "band" saying the band in voxels and the least accepted.
+void requireBandOfAVoxel(double band, double voxelSize);
 
 /// @brief The refinements in a row after which a voxel is settled under @a s: 0 with fullRecompute (every voxel is
 ///        refined every frame); else s.settleFrames when > 0; else, by the mode, 1 in closest mode with no sign rays

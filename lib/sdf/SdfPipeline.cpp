@@ -20,16 +20,17 @@
 namespace rtsdf {
 
 SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds,
-                         const PipelineSettings& s)
-    : SdfPipeline(ctx, scene, pipelineGrids(bounds, s), s) {
+                         const PipelineSettings& given)
+    : SdfPipeline(ctx, scene, pipelineGrids(bounds, given), withLengthsResolved(given, bounds)) {
   // One box over the whole scene: say when it is too coarse for the scene (what the cascades are for).
   const std::string advice = singleBoxAdvice(scene, mCoarseSpec, mFineSpec);
   if (!advice.empty()) spdlog::warn("{}", advice);
 }
 
 SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
-                         const std::pair<GridSpec, GridSpec>& grids, const PipelineSettings& s)
-    : mCtx(ctx), mSettings(s) {
+                         const std::pair<GridSpec, GridSpec>& grids, const PipelineSettings& given)
+    : mCtx(ctx), mSettings(withLengthsResolved(given, grids.second.voxelSize)) {
+  const PipelineSettings& s = mSettings; // lengths in scene units from here on
   s.validate();
   if (s.cascades != 1)
     throw SettingError("cascades", fmt::format("cascades {}: one SdfPipeline is one box; a bake builds cascade levels "

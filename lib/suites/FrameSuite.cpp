@@ -46,6 +46,7 @@ std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control
   a.device = s.device;
   a.pipeline = PipelineSettings{};
   std::tie(a.pipeline.coarseRes, a.pipeline.fineRes) = frameSizeResolutions(s.frameSize);
+  a.pipeline.band = 0.1; // d = 0.1 scene units: the recorded frame figures' band (docs/results.md)
   a.pipeline.mode = s.refine;
   a.pipeline.rays = s.rays;
   a.pipeline.fullRecompute = s.fullRecompute;

@@ -94,7 +94,7 @@ std::string peak(const SweepRecord& r) {
   return std::isfinite(r.peakGrowthMiB) ? fmt::format("{:.0f} (+{:.0f})", r.peakMiB, r.peakGrowthMiB)
                                         : fmt::format("{:.0f}", r.peakMiB);
 }
-std::string band(const SweepPoint& p) { return p.bruteForce ? "inf" : fmt::format("{:g}", p.pipeline.band); }
+std::string band(const SweepPoint& p) { return p.bruteForce ? "inf" : fmt::format("{:g}", double(p.pipeline.band)); }
 std::string quoted(const std::string& s) {
   std::string q = "\"";
   for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
@@ -305,7 +305,7 @@ std::string anchorRatio(const std::vector<SweepRecord>& rs, const SweepRecord& a
 /// Anchors, with the pipeline's closest-point and x = 1 frames at the same fine resolution beside them.
 std::string anchorsTable(const RecordList& v, const std::vector<SweepRecord>& rs) {
   std::string md =
-      fmt::format("## Anchors at the same fine voxels and band (d = {:g})\n\n", v.front()->point.pipeline.band);
+      fmt::format("## Anchors at the same fine voxels and band (d = {:g})\n\n", double(v.front()->point.pipeline.band));
   md += "| fine | anchor | time (ms) | mean / RMS / max error | wrong sign | peak MiB | rtsdf closest frame / anchor "
         "| rtsdf rays x=1 frame / anchor |\n|---|---|---|---|---|---|---|---|\n";
   for (const SweepRecord* a : v)

@@ -27,6 +27,7 @@ template <class K, class T> std::string knobValueText(const K& k, const T& v) {
   if constexpr (std::is_same_v<T, bool>) return v ? "on" : "off";
   else if constexpr (IsNamedEnum<T>::value) return toString(v);
   else if constexpr (kIsNumericKnob<T>) return k.range.isSpecial(double(v)) ? "auto" : fmt::format("{}", v);
+  else if constexpr (std::is_same_v<T, Length>) return k.range.isSpecial(v.value) ? "auto" : v.text();
   else if constexpr (std::is_same_v<T, std::filesystem::path>) return v.empty() ? "none" : v.string();
   else return v.empty() ? "none" : std::string(v);
 }
@@ -36,11 +37,12 @@ template <class K> std::string knobRangeText(const K& k) {
   using T = typename K::Value;
   if constexpr (std::is_same_v<T, bool>) return "on, off";
   else if constexpr (IsNamedEnum<T>::value) return enumChoices<T>();
-  else if constexpr (kIsNumericKnob<T>) {
+  else if constexpr (kIsNumericKnob<T> || std::is_same_v<T, Length>) {
     std::string s = k.range.text();
     if (s.empty()) s = std::is_integral_v<T> ? "any integer" : "any number";
     s += k.range.unit;
     if (const std::string note = k.range.note(); !note.empty()) s += "; " + note;
+    if constexpr (std::is_same_v<T, Length>) s += std::string("; ") + kLengthSyntax;
     return s;
   } else return "text";
 }

@@ -16,6 +16,7 @@
 /// and a front end walks it with forEachKnob<S>(visitor), the visitor called with each row (a Knob<S, T>).
 #include "util/EnumNames.h"
 #include "util/Error.h"
+#include "util/Length.h"
 
 #include <fmt/format.h>
 
@@ -119,6 +120,9 @@ struct KnobRange {
 /// @brief Whether knobs of type T hold an enum with a name table (EnumNames<T>).
 template <class T, class = void> struct IsNamedEnum : std::false_type {};
 template <class T> struct IsNamedEnum<T, std::void_t<decltype(EnumNames<T>::kValues)>> : std::true_type {};
+/// @brief How a length knob (util/Length.h) is written, once for every such row (docs/settings.md, --help).
+inline constexpr const char* kLengthSyntax = "a length: 0.02 (scene units) or 3vox (voxels of the output grid)";
+
 /// @brief Whether knobs of type T are numbers with a range (not a flag, an enum or text).
 template <class T> constexpr bool kIsNumericKnob = std::is_arithmetic_v<T> && !std::is_same_v<T, bool>;
 
@@ -168,6 +172,7 @@ template <class S> void validateKnobs(const S& s) {
   forEachKnob<S>([&](const auto& k) {
     using T = typename std::decay_t<decltype(k)>::Value;
     if constexpr (kIsNumericKnob<T>) k.range.check(k.setting, s.*(k.member));
+    else if constexpr (std::is_same_v<T, Length>) k.range.check(k.setting, (s.*(k.member)).value);
   });
 }
 

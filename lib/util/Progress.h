@@ -1,6 +1,7 @@
 #pragma once
 /// @file Progress.h
-/// @brief A thread-safe progress bar on stderr for long work (shown only when stderr is a terminal).
+/// @brief A thread-safe progress report on stderr for long work: a bar on a terminal, lines elsewhere (a pipe, a
+///        log file).
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -9,8 +10,10 @@
 
 namespace rtsdf {
 
-/// @brief Counts finished work items from any thread and redraws a bar at most ~10 times a second.
-/// @note Silent when stderr is not a terminal or when progress is disabled globally (--quiet).
+/// @brief Counts finished work items from any thread. On a terminal it redraws a bar at most ~10 times a second;
+///        when stderr is not a terminal it prints a line (what it does, how far, the time left) every few seconds
+///        and one when the stage ends.
+/// @note Silent when progress is disabled globally (--quiet).
 class Progress {
 public:
   Progress(std::string label, std::uint64_t total);
@@ -35,6 +38,7 @@ private:
   std::chrono::steady_clock::time_point mStart;
   std::mutex mDrawMutex;
   bool mActive = false;
+  bool mTerminal = false; ///< a bar redrawn in place; else a line at a time
   bool mFinished = false;
 };
 

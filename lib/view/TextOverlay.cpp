@@ -35,6 +35,28 @@ std::vector<std::uint8_t> rasterizeText(const std::string& text, int width, int 
   return coverage;
 }
 
+std::string wrapText(const std::string& text, int width, int scale) {
+  const auto fits = [&](std::string line) { return 4 + stb_easy_font_width(line.data()) * scale <= width; };
+  std::string out, line;
+  int lines = 1;
+  for (std::size_t at = 0; at < text.size();) {
+    std::size_t end = text.find(" | ", at);
+    end = end == std::string::npos ? text.size() : end + 3;
+    const std::string part = text.substr(at, end - at);
+    if (!line.empty() && !fits(line + part) && lines < kTextStripMaxLines) {
+      while (!line.empty() && line.back() == ' ') line.pop_back();
+      out += line + "\n";
+      line.clear();
+      ++lines;
+    }
+    line += part;
+    at = end;
+  }
+  return out + line;
+}
+
+int lineCount(const std::string& text) { return 1 + int(std::count(text.begin(), text.end(), '\n')); }
+
 std::vector<std::uint32_t> packCoverage(const std::vector<std::uint8_t>& coverage) {
   std::vector<std::uint32_t> words((coverage.size() + 3) / 4, 0u);
   for (std::size_t i = 0; i < coverage.size(); ++i)

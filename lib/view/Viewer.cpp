@@ -73,7 +73,7 @@ KeyEffect applyViewKey(ViewState& s, const Camera& sceneCamera, int key, bool sh
   case GLFW_KEY_UP: s.sliceHeight += s.sliceStep; return KeyEffect::View;
   case GLFW_KEY_DOWN: s.sliceHeight -= s.sliceStep; return KeyEffect::View;
   case GLFW_KEY_X: s.pipeline.rays = std::clamp(s.pipeline.rays + (shift ? -1 : 1), 1, 1024); return KeyEffect::Pipeline;
-  case GLFW_KEY_D: s.pipeline.band *= shift ? 1.0 / 1.25 : 1.25; return KeyEffect::Pipeline;
+  case GLFW_KEY_D: s.pipeline.band.value *= shift ? 1.0 / 1.25 : 1.25; return KeyEffect::Pipeline; // either unit
   case GLFW_KEY_A:
     s.pipeline.alpha = std::clamp(std::round((s.pipeline.alpha + (shift ? -0.01 : 0.01)) * 100.0) / 100.0, 0.0, 1.0);
     return KeyEffect::Pipeline;
@@ -175,7 +175,7 @@ ViewSession::ViewSession(const ViewOptions& o, Scene scene)
   mHeight = mSwapchain->extent().y;
   mState.technique = o.render.technique;
   mState.view = o.view;
-  mState.pipeline = o.render.pipeline;
+  mState.pipeline = withLengthsResolved(o.render.pipeline, mBounds); // the band key scales scene units
   mState.sliceHeight = std::isnan(o.sliceHeight) ? mBounds.center().y : o.sliceHeight;
   mState.sliceStep = std::max(mBounds.extent().y, 1e-6) / 50.0;
   mCompose = std::make_unique<ComposePass>(*mCtx);
@@ -183,7 +183,8 @@ ViewSession::ViewSession(const ViewOptions& o, Scene scene)
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   const std::size_t pixels = std::size_t(mWidth) * std::size_t(mHeight);
   mPixels = Buffer(*mCtx, pixels * 4, storage, Buffer::Memory::Device, "viewer pixels");
-  mOverlay = Buffer(*mCtx, (std::size_t(mWidth) * kTextStripRows + 3) / 4 * 4, storage, Buffer::Memory::Device,
+  mOverlay = Buffer(*mCtx, (std::size_t(mWidth) * kTextStripRows * kTextStripMaxLines + 3) / 4 * 4, storage,
+                    Buffer::Memory::Device,
                     "viewer text strip");
   mEmpty = Buffer(*mCtx, 16, storage, Buffer::Memory::Device, "no SDF");
   rebuild();
@@ -238,7 +239,7 @@ sh::ComposeParams ViewSession::composeParams() const {
   p.camera = makeCameraParams(cam, mWidth, mHeight, origin);
   p.image = glm::ivec4(mWidth, mHeight, int(mScene.lights.size()), int(mState.view));
   p.coarseDims.w = int(mSwapchain->byteOrder());
-  p.fineDims.w = mOptions.overlay ? std::min(kTextStripRows, mHeight) : 0;
+  p.fineDims.w = mOptions.overlay ? std::min(kTextStripRows * lineCount(wrapText(mLine, mWidth)), mHeight) : 0;
   const SdfPipeline* sdf = mRenderer ? mRenderer->sdfPipeline() : nullptr;
   if (sdf) {
     const GridSpec f = sdf->fineSpec().inFrame(origin), c = sdf->coarseSpec().inFrame(origin);
@@ -247,14 +248,14 @@ sh::ComposeParams ViewSession::composeParams() const {
     p.coarseDims = glm::ivec4(c.dims, p.coarseDims.w);
     p.coarseOriginH = glm::vec4(glm::vec3(c.origin), float(c.voxelSize));
     p.slice = glm::vec4(float(mState.sliceHeight - origin.y), float(mState.pipeline.band),
-                        float(std::max(mState.pipeline.band, f.voxelSize)), 0.0f);
+                        float(std::max(double(mState.pipeline.band), f.voxelSize)), 0.0f);
   }
   return p;
 }
 
 void ViewSession::recordCompose(VkCommandBuffer cmd, const sh::ComposeParams& params) {
   const std::vector<std::uint32_t> text =
-      packCoverage(rasterizeText(mLine, mWidth, std::max(params.fineDims.w, 1)));
+      packCoverage(rasterizeText(wrapText(mLine, mWidth), mWidth, std::max(params.fineDims.w, 1)));
   if (params.fineDims.w > 0) gpu::recordUpload(cmd, mOverlay, text.data(), text.size() * 4);
   const SdfPipeline* sdf = mRenderer ? mRenderer->sdfPipeline() : nullptr;
   const GpuGBuffer& g = mRenderer ? mRenderer->gpuGBuffer() : mUploaded.gbuffer;
@@ -307,7 +308,7 @@ std::string ViewSession::statusLine(double wallMs) const {
   const PipelineSettings& p = mState.pipeline;
   std::string line = fmt::format("{} | {} {} x={} d={:.3g} alpha={:.2f} | {} | {:.1f} ms {:.1f} fps |",
                                  toString(mState.technique), toString(p.mode), p.fullRecompute ? "full" : "incr.",
-                                 p.rays, p.band, p.alpha, toString(mState.view), wallMs,
+                                 p.rays, double(p.band), p.alpha, toString(mState.view), wallMs,
                                  wallMs > 0.0 ? 1000.0 / wallMs : 0.0);
   std::map<std::string, double> total;
   std::vector<std::string> order;

@@ -4,6 +4,7 @@
 #include "grid/VdbIO.h"
 #include "image/ImageIO.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -203,7 +204,7 @@ TEST(Cli, BakesTheGpuCoarseSdf) {
 TEST(Cli, BakesTheRefinedSdfAndAnimates) {
   TempDir dir;
   const std::string scene = q(test::dataPath("scenes/default.json"));
-  const Result r = rtsdfCmd("bake " + scene + " --method rtsdf --coarse 24 --fine 48 --rays 2 --frames 2 -o " +
+  const Result r = rtsdfCmd("bake " + scene + " --method rtsdf --coarse 24 --fine 48 --rays 2 --frames 2 --refine rays --band 0.1 -o " +
                             q(dir / "fine.vdb"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("RayRefinePass"), std::string::npos) << r.output;
@@ -213,7 +214,7 @@ TEST(Cli, BakesTheRefinedSdfAndAnimates) {
   EXPECT_GT(grid->activeVoxelCount(), 1000u);
 
   std::filesystem::create_directories(dir / "frames");
-  const Result a = rtsdfCmd("animate " + scene + " --frames 3 --coarse 16 --fine 32 --rays 2 --csv " +
+  const Result a = rtsdfCmd("animate " + scene + " --frames 3 --coarse 16 --fine 32 --rays 2 --refine rays --band 0.1 --csv " +
                             q(dir / "stats.csv") + " --vdb-dir " + q(dir / "frames"));
   ASSERT_EQ(a.exitCode, 0) << a.output;
   std::ifstream csv(dir / "stats.csv");
@@ -677,4 +678,58 @@ TEST(Cli, AllowOutsideReferencesLetsASceneReachItsMesh) {
   const auto viaScene = readLevelSet(dir / "a.vdb"), direct = readLevelSet(dir / "direct.vdb");
   EXPECT_EQ(viaScene->activeVoxelCount(), direct->activeVoxelCount());
   EXPECT_GT(viaScene->activeVoxelCount(), 100u);
+}
+
+// --res is the output grid of every method (rtsdf: the fine grid; jfa: the coarse grid): a sphere of radius 1
+// baked with only --res N has voxels 2 / N long, N across the sphere, whatever the method.
+TEST(Cli, ResIsTheOutputGridOfEveryMethod) {
+  TempDir dir;
+  writeText(dir / "s.json", R"({"meshes": {"s": {"sphere": {"radius": 1}}}, "instances": [{"mesh": "s"}]})");
+  const int n = 24;
+  for (const char* method : {"exact", "openvdb", "jfa", "rtsdf"}) {
+    const auto out = dir / (std::string(method) + ".vdb");
+    const Result r = rtsdfCmd(fmt::format("bake {} -m {} --res {} -o {}", q(dir / "s.json"), method, n, q(out)));
+    ASSERT_EQ(r.exitCode, 0) << method << ": " << r.output;
+    const auto grid = readLevelSet(out);
+    const double h = grid->voxelSize()[0];
+    EXPECT_NEAR(2.0 / h, double(n), 1e-6) << method << ": the sphere is " << 2.0 / h << " voxels across";
+    EXPECT_EQ(grid->metaValue<std::string>("rtsdf:resolution"), std::to_string(n)) << method;
+  }
+  // --fine and --coarse override it.
+  const Result r = rtsdfCmd(fmt::format("bake {} -m rtsdf --res {} --fine 32 --coarse 8 -o {}", q(dir / "s.json"),
+                                        n, q(dir / "o.vdb")));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NEAR(2.0 / readLevelSet(dir / "o.vdb")->voxelSize()[0], 32.0, 1e-6);
+  EXPECT_EQ(readLevelSet(dir / "o.vdb")->metaValue<std::string>("rtsdf:coarse"), "8");
+}
+
+// The global flags are taken anywhere on the line, before or after the subcommand and its arguments.
+TEST(Cli, GlobalFlagsWorkAnywhereOnTheLine) {
+  TempDir dir;
+  writeText(dir / "s.json", R"({"meshes": {"s": {"sphere": {"radius": 1}}}, "instances": [{"mesh": "s"}]})");
+  for (const std::string& line : {"-q bake " + q(dir / "s.json") + " --res 16 -o " + q(dir / "a.vdb"),
+                                  "bake " + q(dir / "s.json") + " -q --res 16 -o " + q(dir / "b.vdb"),
+                                  "bake " + q(dir / "s.json") + " --res 16 -o " + q(dir / "c.vdb") + " -v"}) {
+    const Result r = rtsdfCmd(line);
+    EXPECT_EQ(r.exitCode, 0) << line << ": " << r.output;
+  }
+  // -q after the subcommand and its arguments silences the log's info lines as it does before them.
+  const Result loud = rtsdfCmd("bake " + q(dir / "s.json") + " --res 16 -o " + q(dir / "d.vdb"));
+  EXPECT_NE(loud.output.find("[info]"), std::string::npos) << loud.output;
+  const Result quiet = rtsdfCmd("bake " + q(dir / "s.json") + " --res 16 -o " + q(dir / "e.vdb") + " -q");
+  EXPECT_EQ(quiet.exitCode, 0) << quiet.output;
+  EXPECT_EQ(quiet.output.find("[info]"), std::string::npos) << quiet.output;
+}
+
+// A bake whose stderr is a pipe still says what it is doing: one line per stage or every few seconds.
+TEST(Cli, BakeOnAPipePrintsProgressLines) {
+  TempDir dir;
+  writeText(dir / "s.json", R"({"meshes": {"s": {"sphere": {"radius": 1}}}, "instances": [{"mesh": "s"}]})");
+  const Result r = rtsdfCmd("bake " + q(dir / "s.json") + " -m rtsdf --res 32 --preset paper --frames 3 -o " +
+                            q(dir / "a.vdb") + " 2>&1 | cat");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("refining 3/3"), std::string::npos) << r.output;
+  const Result quiet = rtsdfCmd("bake " + q(dir / "s.json") + " -m rtsdf --res 32 --frames 3 -q -o " +
+                                q(dir / "b.vdb") + " 2>&1 | cat");
+  EXPECT_EQ(quiet.output.find("refining"), std::string::npos) << quiet.output;
 }

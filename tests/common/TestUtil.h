@@ -2,6 +2,7 @@
 // Helpers shared by the test binaries: temporary folders, small files, analytic meshes.
 #include "grid/GridSpec.h"
 #include "scene/Mesh.h"
+#include "sdf/PipelineSettings.h"
 
 #include <glm/gtc/constants.hpp>
 
@@ -36,6 +37,18 @@ private:
 inline void writeText(const std::filesystem::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary);
   out << text;
+}
+
+/// The pipeline's settings before the defaults became closest mode at 64/128 with a band of 6 voxels: rays mode,
+/// x = 10, coarse 128 / fine 256, a band of 0.1 scene units. Tests written for those defaults start from here.
+inline PipelineSettings formerPipelineDefaults() {
+  PipelineSettings s;
+  s.coarseRes = 128;
+  s.fineRes = 256;
+  s.band = 0.1;
+  s.mode = RefineMode::Rays;
+  s.rays = 10;
+  return s;
 }
 
 inline std::string dataPath(const std::string& rel) { return std::string(RTSDF_DATA_DIR) + "/" + rel; }

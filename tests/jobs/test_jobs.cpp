@@ -14,6 +14,7 @@
 #include "jobs/JobSupport.h"
 #include "metrics/FieldError.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,6 +38,8 @@ BakeOptions smallBake(BakeMethod method) {
   o.pipeline.fineRes = 48;
   o.pipeline.rays = 2;
   o.frames = 2;
+  o.pipeline.mode = RefineMode::Rays; // the former defaults, which these tests were written for
+  o.pipeline.band = 0.1;
   return o;
 }
 
@@ -290,6 +293,8 @@ TEST(Jobs, AnimateGivesOneFramePerStepWithItsErrorAndCsv) {
   o.pipeline.coarseRes = 24;
   o.pipeline.fineRes = 48;
   o.pipeline.rays = 2;
+  o.pipeline.mode = RefineMode::Rays; // the former defaults, which the measured errors below were taken with
+  o.pipeline.band = 0.1;
   int calls = 0;
   const AnimateResult r = animate(o, {}, [&](const AnimateFrame& f) { EXPECT_EQ(f.frame, calls++); });
   ASSERT_EQ(r.frames.size(), 2u);
@@ -319,6 +324,7 @@ TEST(Jobs, RenderJobComparesWithTheTruthAndWritesEveryFile) {
   o.render.height = 27;
   o.render.pipeline.coarseRes = 24;
   o.render.pipeline.fineRes = 48;
+  o.render.pipeline.band = 0.1; // the renderer's former default, which the measured error below was taken with
   o.render.rayTraced.samples = 16;
   EXPECT_EQ(o.render.pipeline.mode, RefineMode::Closest) << "the renderer's own defaults";
   const RenderJobResult r = renderScene(o);
@@ -366,4 +372,83 @@ TEST(Jobs, RtsdfBakeOfAnInsideOutSphereHasTheSolidsSignsAndDistances) {
     EXPECT_EQ(e.signMismatches, 0u) << rays;
     EXPECT_LT(e.maxAbs, 0.1) << rays << ": " << e.summary();
   }
+}
+
+// Lengths that fit any scene: the bunny in metres and the same bunny in millimetres (scaled by 1000) give the
+// same field in voxels with default settings (the band and padding default to voxels of the output grid).
+TEST(Jobs, AMeshInMillimetresBakesTheSameFieldInVoxelsAsInMetres) {
+  TempDir dir;
+  std::filesystem::copy_file(test::dataPath("meshes/bunny.obj"), dir / "bunny.obj");
+  const auto sceneAt = [&](const char* name, double scale) {
+    const std::filesystem::path p = dir / name;
+    test::writeText(p, fmt::format("{{\"rtsdf_scene\": 1, \"meshes\": {{\"b\": {{\"path\": \"bunny.obj\"}}}}, "
+                                   "\"instances\": [{{\"mesh\": \"b\", \"scale\": {}}}]}}", scale));
+    return p.string();
+  };
+  const std::string metres = sceneAt("m.json", 0.2), millimetres = sceneAt("mm.json", 200.0);
+  for (const BakeMethod method : {BakeMethod::Exact, BakeMethod::Rtsdf}) {
+    BakeOptions o;
+    o.method = method;
+    setOutputResolution(o, 48);
+    o.scene = metres;
+    const BakeResult m = bake(o);
+    o.scene = millimetres;
+    const BakeResult mm = bake(o);
+    SCOPED_TRACE(toString(method));
+    EXPECT_NEAR(mm.spec.voxelSize, 1000.0 * m.spec.voxelSize, 1e-6 * mm.spec.voxelSize);
+    EXPECT_EQ(mm.spec.dims, m.spec.dims);
+    EXPECT_NEAR(double(mm.options.pipeline.band), 1000.0 * double(m.options.pipeline.band), 1e-3);
+    EXPECT_NEAR(m.options.pipeline.band / m.spec.voxelSize, 6.0, 1e-9) << "the default band: 6 voxels";
+    ASSERT_GT(m.grid->activeVoxelCount(), 10000u);
+    EXPECT_EQ(mm.grid->activeVoxelCount(), m.grid->activeVoxelCount());
+    // The same voxels (index space) and values / 1000 within float rounding: at most 1e-3 of a voxel.
+    const float tolerance = float(1e-3 * m.spec.voxelSize);
+    auto acc = mm.grid->getConstAccessor();
+    std::size_t checked = 0;
+    for (auto it = m.grid->cbeginValueOn(); it; ++it, ++checked) {
+      ASSERT_TRUE(acc.isValueOn(it.getCoord())) << it.getCoord();
+      ASSERT_NEAR(acc.getValue(it.getCoord()) / 1000.0f, *it, tolerance) << it.getCoord();
+    }
+    EXPECT_EQ(checked, m.grid->activeVoxelCount());
+  }
+}
+
+// A band under one voxel of the output grid is refused with the reason; one voxel and more are baked.
+TEST(Jobs, ABandUnderOneVoxelIsRefused) {
+  BakeOptions o = smallBake(BakeMethod::Exact);
+  o.pipeline.band = Length::voxels(0.5);
+  try {
+    bake(o);
+    ADD_FAILURE() << "a band of half a voxel was baked";
+  } catch (const SettingError& e) {
+    EXPECT_EQ(e.setting(), "band");
+    EXPECT_NE(std::string(e.what()).find("0.5 voxels"), std::string::npos) << e.what();
+  }
+  o.pipeline.band = 0.001; // scene units: far under a voxel of the 2-unit scene at 40
+  EXPECT_THROW(bake(o), SettingError);
+  o.pipeline.band = Length::voxels(1);
+  EXPECT_GT(bake(o).grid->activeVoxelCount(), 0u);
+}
+
+// One set of defaults: every job starts from the pipeline's own, and the paper's preset differs from it.
+TEST(Jobs, EveryJobHasThePipelinesDefaults) {
+  const PipelineSettings p;
+  for (const PipelineSettings& s : {BakeOptions{}.pipeline, AnimateOptions{}.pipeline,
+                                    RenderJobOptions{}.render.pipeline}) {
+    EXPECT_EQ(s.coarseRes, p.coarseRes);
+    EXPECT_EQ(s.fineRes, p.fineRes);
+    EXPECT_EQ(s.mode, p.mode);
+    EXPECT_EQ(s.rays, p.rays);
+    EXPECT_EQ(s.band.text(), p.band.text());
+  }
+  EXPECT_EQ(BakeOptions{}.resolution, p.fineRes);
+  const PipelineSettings paper = pipelinePreset(Preset::Paper);
+  EXPECT_EQ(paper.mode, RefineMode::Rays);
+  EXPECT_EQ(paper.rays, 10);
+  EXPECT_EQ(paper.fineRes, 256);
+  BakeOptions o;
+  o.method = BakeMethod::Rtsdf;
+  EXPECT_EQ(bakeFrames(o), 1);
+  o.pipeline = paper;
+  EXPECT_EQ(bakeFrames(o), 16);
 }

@@ -55,6 +55,8 @@ RenderSettings small(ShadowTechnique t, int w = 160, int h = 90) {
   r.pipeline.fineRes = 128;
   r.pipeline.mode = RefineMode::Closest;
   r.pipeline.rays = 4;
+  r.pipeline.band = 0.1;   // the former defaults, which these tests were written for
+  r.sdf.maxStep = 0.05;
   r.taa.enabled = false;
   r.sdf.jitter = false;
   r.sdf.contactRays = 0; // the march alone; the tests of the contact rays turn them on

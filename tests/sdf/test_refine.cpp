@@ -59,7 +59,7 @@ Scene bunny() { return loadScene(test::dataPath("scenes/bunny.json")); }
 
 /// Closest-mode settings at coarse 32 / fine 64 with @a rays sign rays.
 PipelineSettings closestAt32(int rays) {
-  PipelineSettings s;
+  PipelineSettings s = test::formerPipelineDefaults();
   s.coarseRes = 32;
   s.fineRes = 64;
   s.mode = RefineMode::Closest;
@@ -73,7 +73,7 @@ Bounds boundsOf(const Scene& s) { return buildSceneGeometry(s, 0.0).bounds; }
 
 TEST_F(Refine, RayMaskIsTheCoarseBandAndTheFineVoxelsUnderIt) {
   const Scene scene = bunny();
-  PipelineSettings s;
+  PipelineSettings s = test::formerPipelineDefaults();
   s.coarseRes = 32;
   s.fineRes = 64;
   s.rays = 0;
@@ -158,7 +158,7 @@ TEST_F(Refine, GpuCompactedMaskEqualsTheOpenVdbMirror) {
       {"bunny at 1e-4 (mirror in voxel units)", scaled(bun, 1e-4), 32, 64, 0.1e-4}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
-    PipelineSettings s;
+    PipelineSettings s = test::formerPipelineDefaults();
     s.coarseRes = c.coarse;
     s.fineRes = c.fine;
     s.band = c.band;
@@ -316,7 +316,7 @@ TEST_F(Refine, ClosestCellSearchEqualsTheVoxelSearch) {
 // That is the tolerance of the one-sided test.
 TEST_F(Refine, RaysOnlyOverestimateAndImproveWithRaysAndFrames) {
   const Scene scene = bunny();
-  PipelineSettings s;
+  PipelineSettings s = test::formerPipelineDefaults();
   s.coarseRes = 32;
   s.fineRes = 64;
   s.rays = 1;
@@ -344,7 +344,7 @@ TEST_F(Refine, RaysOnlyOverestimateAndImproveWithRaysAndFrames) {
 // surface, after two frames.
 TEST_F(Refine, SignErrorsOnTheBunnyAtTheDefaults) {
   const Scene scene = bunny();
-  PipelineSettings s;
+  PipelineSettings s = test::formerPipelineDefaults();
   s.coarseRes = 64;
   s.fineRes = 128;
   SdfPipeline pipe(*sCtx, scene, boundsOf(scene), s);
@@ -359,7 +359,7 @@ TEST_F(Refine, SignErrorsOnTheBunnyAtTheDefaults) {
 
 TEST_F(Refine, FirstFrameEqualsTheCpuReferenceOfTheSameSampling) {
   const Scene scene = bunny();
-  PipelineSettings s;
+  PipelineSettings s = test::formerPipelineDefaults();
   s.coarseRes = 32;
   s.fineRes = 64;
   s.rays = 8;
@@ -398,7 +398,7 @@ TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
   const SceneGeometry geo = buildSceneGeometry(bunny(), 0.0);
   for (const auto [coarseRes, fineRes] : {std::pair{128, 256}, std::pair{20, 61}}) {
     SCOPED_TRACE(::testing::Message() << coarseRes << "/" << fineRes);
-    PipelineSettings ps;
+    PipelineSettings ps = test::formerPipelineDefaults();
     ps.coarseRes = coarseRes;
     ps.fineRes = fineRes;
     const auto [coarse, fine] = pipelineGrids(geo.bounds, ps);
@@ -474,7 +474,7 @@ TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
 // Settle 2 and refresh 3 take every branch: new to the band, near the teapot, settling, settled, refreshed.
 TEST_F(Refine, IncrementalDecisionsEqualTheCpuReference) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
-  PipelineSettings s;
+  PipelineSettings s = test::formerPipelineDefaults();
   s.coarseRes = 40;
   s.fineRes = 80;
   s.mode = RefineMode::Closest;
@@ -521,7 +521,7 @@ TEST_F(Refine, IncrementalMatchesTheFullRecomputeOnTheOrbitingTeapot) {
   for (int f = 0; f < frames; ++f) bounds.add(buildSceneGeometry(scene, f / fps).bounds);
   for (int rays : {0, 1}) {
     SCOPED_TRACE(::testing::Message() << "x = " << rays);
-    PipelineSettings s;
+    PipelineSettings s = test::formerPipelineDefaults();
     s.coarseRes = 48;
     s.fineRes = 96;
     s.mode = RefineMode::Closest;
@@ -554,7 +554,7 @@ TEST_F(Refine, SubmittedFramesEqualRunFrames) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
   Bounds bounds;
   for (int f = 0; f < 3; ++f) bounds.add(buildSceneGeometry(scene, f / 30.0).bounds);
-  PipelineSettings s;
+  PipelineSettings s = test::formerPipelineDefaults();
   s.coarseRes = 32;
   s.fineRes = 64;
   s.mode = RefineMode::Closest;
@@ -583,7 +583,7 @@ TEST_F(Refine, ExtremesGiveFiniteFields) {
   const Scene scene = bunny();
   struct Case { const char* name; PipelineSettings s; int frames; };
   std::vector<Case> cases;
-  PipelineSettings base;
+  PipelineSettings base = test::formerPipelineDefaults();
   base.coarseRes = 16;
   base.fineRes = 32;
   base.rays = 4;
@@ -635,7 +635,7 @@ TEST_F(Refine, RejectsBadSettings) {
            [](auto& s) { s.rays = -1; }, [](auto& s) { s.fineRes = 8; s.coarseRes = 16; },
            [](auto& s) { s.coarseRes = 0; }, [](auto& s) { s.settleFrames = 0; },
            [](auto& s) { s.refreshPeriod = 2000000; }}) {
-    PipelineSettings s;
+    PipelineSettings s = test::formerPipelineDefaults();
     f(s);
     EXPECT_THROW(SdfPipeline(*sCtx, scene, boundsOf(scene), s), Error);
   }
@@ -650,7 +650,7 @@ TEST_F(Refine, BrickSlotsFollowTheBandAndSparseEqualsDense) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
   for (RefineMode mode : {RefineMode::Closest, RefineMode::Rays}) {
     SCOPED_TRACE(toString(mode));
-    PipelineSettings s;
+    PipelineSettings s = test::formerPipelineDefaults();
     s.coarseRes = 40;
     s.fineRes = 80;
     s.mode = mode;
@@ -738,7 +738,7 @@ TEST_F(Refine, AFullBrickPoolIsRegrownTheNextFrame) {
 // SDF alone is over 200 MiB and is refused before anything is allocated, naming the way out.
 TEST_F(Refine, SizeLFitsOnlySparse) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
-  PipelineSettings s;
+  PipelineSettings s = test::formerPipelineDefaults();
   s.coarseRes = 256;
   s.fineRes = 512;
   const Bounds bounds = boundsOf(scene);

@@ -195,7 +195,7 @@ std::string describe(const Report& r) {
 }
 
 PipelineSettings small(RefineMode mode, int rays = 8) {
-  PipelineSettings s;
+  PipelineSettings s = test::formerPipelineDefaults();
   s.coarseRes = 16;
   s.fineRes = 32;
   s.rays = rays;
@@ -249,7 +249,7 @@ TEST_F(Stability, ResolutionLargestThatFitsAndAClearErrorBeyond) {
   const Bounds bounds = boundsOf(scene);
   const MemoryLimits limits = memoryLimits(sCtx->info());
   auto settingsFor = [](int fine) {
-    PipelineSettings s;
+    PipelineSettings s = test::formerPipelineDefaults();
     s.fineRes = fine;
     s.coarseRes = std::max(1, fine / 2);
     return s;

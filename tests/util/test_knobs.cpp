@@ -151,6 +151,75 @@ template <class S> void expectConsistentTable(const S& defaults) {
   });
 }
 
+/// A length knob: scene units or voxels, one row like any other.
+struct ToyLengths {
+  Length reach = Length::voxels(3);
+  void validate() const { validateKnobs(*this); }
+};
+} // namespace
+template <> struct KnobTable<ToyLengths> {
+  using S = ToyLengths;
+  static constexpr auto kKnobs =
+      std::make_tuple(knob("toy reach", &S::reach, "--reach", KnobRange::atLeast(0), "How far a toy reaches"));
+};
+namespace {
+
+/// The command line's parse of @a args for a command bound from S's table; "" when accepted.
+template <class S> std::string parseAny(S& s, const std::vector<std::string>& args, std::string* help = nullptr) {
+  CLI::App app("toys");
+  app::SettingFlags flags;
+  app::bindKnobs(&app, s, flags);
+  if (help) *help = app.help();
+  std::vector<std::string> reversed(args.rbegin(), args.rend());
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+TEST(Knobs, ALengthIsGivenInSceneUnitsOrVoxels) {
+  EXPECT_EQ(Length::parse("0.25")->text(), "0.25");
+  EXPECT_TRUE(Length::parse("3vox")->inVoxels());
+  EXPECT_EQ(Length::parse("2.5 voxels")->value, 2.5);
+  EXPECT_FALSE(Length::parse("3vx"));
+  EXPECT_FALSE(Length::parse("vox"));
+  EXPECT_EQ(Length::voxels(4).sceneUnits(0.5), 2.0);
+  EXPECT_EQ(Length(0.3).sceneUnits(0.5), 0.3);
+  EXPECT_THROW((void)double(Length::voxels(1)), std::logic_error) << "an unresolved length read as a number";
+
+  ToyLengths s;
+  std::string help;
+  EXPECT_EQ(parseAny(s, {}, &help), "");
+  EXPECT_NE(help.find("3vox"), std::string::npos) << help;
+  EXPECT_NE(help.find(kLengthSyntax), std::string::npos) << help;
+  EXPECT_EQ(parseAny(s, {"--reach", "0.25"}), "");
+  EXPECT_FALSE(s.reach.inVoxels());
+  EXPECT_EQ(s.reach.value, 0.25);
+  EXPECT_EQ(parseAny(s, {"--reach", "2vox"}), "");
+  EXPECT_TRUE(s.reach.inVoxels());
+  EXPECT_EQ(s.reach.value, 2.0);
+  EXPECT_NE(parseAny(s, {"--reach", "2vx"}).find("'2vx' is not a length"), std::string::npos);
+  EXPECT_NE(parseAny(s, {"--reach", "-1vox"}).find("out of range"), std::string::npos);
+  s.reach = Length::voxels(-1);
+  EXPECT_THROW(s.validate(), SettingError);
+  const std::string md = knobMarkdown<ToyLengths>({{"default", ToyLengths{}}}, true);
+  EXPECT_NE(md.find("| 3vox |"), std::string::npos) << md;
+  EXPECT_NE(md.find(kLengthSyntax), std::string::npos) << md;
+}
+
+TEST(Knobs, AFlagThatTurnsAKnobOffShowsNoValueInTheHelp) {
+  TaaSettings taa;
+  std::string help;
+  EXPECT_EQ(parseAny(taa, {}, &help), "");
+  EXPECT_NE(help.find("--no-taa"), std::string::npos) << help;
+  EXPECT_EQ(help.find("{false}"), std::string::npos) << help;
+  EXPECT_TRUE(taa.enabled);
+  EXPECT_EQ(parseAny(taa, {"--no-taa"}), "");
+  EXPECT_FALSE(taa.enabled);
+}
+
 TEST(Knobs, RealTablesAreConsistent) {
   expectConsistentTable(PipelineSettings{});
   expectConsistentTable(AnimateOptions{}.pipeline);

@@ -6,6 +6,7 @@
 #include "view/TextOverlay.h"
 #include "view/Viewer.h"
 
+#include <fmt/format.h>
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 
@@ -48,6 +49,7 @@ TEST(OrbitCamera, StartsAtTheSceneCameraAndTurnsAroundItsTarget) {
 TEST(ViewKeys, EveryKeyChangesWhatItSaysAndKeepsSettingsInRange) {
   const Camera cam = sceneCamera();
   ViewState s;
+  s.pipeline.band = 0.1; // the former default, which this test was written for
   s.pipeline.rays = 0;
   s.pipeline.mode = RefineMode::Closest;
   s.pipeline.alpha = 0.995;
@@ -158,4 +160,26 @@ TEST(ViewerWithoutDisplay, IsAClearErrorAndWritesNothing) {
   }
   EXPECT_FALSE(std::filesystem::exists(shot));
   if (!kept.empty()) setenv("DISPLAY", kept.c_str(), 1);
+}
+
+// The viewer's status line wraps at its " | " separators instead of being cut off at the window's edge (960
+// pixels by default), and every part of it is still drawn.
+TEST(TextOverlay, AStatusLineWiderThanTheWindowWraps) {
+  std::string line = "sdf | closest incr. x=0 d=0.0938 alpha=0.95 | shaded | 12.0 ms 83.3 fps |";
+  for (const char* pass : {"VoxelizePass", "CoarseTransformPass", "CoarseDistancePass", "RayMaskPass",
+                           "ClosestRefinePass", "UpsamplePass", "GBufferPass", "SdfShadowPass", "TaaPass"})
+    line += fmt::format(" {} 1.25 ms |", pass);
+  const int width = 960;
+  const std::string wrapped = wrapText(line, width);
+  EXPECT_GT(lineCount(wrapped), 1) << wrapped;
+  EXPECT_LE(lineCount(wrapped), kTextStripMaxLines);
+  std::string rejoined;
+  for (char c : wrapped) rejoined += c == '\n' ? ' ' : c;
+  EXPECT_EQ(rejoined, line); // nothing dropped: the break replaces a separator's trailing space
+  const std::vector<std::uint8_t> strip = rasterizeText(wrapped, width, kTextStripRows * lineCount(wrapped));
+  bool secondLine = false;
+  for (int y = kTextStripRows; y < kTextStripRows * lineCount(wrapped); ++y)
+    for (int x = 0; x < width; ++x) secondLine = secondLine || strip[std::size_t(y * width + x)];
+  EXPECT_TRUE(secondLine) << "the wrapped part is drawn on the next line";
+  EXPECT_EQ(wrapText("short | line", width), "short | line");
 }

@@ -30,6 +30,7 @@ ViewOptions smallView(const std::string& scene, const fs::path& shot) {
   o.render.height = 180;
   o.render.pipeline.coarseRes = 32; // small grids: the test is about the window, not the SDF
   o.render.pipeline.fineRes = 128;
+  o.render.pipeline.band = 0.1; // the former default, which these tests were written for
   o.screenshot = shot.string();
   return o;
 }

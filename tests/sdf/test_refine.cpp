@@ -756,3 +756,52 @@ TEST_F(Refine, SizeLFitsOnlySparse) {
   EXPECT_NO_THROW(checkPipelineMemory(sparse, limits));
   EXPECT_LE(sparse.largestBuffer, 128ull << 20);
 }
+
+// Closest mode's refined voxels are the exact field, sign included, on both bundled scenes at size S: the largest
+// error over every voxel the frame refined (the ray mask) is under one voxel, with and without sign rays. The
+// parts of the default scene that pass through each other (the plant's leaves through its stem) are a union, as in
+// the exact field. Not yet held: voxels whose nearest surface is the default scene's open teapot, which the exact
+// field signs by the winding number (several open pieces: no rim rule) and closest mode by the nearest triangle's
+// side; they differ inside the teapot near its open bottom (5.2 voxels at S, 11.6 at M), counted apart here. Nor
+// the default scene with sign rays (x = 1): after 4 frames voxels around the teapot and one in the open room are
+// 12-13 voxels off, signed inside by a lone back-face vote where the other rays escaped without a hit.
+TEST_F(Refine, ClosestModesLargestErrorOnTheRefinedVoxelsIsUnderAVoxel) {
+  for (const char* path : {"scenes/default.json", "scenes/bunny.json"}) {
+    const Scene scene = loadScene(test::dataPath(path));
+    const SceneGeometry geo = buildSceneGeometry(scene, 0.0);
+    const ExactDistanceField exact(geo);
+    for (int rays : {0, 1}) {
+      SCOPED_TRACE(::testing::Message() << path << ", x = " << rays);
+      PipelineSettings s;
+      s.coarseRes = 64;
+      s.fineRes = 128;
+      s.mode = RefineMode::Closest;
+      s.rays = rays;
+      SdfPipeline pipe(*sCtx, scene, geo.bounds, s);
+      for (int f = 0; f < (rays ? 4 : 1); ++f) pipe.runFrame(0.0); // sign rays settle after 4 refinements
+      const GridSpec& fs = pipe.fineSpec();
+      const std::vector<float> fine = pipe.fineField();
+      const RayMask mask = buildRayMask(pipe.coarseField(), pipe.coarseSpec(), fs, s.band);
+      double worst = 0.0, worstOpen = 0.0;
+      glm::ivec3 at(0);
+      for (std::uint32_t p : mask.fineVoxels) {
+        const glm::ivec3 v(p & 1023u, (p >> 10) & 1023u, (p >> 20) & 1023u);
+        const glm::vec3 q(fs.indexToWorld(glm::dvec3(v)));
+        ExactDistanceField::Hit hit;
+        ASSERT_TRUE(exact.closest(q, INFINITY, hit));
+        const float d = exact.inside(q, hit) ? -hit.distance : hit.distance;
+        const double err = std::fabs(double(fine[fs.linear(v.x, v.y, v.z)]) - d) / fs.voxelSize;
+        if (!geo.meshes[hit.mesh].watertight) {
+          worstOpen = std::max(worstOpen, err);
+        } else if (err > worst) {
+          worst = err;
+          at = v;
+        }
+      }
+      std::printf("%s x = %d: largest error %.3f voxels (nearest surface open: %.3f)\n", path, rays, worst, worstOpen);
+      EXPECT_GT(mask.fineVoxels.size(), 100000u);
+      if (rays == 0 || std::string(path) == "scenes/bunny.json")
+        EXPECT_LE(worst, 1.0) << "at fine voxel (" << at.x << ", " << at.y << ", " << at.z << ")";
+    }
+  }
+}

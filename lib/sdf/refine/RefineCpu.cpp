@@ -28,7 +28,7 @@ float upsampleCoarse(const std::vector<float>& coarse, const GridSpec& cs, const
 std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vector<float>& coarse,
                                  const GridSpec& coarseSpec, const GridSpec& fineSpec,
                                  const std::vector<std::uint32_t>& mask, std::uint32_t rays, std::uint32_t frame,
-                                 std::uint32_t seed, float beta) {
+                                 std::uint32_t seed, float beta, const ClosedPieceUnionCpu* pieces) {
   // Voxel centres in the geometry's frame, as SdfPipeline hands the grids to the GPU.
   const GridSpec cs = coarseSpec.inFrame(geometry.origin), fs = fineSpec.inFrame(geometry.origin);
   const ExactDistanceField field(geometry);
@@ -54,7 +54,8 @@ std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vecto
         }
       }
       const float f = std::min(c, nearest);
-      out[k] = back > front ? -f : f;
+      const bool inside = back > front || (pieces && pieces->insideAny(p));
+      out[k] = inside ? -f : f;
     }
   });
   return out;

@@ -8,6 +8,7 @@
 #include "scene/SceneGeometry.h"
 #include "sdf/mask/MaskCpu.h"
 #include "sdf/refine/RefineParams.h"
+#include "sdf/scenebvh/ClosedPieces.h"
 
 #include <cstdint>
 #include <vector>
@@ -21,11 +22,13 @@ float upsampleCoarse(const std::vector<float>& coarse, const GridSpec& coarseSpe
 /// @brief One fresh frame (no history) of rays-mode refinement at the packed fine voxels @a mask:
 ///        f = min(c + beta + sqrt(3)/2 h_coarse, nearest hit), signed by the majority of back-face hits
 ///        (rays of unlimited reach, as refine.comp). The grids are in world coordinates; positions are computed
-///        in @a geometry's frame (SceneGeometry::origin), as SdfPipeline does.
+///        in @a geometry's frame (SceneGeometry::origin), as SdfPipeline does. Where the votes say outside, a voxel
+///        inside a closed piece that overlaps another is inside (@a pieces, for the same scene, moment and frame;
+///        null: the votes alone).
 std::vector<float> refineRaysCpu(const SceneGeometry& geometry, const std::vector<float>& coarse,
                                  const GridSpec& coarseSpec, const GridSpec& fineSpec,
                                  const std::vector<std::uint32_t>& mask, std::uint32_t rays, std::uint32_t frame,
-                                 std::uint32_t seed, float beta);
+                                 std::uint32_t seed, float beta, const ClosedPieceUnionCpu* pieces = nullptr);
 
 /// @brief CPU copy of UpsamplePass on the sparse state: the dense fine SDF (x fastest) from the coarse SDF
 ///        @a coarse and the brick pool. A fine voxel under a coarse voxel with |c| <= @a band whose brick has a

@@ -39,7 +39,8 @@ const uint kUpsampleBindingBrickSlots = 3u;   // uint per brick: its slot in the
 const uint kUpsampleBindingCount = 4u;
 
 /// Bindings of refine_rays.comp and refine_closest*.comp: the scene BVH (GpuBvhLayout.h's kBvhBinding*), then these,
-/// then the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page).
+/// then the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page),
+/// then the closed pieces' union (piece_union.glsl).
 const uint kRefineBindingRefineList = kBvhBindingCount + 0u; // the coarse voxels to refine (MaskCompactPass's list)
 const uint kRefineBindingMaskCounts = kBvhBindingCount + 1u; // MaskCounts words: the list's size
 const uint kRefineBindingCoarse = kBvhBindingCount + 2u;     // coarse SDF c_t (upsampled for the bound)
@@ -49,7 +50,9 @@ const uint kRefineBindingDense = kBvhBindingCount + 5u;      // the dense fine S
                                                              // coarseDims.w != 0 (FineStorage::Dense)
 const uint kRefineBindingValuePages = kBvhBindingCount + 6u; // in: f_{t-1} signed (not fresh); out: f_t signed
 const uint kRefineBindingVotePages = kRefineBindingValuePages + RTSDF_BRICK_PAGES; // decayed (front, back) hits
-const uint kRefineBindingCount = kRefineBindingVotePages + RTSDF_BRICK_PAGES;
+const uint kRefineBindingPieceOf = kRefineBindingVotePages + RTSDF_BRICK_PAGES; // GpuSceneBvh::pieceOf()
+const uint kRefineBindingUnionPieces = kRefineBindingPieceOf + 1u; // GpuSceneBvh::unionPieces(): this frame's overlap
+const uint kRefineBindingCount = kRefineBindingUnionPieces + 1u;
 
 /// Push constants of refine_upsample.comp and the refinement shaders.
 struct RefineParams {

@@ -72,6 +72,8 @@ void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const 
   b[kRefineBindingDense] = &out.dense;
   bindPages(b, kRefineBindingValuePages, out.pool.values);
   bindPages(b, kRefineBindingVotePages, out.pool.votes);
+  b[kRefineBindingPieceOf] = &in.bvh.pieceOf();
+  b[kRefineBindingUnionPieces] = &in.bvh.unionPieces();
   mPipeline.dispatchIndirect(cmd, b, &params, in.counts);
   gpu::computeBarrier(cmd);
 }

@@ -9,6 +9,8 @@
 //   front/back-face hits, decayed by alpha, vote for the sign (more back-face hits: inside).
 //   closest mode: f_t = exact distance by closest-point traversal; sign from the ray votes when x > 0,
 //   else from the side of the closest triangle.
+//   Both modes: where that says outside, a point inside a closed piece that overlaps another is inside
+//   (piece_union.glsl: closed pieces through each other are a union, as in the exact field).
 // The list holds the coarse voxels MaskCompactPass chose to refine this frame (the others keep their values);
 // each is expanded into the fine voxels under it (maskFineRanges), cut into params.refineParts boxes of at most
 // params.partBox.xyz fine voxels, one invocation per box (a short loop: at most 8 voxels, or a run along z of
@@ -50,6 +52,9 @@ layout(std430, binding = kRefineBindingDense) writeonly buffer Dense { float den
 #include "coarse_upsample.glsl"
 
 #include "sdf/scenebvh/bvh_traverse.glsl"
+#define RTSDF_PIECE_OF kRefineBindingPieceOf
+#define RTSDF_UNION_PIECES kRefineBindingUnionPieces
+#include "sdf/scenebvh/piece_union.glsl"
 
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
 // The box's candidates (collectCellCandidates): instance slot, leaf-order triangle and distance to the box's
@@ -248,11 +253,21 @@ void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, boo
   float nearest;
   vec2 vote = castRays(v, fresh, slot, local, nearest);
   // Should this variant run with x = 0 after all, the side still gives the sign (the host picks the _side variant).
-  bool inside = params.rays > 0u ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
+  bool bySide = params.rays == 0u;
+  bool inside = !bySide ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
 #else
   vec2 vote = vec2(0.0);
+  bool bySide = true;
   bool inside = hit.point.w >= 0.0 && hit.frontFace == 0u;
 #endif
+  // Closed pieces through each other are a union: a point the nearest triangle's side puts outside its piece may
+  // still be inside another (hit.instance is the instance's slot: instances[] is in the scene's order). Votes that
+  // say outside may be wrong about any piece (the first hit of a ray from inside a part may be another part's
+  // front face), so then no piece is skipped.
+  bool skipNearest = bySide && near;
+  if (!inside && unionHeader.x != 0u)
+    inside = insideAnotherPiece(voxelCentre(v), skipNearest ? hit.instance : 0xFFFFFFFFu,
+                                skipNearest ? pieceOf[hit.leaf] : kOpenPiece);
   storeVoxel(v, slot, local, f, inside, vote);
 }
 #endif
@@ -268,7 +283,10 @@ void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
 #else
   float nearest;
   vec2 vote = castRays(v, fresh, slot, local, nearest);
-  storeVoxel(v, slot, local, min(bound, nearest), vote.y > vote.x, vote);
+  // The votes, or inside any closed piece that overlaps another (the union; no nearest piece to skip).
+  bool inside = vote.y > vote.x;
+  if (!inside && unionHeader.x != 0u) inside = insideAnotherPiece(voxelCentre(v), 0xFFFFFFFFu, kOpenPiece);
+  storeVoxel(v, slot, local, min(bound, nearest), inside, vote);
 #endif
 }
 

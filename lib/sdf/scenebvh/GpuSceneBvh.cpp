@@ -1,6 +1,7 @@
 #include "sdf/scenebvh/GpuSceneBvh.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace rtsdf {
 
@@ -16,6 +17,14 @@ GpuSceneBvh::GpuSceneBvh(const gpu::VulkanContext& ctx, const Scene& scene, cons
                         "BLAS triangles");
   gpu::reserveAndUpload(ctx, mTriangleIds, mMeshes.triangleIds.data(), mMeshes.triangleIds.size() * 4, kStorage,
                         "triangle ids");
+  // Each triangle's closed piece, and room for every instance's closed pieces in a frame's overlap list.
+  mPieces = sceneClosedPieces(scene, mMeshes);
+  gpu::reserveAndUpload(ctx, mPieceOf, mPieces.pieceOfLeaf.data(), mPieces.pieceOfLeaf.size() * 4, kStorage,
+                        "triangle pieces");
+  mUnionPieces = gpu::Buffer(ctx,
+                             sizeof(glm::uvec4) + std::max<std::size_t>(mPieces.instancedClosedPieces(scene), 1) *
+                                                      sizeof(gpu::shared::UnionPiece),
+                             kStorage, gpu::Buffer::Memory::Device, "overlapping closed pieces");
   // Where each instance's triangles lie; the transforms follow with every update.
   for (const Instance& inst : scene.instances) {
     gpu::shared::VoxelizeInstance v{};
@@ -53,6 +62,14 @@ void GpuSceneBvh::recordUpdate(VkCommandBuffer cmd, double time) {
   gpu::recordUpload(cmd, mInstances, mTop.instances.data(), mTop.instances.size() * sizeof(gpu::shared::BvhInstance));
   gpu::recordUpload(cmd, mVoxelizeBuf, mVoxelizeInstances.data(),
                     mVoxelizeInstances.size() * sizeof(gpu::shared::VoxelizeInstance));
+  // The pieces that overlap at this moment (instances move): the header, then the list.
+  mUnionList = overlappingClosedPieces(mScene, mPieces, mTop);
+  static_assert(sizeof(gpu::shared::UnionPiece) == 2 * sizeof(glm::uvec4), "UnionPiece is two uvec4s in std430");
+  mUnionUpload.assign(1, glm::uvec4(std::uint32_t(mUnionList.size()), 0u, 0u, 0u));
+  const std::size_t header = mUnionUpload.size();
+  mUnionUpload.resize(header + 2 * mUnionList.size());
+  std::memcpy(mUnionUpload.data() + header, mUnionList.data(), mUnionList.size() * sizeof(gpu::shared::UnionPiece));
+  gpu::recordUpload(cmd, mUnionPieces, mUnionUpload.data(), mUnionUpload.size() * sizeof(glm::uvec4));
   gpu::computeBarrier(cmd);
   mTime = time;
   mHaveTop = true;

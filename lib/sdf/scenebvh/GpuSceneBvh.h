@@ -9,6 +9,7 @@
 #include "bvh/GpuBvhLayout.h"
 #include "scene/Scene.h"
 #include "sdf/coarse/CoarseSdf.h"
+#include "sdf/scenebvh/ClosedPieces.h"
 
 #include <array>
 
@@ -42,6 +43,14 @@ public:
     set[kBvhBindingTlasSlots] = &mTlasSlots;
     set[kBvhBindingInstances] = &mInstances;
   }
+  /// @brief Per leaf-ordered triangle its closed piece, or kOpenPiece (SceneClosedPieces::pieceOfLeaf).
+  const gpu::Buffer& pieceOf() const { return mPieceOf; }
+  /// @brief The closed pieces that overlap another this frame (a uvec4 whose x is their count, then
+  ///        gpu::shared::UnionPiece each; overlappingClosedPieces), re-sent with the top level.
+  const gpu::Buffer& unionPieces() const { return mUnionPieces; }
+  /// @brief The host copy of unionPieces()'s list as last uploaded (empty: no closed pieces overlap).
+  const std::vector<gpu::shared::UnionPiece>& unionList() const { return mUnionList; }
+  const SceneClosedPieces& closedPieces() const { return mPieces; }
   const MeshBvhs& meshes() const { return mMeshes; }
   /// @brief The top level as last uploaded (for the CPU side of G-buffer normals and tests).
   const InstanceBvh& top() const { return mTop; }
@@ -58,7 +67,11 @@ private:
   bool mHaveTop = false;
   std::uint32_t mTriangleCount = 0; ///< every instance's triangles together
   std::vector<gpu::shared::VoxelizeInstance> mVoxelizeInstances;
+  SceneClosedPieces mPieces;
+  std::vector<gpu::shared::UnionPiece> mUnionList;
+  std::vector<glm::uvec4> mUnionUpload; ///< the header and the list as uploaded (kept alive for vkCmdUpdateBuffer)
   gpu::Buffer mBlasNodes, mCorners, mTriangleIds, mTlasNodes, mTlasSlots, mInstances, mVoxelizeBuf;
+  gpu::Buffer mPieceOf, mUnionPieces;
 };
 
 } // namespace rtsdf

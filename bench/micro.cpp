@@ -67,7 +67,8 @@ void BM_ExactOpenScan(benchmark::State& state) {
   opt.progress = false;
   rtsdf::ExactSdfStats stats;
   for (auto _ : state) benchmark::DoNotOptimize(rtsdf::exactSignedDistance(scan.geometry, scan.spec, opt, &stats));
-  state.counters["winding_share"] = double(stats.windingQueries) / double(std::max<std::uint64_t>(1, stats.activeVoxels));
+  state.counters["winding_share"] =
+      double(stats.windingQueries) / double(std::max<std::uint64_t>(1, stats.activeVoxels));
 }
 BENCHMARK(BM_ExactOpenScan)->ArgsProduct({{0, 1, 2}, {256}})
     ->Unit(benchmark::kMillisecond)

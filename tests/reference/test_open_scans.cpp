@@ -86,7 +86,8 @@ TEST(OpenScans, PiecesAndRimsAreFound) {
   // the other half) are not.
   std::size_t left = 0;
   for (unsigned t = 0; t < m.triangles.size(); ++t) {
-    const glm::vec3 c = (m.positions[m.triangles[t].x] + m.positions[m.triangles[t].y] + m.positions[m.triangles[t].z]) / 3.0f;
+    const glm::uvec3 tri = m.triangles[t];
+    const glm::vec3 c = (m.positions[tri.x] + m.positions[tri.y] + m.positions[tri.z]) / 3.0f;
     left += !regions.needed(c, 0.0f, t, TriangleFeature::Face);
   }
   EXPECT_GT(left, m.triangles.size() / 2);

@@ -235,6 +235,12 @@ void ExactDistanceField::collect(const glm::vec3& p, float radius, std::vector<s
 
 bool ExactDistanceField::usesWinding(const glm::vec3& p, const Hit& hit) const {
   const MeshData& md = mImpl->meshes[hit.mesh];
+  // A point alone: a mesh of several pieces would need the checks of a bake's cells and sub-blocks.
+  return usesWindingInBand(p, hit) || (md.regions && md.regions->pieceCount() > 1);
+}
+
+bool ExactDistanceField::usesWindingInBand(const glm::vec3& p, const Hit& hit) const {
+  const MeshData& md = mImpl->meshes[hit.mesh];
   return md.useWinding &&
          (!md.regions || md.regions->needed(p, hit.distance, hit.triangle, TriangleFeature(hit.feature)));
 }
@@ -384,10 +390,11 @@ bool pseudoNormalHoldsInSubBlock(const BandFill& f, BlockScratch& s) {
   return f.field.pseudoNormalHoldsNear(s.subCentre, s.subHit);
 }
 
-/// Whether voxel @a p, nearest to @a hit, is signed by the winding number: usesWinding says so, or its mesh is open
-/// (signed by it where needed) and the pseudo-normal does not hold in the sub-block, or holds there on another piece.
+/// Whether voxel @a p, nearest to @a hit, is signed by the winding number: usesWindingInBand says so, or its mesh is
+/// open and of several pieces, and a rim is near its cell, or the pseudo-normal does not hold in its sub-block or
+/// holds there on another piece.
 bool needsWinding(const BandFill& f, BlockScratch& s, const glm::vec3& p, const ExactDistanceField::Hit& hit) {
-  if (f.field.usesWinding(p, hit)) return true;
+  if (f.field.usesWindingInBand(p, hit)) return true;
   if (!f.field.hasSeveralPieces(hit.mesh)) return false;
   if (s.cellNearRim) return true;
   if (s.region == BlockScratch::Region::Unknown)

@@ -14,12 +14,12 @@ namespace rtsdf {
 
 /// @brief How the inside/outside sign of a point is decided.
 enum class SignMethod {
-  /// Pseudo-normal for points nearest to a watertight mesh. For an open mesh (a scan with holes, of several
-  /// pieces, with non-manifold or mis-oriented edges), the winding number where the closest feature touches the
-  /// rim of its piece (a boundary, non-manifold or mis-oriented edge, or a vertex on one or where two fans of
-  /// faces meet) or where another piece of the mesh may shift the winding number (the point lies within its
-  /// distance of that piece's box: WindingRegions), and the pseudo-normal elsewhere, where it is the exact local
-  /// side. Exact for closed meshes, robust for open ones, and fast (the default).
+  /// Pseudo-normal for points nearest to a watertight mesh. For an open mesh, the winding number where the
+  /// closest feature touches the rim of its piece (a boundary, non-manifold or mis-oriented edge, or a vertex on
+  /// one or where two fans of faces meet), and the pseudo-normal elsewhere, where it is the exact local side.
+  /// On an open mesh of several pieces, point queries use the winding number everywhere, while bakes use it also
+  /// near other pieces and rims and where it is a quarter or more off the pseudo-normal's side (WindingRegions,
+  /// exactSignedDistance). Exact for closed meshes, robust for open ones, and fast (the default).
   Auto,
   /// Angle-weighted pseudo-normal at the closest feature (Baerentzen and Aanaes 2005): exact for closed,
   /// consistently oriented meshes; arbitrary near the holes of open ones.
@@ -72,9 +72,14 @@ public:
   bool insideNearestPiece(const glm::vec3& p, const Hit& hit, bool winding) const;
 
   /// @brief Whether inside() decides @a p, whose closest-point query is @a hit, by the winding number (the rest by
-  ///        the pseudo-normal): always for meshes signed by it, for open meshes under SignMethod::Auto where
-  ///        WindingRegions needs it.
+  ///        the pseudo-normal): always for meshes signed by it and for open meshes of several pieces (a point
+  ///        alone has no cell to check), for an open mesh of one piece where its rim needs it (WindingRegions).
   bool usesWinding(const glm::vec3& p, const Hit& hit) const;
+
+  /// @brief The per-voxel part of a bake's rule (exactSignedDistance): usesWinding, except that for open meshes of
+  ///        several pieces only where WindingRegions needs it; the bake adds its cell and sub-block checks
+  ///        (touchesRim, pseudoNormalHoldsNear).
+  bool usesWindingInBand(const glm::vec3& p, const Hit& hit) const;
 
   /// @brief Whether @a mesh is open, of several pieces, and signed under SignMethod::Auto (by the winding number only
   ///        where needed). Bakes check more of such a mesh's points (pseudoNormalHoldsNear, touchesRim) than

@@ -115,8 +115,9 @@ struct SignMethodRow {
   RefineMode mode = RefineMode::Closest;
   int rays = 0, frames = 1;
 };
-const SignMethodRow kSignMethods[] = {{"exact", BakeMethod::Exact},
-                                      {"OpenVDB", BakeMethod::OpenVdb},
+// OpenVDB first: every other row is compared with it and timed against it.
+const SignMethodRow kSignMethods[] = {{"OpenVDB", BakeMethod::OpenVdb},
+                                      {"exact", BakeMethod::Exact},
                                       {"closest x = 0", BakeMethod::Rtsdf, RefineMode::Closest, 0, 1},
                                       {"closest x = 1", BakeMethod::Rtsdf, RefineMode::Closest, 1, 4},
                                       {"rays x = 10", BakeMethod::Rtsdf, RefineMode::Rays, 10, 16}};

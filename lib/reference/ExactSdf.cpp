@@ -2,8 +2,10 @@
 
 #include "grid/VdbIO.h"
 #include "reference/TriangleDistance.h"
-#include "reference/WindingNumber.h"
+#include "reference/VertexTriangles.h"
 #include "reference/PieceUnion.h"
+#include "reference/WindingNumber.h"
+#include "reference/WindingRegions.h"
 #include "util/Error.h"
 #include "util/Progress.h"
 
@@ -32,40 +34,10 @@ struct MeshData {
   std::vector<glm::vec3> vertexNormal; // per vertex: angle-weighted sum of face normals
   std::unique_ptr<WindingNumberTree> winding;
   bool useWinding = false;
-  /// Open meshes under SignMethod::Auto: the winding number only where the closest feature touches the rim
-  /// (boundaryEdge / boundaryVertex), the pseudo-normal elsewhere. Set for one connected piece whose edges
-  /// have one or two faces, every shared edge consistently oriented (findRim).
-  bool windingOnRimOnly = false;
-  std::vector<char> boundaryEdge;   // per triangle, 3 (AB, BC, CA): the edge has one face
-  std::vector<char> boundaryVertex; // per vertex: on a boundary edge
+  /// Open meshes under SignMethod::Auto: where the winding number is needed (the rest is signed by the
+  /// pseudo-normal); null: everywhere.
+  std::unique_ptr<WindingRegions> regions;
 };
-
-/// The triangles around each vertex: those of vertex v are triangles[start[v] .. start[v + 1]) (a triangle that
-/// repeats a vertex is listed once per corner).
-struct VertexTriangles {
-  std::vector<unsigned> start, triangles;
-  VertexTriangles(std::size_t vertices, const std::vector<glm::uvec3>& tris) : start(vertices + 1, 0u) {
-    for (const glm::uvec3& t : tris)
-      for (int k = 0; k < 3; ++k) ++start[t[k] + 1];
-    for (std::size_t v = 0; v < vertices; ++v) start[v + 1] += start[v];
-    triangles.resize(start.back());
-    std::vector<unsigned> next(start.begin(), start.end() - 1);
-    for (std::size_t t = 0; t < tris.size(); ++t)
-      for (int k = 0; k < 3; ++k) triangles[next[tris[t][k]]++] = unsigned(t);
-  }
-  template <class F> void forEachAround(unsigned v, F&& f) const {
-    for (unsigned i = start[v]; i < start[v + 1]; ++i) f(triangles[i]);
-  }
-};
-
-/// How triangle @a u runs the edge between @a a and @a b: +1 from a to b, -1 from b to a, 0 not at all.
-int runs(const glm::uvec3& u, unsigned a, unsigned b) {
-  for (int j = 0; j < 3; ++j) {
-    if (u[j] == a && u[(j + 1) % 3] == b) return 1;
-    if (u[j] == b && u[(j + 1) % 3] == a) return -1;
-  }
-  return 0;
-}
 
 /// Face, edge (the sum of the faces on the edge) and vertex (angle-weighted) pseudo-normals. Per triangle and per
 /// vertex in parallel, edges found through the triangles around their first vertex (no hash map).
@@ -108,69 +80,6 @@ void computePseudoNormals(MeshData& md, const VertexTriangles& around) {
     });
     md.vertexNormal[v] = glm::vec3(sum);
   });
-}
-
-/// Whether the triangles of @a m form one connected piece (sharing vertices).
-bool connected(const WorldMesh& m) {
-  std::vector<unsigned> parent(m.positions.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto root = [&](unsigned v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const glm::uvec3& t : m.triangles) {
-    parent[root(t.y)] = root(t.x);
-    parent[root(t.z)] = root(t.x);
-  }
-  const unsigned first = m.triangles.empty() ? 0u : root(m.triangles[0].x);
-  for (const glm::uvec3& t : m.triangles)
-    if (root(t.x) != first) return false;
-  return true;
-}
-
-/// The rim of an open mesh: its boundary edges and vertices. Returns false unless the mesh is one connected,
-/// oriented manifold with boundary, a scan with holes: with an edge of three or more faces, or two faces that run
-/// it the same way, the pseudo-normal is not the local side near it; with several pieces (a teapot's spout and
-/// handle stuck into its body) the local side of a buried piece is not the global one. There the winding number
-/// signs everything. (One piece that passes through itself is not detected.)
-bool findRim(MeshData& md, const VertexTriangles& around) {
-  const WorldMesh& m = *md.mesh;
-  const std::size_t nt = m.triangles.size();
-  if (!connected(m)) return false;
-  md.boundaryEdge.assign(3 * nt, 0);
-  md.boundaryVertex.assign(m.positions.size(), 0);
-  for (std::size_t t = 0; t < nt; ++t) {
-    const glm::uvec3 tri = m.triangles[t];
-    for (int k = 0; k < 3; ++k) {
-      const unsigned a = tri[k], b = tri[(k + 1) % 3];
-      int along = 0, against = 0; // faces on the edge that run it as this one does, and the other way
-      around.forEachAround(a, [&](unsigned u) {
-        const int r = runs(m.triangles[u], a, b);
-        along += r > 0;
-        against += r < 0;
-      });
-      if (along == 1 && against == 1) continue; // two faces, opposite ways: an interior edge
-      if (along != 1 || against != 0) return false;
-      md.boundaryEdge[3 * t + k] = 1;
-      md.boundaryVertex[a] = md.boundaryVertex[b] = 1;
-    }
-  }
-  return true;
-}
-
-/// Whether the closest feature of @a hit touches the rim (winding number) or lies inside the surface, where
-/// the pseudo-normal gives the side exactly (Baerentzen and Aanaes: its one-ring is a closed, oriented patch).
-bool onRim(const MeshData& md, const ExactDistanceField::Hit& hit) {
-  const glm::uvec3 tri = md.mesh->triangles[hit.triangle];
-  switch (TriangleFeature(hit.feature)) {
-  case TriangleFeature::VertexA: return md.boundaryVertex[tri.x] != 0;
-  case TriangleFeature::VertexB: return md.boundaryVertex[tri.y] != 0;
-  case TriangleFeature::VertexC: return md.boundaryVertex[tri.z] != 0;
-  case TriangleFeature::EdgeAB: return md.boundaryEdge[3 * hit.triangle + 0] != 0;
-  case TriangleFeature::EdgeBC: return md.boundaryEdge[3 * hit.triangle + 1] != 0;
-  case TriangleFeature::EdgeCA: return md.boundaryEdge[3 * hit.triangle + 2] != 0;
-  default: return false;
-  }
 }
 
 [[noreturn]] void embreeFail(RTCDevice device, const char* what) {
@@ -246,6 +155,7 @@ ExactDistanceField::ExactDistanceField(const SceneGeometry& geometry, SignMethod
   // cost more than it saved (0.16 s of 1.4 s on a 235k-triangle scan at 256).
   rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_MEDIUM);
   im.meshes.resize(geometry.meshes.size());
+  std::vector<MeshPieces> pieces(geometry.meshes.size());
   for (std::size_t i = 0; i < geometry.meshes.size(); ++i) {
     const WorldMesh& wm = geometry.meshes[i];
     MeshData& md = im.meshes[i];
@@ -253,7 +163,9 @@ ExactDistanceField::ExactDistanceField(const SceneGeometry& geometry, SignMethod
     const VertexTriangles around(wm.positions.size(), wm.triangles);
     computePseudoNormals(md, around);
     md.useWinding = sign == SignMethod::WindingNumber || (sign == SignMethod::Auto && !wm.watertight);
-    md.windingOnRimOnly = sign == SignMethod::Auto && !wm.watertight && findRim(md, around);
+    pieces[i] = connectedPieces(wm, around);
+    if (sign == SignMethod::Auto && !wm.watertight)
+      md.regions = std::make_unique<WindingRegions>(wm, around, pieces[i]);
     if (md.useWinding) md.winding = std::make_unique<WindingNumberTree>(wm.positions, wm.triangles);
 
     RTCGeometry g = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -272,7 +184,7 @@ ExactDistanceField::ExactDistanceField(const SceneGeometry& geometry, SignMethod
   }
   rtcCommitScene(im.scene);
   if (rtcGetDeviceError(im.device) != RTC_ERROR_NONE) embreeFail(im.device, "building the BVH");
-  im.pieces = std::make_unique<PieceUnion>(geometry);
+  im.pieces = std::make_unique<PieceUnion>(geometry, std::move(pieces));
 }
 
 ExactDistanceField::~ExactDistanceField() = default;
@@ -321,21 +233,36 @@ void ExactDistanceField::collect(const glm::vec3& p, float radius, std::vector<s
   rtcPointQuery(mImpl->scene, &query, &context, collectCallback, &q);
 }
 
-bool ExactDistanceField::usesWinding(const Hit& hit) const {
+bool ExactDistanceField::usesWinding(const glm::vec3& p, const Hit& hit) const {
   const MeshData& md = mImpl->meshes[hit.mesh];
-  return md.useWinding && (!md.windingOnRimOnly || onRim(md, hit));
+  // A point alone: a mesh of several pieces would need the checks of a bake's cells and sub-blocks.
+  return usesWindingInBand(p, hit) || (md.regions && md.regions->pieceCount() > 1);
+}
+
+bool ExactDistanceField::usesWindingInBand(const glm::vec3& p, const Hit& hit) const {
+  const MeshData& md = mImpl->meshes[hit.mesh];
+  return md.useWinding &&
+         (!md.regions || md.regions->needed(p, hit.distance, hit.triangle, TriangleFeature(hit.feature)));
 }
 
 bool ExactDistanceField::inside(const glm::vec3& p, const Hit& hit) const {
-  if (insideNearestPiece(p, hit)) return true;
+  return inside(p, hit, usesWinding(p, hit));
+}
+
+bool ExactDistanceField::inside(const glm::vec3& p, const Hit& hit, bool winding) const {
+  if (insideNearestPiece(p, hit, winding)) return true;
   // Parts that pass through each other are a union: outside the part it is nearest to, a point may still lie
   // inside another closed part whose surface is farther.
   return mImpl->pieces->insideAnotherPiece(p, hit.mesh, hit.triangle);
 }
 
 bool ExactDistanceField::insideNearestPiece(const glm::vec3& p, const Hit& hit) const {
+  return insideNearestPiece(p, hit, usesWinding(p, hit));
+}
+
+bool ExactDistanceField::insideNearestPiece(const glm::vec3& p, const Hit& hit, bool winding) const {
   const MeshData& md = mImpl->meshes[hit.mesh];
-  if (usesWinding(hit)) return md.winding->evaluate(glm::dvec3(p)) >= 0.5;
+  if (winding && md.winding) return md.winding->evaluate(glm::dvec3(p)) >= 0.5;
   const glm::uvec3 tri = md.mesh->triangles[hit.triangle];
   glm::vec3 n;
   switch (TriangleFeature(hit.feature)) {
@@ -349,6 +276,29 @@ bool ExactDistanceField::insideNearestPiece(const glm::vec3& p, const Hit& hit) 
   default: n = md.faceNormal[hit.triangle]; break;
   }
   return glm::dot(p - hit.point, n) < 0.0f;
+}
+
+bool ExactDistanceField::hasSeveralPieces(unsigned mesh) const {
+  const MeshData& md = mImpl->meshes[mesh];
+  return md.regions && md.regions->pieceCount() > 1;
+}
+
+bool ExactDistanceField::pseudoNormalHoldsNear(const glm::vec3& c, const Hit& hit) const {
+  const MeshData& md = mImpl->meshes[hit.mesh];
+  if (!md.winding) return true;
+  const double side = insideNearestPiece(c, hit, false) ? 1.0 : 0.0;
+  return std::fabs(md.winding->evaluate(glm::dvec3(c)) - side) < kPseudoNormalMargin;
+}
+
+bool ExactDistanceField::touchesRim(unsigned mesh, unsigned triangle) const {
+  const MeshData& md = mImpl->meshes[mesh];
+  return md.regions && md.regions->touchesRim(triangle);
+}
+
+bool ExactDistanceField::samePiece(const Hit& a, const Hit& b) const {
+  if (a.mesh != b.mesh) return false;
+  const MeshData& md = mImpl->meshes[a.mesh];
+  return !md.regions || md.regions->pieceOf(a.triangle) == md.regions->pieceOf(b.triangle);
 }
 
 float ExactDistanceField::signedDistance(const glm::vec3& p) const {
@@ -381,6 +331,15 @@ struct BlockScratch {
   std::vector<int> near; // candidates whose lower bound is within reach of the last region
   std::vector<int> sub;  // candidates of the current 4^3 sub-block
   std::vector<int> cell; // candidates of the current 2^3 cell
+  /// The current sub-block's centre, its nearest candidate there, and whether the pseudo-normal holds near it
+  /// (pseudoNormalHoldsNear: asked once, by the first voxel that would use it).
+  glm::vec3 subCentre{0.0f};
+  int subNearest = -1;
+  enum class Region { Unknown, Holds, Fails } region = Region::Unknown;
+  ExactDistanceField::Hit subHit;
+  /// The current 2^3 cell has a rim within three of its radii (a triangle that touches one, of an open mesh of
+  /// several pieces): the winding number may turn by a half within the cell.
+  bool cellNearRim = false;
 };
 
 constexpr float kSlack = 1.0f + 1e-5f; // float rounding in the distance bounds
@@ -420,10 +379,33 @@ bool gatherCandidates(const BandFill& f, const glm::vec3& bc, BlockScratch& s) {
   return !s.cand.empty();
 }
 
+/// Whether the pseudo-normal holds at the current sub-block's centre (pseudoNormalHoldsNear). Away from the rims
+/// (fillCell's nearRim) the winding number varies slowly: its offset from the pseudo-normal's side stays within the
+/// margin across the sub-block.
+bool pseudoNormalHoldsInSubBlock(const BandFill& f, BlockScratch& s) {
+  const Candidate& c = s.cand[std::size_t(s.subNearest)];
+  TriangleFeature feature;
+  const glm::vec3 q = closestPointOnTriangle(s.subCentre, c.a, c.b, c.c, feature);
+  s.subHit = {glm::length(s.subCentre - q), q, c.mesh, c.triangle, int(feature)};
+  return f.field.pseudoNormalHoldsNear(s.subCentre, s.subHit);
+}
+
+/// Whether voxel @a p, nearest to @a hit, is signed by the winding number: usesWindingInBand says so, or its mesh is
+/// open and of several pieces, and a rim is near its cell, or the pseudo-normal does not hold in its sub-block or
+/// holds there on another piece.
+bool needsWinding(const BandFill& f, BlockScratch& s, const glm::vec3& p, const ExactDistanceField::Hit& hit) {
+  if (f.field.usesWindingInBand(p, hit)) return true;
+  if (!f.field.hasSeveralPieces(hit.mesh)) return false;
+  if (s.cellNearRim) return true;
+  if (s.region == BlockScratch::Region::Unknown)
+    s.region = pseudoNormalHoldsInSubBlock(f, s) ? BlockScratch::Region::Holds : BlockScratch::Region::Fails;
+  return s.region == BlockScratch::Region::Fails || !f.field.samePiece(s.subHit, hit);
+}
+
 /// Voxel @a v of the block at @a o: its distance to the nearest of the cell's candidates s.cell and, within the band,
 /// its sign.
-void fillVoxel(const BandFill& f, const glm::ivec3& o, const glm::ivec3& v, const BlockScratch& s, float* values,
-               bool* act, BlockCounts& n) {
+void fillVoxel(const BandFill& f, const glm::ivec3& o, const glm::ivec3& v, BlockScratch& s, float* values, bool* act,
+               BlockCounts& n) {
   const glm::vec3 p(f.spec.indexToWorld(glm::dvec3(v)));
   float best = INFINITY;
   int bi = -1;
@@ -442,8 +424,9 @@ void fillVoxel(const BandFill& f, const glm::ivec3& o, const glm::ivec3& v, cons
   TriangleFeature feature;
   const glm::vec3 q = closestPointOnTriangle(p, c.a, c.b, c.c, feature);
   const ExactDistanceField::Hit h2{d, q, c.mesh, c.triangle, int(feature)};
-  if (f.field.usesWinding(h2)) ++n.winding;
-  const bool in = f.field.inside(p, h2);
+  const bool winding = needsWinding(f, s, p, h2);
+  n.winding += winding;
+  const bool in = f.field.inside(p, h2, winding);
   const int li = ((v.x - o.x) * 8 + (v.y - o.y)) * 8 + (v.z - o.z);
   values[li] = in ? -d : d;
   act[li] = true;
@@ -484,6 +467,9 @@ void fillCell(const BandFill& f, const glm::ivec3& o, const glm::ivec3& co, Bloc
   if (co.x >= f.spec.dims.x || co.y >= f.spec.dims.y || co.z >= f.spec.dims.z) return;
   const glm::vec3 cc(f.spec.indexToWorld(glm::dvec3(co) + 0.5));
   if (keepNearest(f, cc, f.r2, s.sub, s, s.cell) > f.band + f.r2) return; // the whole cell is outside the band
+  s.cellNearRim = std::any_of(s.cell.begin(), s.cell.end(), [&](int i) {
+    return s.dist[i] < 3.0f * f.r2 && f.field.touchesRim(s.cand[std::size_t(i)].mesh, s.cand[std::size_t(i)].triangle);
+  });
   const glm::ivec3 hi = glm::min(co + 2, f.spec.dims);
   for (int x = co.x; x < hi.x; ++x)
     for (int y = co.y; y < hi.y; ++y)
@@ -498,6 +484,9 @@ void fillSubBlock(const BandFill& f, const glm::ivec3& o, int sb, BlockScratch& 
   if (so.x >= f.spec.dims.x || so.y >= f.spec.dims.y || so.z >= f.spec.dims.z) return;
   const glm::vec3 sc(f.spec.indexToWorld(glm::dvec3(so) + 1.5));
   if (keepNearest(f, sc, f.r4, s.all, s, s.sub) > f.band + f.r4) return; // the whole sub-block is outside the band
+  s.subCentre = sc;
+  s.subNearest = *std::min_element(s.sub.begin(), s.sub.end(), [&](int a, int b) { return s.dist[a] < s.dist[b]; });
+  s.region = BlockScratch::Region::Unknown;
   for (int c = 0; c < 8; ++c) fillCell(f, o, so + 2 * glm::ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1), s, values, act, n);
 }
 

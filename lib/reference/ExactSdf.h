@@ -15,11 +15,12 @@ namespace rtsdf {
 
 /// @brief How the inside/outside sign of a point is decided.
 enum class SignMethod {
-  /// Pseudo-normal for points nearest to a watertight mesh. For an open mesh that is an oriented manifold with
-  /// boundary (a scan with holes), the winding number where the closest feature touches the rim (a boundary
-  /// edge or vertex) and the pseudo-normal elsewhere, where it is the exact local side; for any other open or
-  /// non-manifold mesh, the winding number everywhere. Exact for closed meshes, robust for open ones, and
-  /// fast (the default).
+  /// Pseudo-normal for points nearest to a watertight mesh. For an open mesh, the winding number where the
+  /// closest feature touches the rim of its piece (a boundary, non-manifold or mis-oriented edge, or a vertex on
+  /// one or where two fans of faces meet), and the pseudo-normal elsewhere, where it is the exact local side.
+  /// On an open mesh of several pieces, point queries use the winding number everywhere, while bakes use it also
+  /// near other pieces and rims and where it is a quarter or more off the pseudo-normal's side (WindingRegions,
+  /// exactSignedDistance). Exact for closed meshes, robust for open ones, and fast (the default).
   Auto,
   /// Angle-weighted pseudo-normal at the closest feature (Baerentzen and Aanaes 2005): exact for closed,
   /// consistently oriented meshes; arbitrary near the holes of open ones.
@@ -62,12 +63,46 @@ public:
   ///        other are a union; meshes are oriented by solid at load, validateMesh).
   bool inside(const glm::vec3& p, const Hit& hit) const;
 
+  /// @brief inside() with the rule of the nearest surface given: its mesh's winding number when @a winding (and the
+  ///        mesh has one), else the pseudo-normal at @a hit's feature.
+  bool inside(const glm::vec3& p, const Hit& hit, bool winding) const;
+
   /// @brief The sign rule of the nearest surface alone: the pseudo-normal at @a hit's feature, or the winding number
   ///        of @a hit's mesh (usesWinding).
   bool insideNearestPiece(const glm::vec3& p, const Hit& hit) const;
+  bool insideNearestPiece(const glm::vec3& p, const Hit& hit, bool winding) const;
 
-  /// @brief Whether inside() decides @a hit by the winding number (the rest by the pseudo-normal).
-  bool usesWinding(const Hit& hit) const;
+  /// @brief Whether inside() decides @a p, whose closest-point query is @a hit, by the winding number (the rest by
+  ///        the pseudo-normal): always for meshes signed by it and for open meshes of several pieces (a point
+  ///        alone has no cell to check), for an open mesh of one piece where its rim needs it (WindingRegions).
+  bool usesWinding(const glm::vec3& p, const Hit& hit) const;
+
+  /// @brief The per-voxel part of a bake's rule (exactSignedDistance): usesWinding, except that for open meshes of
+  ///        several pieces only where WindingRegions needs it; the bake adds its cell and sub-block checks
+  ///        (touchesRim, pseudoNormalHoldsNear).
+  bool usesWindingInBand(const glm::vec3& p, const Hit& hit) const;
+
+  /// @brief Whether @a mesh is open, of several pieces, and signed under SignMethod::Auto (by the winding number only
+  ///        where needed). Bakes check more of such a mesh's points (pseudoNormalHoldsNear, touchesRim) than
+  ///        usesWinding does: its holes and its other pieces may put the winding number a half off the nearest
+  ///        surface's side. (One piece is left to usesWinding: its holes alone change no sign within 0.01%.)
+  bool hasSeveralPieces(unsigned mesh) const;
+
+  /// @brief Whether the winding number at @a c is within kPseudoNormalMargin of the side the pseudo-normal gives
+  ///        @a c (@a hit: c's closest-point query): then the points near @a c (a few voxels) that usesWinding leaves
+  ///        to the pseudo-normal, nearest to the same piece, have the winding number's sign. Farther from it the
+  ///        holes and the other pieces of an open mesh may make the winding number a half or more off.
+  bool pseudoNormalHoldsNear(const glm::vec3& c, const Hit& hit) const;
+
+  /// @brief Whether @a a and @a b lie on the same piece of the same mesh (any piece of a mesh without regions).
+  bool samePiece(const Hit& a, const Hit& b) const;
+
+  /// @brief Whether triangle @a triangle of @a mesh, a mesh with winding regions, has an edge or a corner on the
+  ///        rim: near it the winding number turns by a half within a few voxels.
+  bool touchesRim(unsigned mesh, unsigned triangle) const;
+
+  /// How far the winding number may be from the pseudo-normal's side for pseudoNormalHoldsNear.
+  static constexpr double kPseudoNormalMargin = 0.25;
 
   /// @brief The signed distance at @a p (negative inside); +inf for an empty scene.
   float signedDistance(const glm::vec3& p) const;

@@ -6,12 +6,11 @@
 
 namespace rtsdf {
 
-PieceUnion::PieceUnion(const SceneGeometry& geometry) {
+PieceUnion::PieceUnion(const SceneGeometry& geometry, std::vector<MeshPieces> pieces) : mPieces(std::move(pieces)) {
   std::vector<Piece> closed;
   for (unsigned m = 0; m < geometry.meshes.size(); ++m) {
     const WorldMesh& wm = geometry.meshes[m];
-    mPieces.push_back(meshPieces(wm.triangles));
-    const MeshPieces& pieces = mPieces.back();
+    const MeshPieces& pieces = mPieces[m];
     std::vector<std::int64_t> slot(pieces.count(), -1);
     for (std::uint32_t p = 0; p < pieces.count(); ++p)
       if (pieces.closed[p]) {

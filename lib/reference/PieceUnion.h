@@ -20,9 +20,10 @@ class WindingNumberTree;
 ///        tree of its own; the sign rules ask it about points the nearest surface says are outside.
 class PieceUnion {
 public:
-  /// @brief The pieces of every mesh of @a geometry (meshPieces) and the overlapping closed ones among them.
+  /// @brief The overlapping closed pieces among @a pieces, those of each mesh of @a geometry (meshPieces or
+  ///        connectedPieces).
   /// @note @a geometry is referenced by the trees' triangles only while building: it need not outlive this object.
-  explicit PieceUnion(const SceneGeometry& geometry);
+  PieceUnion(const SceneGeometry& geometry, std::vector<MeshPieces> pieces);
   ~PieceUnion();
   PieceUnion(const PieceUnion&) = delete;
   PieceUnion& operator=(const PieceUnion&) = delete;

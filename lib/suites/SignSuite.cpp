@@ -1,17 +1,25 @@
 // `rtsdf bench --suite sign`: every method's signs on meshes whose faces lie (inside-out, flipped at random, parts
-// passing through each other, an inner shell), in scene units and in millimetres, against the clean solid's
-// closed form and against OpenVDB's meshToLevelSet in the same run.
+// passing through each other, an inner shell) and on open scans of several pieces, in scene units and in
+// millimetres, against the clean solid (its closed form, or the exact field of the closed mesh a scan was made from)
+// and against OpenVDB's meshToLevelSet in the same run.
 #include "suites/SuiteTables.h"
 
 #include "jobs/Bake.h"
+#include "jobs/JobSupport.h"
 #include "metrics/FieldError.h"
+#include "reference/ExactSdf.h"
 #include "scene/Mesh.h"
+#include "scene/MeshIO.h"
+#include "scene/ScanMeshes.h"
 #include "util/Error.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <functional>
+#include <memory>
 
 namespace rtsdf::bench {
 namespace {
@@ -37,6 +45,32 @@ Mesh joined(Mesh a, const Mesh& b, const glm::vec3& offset) {
   return a;
 }
 
+/// The exact field of the closed @a mesh as a solid's signed distance (for scans made from it).
+std::function<double(const glm::dvec3&)> exactSolid(Mesh mesh) {
+  validateMesh(mesh);
+  auto geometry = std::make_shared<SceneGeometry>();
+  WorldMesh w;
+  w.positions = mesh.positions;
+  w.triangles = mesh.triangles;
+  w.watertight = true;
+  for (const glm::vec3& p : w.positions) geometry->bounds.add(glm::dvec3(p));
+  geometry->meshes.push_back(std::move(w));
+  auto field = std::make_shared<ExactDistanceField>(*geometry);
+  return [geometry, field](const glm::dvec3& p) { return double(field->signedDistance(glm::vec3(p))); };
+}
+
+/// Open scans of several pieces: a sphere in eight separated patches (as is and with a fifth of its faces flipped)
+/// and the bunny as a scan in pieces (two halves, a non-manifold fin, six floating discs, 12 holes).
+std::vector<SignCase> openScanCases() {
+  const auto ball = [](const glm::dvec3& p) { return glm::length(p) - 1.0; };
+  const Mesh bunny = loadMeshFile(bundledMesh("bunny.obj"));
+  const Mesh patches = makeSphereInPatches(5, 0.02f);
+  return {{"open scan: sphere in 8 patches", patches, ball},
+          {"open scan: sphere in 8 patches, 20% of faces flipped", reversed(patches, 5), ball},
+          {"open scan: bunny in pieces (non-manifold fin, fragments)", makeScanInPieces(subdivideMesh(bunny, 1), 12),
+           exactSolid(bunny)}};
+}
+
 std::vector<SignCase> signCases() {
   const Mesh sphere = makeSphereMesh(1.0f, 4);
   const auto ball = [](const glm::dvec3& p) { return glm::length(p) - 1.0; };
@@ -58,6 +92,22 @@ std::vector<SignCase> signCases() {
           {"sphere with an inner shell", joined(sphere, reversed(shell, 1), glm::vec3(0.0f)), ball}};
 }
 
+/// The cases whose name contains one of @a names (every case when @a names is empty): `bench --suite sign open`
+/// runs the open scans alone.
+/// @throw SettingError when a name selects no case.
+std::vector<SignCase> selectedCases(const std::vector<std::string>& names) {
+  std::vector<SignCase> all = signCases(), chosen;
+  for (SignCase& c : openScanCases()) all.push_back(std::move(c));
+  for (SignCase& c : all)
+    if (names.empty() || std::any_of(names.begin(), names.end(), [&](const std::string& n) {
+          return c.name.find(n) != std::string::npos;
+        }))
+      chosen.push_back(std::move(c));
+  if (chosen.empty())
+    throw SettingError("scenes", fmt::format("no case of the sign suite is named after '{}'", fmt::join(names, "', '")));
+  return chosen;
+}
+
 /// A method of the table: a bake's method and, for rtsdf, its refinement.
 struct SignMethodRow {
   const char* name;
@@ -65,8 +115,9 @@ struct SignMethodRow {
   RefineMode mode = RefineMode::Closest;
   int rays = 0, frames = 1;
 };
-const SignMethodRow kSignMethods[] = {{"exact", BakeMethod::Exact},
-                                      {"OpenVDB", BakeMethod::OpenVdb},
+// OpenVDB first: every other row is compared with it and timed against it.
+const SignMethodRow kSignMethods[] = {{"OpenVDB", BakeMethod::OpenVdb},
+                                      {"exact", BakeMethod::Exact},
                                       {"closest x = 0", BakeMethod::Rtsdf, RefineMode::Closest, 0, 1},
                                       {"closest x = 1", BakeMethod::Rtsdf, RefineMode::Closest, 1, 4},
                                       {"rays x = 10", BakeMethod::Rtsdf, RefineMode::Rays, 10, 16}};
@@ -93,17 +144,20 @@ std::string signSuite(const BenchOptions& s) {
   std::string md = fmt::format(
       "Fine grid {} voxels across (rtsdf: coarse {}), band 3 voxels, each mesh in units of 1 and of 1000 (millimetres). "
       "Wrong sign: active voxels farther than 0.1 voxel from the clean solid's surface whose sign differs from its "
-      "closed form; error: |field - closed form| in voxels (the tessellation's own is below 0.02); vs OpenVDB: the "
-      "sign disagreement with OpenVDB's meshToLevelSet on the same voxels. Time: one run.\n\n", res, res / 2);
-  md += "| mesh | unit | repaired at load | method | wrong sign | mean / max error (voxels) | vs OpenVDB | time (s) |\n"
-        "|---|---|---|---|---|---|---|---|\n";
-  for (const SignCase& c : signCases())
+      "closed form (for the bunny scan: the exact field of the closed bunny it was cut from); error: |field - clean "
+      "solid| in voxels (the tessellation's own is below 0.02); vs OpenVDB: the sign disagreement with OpenVDB's "
+      "meshToLevelSet on the same voxels. Time: one run; time / OpenVDB: against OpenVDB's bake of the same mesh "
+      "and unit.\n\n", res, res / 2);
+  md += "| mesh | unit | repaired at load | method | wrong sign | mean / max error (voxels) | vs OpenVDB | time (s) | "
+        "time / OpenVDB |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const SignCase& c : selectedCases(s.scenes))
     for (double unit : {1.0, 1000.0}) {
       const Scene scene = sceneOf(c, unit);
       const OrientationRepair& fix = scene.meshReports[0].orientation;
       const std::string repaired = fmt::format("{} faces, {} pieces turned", fix.reorientedTriangles,
                                                fix.piecesTurnedOutward);
       openvdb::FloatGrid::Ptr openVdb;
+      double openVdbSeconds = 0.0;
       for (const SignMethodRow& m : kSignMethods) {
         BakeOptions o;
         o.scene = c.name;
@@ -119,7 +173,10 @@ std::string signSuite(const BenchOptions& s) {
         // 3 (E + 2 band) / res voxels is 3 E / (res - 6).
         o.pipeline.band = 3.0 * positionBounds(scene.meshes[0]).maxExtent() / (res - 6);
         const BakeResult r = bake(scene, o);
-        if (m.method == BakeMethod::OpenVdb) openVdb = r.grid;
+        if (m.method == BakeMethod::OpenVdb) {
+          openVdb = r.grid;
+          openVdbSeconds = r.seconds;
+        }
         const double h = r.spec.voxelSize;
         const FieldError e = compareWithFunction(
             *r.grid, [&](const openvdb::Vec3d& p) { return unit * c.solid(glm::dvec3(p.x(), p.y(), p.z()) / unit); },
@@ -128,8 +185,9 @@ std::string signSuite(const BenchOptions& s) {
             openVdb && m.method != BakeMethod::OpenVdb
                 ? fmt::format("{:.3f}%", 100.0 * compareFields(*r.grid, *openVdb).signErrorRate())
                 : "-";
-        md += fmt::format("| {} | {:g} | {} | {} | {:.3f}% | {:.3f} / {:.2f} | {} | {:.2f} |\n", c.name, unit, repaired,
-                          m.name, 100.0 * e.signErrorRate(), e.meanAbs, e.maxAbs, vsOpenVdb, r.seconds);
+        md += fmt::format("| {} | {:g} | {} | {} | {:.3f}% | {:.3f} / {:.2f} | {} | {:.2f} | {:.2f} |\n", c.name, unit,
+                          repaired, m.name, 100.0 * e.signErrorRate(), e.meanAbs, e.maxAbs, vsOpenVdb, r.seconds,
+                          r.seconds / openVdbSeconds);
         spdlog::info("sign suite: {} (unit {:g}), {}: {:.3f}% wrong signs", c.name, unit, m.name,
                      100.0 * e.signErrorRate());
       }

@@ -45,9 +45,11 @@ std::string refineSuite(const BenchOptions& s);
 std::string renderSuite(const BenchOptions& s);
 
 /// @brief The sign suite: every method (exact, OpenVDB, closest mode with x = 0 and 1, rays mode with x = 10) on
-///        meshes whose faces lie (inside-out, 1/20/50% flipped, parts passing through each other, an inner shell),
-///        in units of 1 and of 1000: wrong signs and errors against the clean solid's closed form, sign
-///        disagreement with OpenVDB, time. At the first of the options' resolutions (default 96 in the CLI's table).
+///        meshes whose faces lie (inside-out, 1/20/50% flipped, parts passing through each other, an inner shell)
+///        and on open scans of several pieces, in units of 1 and of 1000: wrong signs and errors against the clean
+///        solid, sign disagreement with OpenVDB, time and its ratio to OpenVDB's. At the first of the options'
+///        resolutions (default 96 in the CLI's table); options.scenes, when given, picks the cases whose names
+///        contain one of its entries ("open scan" runs the scans alone).
 std::string signSuite(const BenchOptions& s);
 
 /// @brief The reference suite: the exact SDF against OpenVDB's meshToLevelSet, same voxels and band.

@@ -76,7 +76,12 @@ std::string runBenchSuite(const BenchOptions& options, const JobControl& control
   case BenchSuite::Coarse: md += coarseSuite(s); break;
   case BenchSuite::Refine: md += refineSuite(s); break;
   case BenchSuite::Render: md += renderSuite(s); break;
-  case BenchSuite::Sign: md += signSuite(s); break;
+  case BenchSuite::Sign: {
+    BenchOptions sign = s;
+    sign.scenes = options.scenes; // names of its cases, not scenes
+    md += signSuite(sign);
+    break;
+  }
   case BenchSuite::Frame: {
     const std::vector<FrameRow> rows = runFrames(s, control);
     md += frameReport(s, rows);

@@ -224,7 +224,10 @@ TEST(ExactSdf, OpenTeapotSignsFollowTheExactWindingNumber) {
   opt.progress = false;
   ExactSdfStats stats;
   const auto grid = exactSignedDistance(geo, spec, opt, &stats);
-  EXPECT_EQ(stats.windingQueries, stats.activeVoxels); // the open mesh is signed by winding number
+  // The open mesh is signed by the winding number wherever its rims and pieces (spout, handle, lid stuck into the
+  // body) need it, by the pseudo-normal elsewhere.
+  EXPECT_GT(stats.windingQueries, 0u);
+  EXPECT_LT(stats.windingQueries, stats.activeVoxels);
   const WindingNumberTree exact(geo.meshes[0].positions, geo.meshes[0].triangles);
   std::uint64_t checked = 0, wrong = 0, inside = 0;
   for (auto it = grid->cbeginValueOn(); it; ++it) {

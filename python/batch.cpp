@@ -1,5 +1,6 @@
 // The native calls of the package's batch and tiled bakes (rtsdf.batch): a worker's thread count, the tiles of
 // one scene's exact bake, their merge, and the comparison of two level sets. Each binds one library call.
+#include "Bindings.h"
 #include "grid/VdbIO.h"
 #include "jobs/TileBake.h"
 #include "scene/SceneLoader.h"
@@ -20,27 +21,17 @@ using namespace rtsdf;
 
 namespace {
 
-/// Sets the member of the knob named by a Python keyword from a Python value (as module.cpp's bake does).
-struct SetKnob {
-  const py::handle& value;
-  template <class K, class T> void operator()(const K&, T& member) const {
-    if constexpr (IsNamedEnum<T>::value) member = parseEnum<T>(value.cast<std::string>());
-    else member = value.cast<T>();
-  }
-};
-
-TileBakeOptions tileOptions(const std::string& scene, int tile, int tiles, int res, double band, const py::kwargs& kw) {
+TileBakeOptions tileOptions(const std::string& scene, int tile, int tiles, int res, const py::object& band,
+                            const py::kwargs& kw) {
   TileBakeOptions o;
   o.bake.scene = scene;
-  o.bake.resolution = res;
-  o.bake.pipeline.band = band;
-  o.bake.pipeline.fineRes = res; // as rtsdf.bake sets them for the exact method
-  o.bake.pipeline.coarseRes = std::max(1, res / 2);
+  if (!band.is_none()) o.bake.pipeline.band = python::lengthOf(band);
+  setOutputResolution(o.bake, res); // as rtsdf.bake sets it
   o.tile = tile;
   o.tiles = tiles;
   for (const auto& [key, value] : kw) {
     const std::string k = py::str(key);
-    const SetKnob set{value};
+    const python::SetFromPython set{value};
     if (!visitKnobByKeyword(o.bake.pipeline, k, set) && !visitKnobByKeyword(o.bake, k, set))
       throw py::type_error("unknown setting '" + k + "'");
   }
@@ -48,7 +39,7 @@ TileBakeOptions tileOptions(const std::string& scene, int tile, int tiles, int r
 }
 
 py::dict bakeTileToFile(const std::string& scene, const std::filesystem::path& output, int tile, int tiles, int res,
-                        double band, const py::kwargs& kw) {
+                        const py::object& band, const py::kwargs& kw) {
   const TileBakeOptions o = tileOptions(scene, tile, tiles, res, band, kw);
   BakeResult r;
   std::size_t triangles = 0;
@@ -102,7 +93,7 @@ void bindBatch(py::module_& m) {
       limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
   }, py::arg("threads"), "Let the library's parallel loops use at most this many threads (0: no limit)");
   m.def("bake_tile", &bakeTileToFile, py::arg("scene"), py::arg("output"), py::arg("tile"), py::arg("tiles"),
-        py::arg("res") = 128, py::arg("band") = 0.1,
+        py::arg("res") = 128, py::arg("band") = py::none(),
         "Bake tile `tile` of `tiles` of the scene's exact bake (the whole bake's settings as keywords, as bake's) to "
         "a .vdb holding that tile's leaves; returns its active voxels, triangles and seconds");
   m.def("merge_tiles", &mergeTileBytes, py::arg("tiles"), py::arg("output"),

@@ -22,38 +22,38 @@ glm::dvec3 cascadeCentre(const Scene& scene, double time) {
 }
 
 BakeResult bakeCascades(const BakeOptions& o, const Scene& scene, const JobControl& control) {
-  gpu::VulkanContext ctx(deviceContextOptions(o.device));
-  const glm::dvec3 centre = cascadeCentre(scene, o.time);
-  const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene, o.time).bounds, o.pipeline);
-  CascadeSet set(ctx, scene, CascadeLayout::around(centre, shape), o.pipeline);
-  spdlog::info("cascades: {} levels around ({:.6g}, {:.6g}, {:.6g}), level 0 {:.6g} wide; {}", shape.levels,
-               centre.x, centre.y, centre.z, shape.levelZeroExtent, set.memory().describe());
-  BakeResult r;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (int f = 0; f < o.frames; ++f) {
-    control.checkStop();
-    r.levelFrames = set.runFrame(o.time);
-    control.report("refining", std::uint64_t(f + 1), std::uint64_t(o.frames));
-  }
-  r.seconds = secondsSince(t0);
-  throwOnValidationErrors(ctx);
-  for (int i = 0; i < set.levels(); ++i) {
-    BakeOptions level = o;
-    level.pipeline = set.level(i).settings();
-    openvdb::FloatGrid::Ptr grid = fineLevelSet(set.level(i), level, o.time);
-    grid->setName(cascadeGridName(i));
-    grid->insertMeta("rtsdf:cascade_level", openvdb::StringMetadata(std::to_string(i)));
-    grid->insertMeta("rtsdf:cascades", openvdb::StringMetadata(std::to_string(set.levels())));
-    grid->insertMeta("rtsdf:cascade_centre",
-                     openvdb::StringMetadata(fmt::format("{} {} {}", centre.x, centre.y, centre.z)));
-    r.levels.push_back(grid);
-  }
-  r.grid = r.levels.front();
-  r.spec = set.level(0).fineSpec();
-  r.coarseSpec = set.level(0).coarseSpec();
-  r.lastFrame = r.levelFrames.front();
-  r.device = ctx.info().name;
-  return r;
+  return runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
+    const glm::dvec3 centre = cascadeCentre(scene, o.time);
+    const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene, o.time).bounds, o.pipeline);
+    CascadeSet set(ctx, scene, CascadeLayout::around(centre, shape), o.pipeline);
+    spdlog::info("cascades: {} levels around ({:.6g}, {:.6g}, {:.6g}), level 0 {:.6g} wide; {}", shape.levels,
+                 centre.x, centre.y, centre.z, shape.levelZeroExtent, set.memory().describe());
+    BakeResult r;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int f = 0; f < o.frames; ++f) {
+      control.checkStop();
+      r.levelFrames = set.runFrame(o.time);
+      control.report("refining", std::uint64_t(f + 1), std::uint64_t(o.frames));
+    }
+    r.seconds = secondsSince(t0);
+    throwOnValidationErrors(ctx);
+    for (int i = 0; i < set.levels(); ++i) {
+      BakeOptions level = o;
+      level.pipeline = set.level(i).settings();
+      openvdb::FloatGrid::Ptr grid = fineLevelSet(set.level(i), level, o.time);
+      grid->setName(cascadeGridName(i));
+      grid->insertMeta("rtsdf:cascade_level", openvdb::Int32Metadata(i));
+      grid->insertMeta("rtsdf:cascades", openvdb::Int32Metadata(set.levels()));
+      grid->insertMeta("rtsdf:cascade_centre", openvdb::Vec3DMetadata(openvdb::Vec3d(centre.x, centre.y, centre.z)));
+      r.levels.push_back(grid);
+    }
+    r.grid = r.levels.front();
+    r.spec = set.level(0).fineSpec();
+    r.coarseSpec = set.level(0).coarseSpec();
+    r.lastFrame = r.levelFrames.front();
+    r.device = ctx.info().name;
+    return r;
+  });
 }
 
 std::vector<openvdb::FloatGrid::Ptr> cascadeLevelGrids(const openvdb::GridPtrVec& grids) {

@@ -148,7 +148,17 @@ def _mesh_path(item, folder):
 
 def _bake_settings(settings):
     s = dict(settings)
-    return s.pop("method", "exact"), int(s.pop("res", 128)), float(s.pop("band", 0.1)), s
+    return s.pop("method", "exact"), int(s.pop("res", 128)), _length(s.pop("band", None)), s
+
+
+def _length(value):
+    """A band as rtsdf reads it: None (the default, 6 voxels), a number in scene units or a string such as "3vox"."""
+    if value is None or isinstance(value, (int, float)):
+        return value
+    try:
+        return float(value)
+    except ValueError:
+        return str(value)
 
 
 def _samples(rtsdf, scene, field, n, seed):
@@ -442,7 +452,7 @@ def _bake_tiled(client, items, tiles, folder, manifest, progress, on_row):
 
 
 def run(inputs, out_dir, *, workers=None, scheduler=None, client=None, threads_per_worker=1, method="exact",
-        res=128, band=0.1, samples=0, tiles=0, settings=None, ship=None, stream=None, on_row=None):
+        res=128, band=None, samples=0, tiles=0, settings=None, ship=None, stream=None, on_row=None):
     """Bake every input into out_dir on Dask; returns the summary (done, cached, failed, meshes_per_minute ...).
 
     workers: processes of the local cluster (default: one per core) when neither scheduler (an address such as
@@ -528,7 +538,8 @@ def parse_args(argv):
     p.add_argument("--threads-per-worker", type=int, default=1, metavar="T", help="threads of each local worker")
     p.add_argument("-m", "--method", default="exact", choices=["exact", "openvdb", "jfa", "rtsdf"])
     p.add_argument("-r", "--res", type=int, default=128, help="voxels across the longest side")
-    p.add_argument("--band", type=float, default=0.1, help="narrow band half-width in scene units")
+    p.add_argument("--band", default=None,
+                   help="narrow band half-width [d]: scene units (0.02) or voxels (3vox); default: bake's, 6 voxels")
     p.add_argument("--set", dest="settings", type=_setting, action="append", default=[], metavar="KEY=VALUE",
                    help="any other bake keyword (docs/settings.md), e.g. --set sign=winding --set padding=0.05")
     p.add_argument("--samples", type=int, default=0, metavar="N",
@@ -546,8 +557,15 @@ def parse_args(argv):
     for flag, value in (("--samples", args.samples), ("--tiles", args.tiles)):
         if value < 0:
             p.error(f"{flag} {value} must not be negative")
-    if not args.band > 0:
-        p.error(f"--band {args.band} must be positive")
+    if args.band is not None:
+        text = args.band[:-3] if args.band.endswith("vox") else args.band
+        try:
+            positive = float(text) > 0
+        except ValueError:
+            positive = False
+        if not positive:
+            p.error(f"--band {args.band} must be a positive length in scene units (0.02) or voxels (3vox)")
+        args.band = _length(args.band)
     return args
 
 

@@ -134,7 +134,7 @@ TEST(CascadeBake, WritesOneLevelSetPerLevelThatCompareChecksOnItsOwnVoxels) {
     EXPECT_EQ(levels[std::size_t(i)]->getName(), "surface_L" + std::to_string(i));
     const GridSpec spec = gridSpecOf(*levels[std::size_t(i)]);
     EXPECT_DOUBLE_EQ(spec.voxelSize, 0.6 / 32 * (1 << i));
-    EXPECT_EQ(levels[std::size_t(i)]->metaValue<std::string>("rtsdf:cascade_level"), std::to_string(i));
+    EXPECT_EQ(levels[std::size_t(i)]->metaValue<int>("rtsdf:cascade_level"), i);
     EXPECT_GT(levels[std::size_t(i)]->activeVoxelCount(), 0u);
     // Centred on the scene camera.
     const glm::dvec3 cam = scene.cameraAt(0.0).position;

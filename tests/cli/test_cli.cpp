@@ -693,14 +693,14 @@ TEST(Cli, ResIsTheOutputGridOfEveryMethod) {
     const auto grid = readLevelSet(out);
     const double h = grid->voxelSize()[0];
     EXPECT_NEAR(2.0 / h, double(n), 1e-6) << method << ": the sphere is " << 2.0 / h << " voxels across";
-    EXPECT_EQ(grid->metaValue<std::string>("rtsdf:resolution"), std::to_string(n)) << method;
+    EXPECT_EQ(grid->metaValue<int>("rtsdf:resolution"), n) << method;
   }
   // --fine and --coarse override it.
   const Result r = rtsdfCmd(fmt::format("bake {} -m rtsdf --res {} --fine 32 --coarse 8 -o {}", q(dir / "s.json"),
                                         n, q(dir / "o.vdb")));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NEAR(2.0 / readLevelSet(dir / "o.vdb")->voxelSize()[0], 32.0, 1e-6);
-  EXPECT_EQ(readLevelSet(dir / "o.vdb")->metaValue<std::string>("rtsdf:coarse"), "8");
+  EXPECT_EQ(readLevelSet(dir / "o.vdb")->metaValue<int>("rtsdf:coarse"), 8);
 }
 
 // The global flags are taken anywhere on the line, before or after the subcommand and its arguments.

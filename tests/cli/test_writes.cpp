@@ -45,7 +45,7 @@ private:
 /// Bake the bunny exactly at @a res into @a out, under @a limit (a shell prefix such as "ulimit -f 64;").
 int bake(const std::filesystem::path& out, int res, std::string& output, const std::string& limit = "") {
   int status = 0;
-  output = test::runCommand(fmt::format("{} '{}' bake '{}' -m exact -r {} -o '{}' 2>&1", limit, RTSDF_BINARY,
+  output = test::runCommand(fmt::format("{} '{}' bake '{}' -m exact -r {} --band 1vox -o '{}' 2>&1", limit, RTSDF_BINARY,
                                         test::dataPath("meshes/bunny.obj"), res, out.string()),
                             status);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -24,6 +24,12 @@ TEST(AccuracyTargets, DefaultSceneStaticFramePenumbraAndUmbra) {
   o.compare = true;
   o.render.sdf.jitter = false;
   o.render.taa.enabled = false;
+  // The settings the targets were met with (render's former defaults): fine 256 over coarse 64, d = 0.1.
+  o.render.pipeline.coarseRes = 64;
+  o.render.pipeline.fineRes = 256;
+  o.render.pipeline.band = 0.1;
+  o.render.pipeline.mode = RefineMode::Closest;
+  o.render.pipeline.rays = 0;
   ASSERT_EQ(o.render.width, 640);
   ASSERT_EQ(o.render.height, 360);
   const RenderJobResult r = renderScene(o);
@@ -50,6 +56,7 @@ TEST(AccuracyTargets, IncrementalFramesMatchTheFullRecomputeAtS) {
     a.pipeline = PipelineSettings{};
     a.pipeline.coarseRes = 64;
     a.pipeline.fineRes = 128;
+    a.pipeline.band = 0.1; // the band (scene units) the target was measured with
     a.pipeline.mode = RefineMode::Closest;
     a.pipeline.rays = 1;
     a.pipeline.fullRecompute = full;

@@ -21,7 +21,7 @@ distributed = pytest.importorskip("distributed")
 pyopenvdb = pytest.importorskip("pyopenvdb")
 
 DATA = os.environ.get("RTSDF_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "..", "data"))
-GOOD, RES, BAND = 35, 24, 0.15
+GOOD, RES, BAND = 35, 24, "3vox"
 
 
 def icosphere(levels):
@@ -140,7 +140,8 @@ def test_samples_hold_the_signed_distances(first_run, meshes):
             analytic = np.linalg.norm(points - centre, axis=1) - radius
             # The mesh lies inside the sphere by at most its sagitta (~0.005 radius at 3 levels).
             assert np.max(np.abs(sdf - analytic)) < 0.01 * radius
-        assert np.max(np.abs(s["near_sdf"])) < BAND + 2 * radius * 3 / RES
+        # Near points lie in the band (3 voxels of 2 radius / RES) jittered by up to 3 voxels more.
+        assert np.max(np.abs(s["near_sdf"])) < 2 * (2 * radius * 3 / RES)
         assert np.mean(s["uniform_sdf"] > 0) > 0.3
 
 

@@ -62,6 +62,7 @@ Scene twoBunnies() {
 
 PipelineSettings settingsFor(RefineMode mode, int rays) {
   PipelineSettings s;
+  s.band = 0.1; // the band (scene units) these cases were measured with
   s.coarseRes = 32;
   s.fineRes = 64;
   s.mode = mode;
@@ -219,6 +220,7 @@ TEST_F(PieceUnionGpu, DISABLED_LargestClosestErrorsOnTheDefaultScene) {
   const Scene scene = loadScene(test::dataPath(sceneEnv ? sceneEnv : "scenes/default.json"));
   const SceneGeometry geo = buildSceneGeometry(scene, 0.0);
   PipelineSettings s;
+  s.band = 0.1; // the band (scene units) these cases were measured with
   s.coarseRes = coarse;
   s.fineRes = 2 * coarse;
   s.mode = RefineMode::Closest;

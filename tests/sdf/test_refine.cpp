@@ -773,6 +773,7 @@ TEST_F(Refine, ClosestModesLargestErrorOnTheRefinedVoxelsIsUnderAVoxel) {
     for (int rays : {0, 1}) {
       SCOPED_TRACE(::testing::Message() << path << ", x = " << rays);
       PipelineSettings s;
+      s.band = 0.1; // the band (scene units) this bound was measured with
       s.coarseRes = 64;
       s.fineRes = 128;
       s.mode = RefineMode::Closest;

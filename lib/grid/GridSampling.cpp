@@ -23,8 +23,10 @@ constexpr std::size_t kChunk = 4096;
 template <class Real>
 void sampleWorldPoints(const openvdb::FloatGrid& grid, const Real* points, std::size_t count, Real* values) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kChunk), [&](const tbb::blocked_range<std::size_t>& r) {
+    // The sampler keeps a reference to the accessor: it must outlive the sampler.
+    const openvdb::FloatGrid::ConstAccessor accessor = grid.getConstAccessor();
     const openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
-        grid.getConstAccessor(), grid.transform());
+        accessor, grid.transform());
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       const Real* p = points + 3 * i;
       values[i] = finitePoint(p) ? Real(sampler.wsSample(openvdb::Vec3d(p[0], p[1], p[2])))

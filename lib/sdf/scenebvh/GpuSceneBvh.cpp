@@ -68,7 +68,8 @@ void GpuSceneBvh::recordUpdate(VkCommandBuffer cmd, double time) {
   mUnionUpload.assign(1, glm::uvec4(std::uint32_t(mUnionList.size()), 0u, 0u, 0u));
   const std::size_t header = mUnionUpload.size();
   mUnionUpload.resize(header + 2 * mUnionList.size());
-  std::memcpy(mUnionUpload.data() + header, mUnionList.data(), mUnionList.size() * sizeof(gpu::shared::UnionPiece));
+  if (!mUnionList.empty()) // memcpy from an empty vector's null data is undefined
+    std::memcpy(mUnionUpload.data() + header, mUnionList.data(), mUnionList.size() * sizeof(gpu::shared::UnionPiece));
   gpu::recordUpload(cmd, mUnionPieces, mUnionUpload.data(), mUnionUpload.size() * sizeof(glm::uvec4));
   gpu::computeBarrier(cmd);
   mTime = time;

@@ -101,6 +101,12 @@ void expandActiveTiles(FloatGrid& f, const std::string& where) {
   const std::uint64_t voxels = f.activeVoxelCount();
   const double bytes = double(voxels) * (sizeof(float) + 0.25); // values, masks and node pointers
   const std::uint64_t available = availableHostMemory();
+  // At most half the memory, and at most 2^27 voxels (about 0.5 GiB): a level set's band is voxels; tiles that
+  // stand for more are a corrupt or hostile file, not a field to compare.
+  constexpr std::uint64_t kMostTileVoxels = std::uint64_t(1) << 27;
+  if (voxels > kMostTileVoxels)
+    throw Error(fmt::format("{} has active tiles standing for {} voxels, more than the {} a level set's band can "
+                            "hold", where, voxels, kMostTileVoxels));
   if (available && bytes > 0.5 * double(available))
     throw Error(fmt::format("{} has active tiles standing for {} voxels ({:.1f} GiB as voxels), more than half the "
                             "memory available ({:.1f} GiB)", where, voxels, bytes / 1073741824.0,

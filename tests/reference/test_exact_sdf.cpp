@@ -1,3 +1,4 @@
+#include "GeometryOf.h"
 #include "TestUtil.h"
 #include "grid/VdbIO.h"
 #include "metrics/FieldError.h"
@@ -18,19 +19,7 @@ using namespace rtsdf;
 
 namespace {
 
-SceneGeometry geometryOf(Mesh mesh) {
-  const MeshReport r = validateMesh(mesh);
-  SceneGeometry g;
-  WorldMesh w;
-  w.instance = mesh.name;
-  w.source = mesh.source;
-  w.positions = mesh.positions;
-  w.triangles = mesh.triangles;
-  w.watertight = r.watertight();
-  for (const auto& p : w.positions) g.bounds.add(glm::dvec3(p));
-  g.meshes.push_back(std::move(w));
-  return g;
-}
+using test::geometryOf;
 
 struct AnalyticCheck {
   FieldError error;      // in voxels

@@ -1,6 +1,7 @@
 // The exact field on open scans of several pieces (separated patches, a non-manifold fin, floating fragments): its
 // signs are the winding number's wherever it uses the pseudo-normal, and a mesh in millimetres gives the field of
 // the same mesh in metres, in voxels.
+#include "GeometryOf.h"
 #include "TestUtil.h"
 #include "metrics/FieldError.h"
 #include "reference/ExactSdf.h"
@@ -19,21 +20,7 @@ using namespace rtsdf;
 
 namespace {
 
-/// The world geometry of @a mesh scaled by @a unit, validated (welded, oriented) as a load would.
-SceneGeometry geometryOf(Mesh mesh, float unit = 1.0f) {
-  for (glm::vec3& p : mesh.positions) p *= unit;
-  const MeshReport r = validateMesh(mesh);
-  SceneGeometry g;
-  WorldMesh w;
-  w.instance = mesh.name;
-  w.source = mesh.source;
-  w.positions = mesh.positions;
-  w.triangles = mesh.triangles;
-  w.watertight = r.watertight();
-  for (const auto& p : w.positions) g.bounds.add(glm::dvec3(p));
-  g.meshes.push_back(std::move(w));
-  return g;
-}
+using test::geometryOf;
 
 Mesh bunny() { return loadMeshFile(test::dataPath("meshes/bunny.obj")); }
 

@@ -38,6 +38,14 @@ std::string sdfMarchIgnores(const SdfShadowSettings& s, const std::string& setti
 
 } // namespace
 
+std::string oneFrameIgnores(int frames, const std::string& setting) {
+  if (frames == 1 && (setting == "alpha" || setting == "settle frames" || setting == "refresh period" ||
+                      setting == "full recompute"))
+    return "does not apply to one refinement frame (it acts on the voxels' history, from the second frame on): "
+           "leave it out or run more frames";
+  return {};
+}
+
 std::string pipelineIgnores(const PipelineSettings& s, const std::string& setting, bool seedElsewhere) {
   if (setting == "closest search" && s.mode == RefineMode::Rays)
     return "does not apply to the rays refinement (only the closest refinement searches closest points): leave it "
@@ -88,7 +96,9 @@ std::string bakeIgnores(const BakeOptions& o, const std::string& setting) {
                        "choose that method", toString(o.method), setting, users,
                        users.find(',') == std::string::npos ? "s" : "");
   }
-  return o.method == BakeMethod::Rtsdf ? pipelineIgnores(o.pipeline, setting) : std::string();
+  if (o.method != BakeMethod::Rtsdf) return {};
+  if (std::string why = oneFrameIgnores(bakeFrames(o), setting); !why.empty()) return why;
+  return pipelineIgnores(o.pipeline, setting);
 }
 
 std::string animateIgnores(const AnimateOptions& o, const std::string& setting) {
@@ -99,7 +109,9 @@ std::string animateIgnores(const AnimateOptions& o, const std::string& setting) 
   if (setting == EnumNames<UpAxis>::kSetting && o.vdbDir.empty())
     return "does not apply without .vdb files (it turns the frames written into the vdb folder): leave it out or "
            "write them";
-  return isKnobOf<PipelineSettings>(setting) ? pipelineIgnores(o.pipeline, setting) : std::string();
+  if (!isKnobOf<PipelineSettings>(setting)) return {};
+  if (std::string why = oneFrameIgnores(o.frames, setting); !why.empty()) return why;
+  return pipelineIgnores(o.pipeline, setting);
 }
 
 std::string renderIgnores(const RenderJobOptions& o, const std::string& setting) {
@@ -109,7 +121,8 @@ std::string renderIgnores(const RenderJobOptions& o, const std::string& setting)
                        "frame at the time): leave it out or choose a GPU technique", setting);
   if (setting == "fps" && o.frames == 1)
     return "does not apply to one frame (it spaces the frames in time): leave it out or render more frames";
-  return pictureIgnores(o.render, setting, true, o.compare);
+  if (std::string why = pictureIgnores(o.render, setting, true, o.compare); !why.empty()) return why;
+  return rayTraced ? std::string() : oneFrameIgnores(o.frames, setting);
 }
 
 } // namespace rtsdf

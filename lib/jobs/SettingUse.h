@@ -18,6 +18,10 @@ namespace rtsdf {
 ///        jitter and the ray-traced truth), so the seed always acts.
 std::string pipelineIgnores(const PipelineSettings& s, const std::string& setting, bool seedElsewhere = false);
 
+/// @brief Why a pipeline run for @a frames frames ignores @a setting: the history knobs (alpha, settle frames,
+///        refresh period, full recompute) with one frame, where every voxel is new.
+std::string oneFrameIgnores(int frames, const std::string& setting);
+
 /// @brief Why the parts of the picture @a r draws ignore @a setting: the SDF march and pipeline without SDF
 ///        shadows, shadow maps without them, TAA when off, the penumbra estimate's own knobs with another
 ///        estimate, the contact rays with no reach.
@@ -28,15 +32,16 @@ std::string pictureIgnores(const RenderSettings& r, const std::string& setting, 
                            bool truthTraced);
 
 /// @brief Why a bake with @a o ignores @a setting: a setting of other methods only (bakeMethodUses), or one the
-///        rtsdf method's pipeline would not read (pipelineIgnores).
+///        rtsdf method's pipeline would not read (oneFrameIgnores with its frames, bakeFrames; pipelineIgnores).
 std::string bakeIgnores(const BakeOptions& o, const std::string& setting);
 
 /// @brief Why animate with @a o ignores @a setting: fps with one frame, the focus without the error measured, the
-///        up axis without .vdb files, and the pipeline's (pipelineIgnores).
+///        up axis without .vdb files, and the pipeline's (oneFrameIgnores, pipelineIgnores).
 std::string animateIgnores(const AnimateOptions& o, const std::string& setting);
 
 /// @brief Why render with @a o ignores @a setting: frames, fps, TAA and the device with ray-traced shadows (one
-///        frame on the CPU), fps with one frame, and the picture's (pictureIgnores).
+///        frame on the CPU), fps with one frame, the picture's (pictureIgnores) and the history knobs of one
+///        frame (oneFrameIgnores).
 std::string renderIgnores(const RenderJobOptions& o, const std::string& setting);
 
 } // namespace rtsdf

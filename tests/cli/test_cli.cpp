@@ -764,6 +764,8 @@ TEST(Cli, RenderAnimateCompareAndBenchOnAPipePrintProgressLines) {
     SCOPED_TRACE(c.args);
     const Result r = rtsdfCmd(c.args + " 2>&1 | cat");
     for (const std::string& line : c.lines) EXPECT_NE(r.output.find(line), std::string::npos) << r.output;
+    // A stage inside another (the anchor's exact bake) does not end the outer one early.
+    EXPECT_EQ(r.output.find("baking the anchor 0/1"), std::string::npos) << r.output;
     const Result quiet = rtsdfCmd("-q " + c.args + " 2>&1 | cat");
     EXPECT_EQ(quiet.output.find(" done in "), std::string::npos) << quiet.output;
     EXPECT_EQ(quiet.output.find("s left"), std::string::npos) << quiet.output;

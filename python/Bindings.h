@@ -2,6 +2,7 @@
 // What the binding files of the Python module share: how a Python argument becomes a scene, the Field a bake
 // returns, keyword settings onto the knob tables, and the control of a long call (Ctrl-C, progress).
 #include "grid/GridSpec.h"
+#include "grid/VdbIO.h"
 #include "scene/Scene.h"
 #include "util/JobControl.h"
 #include "util/Knobs.h"
@@ -41,7 +42,8 @@ struct Field {
   openvdb::FloatGrid::Ptr grid;
   GridSpec spec;
   double band = 0.0;
-  std::string method; ///< what made it: a bake method, or "pipeline"
+  std::string method; ///< what made it: a bake method, "pipeline", or "file" (read from a .vdb)
+  UpAxis up = UpAxis::Y; ///< how write() turns the file it writes (bake's up=, as the command line's --up)
 };
 
 /// The keyword settings of bake() and Pipeline() onto the pipeline's (and a bake's) knobs, by the keywords of

@@ -75,9 +75,31 @@ std::string fieldRepr(const Field& f) {
                      f.spec.origin.y, f.spec.origin.z, f.band, f.grid->activeVoxelCount());
 }
 
-void write(const Field& f, const std::filesystem::path& path) {
+void write(const Field& f, const std::filesystem::path& path, const py::object& up) {
   checkOutputPath(path, ".vdb");
-  writeVdb(path, {f.grid});
+  VdbWriteOptions o;
+  o.up = up.is_none() ? f.up : parseEnum<UpAxis>(up.cast<std::string>());
+  writeVdb(path, {f.grid}, o);
+}
+
+/// The level set of a .vdb that rtsdf wrote as a Field in its scene's frame: the grid named @a grid, else the
+/// one candidate (as `rtsdf compare --grid`); the Field writes with the up axis it was read with.
+Field read(const std::filesystem::path& path, const py::object& grid) {
+  Field f;
+  py::gil_scoped_release release;
+  const openvdb::FloatGrid::Ptr read = readLevelSet(path, grid.is_none() ? std::string() : grid.cast<std::string>());
+  f.up = upAxisOf(*read);
+  f.grid = inSceneFrame(read);
+  try {
+    f.spec = gridSpecOf(*f.grid); // the voxels of the arrays
+  } catch (const Error& e) {
+    throw Error(fmt::format("{}: {}: rtsdf.read reads the level sets rtsdf writes (rtsdf.compare reads any)",
+                            path.string(), e.what()));
+  }
+  f.band = double(f.grid->background());
+  const std::string method = stringMeta(*f.grid, "rtsdf:method");
+  f.method = method.empty() ? "file" : method;
+  return f;
 }
 
 py::object toPyopenvdb(const Field& f) {
@@ -118,10 +140,16 @@ void bindFields(py::module_& m) {
       .def("gradient", [](const Field& f, const py::handle& p) { return pointQuery(f, p, 3); }, py::arg("points"),
            "World-space gradient of the same trilinear interpolant (OpenVDB's BoxStencil) at points of shape "
            "(..., 3); shape (..., 3). 0 where the eight voxels around a point are outside the band; dtype as sample")
-      .def("write", &write, py::arg("path"),
-           "Write the level set (grid 'surface') to a .vdb file; raises rtsdf.Error for another extension")
+      .def("write", &write, py::arg("path"), py::arg("up") = py::none(),
+           "Write the level set (grid 'surface') to a .vdb file; raises rtsdf.Error for another extension. up: "
+           "'y' or 'z' (as the command line's --up: 'z' turns the file upright for Blender); None: the bake's up")
       .def("to_pyopenvdb", &toPyopenvdb, "The level set as a pyopenvdb.FloatGrid (needs pyopenvdb)")
       .def("__repr__", &fieldRepr);
+  m.def("read", &read, py::arg("path"), py::kw_only(), py::arg("grid") = py::none(),
+        "Read a level set rtsdf wrote (.vdb) as a Field in its scene's frame (a file written with up='z' is turned "
+        "back; write() turns it again). grid: the grid's name (as `rtsdf compare --grid`); None: the one named "
+        "'surface' or the only level set. Raises rtsdf.Error naming the file and listing its grids when there is "
+        "no such grid, rtsdf.SettingError when several could be meant");
 }
 
 } // namespace rtsdf::python

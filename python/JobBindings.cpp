@@ -3,6 +3,7 @@
 
 #include "gpu/VulkanContext.h"
 #include "jobs/Bake.h"
+#include "jobs/Compare.h"
 #include "jobs/JobSupport.h"
 #include "reference/ExactSdf.h"
 #include "scene/SceneGeometry.h"
@@ -11,17 +12,21 @@
 
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace rtsdf::python {
 namespace {
 
 Field bakeField(const py::handle& sceneOrPath, const std::string& method, int res, const py::object& band,
-                const py::object& progress, const py::kwargs& kw) {
+                const py::object& progress, const std::string& up, const py::kwargs& kw) {
+  const UpAxis upAxis = parseEnum<UpAxis>(up); // before any work, as the command line refuses --up w
   const ScenePtr scene = sceneOf(sceneOrPath);
   BakeOptions o;
   o.scene = scene->path;
@@ -32,7 +37,7 @@ Field bakeField(const py::handle& sceneOrPath, const std::string& method, int re
   applySettings(kw, nullptr, o.pipeline, o); // the bake's device is a knob of BakeOptions
   PythonJob job(progress);
   const BakeResult r = job.run([&] { return bake(*scene, o, job.control()); });
-  return {r.grid, r.spec, double(r.options.pipeline.band), toString(o.method)};
+  return {r.grid, r.spec, double(r.options.pipeline.band), toString(o.method), upAxis};
 }
 
 /// Exact signed distances (negative inside) at points of shape (..., 3), in parallel without the GIL, in the
@@ -70,6 +75,40 @@ py::array distances(const py::handle& sceneOrPath, const py::handle& points, dou
   const ScenePtr scene = sceneOf(sceneOrPath);
   if (a.dtype().kind() == 'f' && a.itemsize() == 4) return distancesAs<float>(scene, a, time, progress);
   return distancesAs<double>(scene, a, time, progress);
+}
+
+py::dict comparisonDict(const FileComparison& c) {
+  py::dict d;
+  d["mean_abs"] = c.error.meanAbs;
+  d["rms"] = c.error.rms;
+  d["max_abs"] = c.error.maxAbs;
+  d["sign_disagreement"] = c.error.signErrorRate();
+  d["voxels"] = c.error.voxels;
+  d["active_a"] = c.activeA;
+  d["active_b"] = c.activeB;
+  d["voxel_size"] = c.voxelSize;
+  d["a"] = c.nameA;
+  d["b"] = c.nameB;
+  d["warning"] = c.warning;
+  py::list levels;
+  for (const FileComparison& level : c.levels) levels.append(comparisonDict(level));
+  d["levels"] = levels;
+  d["report"] = c.report();
+  return d;
+}
+
+/// `rtsdf compare`: A against B or against an anchor baked on A's voxels.
+py::dict compareLevelSets(const std::filesystem::path& a, const std::optional<std::filesystem::path>& b,
+                          const std::optional<std::string>& against, const std::optional<std::string>& scene,
+                          const std::optional<std::string>& grid, const py::object& progress) {
+  CompareOptions o;
+  o.a = a;
+  if (b) o.b = *b;
+  if (against) o.against = parseEnum<CompareAnchor>(*against);
+  if (scene) o.scene = *scene;
+  if (grid) o.grid = *grid;
+  PythonJob job(progress);
+  return comparisonDict(job.run([&] { return compare(o, job.control()); }));
 }
 
 /// Frames of the GPU pipeline on one scene, its grids covering `frames` frames at `fps` from time 0.
@@ -132,16 +171,28 @@ void bindJobs(py::module_& m) {
   static const std::string bakeDoc =
       "Bake the signed distance field of a scene, an rtsdf.Mesh or a scene/mesh path; returns a Field.\n\n"
       "method exact|openvdb|jfa|rtsdf, res voxels across the longest side (the fine grid for rtsdf, the coarse "
-      "grid for jfa), band d (a number in scene units or a string such as '3vox'; default: the pipeline's, 6 voxels); progress: None or callable(stage, fraction). Ctrl-C raises "
-      "KeyboardInterrupt within a second. Settings (docs/settings.md): " + keywordsOf<PipelineSettings>() + ", " +
-      keywordsOf<BakeOptions>();
+      "grid for jfa), band d (a number in scene units or a string such as '3vox'; default: the pipeline's, 6 voxels); "
+      "progress: None (quiet) or callable(stage, fraction); up: 'y' or 'z', the up axis of the .vdb Field.write "
+      "writes (as the command line's --up: 'z' turns it upright for Blender; the arrays stay in the scene's frame). "
+      "Ctrl-C raises KeyboardInterrupt within a second. Settings (docs/settings.md): " +
+      keywordsOf<PipelineSettings>() + ", " + keywordsOf<BakeOptions>();
   m.def("bake", &bakeField, py::arg("scene"), py::arg("method") = "exact", py::arg("res") = 128,
-        py::arg("band") = py::none(), py::kw_only(), py::arg("progress") = py::none(), bakeDoc.c_str());
+        py::arg("band") = py::none(), py::kw_only(), py::arg("progress") = py::none(), py::arg("up") = "y",
+        bakeDoc.c_str());
   m.def("distance", &distances, py::arg("scene"), py::arg("points"), py::arg("time") = 0.0, py::kw_only(),
         py::arg("progress") = py::none(),
         "Exact signed distances (negative inside) at world points of shape (..., 3) to a scene, an rtsdf.Mesh or "
         "a scene/mesh path at a time (seconds); shape (...), float32 for float32 points, else float64. Ctrl-C "
         "raises KeyboardInterrupt");
+  m.def("compare", &compareLevelSets, py::arg("a"), py::arg("b") = py::none(), py::kw_only(),
+        py::arg("against") = py::none(), py::arg("scene") = py::none(), py::arg("grid") = py::none(),
+        py::arg("progress") = py::none(),
+        "Compare the level set of .vdb file a with b's, or with the anchor against='exact'|'openvdb' baked on a's "
+        "voxels, band and time from a's scene (or scene=), as `rtsdf compare`. grid: the grid to read from each "
+        "file (default: the one named 'surface' or the only level set). Returns a dict: mean_abs, rms, max_abs "
+        "(in a's voxels), sign_disagreement (a fraction), voxels, active_a, active_b, voxel_size, a, b, warning, "
+        "levels (a file of cascade levels: one such dict each), report (the command's lines). Raises rtsdf.Error "
+        "naming the file and listing its grids when there is no grid of that name");
   static const std::string pipelineDoc =
       "Frames of the GPU SDF pipeline on a scene, an rtsdf.Mesh or a scene/mesh path, its grids covering `frames` "
       "frames at `fps` from time 0. Settings (docs/settings.md): " + keywordsOf<PipelineSettings>() + ", device";

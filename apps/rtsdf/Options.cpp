@@ -4,10 +4,13 @@
 #include "util/EnumNames.h"
 #include "util/Error.h"
 #include "util/KnobDocs.h"
+#include "jobs/SettingUse.h"
+#include "view/ViewSettingUse.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <functional>
 #include <string>
 
 namespace rtsdf::app {
@@ -48,6 +51,7 @@ void bindBake(CLI::App& app, BakeCommand& c, SettingFlags& flags) {
   cmd->add_flag("--half", c.written.vdb.halfFloat, "Store values as 16-bit halves");
   addEnum(cmd, "--compression", c.written.vdb.compression, "blosc, zip or none");
   addEnum(cmd, "--up", c.written.vdb.up, kUpHelp);
+  flags.add(EnumNames<UpAxis>::kSetting, "--up");
 }
 
 void bindAnimate(CLI::App& app, AnimateCommand& c, SettingFlags& flags) {
@@ -61,6 +65,7 @@ void bindAnimate(CLI::App& app, AnimateCommand& c, SettingFlags& flags) {
   bindKnobs(cmd, o, flags);
   bindKnobs(cmd, o.pipeline, flags);
   addEnum(cmd, "--up", o.vdb.up, kUpHelp);
+  flags.add(EnumNames<UpAxis>::kSetting, "--up");
 }
 
 void bindRender(CLI::App& app, RenderCommand& c, SettingFlags& flags) {
@@ -207,20 +212,16 @@ void resolveBakeGrids(const CLI::App* cmd, BakeOptions& o, Preset preset) {
   if (given(cmd, "--coarse")) o.pipeline.coarseRes = coarse;
 }
 
-/// Refuse each flag given that the bake's method does not read.
-void refuseUnusedBakeFlags(const CLI::App* cmd, BakeMethod method, const SettingFlags& flags) {
+/// Refuse the first flag given on @a cmd whose setting the job would ignore: "<flag> <why>", @a ignores saying why
+/// (the library's rules, jobs/SettingUse.h) or "" when the job reads it.
+void refuseIgnoredFlags(const CLI::App* cmd, const SettingFlags& flags,
+                        const std::function<std::string(const std::string& setting)>& ignores) {
   for (const CLI::Option* opt : cmd->get_options()) {
     if (opt->count() == 0) continue;
     const std::string flag = longFlag(opt->get_name().c_str());
     const std::string setting = flags.settingOf(flag);
-    // The bake refuses a full domain itself, naming the exact method (BakeOptions::validate).
-    if (setting.empty() || setting == "full domain" || bakeMethodUses(method, setting)) continue;
-    std::string users;
-    for (const auto& [name, m] : EnumNames<BakeMethod>::kValues)
-      if (bakeMethodUses(m, setting)) users += fmt::format("{}{}", users.empty() ? "" : ", ", name);
-    throw Error(fmt::format("{} does not apply to the {} method (it sets the {}, which only {} read{}): leave it out "
-                            "or choose that method", flag, toString(method), setting, users,
-                            users.find(',') == std::string::npos ? "s" : ""));
+    if (setting.empty()) continue;
+    if (const std::string why = ignores(setting); !why.empty()) throw Error(flag + " " + why);
   }
 }
 
@@ -232,12 +233,23 @@ void finishCommands(CLI::App& app, Commands& c) {
   if (c.which == "bake") {
     if (c.preset != Preset::Default) applyPreset(cmd, c.bake.options.pipeline, preset);
     resolveBakeGrids(cmd, c.bake.options, c.preset);
-    refuseUnusedBakeFlags(cmd, c.bake.options.method, c.flags);
+    // The bake refuses a full domain itself, naming the exact method (BakeOptions::validate).
+    refuseIgnoredFlags(cmd, c.flags, [&o = c.bake.options](const std::string& setting) {
+      return setting == "full domain" ? std::string() : bakeIgnores(o, setting);
+    });
+    return;
   }
-  if (c.preset == Preset::Default) return;
-  if (c.which == "animate") applyPreset(cmd, c.animate.options.pipeline, preset);
-  if (c.which == "render") applyPreset(cmd, c.render.options.render.pipeline, preset);
-  if (c.which == "view") applyPreset(cmd, c.view.render.pipeline, preset);
+  if (c.preset != Preset::Default) {
+    if (c.which == "animate") applyPreset(cmd, c.animate.options.pipeline, preset);
+    if (c.which == "render") applyPreset(cmd, c.render.options.render.pipeline, preset);
+    if (c.which == "view") applyPreset(cmd, c.view.render.pipeline, preset);
+  }
+  if (c.which == "animate")
+    refuseIgnoredFlags(cmd, c.flags, [&o = c.animate.options](const std::string& s) { return animateIgnores(o, s); });
+  if (c.which == "render")
+    refuseIgnoredFlags(cmd, c.flags, [&o = c.render.options](const std::string& s) { return renderIgnores(o, s); });
+  if (c.which == "view")
+    refuseIgnoredFlags(cmd, c.flags, [&o = c.view](const std::string& s) { return viewIgnores(o, s); });
 }
 
 std::string helpSettings() {

@@ -67,7 +67,8 @@ struct Commands {
 void bindCommands(CLI::App& app, Commands& c, int& verbosity, bool& quiet);
 
 /// @brief After parsing: the preset under the flags not given, a bake's resolution as its method's output grid
-///        (--coarse and --fine override), and a refusal of every flag the chosen bake method would ignore.
+///        (--coarse and --fine override), and a refusal of every flag the command would ignore with the others
+///        given (jobs/SettingUse.h: a setting of another bake method, technique, refinement or penumbra estimate).
 /// @throw Error naming the flag and the method.
 void finishCommands(CLI::App& app, Commands& c);
 

@@ -47,7 +47,7 @@ int runMesh(const MeshOptions& o) {
 
 int runAnimate(const AnimateCommand& c) {
   if (!c.csv.empty()) checkOutputPath(c.csv, ".csv", {c.options.scene});
-  const AnimateResult r = animate(c.options, {}, [](const AnimateFrame& f) {
+  const AnimateResult r = animate(c.options, terminalJobControl(), [](const AnimateFrame& f) {
     if (f.frame == 0)
       fmt::print("{:>5} {:>7} {:>10} {:>10} {:>10} {:>10} {:>10} {:>12} {:>12} {:>10}\n", "frame", "time", "mask",
                  "refined", "GPU ms", "host ms", "band", "mean err", "max err", "wrong sign");

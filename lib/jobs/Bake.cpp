@@ -182,6 +182,7 @@ BakeResult bakeOnGrid(const BakeOptions& o, const SceneGeometry& geo, const JobC
     ExactSdfOptions opt;
     opt.band = o.fullDomain ? INFINITY : band;
     opt.sign = o.sign;
+    opt.progress = false; // progress goes to the caller's control alone (a library call prints nothing itself)
     opt.control = &control;
     r.grid = exactSignedDistance(geo, r.spec, opt, &r.exact);
   } else if (o.method == BakeMethod::OpenVdb) {

@@ -87,14 +87,14 @@ RenderJobResult renderScene(const RenderJobOptions& o, const JobControl& control
   if (o.render.technique == ShadowTechnique::RayTraced) {
     spdlog::info("ray tracing {} sample(s) per pixel and light at {}x{} (CPU)", o.render.rayTraced.samples,
                  o.render.width, o.render.height);
-    result.frame = renderRayTraced(scene, o.time, o.render);
+    result.frame = renderRayTraced(scene, o.time, o.render, &control);
   } else {
     result.frame = renderOnGpu(o, scene, result, control);
   }
   result.image = composeImage(scene, result.frame);
   if (o.compare) {
     spdlog::info("ray tracing the truth ({} samples per pixel and light)", o.render.rayTraced.samples);
-    const RenderedFrame truth = renderRayTraced(scene, o.time, o.render);
+    const RenderedFrame truth = renderRayTraced(scene, o.time, o.render, &control);
     result.error = compareWithTruth(scene, result.frame, truth);
     result.errorImage = visibilityErrorImage(scene, result.frame, truth);
     result.compared = true;

@@ -244,7 +244,8 @@ float pixelVisibility(RTCScene scene, const Light& light, const Cone& sun, std::
 } // namespace
 
 LightVisibility rayTracedVisibility(const SceneGeometry& geometry, const std::vector<Light>& lights,
-                                    const GBuffer& gbuffer, const RayTracedShadowSettings& settings) {
+                                    const GBuffer& gbuffer, const RayTracedShadowSettings& settings,
+                                    const JobControl* control) {
   requireWorldFrame(geometry, "ray-traced shadows");
   checkTraceInputs(lights, gbuffer, settings);
   LightVisibility vis(lights.size(), std::vector<float>(gbuffer.pixelCount(), 1.0f));
@@ -262,8 +263,10 @@ LightVisibility rayTracedVisibility(const SceneGeometry& geometry, const std::ve
       frame(c.w, c.t, c.b);
       c.omc = oneMinusCos(lights[l].angularRadius);
     }
+  JobPoll poll(control, "ray tracing", std::uint64_t(gbuffer.height));
   tbb::parallel_for(tbb::blocked_range<int>(0, gbuffer.height), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y != rows.end(); ++y)
+    if (poll.stopping()) return;
+    for (int y = rows.begin(); y != rows.end(); ++y, poll.done())
       for (int x = 0; x < gbuffer.width; ++x) {
         const std::size_t i = std::size_t(y) * std::size_t(gbuffer.width) + std::size_t(x);
         if (!gbuffer.hit(i)) continue;
@@ -275,6 +278,7 @@ LightVisibility rayTracedVisibility(const SceneGeometry& geometry, const std::ve
         }
       }
   });
+  if (poll.stopping()) throw Interrupted();
   return vis;
 }
 

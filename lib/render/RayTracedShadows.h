@@ -4,6 +4,7 @@
 ///        through Embree, over the exact scene triangles.
 #include "render/RenderTypes.h"
 #include "scene/SceneGeometry.h"
+#include "util/JobControl.h"
 
 #include <cstdint>
 #include <vector>
@@ -50,8 +51,11 @@ struct RayTracedShadowSettings {
 ///       are blocked by the surface's own mesh where that mesh is closed.
 /// @throw Error on samples < 1 or a G-buffer whose size does not match, a non-finite normalOffset, an invalid
 ///        light (non-finite values, a zero direction, an angular radius outside [0, pi/2), a negative radius),
-///        or when Embree fails.
+///        or when Embree fails; Interrupted when @a control asks to stop.
+/// @param control progress ("ray tracing", rows of pixels done) and stop requests, polled per row from the worker
+///        threads; null: neither.
 LightVisibility rayTracedVisibility(const SceneGeometry& geometry, const std::vector<Light>& lights,
-                                    const GBuffer& gbuffer, const RayTracedShadowSettings& settings = {});
+                                    const GBuffer& gbuffer, const RayTracedShadowSettings& settings = {},
+                                    const JobControl* control = nullptr);
 
 } // namespace rtsdf

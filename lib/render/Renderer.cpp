@@ -271,7 +271,8 @@ LightVisibility Renderer::rawVisibility() const {
                             std::size_t(mSettings.width) * std::size_t(mSettings.height));
 }
 
-RenderedFrame renderRayTraced(const Scene& scene, double time, const RenderSettings& settings) {
+RenderedFrame renderRayTraced(const Scene& scene, double time, const RenderSettings& settings,
+                              const JobControl* control) {
   settings.validate();
   checkRenderable(scene);
   RenderedFrame out;
@@ -280,7 +281,7 @@ RenderedFrame renderRayTraced(const Scene& scene, double time, const RenderSetti
   const auto t0 = std::chrono::steady_clock::now();
   out.gbuffer = traceGBuffer(geo, makeCameraParams(scene.cameraAt(time), settings.width, settings.height));
   const auto t1 = std::chrono::steady_clock::now();
-  out.visibility = rayTracedVisibility(geo, scene.lights, out.gbuffer, settings.rayTraced);
+  out.visibility = rayTracedVisibility(geo, scene.lights, out.gbuffer, settings.rayTraced, control);
   const auto t2 = std::chrono::steady_clock::now();
   out.passMs = {{"RayTracedGBuffer (CPU)", std::chrono::duration<double, std::milli>(t1 - t0).count()},
                 {"RayTracedShadows (CPU)", std::chrono::duration<double, std::milli>(t2 - t1).count()}};

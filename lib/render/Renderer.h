@@ -271,7 +271,10 @@ private:
 };
 
 /// @brief The ground truth frame: Embree primary hits and distributed shadow rays (CPU, TBB).
-RenderedFrame renderRayTraced(const Scene& scene, double time, const RenderSettings& settings);
+/// @param control progress and stop requests of the shadow rays (rayTracedVisibility); null: neither.
+/// @throw Interrupted when @a control asks to stop.
+RenderedFrame renderRayTraced(const Scene& scene, double time, const RenderSettings& settings,
+                              const JobControl* control = nullptr);
 
 /// @brief The shadow maps' parameters for @a lights over @a bounds.
 std::vector<gpu::shared::ShadowMapParams> makeShadowMapParams(const std::vector<gpu::shared::GpuLight>& lights,

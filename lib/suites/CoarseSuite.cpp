@@ -38,7 +38,7 @@ std::string voxelizeChunkRow(CoarseSdfBuilder& builder, const BenchOptions& s, c
 }
 
 /// The coarse suite's tables on @a ctx.
-std::string coarseTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
+std::string coarseTables(const gpu::VulkanContext& ctx, const BenchOptions& s, const JobControl& control) {
   CoarseSdfBuilder builder(ctx);
   std::string md = fmt::format("GPU: {} ({}). GPU times: median of {} runs after one warm-up and {} s of warm-up "
                                "runs, from GPU timestamps. CPU times: median of {} runs (OpenVDB: 1 run). Transform: "
@@ -58,10 +58,12 @@ std::string coarseTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
   chunks += "\n|---|---|";
   for (std::size_t i = 0; i < std::size(kChunkVoxels); ++i) chunks += "---|";
   chunks += "\n";
+  JobPoll poll(&control, "coarse suite", s.scenes.size() * s.resolutions.size());
   for (const std::string& path : s.scenes) {
     const SceneGeometry geo = buildSceneGeometry(loadScene(path), 0.0);
     const auto corners = triangleCorners(geo);
     for (int res : s.resolutions) {
+      control.checkStop();
       const GridSpec spec = GridSpec::fromBounds(geo.bounds, res, 0.05 * geo.bounds.maxExtent());
       spdlog::info("bench coarse {} at {}: {}", path, res, spec.describe());
       const auto seeds = voxelizeCpu(corners, spec);
@@ -100,6 +102,7 @@ std::string coarseTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
                           first ? fmt::format("{:.0f}", tVdb) : "", total / tVdb, 100.0 * r.acc.wrongFraction(),
                           r.acc.maxError);
       }
+      poll.done();
     }
   }
   return md + chunks;
@@ -107,9 +110,9 @@ std::string coarseTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
 
 } // namespace
 
-std::string coarseSuite(const BenchOptions& s) {
+std::string coarseSuite(const BenchOptions& s, const JobControl& control) {
   return runOnDevice(deviceContextOptions(s.device),
-                     [&](const gpu::VulkanContext& ctx) { return coarseTables(ctx, s); });
+                     [&](const gpu::VulkanContext& ctx) { return coarseTables(ctx, s, control); });
 }
 
 } // namespace rtsdf::bench

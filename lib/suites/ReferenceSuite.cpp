@@ -38,15 +38,17 @@ ExactAndOpenVdb timeExactAndOpenVdb(const BenchOptions& s, const SceneGeometry& 
 
 } // namespace
 
-std::string referenceSuite(const BenchOptions& s) {
+std::string referenceSuite(const BenchOptions& s, const JobControl& control) {
   std::string md = fmt::format("Median of {} runs.\n\n", s.repeats);
   md += "| scene | res | grid | band (voxels) | active voxels | exact (s) | OpenVDB meshToLevelSet (s) | "
         "exact / OpenVDB | OpenVDB vs exact: mean / max abs (voxels) | wrong sign |\n";
   md += "|---|---|---|---|---|---|---|---|---|---|\n";
+  JobPoll poll(&control, "reference suite", s.scenes.size() * s.resolutions.size());
   for (const std::string& path : s.scenes) {
     const SceneGeometry geo = buildSceneGeometry(loadScene(path), 0.0);
     const double band = s.bandFraction * geo.bounds.maxExtent();
     for (int res : s.resolutions) {
+      control.checkStop();
       const GridSpec spec = GridSpec::fromBounds(geo.bounds, res, band);
       spdlog::info("bench {} at {}: {}", path, res, spec.describe());
       const ExactAndOpenVdb r = timeExactAndOpenVdb(s, geo, spec, band);
@@ -57,12 +59,13 @@ std::string referenceSuite(const BenchOptions& s) {
                         band / spec.voxelSize, r.exact->activeVoxelCount(), tExact, tVdb, tExact / tVdb, err.meanAbs,
                         err.maxAbs, 100.0 * err.signErrorRate());
       spdlog::info("exact {:.3f} s, OpenVDB {:.3f} s, ratio {:.2f}", tExact, tVdb, tExact / tVdb);
+      poll.done();
     }
   }
   return md;
 }
 
-std::string openMeshCase(const BenchOptions& s) {
+std::string openMeshCase(const BenchOptions& s, const JobControl& control) {
   Scene scene = loadScene(bundledMesh("bunny.obj"));
   const Bounds bounds = buildSceneGeometry(scene, 0.0).bounds;
   scene.meshes[0] = cutHoles(subdivideMesh(scene.meshes[0], 3), 12, float(0.03 * bounds.maxExtent()));
@@ -75,8 +78,10 @@ std::string openMeshCase(const BenchOptions& s) {
   md += "| res | band (voxels) | active voxels | exact (s) | OpenVDB (s) | exact / OpenVDB | winding everywhere (s) | "
         "wrong sign vs winding everywhere | OpenVDB vs exact: mean / max abs (voxels) |\n"
         "|---|---|---|---|---|---|---|---|---|\n";
+  JobPoll poll(&control, "reference suite, open mesh", 2 * s.resolutions.size());
   for (int res : s.resolutions)
     for (double bandVoxels : {3.0, s.bandFraction * res}) {
+      control.checkStop();
       const double band = bandVoxels * bounds.maxExtent() / res;
       const GridSpec spec = GridSpec::fromBounds(geo.bounds, res, band);
       const ExactAndOpenVdb r = timeExactAndOpenVdb(s, geo, spec, band);
@@ -94,6 +99,7 @@ std::string openMeshCase(const BenchOptions& s) {
                         100.0 * signs.signErrorRate(), err.meanAbs, err.maxAbs);
       spdlog::info("open mesh at {}, band {:.1f} voxels: exact {:.3f} s, OpenVDB {:.3f} s, winding {:.3f} s, {} wrong "
                    "signs", res, bandVoxels, tExact, tVdb, tWinding, signs.signMismatches);
+      poll.done();
     }
   return md;
 }

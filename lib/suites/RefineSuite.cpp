@@ -154,14 +154,18 @@ std::string volumeFillTable(const gpu::VulkanContext& ctx, const SceneGeometry& 
 }
 
 /// The refine suite's tables on @a ctx.
-std::string refineTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
+std::string refineTables(const gpu::VulkanContext& ctx, const BenchOptions& s, const JobControl& control) {
   const int frames = 2;
   std::string md = fmt::format("GPU: {} ({}). Each point runs {} frames (static scene) after {} s of warm-up frames "
                                "on a pipeline of its own; times are the last frame's GPU timestamps; errors are after "
                                "the last frame, in fine voxels, over the fine voxels with |exact| <= 0.1 (scene "
                                "units), signs on the surface excluded.\n\n",
                                ctx.info().name, ctx.info().typeName, frames, s.warmUpSeconds);
+  // Progress by the tables' points: sizes S and M x 8 modes, then 5 bands x 4 ray counts per scene.
+  constexpr std::size_t kPointsPerScene = 2 * 8 + 5 * 4;
+  JobPoll poll(&control, "refine suite", kPointsPerScene * s.scenes.size());
   for (const std::string& path : s.scenes) {
+    control.checkStop();
     const Scene scene = loadScene(path);
     const SceneGeometry geo = buildSceneGeometry(scene, 0.0);
     const std::string name = fs::path(path).filename().string();
@@ -195,6 +199,7 @@ std::string refineTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
                                      : std::string(toString(m.mode));
         spdlog::info("bench refine {} {} {} x={}", name, size, mode, m.rays);
         const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1, s.warmUpSeconds);
+        poll.done();
         md += fmt::format("| {} | {}/{} | {} | {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.3f} / {:.2f} | {:.3f}% | {:.0f} | "
                           "{:.2f} |\n",
                           size, coarse, fine, mode, m.rays, r.mask, r.refineMs, r.totalMs, r.hostMs,
@@ -213,6 +218,7 @@ std::string refineTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
         ps.rays = x;
         spdlog::info("bench refine {} d={} x={}", name, d, x);
         const RefinePoint r = runRefinePoint(ctx, scene, geo, ps, frames, 0.1, s.warmUpSeconds);
+        poll.done();
         md += fmt::format("| {} | {} | {} | {:.1f} | {:.3f} / {:.2f} | {:.3f}% |\n", d >= 1e3 ? "inf" : fmt::format("{}", d), x,
                           r.mask, r.refineMs, r.error.meanAbs, r.error.maxAbs, 100.0 * r.error.signErrorRate());
       }
@@ -224,9 +230,9 @@ std::string refineTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
 
 } // namespace
 
-std::string refineSuite(const BenchOptions& s) {
+std::string refineSuite(const BenchOptions& s, const JobControl& control) {
   return runOnDevice(deviceContextOptions(s.device),
-                     [&](const gpu::VulkanContext& ctx) { return refineTables(ctx, s); });
+                     [&](const gpu::VulkanContext& ctx) { return refineTables(ctx, s, control); });
 }
 
 } // namespace rtsdf::bench

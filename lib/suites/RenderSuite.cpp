@@ -128,7 +128,7 @@ std::string renderSize(const gpu::VulkanContext& ctx, const BenchOptions& s, con
 }
 
 /// The render suite's tables on @a ctx.
-std::string renderTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
+std::string renderTables(const gpu::VulkanContext& ctx, const BenchOptions& s, const JobControl& control) {
   std::string md = fmt::format(
       "GPU: {} ({}). GPU pass times: median over {} frames after {} warm-up frames and {} s of frames on a renderer "
       "of its own (GPU timestamps). Error against "
@@ -136,20 +136,27 @@ std::string renderTables(const gpu::VulkanContext& ctx, const BenchOptions& s) {
       "RMSE in the truth's penumbra (0.02 < V < 0.98), mean |diff| in its umbra (V < 0.02), mean LDR-FLIP of the "
       "pictures.\n\n",
       ctx.info().name, ctx.info().driver, 4, 2, s.warmUpSeconds, 1024);
+  JobPoll poll(&control, "render suite", 2 * s.scenes.size()); // two sizes per scene
   for (const std::string& path : s.scenes) {
     const Scene scene = loadScene(path);
-    if (!scene.hasCamera || scene.lights.empty()) continue;
-    for (const glm::ivec2 size : {glm::ivec2(640, 360), glm::ivec2(1280, 720)})
+    if (!scene.hasCamera || scene.lights.empty()) {
+      poll.done(2);
+      continue;
+    }
+    for (const glm::ivec2 size : {glm::ivec2(640, 360), glm::ivec2(1280, 720)}) {
+      control.checkStop();
       md += renderSize(ctx, s, path, scene, size);
+      poll.done();
+    }
   }
   return md;
 }
 
 } // namespace
 
-std::string renderSuite(const BenchOptions& s) {
+std::string renderSuite(const BenchOptions& s, const JobControl& control) {
   return runOnDevice(deviceContextOptions(s.device),
-                     [&](const gpu::VulkanContext& ctx) { return renderTables(ctx, s); });
+                     [&](const gpu::VulkanContext& ctx) { return renderTables(ctx, s, control); });
 }
 
 } // namespace rtsdf::bench

@@ -137,7 +137,7 @@ Scene sceneOf(const SignCase& c, double unit) {
 
 } // namespace
 
-std::string signSuite(const BenchOptions& s) {
+std::string signSuite(const BenchOptions& s, const JobControl& control) {
   const int res = s.resolutions.empty() ? 96 : s.resolutions.front();
   if (res < 16) // the band of 3 voxels is 3 E / (res - 6) scene units: a few voxels across leave no band
     throw SettingError("resolution", fmt::format("the sign suite needs at least 16 voxels across, not {}", res));
@@ -150,7 +150,9 @@ std::string signSuite(const BenchOptions& s) {
       "and unit.\n\n", res, res / 2);
   md += "| mesh | unit | repaired at load | method | wrong sign | mean / max error (voxels) | vs OpenVDB | time (s) | "
         "time / OpenVDB |\n|---|---|---|---|---|---|---|---|---|\n";
-  for (const SignCase& c : selectedCases(s.scenes))
+  const std::vector<SignCase> cases = selectedCases(s.scenes);
+  JobPoll poll(&control, "sign suite", 2 * cases.size() * std::size(kSignMethods)); // two units per case
+  for (const SignCase& c : cases)
     for (double unit : {1.0, 1000.0}) {
       const Scene scene = sceneOf(c, unit);
       const OrientationRepair& fix = scene.meshReports[0].orientation;
@@ -159,6 +161,7 @@ std::string signSuite(const BenchOptions& s) {
       openvdb::FloatGrid::Ptr openVdb;
       double openVdbSeconds = 0.0;
       for (const SignMethodRow& m : kSignMethods) {
+        control.checkStop();
         BakeOptions o;
         o.scene = c.name;
         o.method = m.method;
@@ -190,6 +193,7 @@ std::string signSuite(const BenchOptions& s) {
                           r.seconds / openVdbSeconds);
         spdlog::info("sign suite: {} (unit {:g}), {}: {:.3f}% wrong signs", c.name, unit, m.name,
                      100.0 * e.signErrorRate());
+        poll.done();
       }
     }
   return md;

@@ -73,13 +73,13 @@ std::string runBenchSuite(const BenchOptions& options, const JobControl& control
                                std::thread::hardware_concurrency(), fmt::localtime(std::time(nullptr)));
   control.checkStop();
   switch (s.suite) {
-  case BenchSuite::Coarse: md += coarseSuite(s); break;
-  case BenchSuite::Refine: md += refineSuite(s); break;
-  case BenchSuite::Render: md += renderSuite(s); break;
+  case BenchSuite::Coarse: md += coarseSuite(s, control); break;
+  case BenchSuite::Refine: md += refineSuite(s, control); break;
+  case BenchSuite::Render: md += renderSuite(s, control); break;
   case BenchSuite::Sign: {
     BenchOptions sign = s;
     sign.scenes = options.scenes; // names of its cases, not scenes
-    md += signSuite(sign);
+    md += signSuite(sign, control);
     break;
   }
   case BenchSuite::Frame: {
@@ -89,8 +89,8 @@ std::string runBenchSuite(const BenchOptions& options, const JobControl& control
     break;
   }
   case BenchSuite::Reference:
-    md += referenceSuite(s);
-    if (options.scenes.empty()) md += openMeshCase(s);
+    md += referenceSuite(s, control);
+    if (options.scenes.empty()) md += openMeshCase(s, control);
     break;
   }
   if (!s.output.empty()) writeTextAtomically(s.output, md);

@@ -4,6 +4,7 @@
 #include "util/Progress.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace rtsdf {
 
@@ -34,27 +35,31 @@ void JobPoll::done(std::uint64_t n) {
 }
 
 JobControl terminalJobControl(std::function<bool()> stop) {
-  // One bar at a time: a new stage (or a restart of the same one) finishes the previous bar.
-  struct Bars {
-    std::unique_ptr<Progress> bar;
+  // A stack of bars: a stage that starts while another is unfinished (the anchor's bake inside a comparison,
+  // the exact bake inside a stage) is drawn inside it and ends before the outer one reports again; a stage that
+  // restarts (done goes back) starts a new bar.
+  struct Bar {
     std::string stage;
+    std::unique_ptr<Progress> progress;
     std::uint64_t done = 0;
   };
-  auto bars = std::make_shared<Bars>();
+  auto bars = std::make_shared<std::vector<Bar>>();
   JobControl c;
   c.stopRequested = std::move(stop);
   c.progress = [bars](const std::string& stage, std::uint64_t done, std::uint64_t total) {
-    if (!bars->bar || bars->stage != stage || done < bars->done) {
-      if (bars->bar) bars->bar->finish();
-      bars->bar = std::make_unique<Progress>(stage, total);
-      bars->stage = stage;
-      bars->done = 0;
-    }
-    bars->bar->add(done - bars->done);
-    bars->done = done;
+    auto at = std::find_if(bars->begin(), bars->end(), [&](const Bar& b) { return b.stage == stage; });
+    // Bars inside this stage's end; on a restart (done goes back) this stage's own too.
+    const auto end = at == bars->end() ? at : done < at->done ? at : at + 1;
+    for (auto inner = bars->end(); inner != end;) (--inner)->progress->finish();
+    bars->erase(end, bars->end());
+    if (bars->empty() || bars->back().stage != stage)
+      bars->push_back(Bar{stage, std::make_unique<Progress>(stage, total), 0});
+    Bar& bar = bars->back();
+    bar.progress->add(done - bar.done);
+    bar.done = done;
     if (done >= total) {
-      bars->bar->finish();
-      bars->bar.reset();
+      bar.progress->finish();
+      bars->pop_back();
     }
   };
   return c;

@@ -56,8 +56,10 @@ private:
   std::uint64_t mReported = 0;
 };
 
-/// @brief A control that draws each stage as a progress bar on stderr (util/Progress.h: only on a terminal,
-///        and not when progress is disabled) and stops when @a stop returns true.
+/// @brief A control that reports each stage on stderr (util/Progress.h: a bar on a terminal, otherwise a line
+///        every few seconds and one when the stage ends; nothing when progress is disabled) and stops when @a stop
+///        returns true. A stage reported while another is unfinished is drawn inside it (a bake inside a
+///        comparison).
 JobControl terminalJobControl(std::function<bool()> stop = {});
 
 } // namespace rtsdf

@@ -198,7 +198,8 @@ def bake_item(item):
         with tempfile.TemporaryDirectory(prefix="rtsdf-batch-") as folder:
             shipped = _mesh_path(item, folder)
             scene = rtsdf.load_scene(shipped)
-            field = rtsdf.bake(scene, method=method, res=res, band=band, **extra)
+            # progress=None: the bake reports nothing (the batch's own progress counts the items)
+            field = rtsdf.bake(scene, method=method, res=res, band=band, progress=None, **extra)
             out = os.path.join(folder, item["name"] + ".vdb")
             field.write(out)
             with open(out, "rb") as f:

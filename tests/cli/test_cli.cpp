@@ -10,8 +10,10 @@
 #include <chrono>
 #include <csignal>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -425,12 +427,15 @@ TEST(Cli, OutputsNeverReplaceInputsAndMatchTheirFormat) {
 TEST(Cli, RendersTheAnalyticSceneWithEveryTechnique) {
   const TempDir dir;
   const std::string scene = q(test::dataPath("scenes/analytic.json"));
+  // Each technique with its own flags: a flag of another technique is refused (jobs/SettingUse.h).
+  const std::map<std::string, std::string> flagsOf = {{"sdf", "--frames 2 --coarse 32 --fine 64"},
+                                                      {"shadowmap", "--frames 2 --shadow-map-res 256"},
+                                                      {"raytraced", ""}};
   for (const char* t : {"sdf", "shadowmap", "raytraced"}) {
     SCOPED_TRACE(t);
     const auto exr = dir / (std::string(t) + ".exr");
-    const Result r = rtsdfCmd("-q render " + scene + " --shadows " + t +
-                              " --width 64 --height 36 --frames 2 --coarse 32 --fine 64 --samples 16 "
-                              "--shadow-map-res 256 --compare -o " + q(exr));
+    const Result r = rtsdfCmd("-q render " + scene + " --shadows " + t + " --width 64 --height 36 " +
+                              flagsOf.at(t) + " --samples 16 --compare -o " + q(exr));
     ASSERT_EQ(r.exitCode, 0) << r.output;
     // The printed error against the truth (measured on lavapipe: sdf 0.0523, shadowmap 0.0644; the truth against
     // itself, same seed, 0 exactly).
@@ -732,4 +737,37 @@ TEST(Cli, BakeOnAPipePrintsProgressLines) {
   const Result quiet = rtsdfCmd("bake " + q(dir / "s.json") + " -m rtsdf --res 32 --frames 3 -q -o " +
                                 q(dir / "b.vdb") + " 2>&1 | cat");
   EXPECT_EQ(quiet.output.find("refining"), std::string::npos) << quiet.output;
+}
+
+// Render, animate, compare --against and the bench suites on a pipe say what they do too: a line when each stage
+// ends (and every few seconds within it, with the time left); -q prints none.
+TEST(Cli, RenderAnimateCompareAndBenchOnAPipePrintProgressLines) {
+  TempDir dir;
+  writeText(dir / "s.json", R"({"meshes": {"s": {"sphere": {"radius": 1}}}, "instances": [{"mesh": "s"}]})");
+  ASSERT_EQ(rtsdfCmd("-q bake " + q(dir / "s.json") + " --res 16 -o " + q(dir / "a.vdb")).exitCode, 0);
+  const std::string analytic = q(test::dataPath("scenes/analytic.json"));
+  struct Case {
+    std::string args;
+    std::vector<std::string> lines;
+  };
+  const std::vector<Case> cases = {
+      {"render " + analytic + " --frames 2 --width 32 --height 18 --coarse 16 --fine 32 -o " + q(dir / "r.exr"),
+       {"render 2/2 done in"}},
+      {"render " + analytic + " --width 32 --height 18 --coarse 16 --fine 32 --frames 2 --compare --samples 4 -o " +
+           q(dir / "c.exr"),
+       {"render 2/2 done in", "ray tracing 18/18 done in"}},
+      {"animate " + q(dir / "s.json") + " --frames 2 --coarse 8 --fine 16", {"animate 2/2 done in"}},
+      {"compare " + q(dir / "a.vdb") + " --against exact", {"exact SDF ", "baking the anchor 1/1 done in"}},
+      {"bench " + q(dir / "s.json") + " --suite reference --res 8 --repeats 1", {"reference suite 1/1 done in"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const Result r = rtsdfCmd(c.args + " 2>&1 | cat");
+    for (const std::string& line : c.lines) EXPECT_NE(r.output.find(line), std::string::npos) << r.output;
+    // A stage inside another (the anchor's exact bake) does not end the outer one early.
+    EXPECT_EQ(r.output.find("baking the anchor 0/1"), std::string::npos) << r.output;
+    const Result quiet = rtsdfCmd("-q " + c.args + " 2>&1 | cat");
+    EXPECT_EQ(quiet.output.find(" done in "), std::string::npos) << quiet.output;
+    EXPECT_EQ(quiet.output.find("s left"), std::string::npos) << quiet.output;
+  }
 }

@@ -242,3 +242,16 @@ def test_bad_settings_are_refused_before_any_work(tmp_path):
     assert r.returncode == 2 and "--workers 0 must be at least 1" in r.stderr
     with pytest.raises(rtsdf.SettingError, match="tile"):
         rtsdf.bake_tile(os.path.join(DATA, "meshes", "bunny.obj"), str(tmp_path / "t.vdb"), 3, 3)
+
+
+def test_the_workers_bakes_are_quiet_and_the_batch_reports_each_item_once(tmp_path):
+    folder = tmp_path / "four"
+    generate(folder, good=4)
+    good = [str(folder / f"sphere{i:02d}.obj") for i in range(4)]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    r = subprocess.run([sys.executable, "-m", "rtsdf.batch", *good, "-o", str(tmp_path / "out"), "--workers", "2",
+                        "--res", str(RES), "--band", BAND], env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    # The batch's own progress: one line per item and a summary; nothing from the bakes inside the workers.
+    assert "exact SDF" not in r.stderr and " done in " not in r.stderr, r.stderr
+    assert sum("done sphere" in line for line in r.stderr.splitlines()) == 4, r.stderr

@@ -1,0 +1,19 @@
+#include "view/ViewSettingUse.h"
+
+#include "jobs/SettingUse.h"
+
+#include <fmt/format.h>
+
+namespace rtsdf {
+
+std::string viewIgnores(const ViewOptions& o, const std::string& setting) {
+  if (o.frames == 0 && (setting == "fps" || setting == "time"))
+    return fmt::format("does not apply without a number of frames (the wall clock drives the {} until the window "
+                       "closes): leave it out or give the frames", setting == "fps" ? "frames" : "time");
+  if (o.frames == 1 && setting == "fps")
+    return "does not apply to one frame (it spaces the frames in time): leave it out or show more frames";
+  if (std::string why = pictureIgnores(o.render, setting, false, true); !why.empty()) return why;
+  return oneFrameIgnores(o.frames, setting);
+}
+
+} // namespace rtsdf

@@ -139,6 +139,8 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
   cmd->add_flag("--still", s.still, "Frame suite: every frame at time 0 (a static scene)");
   cmd->add_flag("--full-recompute", s.fullRecompute, "Frame suite: refine every masked voxel every frame (the "
                                                      "paper's frame, the anchor of incremental refinement)");
+  cmd->add_flag("--full-rebuild", s.fullRebuild, "Frame suite: run every pass of every frame over the whole grid "
+                                                 "(incremental refinement, no pass skipped)");
   addEnum(cmd, "--fine-storage", s.fineStorage, "Frame suite: dense (a dense fine SDF resolved every frame) or "
                                                 "sparse (the bricks only)");
   cmd->add_option("--csv", s.csv, "Frame suite: write one CSV row per frame to this file");

@@ -94,6 +94,7 @@ struct Renderer::Gpu {
   GpuGBuffer gbuffer;
   Buffer lights, visibility, history, depth, maps;
   gpu::SampledVolume fineTexture; ///< SdfSampling::Texture: the fine SDF for hardware-filtered sampling
+  bool textureCurrent = false;    ///< fineTexture holds the fine SDF as the last frame left it
   Gpu(const gpu::VulkanContext& ctx, bool umbra)
       : gbufferPass(ctx), sdfShadowPass(ctx, umbra), contactShadowPass(ctx), shadowMapPass(ctx), taaPass(ctx),
         profiler(ctx) {}
@@ -222,8 +223,12 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
       g.sdfShadowPass.execute(cmd.handle(), &g.profiler, {g.gbuffer, bricks.coarse, nullptr, g.lights, &bricks},
                               {g.visibility}, mSdfParams);
     } else {
-      g.sdfShadowPass.execute(cmd.handle(), &g.profiler, {g.gbuffer, mSdf->fineBuffer(), texture, g.lights},
-                              {g.visibility}, mSdfParams);
+      // The 3D texture is filled only when the frame changed the fine SDF (a static scene's frames do not).
+      const bool fill = texture && (!g.textureCurrent || out.sdf.fieldChanged);
+      g.sdfShadowPass.execute(cmd.handle(), &g.profiler,
+                              {g.gbuffer, mSdf->fineBuffer(), texture, g.lights, nullptr, fill}, {g.visibility},
+                              mSdfParams);
+      g.textureCurrent = texture != nullptr;
     }
     mContactParams.image.z = mFrame;
     if (mContactParams.rays > 0u)

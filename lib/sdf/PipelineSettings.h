@@ -90,6 +90,11 @@ struct PipelineSettings {
   /// incremental, a voxel is refined only when it is new to the mask, a moving instance came within reach of it
   /// (either pose within |f| of it), or it has not settled (see settleFrames); otherwise it keeps its value.
   bool fullRecompute = false;
+  /// Run every pass of every frame over the whole grid (for measuring and as a fallback; implied by fullRecompute).
+  /// Default: a frame runs only the passes whose inputs changed since they last ran (the coarse SDF when an instance
+  /// moved, the mask while a band voxel is due a refinement, the upsampling where the coarse SDF changed); the
+  /// results are the same bit for bit.
+  bool fullRebuild = false;
   /// Incremental: refinements in a row after which a voxel is settled; < 0: by the mode (settleFramesFor).
   int settleFrames = -1;
   /// Incremental: a settled voxel is refined again once every this many frames (0: never, its value is kept);
@@ -143,6 +148,10 @@ template <> struct KnobTable<PipelineSettings> {
       flagKnob("full recompute", &S::fullRecompute, "--full-recompute",
                "Refine every masked voxel every frame (the paper's frame); default: only voxels new to the band, "
                "near a moving instance or not yet settled"),
+      flagKnob("full rebuild", &S::fullRebuild, "--full-rebuild",
+               "Run every pass of every frame over the whole grid (the same fields, for measuring and as a "
+               "fallback); default: a frame runs only the passes whose inputs changed (none on a static scene once "
+               "the band has settled)"),
       knob("settle frames", &S::settleFrames, "--settle-frames",
            KnobRange::closed(1, 1000000).orNegative("by the refinement mode: 1 closest with rays 0, 4 closest, 32 rays"),
            "Refinements in a row after which a voxel is settled and kept"),

@@ -116,6 +116,7 @@ void SdfPipeline::preparePool(double time) {
 void SdfPipeline::allocatePool(std::uint64_t bricks) {
   waitForFrame(); // the pool's buffers are the frame's
   mPool->allocate(bricks, mMemory, mMask->coarseState());
+  mPoolReset = true;
 }
 
 FrameStats SdfPipeline::runFrame(double time) {
@@ -142,11 +143,24 @@ void SdfPipeline::submitFrame(double time) {
   // recordMask's) and the instance transforms (recordUpdate).
   mMotion->recordUpload(cmd);
   mBvh->recordUpdate(cmd, time);
-  mFields->recordCoarse(cmd, profiler, *mBvh);
-  mMask->recordMask(cmd, profiler, mFrame, moved, mFields->coarseBuffer(), mMotion->buffer(), *mPool);
-  mFields->recordFine(cmd, profiler, mFields->refineParams(mFrame, *mPool), *mBvh, *mMask, *mPool);
+  // Only the passes whose inputs changed: the others' buffers hold what they would write again. The previous frame
+  // is finished (waited for above), so the mask's last counts are on the host.
+  FrameChanges changes;
+  changes.first = mFrame == 1;
+  changes.moved = moved > 0;
+  changes.poolReset = mPoolReset;
+  changes.lastListed = changes.first || mMask->counts().refineList > 0;
+  mPlan = planFrame(changes, mSettings);
+  mPoolReset = false;
+  stats.skippedPasses = skippedPasses(mPlan, mSettings);
+  stats.fieldChanged = mPlan.coarse || mPlan.refine || mPlan.upsample;
+  if (mPlan.coarse) mFields->recordCoarse(cmd, profiler, *mBvh);
+  if (mPlan.mask)
+    mMask->recordMask(cmd, profiler, ++mMaskFrame, moved, mFields->coarseBuffer(), mMotion->buffer(), *mPool);
+  mFields->recordFine(cmd, profiler, mFields->refineParams(mFrame, *mPool), *mBvh, *mMask, *mPool, mPlan.refine,
+                      mPlan.upsample);
   gpu::computeBarrier(cmd);
-  mMask->recordCountsReadback(cmd, *mPool);
+  if (mPlan.mask) mMask->recordCountsReadback(cmd, *mPool);
   mRecorder->submit(stats, t0);
 }
 
@@ -155,12 +169,12 @@ FrameStats SdfPipeline::finishFrame() {
     const GpuRayMask::Counts counts = mMask->counts();
     stats.maskFineVoxels = counts.maskedFine;
     stats.maskCoarseVoxels = counts.coarse;
-    stats.refinedFineVoxels = counts.refinedFine;
+    stats.refinedFineVoxels = mPlan.refine ? counts.refinedFine : 0; // a skipped mask left the last run's counts
     stats.activeBricks = counts.activeBricks;
     stats.overflowBricks = counts.overflowBricks;
     stats.poolBricks = mPool->capacity();
     stats.deviceBytes = mMemory.deviceBytes + BrickPool::deviceBytesFor(mPool->capacity());
-    mPool->noteFrame(counts.activeBricks, counts.overflowBricks);
+    if (mPlan.mask) mPool->noteFrame(counts.activeBricks, counts.overflowBricks);
   });
 }
 
@@ -188,7 +202,7 @@ std::vector<float> SdfPipeline::coarseField() const {
 RayMask SdfPipeline::rayMask() const {
   if (mFrame == 0 || mSettings.band <= 0.0) return RayMask{};
   waitForFrame();
-  return mMask->readRayMask(mFrame);
+  return mMask->readRayMask(mMaskFrame);
 }
 
 openvdb::FloatGrid::Ptr SdfPipeline::levelSet(float band) const {

@@ -14,6 +14,7 @@
 #include "sdf/scenebvh/GpuSceneBvh.h"
 #include "sdf/PipelineSettings.h"
 #include "sdf/refine/RefinePasses.h"
+#include "sdf/pipeline/FramePlan.h"
 #include "sdf/pipeline/FrameStats.h"
 #include "sdf/pipeline/PipelineMemory.h"
 #include "sdf/pipeline/RayMask.h"
@@ -66,7 +67,8 @@ public:
   SdfPipeline(const SdfPipeline&) = delete;
   SdfPipeline& operator=(const SdfPipeline&) = delete;
 
-  /// @brief One frame at @a time seconds, one submission: coarse SDF, the ray mask compacted on the GPU
+  /// @brief One frame at @a time seconds, one submission, of the passes whose inputs changed (planFrame; all with
+  ///        PipelineSettings::fullRebuild, the same results): coarse SDF, the ray mask compacted on the GPU
   ///        (MaskCompactPass, MaskDispatchPass), upsample, refinement dispatched indirectly by the mask's size
   ///        (incremental unless PipelineSettings::fullRecompute: the boxes the instances swept since the previous
   ///        frame, movedInstanceBoxes, are the frame's only upload besides the BVH's top level). Only the mask's
@@ -136,6 +138,11 @@ private:
   PipelineMemory mMemory;   ///< the estimate checked at construction (the pool is added when sized)
   GridSpec mCoarseSpec, mFineSpec;
   std::uint32_t mFrame = 0;
+  /// Frames the mask ran (MaskCompactPass's frame numbers: the band's and the bricks' stamps count its runs, so a
+  /// frame that skips it leaves every voxel as the run before left it).
+  std::uint32_t mMaskFrame = 0;
+  bool mPoolReset = false; ///< the pool was (re)allocated since the last frame was recorded
+  FramePlan mPlan;         ///< the passes the last frame ran
   std::unique_ptr<GpuSceneBvh> mBvh;
   std::unique_ptr<InstanceMotion> mMotion;
   std::unique_ptr<FieldPasses> mFields;

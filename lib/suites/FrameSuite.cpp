@@ -26,6 +26,25 @@ template <class Get> double medianAfterFirst(const std::vector<FrameRow>& rows, 
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/// The median GPU time of each pass over frames 2..N (0 in a frame that skipped it), and the frames that ran it.
+std::string passMedians(const std::vector<FrameRow>& rows) {
+  std::vector<std::string> passes;
+  for (const FrameRow& r : rows)
+    for (const auto& entry : r.passMs)
+      if (std::find(passes.begin(), passes.end(), entry.first) == passes.end()) passes.push_back(entry.first);
+  std::string md = "GPU time by pass, medians of frames 2..N (0 where a frame skipped the pass):\n\n| pass | GPU (ms) | "
+                   "frames that ran it |\n|---|---|---|\n";
+  for (const std::string& pass : passes) {
+    std::size_t ran = 0;
+    for (const FrameRow& r : rows)
+      ran += std::any_of(r.passMs.begin(), r.passMs.end(), [&](const auto& e) { return e.first == pass; });
+    md += fmt::format("| {} | {:.2f} | {} of {} |\n", pass,
+                      medianAfterFirst(rows, [&](const FrameRow& r) { return passTotal(r.passMs, pass); }), ran,
+                      rows.size());
+  }
+  return md + "\n";
+}
+
 } // namespace
 
 std::string frameCsv(const std::vector<FrameRow>& rows) {
@@ -50,6 +69,7 @@ std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control
   a.pipeline.mode = s.refine;
   a.pipeline.rays = s.rays;
   a.pipeline.fullRecompute = s.fullRecompute;
+  a.pipeline.fullRebuild = s.fullRebuild;
   a.pipeline.fineStorage = s.fineStorage;
   resetPeakResidentMemory();
   // With a warm-up, the frames are timed back to back as a game runs them, after the warm-up has raised the
@@ -68,6 +88,7 @@ std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control
       r.gpuMs = f.gpuMs();
       r.wallMs = f.stats.wallMs;
       r.refinedVoxels = f.stats.refinedFineVoxels;
+      r.passMs = f.stats.passMs;
       spdlog::info("frame {} timed: host {:.2f} ms, GPU {:.1f} ms, wall {:.1f} ms", f.frame + 1, r.hostMs, r.gpuMs,
                    r.wallMs);
     });
@@ -86,6 +107,7 @@ std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control
     r.poolBricks = f.stats.poolBricks;
     r.overflowBricks = f.stats.overflowBricks;
     r.deviceMiB = mib(f.stats.deviceBytes);
+    r.passMs = f.stats.passMs;
     r.meanAbsErrorVoxels = f.error.meanAbs;
     r.wrongSignPct = 100.0 * f.error.signErrorRate();
     r.peakMiB = mib(peakResidentMemory());
@@ -94,7 +116,7 @@ std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control
       if (t.refinedVoxels != r.refinedVoxels)
         spdlog::warn("frame {}: the timed run refined {} voxels, the measured run {}", r.frame, t.refinedVoxels,
                      r.refinedVoxels);
-      std::tie(r.hostMs, r.gpuMs, r.wallMs) = std::tuple(t.hostMs, t.gpuMs, t.wallMs);
+      std::tie(r.hostMs, r.gpuMs, r.wallMs, r.passMs) = std::tuple(t.hostMs, t.gpuMs, t.wallMs, t.passMs);
     }
     spdlog::info("frame {}: host {:.2f} ms, GPU {:.1f} ms, wall {:.1f} ms, mask {}, error {:.4f} voxels", r.frame,
                  r.hostMs, r.gpuMs, r.wallMs, r.maskVoxels, r.meanAbsErrorVoxels);
@@ -108,7 +130,9 @@ std::string frameReport(const BenchOptions& s, const std::vector<FrameRow>& rows
   std::string md = fmt::format("## Frames: {}, size {} (coarse {} / fine {}), {} refinement ({}), x = {}, d = 0.1, "
                                "alpha = 0.95, {}, fine storage {}\n\n",
                                s.scenes.empty() ? std::string("default.json") : s.scenes.front(), toString(s.frameSize),
-                               coarse, fine, toString(s.refine), s.fullRecompute ? "full recompute" : "incremental",
+                               coarse, fine, toString(s.refine), s.fullRecompute ? "full recompute"
+                               : s.fullRebuild  ? "incremental refinement, every pass rebuilt"
+                                                : "incremental",
                                s.rays,
                                s.still ? "static (every frame at time 0)" : "animated at 30 fps",
                                toString(s.fineStorage));
@@ -132,6 +156,7 @@ std::string frameReport(const BenchOptions& s, const std::vector<FrameRow>& rows
                     rows.empty() ? 0.0 : rows.back().peakMiB, rows.empty() ? 0.0 : rows.back().deviceMiB,
                     medianAfterFirst(rows, [](const FrameRow& r) { return double(r.activeBricks); }),
                     rows.empty() ? 0 : rows.back().poolBricks);
+  md += passMedians(rows);
   md += "| frame | time (s) | host (ms) | GPU (ms) | wall (ms) | mask voxels | refined voxels | mean abs error "
         "(voxels) | wrong sign |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const FrameRow& r : rows)

@@ -5,6 +5,8 @@
 #include "suites/Suites.h"
 #include "sdf/SdfPipeline.h"
 
+#include "util/PassTimes.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -27,6 +29,7 @@ struct FrameRow {
   std::uint64_t poolBricks = 0;      ///< the brick pool's capacity
   std::uint64_t overflowBricks = 0;  ///< bricks under the band that found no slot (the next frame regrows the pool)
   double deviceMiB = 0.0;            ///< the pipeline's device buffers (FrameStats::deviceBytes)
+  PassTimes passMs;                  ///< GPU time per pass (the passes a frame skipped are absent)
 };
 
 /// @brief The frame suite's CSV: the header `frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,

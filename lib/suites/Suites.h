@@ -50,6 +50,7 @@ struct BenchOptions {
   RefineMode refine = RefineMode::Closest;
   int rays = 1;                           ///< x (in closest mode: the rays that vote for the sign)
   bool fullRecompute = false;              ///< refine every masked voxel every frame (the paper's frame, the anchor)
+  bool fullRebuild = false;                ///< run every pass of every frame over the whole grid (PipelineSettings)
   FineStorage fineStorage = FineStorage::Dense; ///< frame suite: a dense fine SDF resolved every frame, or bricks only
   bool still = false;                     ///< every frame at time 0 (static); default: the scene's animation at 30 fps
   std::filesystem::path csv;              ///< the frame suite's per-frame CSV (atomically); empty: none

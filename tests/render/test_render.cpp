@@ -1025,3 +1025,40 @@ TEST_F(Render, ComposePassEqualsItsCpuReference) {
     }
   }
 }
+
+// The 3D texture the march samples is filled only in frames that wrote the fine SDF (FrameStats::fieldChanged): the
+// orbiting teapot moving, still for three frames, moving again gives the same visibility bit for bit as a renderer
+// whose pipeline rebuilds every pass, and the still frames after the band settled copy nothing.
+TEST_F(Render, TheTextureIsFilledOnlyWhenTheFieldChanged) {
+  const Scene scene = defaultScene();
+  RenderSettings s = small(ShadowTechnique::Sdf);
+  s.sdf.sampling = SdfSampling::Texture;
+  s.pipeline.band = 0.05;
+  s.pipeline.rays = 0;
+  s.pipeline.coarseRes = 40;
+  s.pipeline.fineRes = 80;
+  const std::vector<double> times = {0.0, 0.4, 0.4, 0.4, 0.4, 0.8};
+  Bounds bounds;
+  for (const double t : times) bounds.add(boundsOf(scene, t));
+  Renderer skipping(*sCtx, scene, bounds, s);
+  s.pipeline.fullRebuild = true;
+  Renderer rebuilt(*sCtx, scene, bounds, s);
+  ASSERT_EQ(skipping.sdfSampling(), SdfSampling::Texture);
+  for (std::size_t f = 0; f < times.size(); ++f) {
+    SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
+    const RenderedFrame a = skipping.renderFrame(times[f]), b = rebuilt.renderFrame(times[f]);
+    // Frame 3 still runs the mask (frame 2 refined voxels near the teapot); 4 and 5 run nothing.
+    const bool filled = f < 3 || f == 5;
+    const auto copied = [](const RenderedFrame& r) {
+      return std::any_of(r.passMs.begin(), r.passMs.end(),
+                         [](const auto& e) { return e.first == SdfShadowPass::kCopyName; });
+    };
+    EXPECT_EQ(copied(a), filled);
+    EXPECT_TRUE(copied(b));
+    EXPECT_EQ(a.sdf.fieldChanged, filled);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < a.visibility[0].size(); ++i)
+      differ += std::memcmp(&a.visibility[0][i], &b.visibility[0][i], 4) != 0;
+    EXPECT_EQ(differ, 0u);
+  }
+}

@@ -75,7 +75,7 @@ void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
   if (in.texture) {
     if (mTexturePipeline.name().empty())
       throw Error("SdfShadowPass: this device cannot sample the fine SDF as a filtered 3D texture");
-    mFill.execute(cmd, profiler, {in.field}, {*in.texture}, mFillMethod);
+    if (in.fillTexture) mFill.execute(cmd, profiler, {in.field}, {*in.texture}, mFillMethod);
     gpu::ProfileScope scope(profiler, cmd, kName);
     b[kSdfShadowBindingField] = in.texture;
     mTexturePipeline.dispatch(cmd, b, &params, groups);

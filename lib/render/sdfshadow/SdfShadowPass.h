@@ -51,6 +51,9 @@ public:
     /// Where given (and no texture), the march fetches the fine SDF from the brick pool and the coarse SDF
     /// (SdfPipeline::brickField(): the same values as the dense fine SDF), eight fetches per step.
     const GpuBrickField* bricks = nullptr;
+    /// Whether @a texture is filled from @a field first; false where it still holds @a field's values (the field
+    /// unchanged since the last fill: FrameStats::fieldChanged), so the copy is skipped.
+    bool fillTexture = true;
   };
   struct Outputs { const gpu::Buffer& visibility; }; ///< params.gridDims.w * width * height floats, light-major
   using Params = gpu::shared::SdfShadowParams;

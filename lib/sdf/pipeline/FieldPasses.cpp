@@ -55,14 +55,15 @@ RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& poo
 }
 
 void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const RefineParams& p,
-                             const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool) const {
+                             const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool, bool refine,
+                             bool upsample) const {
   const BrickPages pages = pool.pages();
   const Buffer& coarse = mCoarse.distanceBuffer();
-  if (mSettings.band > 0.0)
+  if (refine && mSettings.band > 0.0)
     mRefine->execute(cmd, profiler, {bvh, mask.refineList(), mask.countsBuffer(), coarse, mask.fineRanges(),
                                      pool.slots()},
                      {pages, mFine ? mFine : pool.placeholder()}, p);
-  if (mFine) mUpsample.execute(cmd, profiler, {coarse, mask.fineToCoarse(), pool.slots()}, {mFine}, p);
+  if (upsample && mFine) mUpsample.execute(cmd, profiler, {coarse, mask.fineToCoarse(), pool.slots()}, {mFine}, p);
   // Shading that samples the bricks finds the grids here.
   gpu::recordUpload(cmd, mSamplingParams, &p, sizeof(p));
 }

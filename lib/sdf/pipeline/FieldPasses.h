@@ -39,10 +39,11 @@ public:
   void recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh);
   /// @brief The refinement's and upsampling's parameters for frame number @a frame with the brick pool @a pool.
   gpu::shared::RefineParams refineParams(std::uint32_t frame, const BrickPool& pool) const;
-  /// @brief Record after the mask: the refinement of @a mask's refine list (band > 0), the upsampling into the
-  ///        dense fine SDF (Dense only), and @a p uploaded for shading.
+  /// @brief Record after the mask: where @a refine, the refinement of @a mask's refine list (band > 0); where
+  ///        @a upsample, the upsampling into the dense fine SDF (Dense only); and @a p uploaded for shading.
   void recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const gpu::shared::RefineParams& p,
-                  const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool) const;
+                  const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool, bool refine = true,
+                  bool upsample = true) const;
 
   /// @brief Whether the fine SDF is kept dense (FineStorage::Dense).
   bool dense() const { return bool(mFine); }

@@ -4,7 +4,9 @@
 #include "util/PassTimes.h"
 
 #include <cstdint>
+#include <algorithm>
 #include <string>
+#include <vector>
 
 namespace rtsdf {
 
@@ -24,6 +26,15 @@ struct FrameStats {
   double hostMs = 0.0;
   double wallMs = 0.0; ///< submitFrame() to the return of finishFrame(): host work, submission and the GPU's work
   PassTimes passMs;      ///< GPU time per pass
+  /// The passes this frame did not run, their inputs unchanged since they last ran (planFrame): their buffers hold
+  /// what they wrote then. Empty with PipelineSettings::fullRebuild.
+  std::vector<std::string> skippedPasses;
+  /// Whether the frame wrote the fields shading samples (the coarse SDF, the fine SDF or the bricks); false: they
+  /// hold the previous frame's values, so a copy of them (the shading's 3D texture) is still current.
+  bool fieldChanged = true;
+  bool skipped(const std::string& pass) const {
+    return std::find(skippedPasses.begin(), skippedPasses.end(), pass) != skippedPasses.end();
+  }
   double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
   /// @brief The refinement pass's time, whichever mode ran (RayRefinePass or ClosestRefinePass).
   double refineMs() const;

@@ -18,7 +18,8 @@ std::vector<float> PipelineProbe::brickValues() const {
 
 std::vector<std::uint32_t> PipelineProbe::refinedVoxels() const {
   mPipe.waitForFrame();
-  return mPipe.mMask->readRefinedVoxels(mPipe.mFrame);
+  // A frame that skipped the mask refined nothing (the list is the last run's).
+  return mPipe.mPlan.refine ? mPipe.mMask->readRefinedVoxels(mPipe.mFrame) : std::vector<std::uint32_t>{};
 }
 
 std::vector<glm::uvec2> PipelineProbe::coarseState() const {

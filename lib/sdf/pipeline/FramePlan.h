@@ -1,0 +1,40 @@
+#pragma once
+/// @file FramePlan.h
+/// @brief Which passes a frame of an SdfPipeline runs: only those whose inputs changed since they last ran
+///        (planFrame); the others' buffers keep what they wrote then, which is what they would write again.
+#include "sdf/PipelineSettings.h"
+
+#include <string>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief What changed since the previous frame, as the host knows it before recording a frame.
+struct FrameChanges {
+  bool first = true;        ///< no frame has run: every buffer is to be written
+  bool moved = false;       ///< an instance's transform differs from the previous frame's (movedInstanceBoxes)
+  bool poolReset = false;   ///< the brick pool was (re)allocated for this frame: every coarse voxel is new to the band
+  bool lastListed = true;   ///< the mask's last run listed voxels to refine (some may still be settling)
+};
+
+/// @brief The passes one frame runs. Coarse: VoxelizePass, the nearest-seed transform and CoarseDistancePass; mask:
+///        MaskCompactPass, BrickAllocPass and MaskDispatchPass, with the refinement they dispatch; upsample:
+///        UpsamplePass (dense fine storage only).
+struct FramePlan {
+  bool coarse = true, mask = true, refine = true, upsample = true;
+};
+
+/// @brief The passes a frame with @a changes runs under the settings in effect @a s. Every pass runs with
+///        fullRebuild or fullRecompute and on the first frame. Otherwise the coarse SDF is rebuilt only when an
+///        instance moved (its inputs are the instances' triangles and transforms); the mask runs when the coarse SDF
+///        changed, the pool was reset, or a band voxel may be due a refinement: while the last run listed any (the
+///        voxels still settling), and every frame where settled voxels are refreshed (refreshPeriod > 0: staggered
+///        over the frames) or never settle (settleFrames 0). A run that lists nothing leaves the band, the bricks
+///        and the fine SDF as they are, so skipping it changes nothing. The upsampling writes the coarse SDF
+///        outside the slotted band: it runs when the coarse SDF or the slots changed.
+FramePlan planFrame(const FrameChanges& changes, const PipelineSettings& s);
+
+/// @brief The profiler names of the passes @a plan leaves out under @a s (in recording order), for FrameStats.
+std::vector<std::string> skippedPasses(const FramePlan& plan, const PipelineSettings& s);
+
+} // namespace rtsdf

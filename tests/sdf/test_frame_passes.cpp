@@ -1,0 +1,158 @@
+// A frame runs only the passes whose inputs changed (planFrame): frame by frame the same coarse SDF, band, bricks and
+// fine field as a pipeline that rebuilds every pass (PipelineSettings::fullRebuild), and the skipped passes are
+// neither recorded nor timed.
+#include "GpuFixture.h"
+#include "TestUtil.h"
+#include "scene/SceneGeometry.h"
+#include "scene/SceneLoader.h"
+#include "sdf/SdfPipeline.h"
+#include "sdf/coarse/CoarseSdf.h"
+#include "sdf/mask/MaskParams.h"
+#include "sdf/mask/MaskPasses.h"
+#include "sdf/pipeline/PipelineProbe.h"
+#include "sdf/refine/RefinePasses.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using namespace rtsdf;
+
+namespace {
+
+struct FramePassesTag : test::NoSuiteObjects {};
+using FramePasses = test::VulkanSuite<FramePassesTag>;
+
+constexpr double kFps = 30.0;
+
+/// Frame times that move, stand still for several frames (the same moment again), then move again.
+const std::vector<double> kMovingThenStill = {0, 1 / kFps, 2 / kFps, 2 / kFps, 2 / kFps, 2 / kFps, 3 / kFps, 4 / kFps,
+                                              4 / kFps};
+const std::vector<double> kStill(6, 0.0);
+
+std::size_t differing(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size()) return std::max(a.size(), b.size());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) n += std::memcmp(&a[i], &b[i], sizeof(float)) != 0;
+  return n;
+}
+
+/// Per brick: whether it holds a slot.
+std::vector<bool> slotted(const std::vector<std::uint32_t>& slots) {
+  std::vector<bool> out(slots.size());
+  for (std::size_t i = 0; i < slots.size(); ++i) out[i] = slots[i] != gpu::shared::kNoBrick;
+  return out;
+}
+
+/// Runs @a times through a pipeline with @a s and one that rebuilds every pass, comparing them bit for bit after each
+/// frame; returns the number of frames the first skipped the coarse SDF in.
+int expectEqualToAFullRebuild(const gpu::VulkanContext& ctx, const std::string& scenePath, PipelineSettings s,
+                              const std::vector<double>& times) {
+  const Scene scene = loadScene(test::dataPath(scenePath));
+  Bounds bounds;
+  for (const double t : times) bounds.add(buildSceneGeometry(scene, t).bounds);
+  SdfPipeline skipping(ctx, scene, bounds, s);
+  s.fullRebuild = true;
+  SdfPipeline rebuilt(ctx, scene, bounds, s);
+  const PipelineProbe ps(skipping), pr(rebuilt);
+  int coarseSkipped = 0;
+  for (std::size_t f = 0; f < times.size(); ++f) {
+    SCOPED_TRACE(::testing::Message() << scenePath << ", frame " << f + 1 << " at " << times[f] << " s");
+    const FrameStats a = skipping.runFrame(times[f]), b = rebuilt.runFrame(times[f]);
+    EXPECT_TRUE(b.skippedPasses.empty());
+    coarseSkipped += a.skipped(VoxelizePass::kName);
+    EXPECT_EQ(a.maskFineVoxels, b.maskFineVoxels);
+    EXPECT_EQ(a.maskCoarseVoxels, b.maskCoarseVoxels);
+    EXPECT_EQ(a.refinedFineVoxels, b.refinedFineVoxels);
+    EXPECT_EQ(a.activeBricks, b.activeBricks);
+    EXPECT_EQ(differing(skipping.coarseField(), rebuilt.coarseField()), 0u) << "coarse voxels differ";
+    EXPECT_EQ(skipping.rayMask().fineVoxels, rebuilt.rayMask().fineVoxels);
+    EXPECT_EQ(ps.refinedVoxels(), pr.refinedVoxels());
+    EXPECT_EQ(slotted(ps.brickSlots()), slotted(pr.brickSlots())); // which slot is the order of atomics
+    EXPECT_EQ(differing(skipping.fineField(), rebuilt.fineField()), 0u) << "fine voxels differ";
+  }
+  return coarseSkipped;
+}
+
+PipelineSettings closestAt(int coarse, int fine, int rays) {
+  PipelineSettings s = test::formerPipelineDefaults();
+  s.coarseRes = coarse;
+  s.fineRes = fine;
+  s.mode = RefineMode::Closest;
+  s.rays = rays;
+  return s;
+}
+
+bool timed(const FrameStats& st, const std::string& pass) {
+  for (const auto& entry : st.passMs)
+    if (entry.first == pass) return true;
+  return false;
+}
+
+} // namespace
+
+// The orbiting teapot of the default scene, moving, standing still for three frames, moving again: closest mode with
+// the exact sign (settles in one refinement) and with sign rays (four), rays mode (refreshed every frame, so the mask
+// never stops), dense and sparse.
+TEST_F(FramePasses, SkippingFramesEqualAFullRebuildOnTheOrbitingTeapot) {
+  EXPECT_EQ(expectEqualToAFullRebuild(*sCtx, "scenes/default.json", closestAt(40, 80, 0), kMovingThenStill), 4);
+  EXPECT_EQ(expectEqualToAFullRebuild(*sCtx, "scenes/default.json", closestAt(32, 64, 1), kMovingThenStill), 4);
+  PipelineSettings sparse = closestAt(32, 64, 0);
+  sparse.fineStorage = FineStorage::Sparse;
+  EXPECT_EQ(expectEqualToAFullRebuild(*sCtx, "scenes/default.json", sparse, kMovingThenStill), 4);
+  PipelineSettings rays = test::formerPipelineDefaults();
+  rays.coarseRes = 24;
+  rays.fineRes = 48;
+  rays.rays = 2;
+  rays.settleFrames = 2;
+  rays.refreshPeriod = 3;
+  EXPECT_EQ(expectEqualToAFullRebuild(*sCtx, "scenes/default.json", rays, kMovingThenStill), 4);
+}
+
+// A static scene: after the first frame nothing moves, so only the settling refinements run.
+TEST_F(FramePasses, SkippingFramesEqualAFullRebuildOnAStaticScene) {
+  EXPECT_EQ(expectEqualToAFullRebuild(*sCtx, "scenes/bunny.json", closestAt(32, 64, 1), kStill), 5);
+  EXPECT_EQ(expectEqualToAFullRebuild(*sCtx, "scenes/default.json", closestAt(32, 64, 0), kStill), 5);
+}
+
+// The passes a frame skips are neither recorded nor timed, and say so in FrameStats; the full rebuild runs them all.
+// Closest mode with the exact sign on a static scene: frame 1 runs everything, frame 2 only the mask (it listed the
+// band last time), frame 3 nothing; a moving frame runs everything again.
+TEST_F(FramePasses, AStaticFrameRunsNoPassAndAMovingOneRunsThemAll) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  Bounds bounds;
+  for (int f = 0; f < 2; ++f) bounds.add(buildSceneGeometry(scene, f / kFps).bounds);
+  const std::vector<std::string> coarse = {VoxelizePass::kName, ExactEdtPass::kName, CoarseDistancePass::kName};
+  const std::vector<std::string> mask = {MaskCompactPass::kName, BrickAllocPass::kName, MaskDispatchPass::kName,
+                                         ClosestRefinePass::kName};
+  for (const bool fullRebuild : {false, true}) {
+    SCOPED_TRACE(fullRebuild ? "full rebuild" : "skipping");
+    PipelineSettings s = closestAt(32, 64, 0);
+    s.fullRebuild = fullRebuild;
+    SdfPipeline pipe(*sCtx, scene, bounds, s);
+    const std::vector<FrameStats> st = {pipe.runFrame(0.0), pipe.runFrame(0.0), pipe.runFrame(0.0),
+                                        pipe.runFrame(1 / kFps)};
+    for (std::size_t f = 0; f < st.size(); ++f) {
+      SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
+      const bool coarseRuns = fullRebuild || f == 0 || f == 3, maskRuns = coarseRuns || f == 1;
+      for (const std::string& pass : coarse) {
+        EXPECT_EQ(timed(st[f], pass), coarseRuns) << pass;
+        EXPECT_EQ(st[f].skipped(pass), !coarseRuns) << pass;
+      }
+      for (const std::string& pass : mask) {
+        EXPECT_EQ(timed(st[f], pass), maskRuns) << pass;
+        EXPECT_EQ(st[f].skipped(pass), !maskRuns) << pass;
+      }
+      EXPECT_EQ(timed(st[f], UpsamplePass::kName), coarseRuns);
+      EXPECT_EQ(st[f].skipped(UpsamplePass::kName), !coarseRuns);
+      EXPECT_EQ(st[f].fieldChanged, maskRuns);
+      EXPECT_GT(st[f].maskFineVoxels, 0u);
+    }
+    EXPECT_EQ(st[2].refinedFineVoxels, 0u);
+    EXPECT_EQ(st[1].maskFineVoxels, st[2].maskFineVoxels);
+    EXPECT_GT(st[3].refinedFineVoxels, 0u);
+  }
+}

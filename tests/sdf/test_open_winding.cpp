@@ -152,10 +152,11 @@ TEST(OpenWinding, FlagsFollowTheExactFieldsRule) {
   for (std::uint32_t f : t.pieces().flagsOfLeaf) ASSERT_NE(f & gpu::shared::kOpenSeveralPieces, 0u);
 }
 
-// Closest mode on the open teapot and the hemisphere: every masked voxel off the surface has the exact field's sign
-// (which the winding number decides at the rims, and on the teapot throughout), the largest error is under a voxel,
-// and the signs are the CPU copy's voxel for voxel (the winding number sum may round to the other side of 1/2 at a
-// few). Before the rule: the nearest triangle's side.
+// Closest mode on the open teapot and the hemisphere, with and without sign rays: every masked voxel off the surface
+// has the exact field's sign (which the winding number decides at the rims, and on the teapot throughout, and the
+// nearest triangle's side elsewhere), the largest error is under a voxel, and the signs are the CPU copy's voxel for
+// voxel (the winding number sum may round to the other side of 1/2 at a few). Before the rule: the nearest
+// triangle's side at x = 0, the votes at x = 1 (132 of 62863 hemisphere voxels wrong, 11.5 voxels off).
 TEST_F(OpenWindingGpu, ClosestModeSignsOpenMeshesAsTheExactFieldAndItsCpuCopy) {
   for (const bool teapot : {true, false}) {
     const Scene scene = teapot ? loadScene(test::dataPath("scenes/teapot.json")) : hemisphere();
@@ -163,7 +164,7 @@ TEST_F(OpenWindingGpu, ClosestModeSignsOpenMeshesAsTheExactFieldAndItsCpuCopy) {
       SCOPED_TRACE(::testing::Message() << (teapot ? "teapot" : "hemisphere") << ", x = " << rays);
       SdfPipeline pipe(*sCtx, scene, buildSceneGeometry(scene, 0.0).bounds, closestAt(32, 64, rays));
       for (int f = 0; f < (rays ? 4 : 1); ++f) pipe.runFrame(0.0);
-      const OpenCheck c = checkOpen(pipe, scene, rays == 0);
+      const OpenCheck c = checkOpen(pipe, scene, true);
       std::printf("%s x = %d: %llu voxels, %llu by winding, %llu wrong vs exact, %llu differ from the copy, largest "
                   "error %.3f voxels\n",
                   teapot ? "teapot" : "hemisphere", rays, (unsigned long long)c.compared,
@@ -172,10 +173,8 @@ TEST_F(OpenWindingGpu, ClosestModeSignsOpenMeshesAsTheExactFieldAndItsCpuCopy) {
       EXPECT_GT(c.compared, 5000u);
       EXPECT_LE(c.wrongVsExact, c.compared / 5000);
       EXPECT_LE(c.largestError, 1.0);
-      if (rays == 0) {
-        EXPECT_GT(c.byWinding, 100u);
-        EXPECT_LE(c.differFromCopy, c.compared / 5000);
-      }
+      EXPECT_GT(c.byWinding, 100u);
+      EXPECT_LE(c.differFromCopy, c.compared / 5000);
     }
   }
 }

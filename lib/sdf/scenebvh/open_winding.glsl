@@ -1,6 +1,6 @@
-// Open meshes keep the exact field's winding number (sdf/scenebvh/OpenPieceParams.h): openWindingSigns tells whether
-// the exact field would sign a point whose nearest surface is a given triangle of an instance by the winding number
-// (windingSigns), openWindingInside whether the point is inside by it. The winding number sums the solid angles of the
+// Open meshes keep the exact field's winding number (sdf/scenebvh/OpenPieceParams.h): openSignRule tells how the
+// exact field signs a point whose nearest surface is a given triangle of an instance (its side, or the winding number:
+// windingSigns), openWindingInside whether the point is inside by the winding number. The winding number sums the solid angles of the
 // instance's bottom level in object space, clusters far from the point by their dipoles. Include after
 // bvh_traverse.glsl, with RTSDF_OPEN_FLAGS and RTSDF_WINDING_NODES defined as the bindings of GpuSceneBvh's
 // openFlags() and windingNodes() buffers.
@@ -39,14 +39,17 @@ float windingNumberAt(BvhInstance inst, vec3 po) {
   return sum * 0.07957747155; // 1 / 4 pi
 }
 
-// Whether the winding number signs world point p (the BVH's frame), whose nearest surface is leaf-ordered triangle
-// 'leaf' of the instance in slot 'slot' (cheap: the triangle's flags and the feature nearest to p).
-bool openWindingSigns(vec3 p, uint slot, uint leaf) {
+// How the exact field signs world point p (the BVH's frame), whose nearest surface is leaf-ordered triangle 'leaf' of
+// the instance in slot 'slot' (cheap: the triangle's flags and the feature nearest to p): kOpenRuleClosed (a closed
+// mesh: the refinement's own rule), kOpenRuleSide (an open mesh where the nearest triangle's side holds) or
+// kOpenRuleWinding (the winding number).
+const uint kOpenRuleClosed = 0u, kOpenRuleSide = 1u, kOpenRuleWinding = 2u;
+uint openSignRule(vec3 p, uint slot, uint leaf) {
   uint flags = openFlags[leaf];
-  if (flags == 0u) return false;
+  if (flags == 0u) return kOpenRuleClosed;
   vec3 a, b, c;
   worldTriangle(instances[slot], leaf, a, b, c);
-  return windingSigns(flags, nearestFeature(p, a, b, c));
+  return windingSigns(flags, nearestFeature(p, a, b, c)) ? kOpenRuleWinding : kOpenRuleSide;
 }
 
 // Whether world point p is inside the mesh of the instance in slot 'slot' by its winding number (w >= 1/2).

@@ -37,12 +37,13 @@ public:
   std::uint32_t pieceOf(unsigned triangle) const { return mPieceOf[triangle]; }
   /// @brief Whether an edge or a corner of @a triangle is on the rim.
   bool touchesRim(unsigned triangle) const { return mRimTriangle[triangle] != 0; }
+  /// @brief Whether @a feature of @a triangle (an edge or a corner; a face never) is on the rim.
+  bool onRim(unsigned triangle, TriangleFeature feature) const;
 
 private:
   void findRim(const WorldMesh& mesh, const VertexTriangles& around);
   void findBoxes(const WorldMesh& mesh, const MeshPieces& pieces);
   void findNeighbours(float reach);
-  bool onRim(unsigned triangle, TriangleFeature feature) const;
 
   const WorldMesh* mMesh;
   std::vector<char> mRimEdge;   ///< per triangle, 3 (AB, BC, CA): not exactly two faces running it opposite ways

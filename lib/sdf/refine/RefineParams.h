@@ -40,7 +40,7 @@ const uint kUpsampleBindingCount = 4u;
 
 /// Bindings of refine_rays.comp and refine_closest*.comp: the scene BVH (GpuBvhLayout.h's kBvhBinding*), then these,
 /// then the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page),
-/// then the closed pieces' union (piece_union.glsl).
+/// then the closed pieces' union (piece_union.glsl), then the open meshes' winding number (open_winding.glsl).
 const uint kRefineBindingRefineList = kBvhBindingCount + 0u; // the coarse voxels to refine (MaskCompactPass's list)
 const uint kRefineBindingMaskCounts = kBvhBindingCount + 1u; // MaskCounts words: the list's size
 const uint kRefineBindingCoarse = kBvhBindingCount + 2u;     // coarse SDF c_t (upsampled for the bound)
@@ -52,7 +52,9 @@ const uint kRefineBindingValuePages = kBvhBindingCount + 6u; // in: f_{t-1} sign
 const uint kRefineBindingVotePages = kRefineBindingValuePages + RTSDF_BRICK_PAGES; // decayed (front, back) hits
 const uint kRefineBindingPieceOf = kRefineBindingVotePages + RTSDF_BRICK_PAGES; // GpuSceneBvh::pieceOf()
 const uint kRefineBindingUnionPieces = kRefineBindingPieceOf + 1u; // GpuSceneBvh::unionPieces(): this frame's overlap
-const uint kRefineBindingCount = kRefineBindingUnionPieces + 1u;
+const uint kRefineBindingOpenFlags = kRefineBindingUnionPieces + 1u; // GpuSceneBvh::openFlags(): open meshes' rims
+const uint kRefineBindingWindingNodes = kRefineBindingOpenFlags + 1u; // GpuSceneBvh::windingNodes(): their dipoles
+const uint kRefineBindingCount = kRefineBindingWindingNodes + 1u;
 
 /// Push constants of refine_upsample.comp and the refinement shaders.
 struct RefineParams {

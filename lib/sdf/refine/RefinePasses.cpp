@@ -74,6 +74,8 @@ void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const 
   bindPages(b, kRefineBindingVotePages, out.pool.votes);
   b[kRefineBindingPieceOf] = &in.bvh.pieceOf();
   b[kRefineBindingUnionPieces] = &in.bvh.unionPieces();
+  b[kRefineBindingOpenFlags] = &in.bvh.openFlags();
+  b[kRefineBindingWindingNodes] = &in.bvh.windingNodes();
   mPipeline.dispatchIndirect(cmd, b, &params, in.counts);
   gpu::computeBarrier(cmd);
 }

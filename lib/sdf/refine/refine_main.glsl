@@ -9,6 +9,9 @@
 //   front/back-face hits, decayed by alpha, vote for the sign (more back-face hits: inside).
 //   closest mode: f_t = exact distance by closest-point traversal; sign from the ray votes when x > 0,
 //   else from the side of the closest triangle.
+//   closest mode: where the nearest surface is an open mesh's, the exact field's rule signs (open_winding.glsl): the
+//   winding number w >= 1/2 at a rim and anywhere on a mesh of several pieces, elsewhere the nearest triangle's side
+//   (with or without sign rays: rays escaping through the openings are no guide).
 //   Both modes: where that says outside, a point inside a closed piece that overlaps another is inside
 //   (piece_union.glsl: closed pieces through each other are a union, as in the exact field).
 // The list holds the coarse voxels MaskCompactPass chose to refine this frame (the others keep their values);
@@ -55,6 +58,9 @@ layout(std430, binding = kRefineBindingDense) writeonly buffer Dense { float den
 #define RTSDF_PIECE_OF kRefineBindingPieceOf
 #define RTSDF_UNION_PIECES kRefineBindingUnionPieces
 #include "sdf/scenebvh/piece_union.glsl"
+#define RTSDF_OPEN_FLAGS kRefineBindingOpenFlags
+#define RTSDF_WINDING_NODES kRefineBindingWindingNodes
+#include "sdf/scenebvh/open_winding.glsl"
 
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
 // The box's candidates (collectCellCandidates): instance slot, leaf-order triangle and distance to the box's
@@ -245,9 +251,22 @@ void storeVoxel(ivec3 v, uint slot, uint local, float f, bool inside, vec2 vote)
 }
 
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+// How fine voxel v, nearest to hit (near: a triangle was found), is signed where its nearest surface is an open mesh's
+// (open_winding.glsl): kNoOpenSign on a closed mesh (the side or the votes), kOpenSideSign where the exact field takes
+// the nearest triangle's side (the votes, escaping through the openings, are no guide there), else by the winding
+// number (kWindingOutside, kWindingInside).
+const uint kNoOpenSign = 0u, kOpenSideSign = 1u, kWindingOutside = 2u, kWindingInside = 3u;
+uint openSignAt(ivec3 v, bool near, BvhHit hit) {
+  vec3 p = voxelCentre(v);
+  uint rule = near ? openSignRule(p, hit.instance, hit.leaf) : kOpenRuleClosed;
+  if (rule != kOpenRuleWinding) return rule == kOpenRuleSide ? kOpenSideSign : kNoOpenSign;
+  return openWindingInside(p, hit.instance) ? kWindingInside : kWindingOutside;
+}
+
 // Closest mode's end of fine voxel v, given the answer of its closest-point query of the given radius: the distance
-// (the radius where nothing lay within it) and the sign (the rays' votes when x > 0, else the closest triangle's side).
-void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, bool near, BvhHit hit) {
+// (the radius where nothing lay within it) and the sign (as 'open' (openSignAt) says on an open mesh, else the rays'
+// votes when x > 0, else the closest triangle's side).
+void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, bool near, BvhHit hit, uint open) {
   float f = near ? hit.point.w : radius;
 #if RTSDF_SIGN_RAYS
   float nearest;
@@ -260,11 +279,15 @@ void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, boo
   bool bySide = true;
   bool inside = hit.point.w >= 0.0 && hit.frontFace == 0u;
 #endif
+  // An open mesh's nearest surface: the winding number signs where the exact field's rule says so (then neither the
+  // side nor the votes, which escape through the openings, decide).
+  bool byOpenRule = open != kNoOpenSign;
+  if (byOpenRule) inside = open == kOpenSideSign ? (hit.point.w >= 0.0 && hit.frontFace == 0u) : open == kWindingInside;
   // Closed pieces through each other are a union: a point the nearest triangle's side puts outside its piece may
   // still be inside another (hit.instance is the instance's slot: instances[] is in the scene's order). Votes that
   // say outside may be wrong about any piece (the first hit of a ray from inside a part may be another part's
   // front face), so then no piece is skipped.
-  bool skipNearest = bySide && near;
+  bool skipNearest = (bySide || byOpenRule) && near;
   if (!inside && unionHeader.x != 0u)
     inside = insideAnotherPiece(voxelCentre(v), skipNearest ? hit.instance : 0xFFFFFFFFu,
                                 skipNearest ? pieceOf[hit.leaf] : kOpenPiece);
@@ -279,7 +302,7 @@ void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
   float radius = closestRadius(bound);
   BvhHit hit;
   bool near = closestPoint(voxelCentre(v), radius, hit);
-  finishClosest(v, fresh, slot, local, radius, near, hit);
+  finishClosest(v, fresh, slot, local, radius, near, hit, openSignAt(v, near, hit));
 #else
   float nearest;
   vec2 vote = castRays(v, fresh, slot, local, nearest);
@@ -330,20 +353,42 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   BvhHit hits[8];
   bool nears[8];
   [[unroll]] for (int j = 0; j < 8; ++j) nears[j] = closestEnd(q[j], hits[j]);
-  uint alone = 0u; // the voxels that walk on their own
+  // The voxels the candidates may not answer walk on their own, then the winding number is summed for those it signs,
+  // then every voxel is finished: each in a loop of its own (a walk or a sum inside the voxel loop would run, masked,
+  // once per voxel even where no voxel needs it), and finishClosest inlined once.
+  uint valid = 0u, alone = 0u;
   for (int j = 0; j < 8; ++j) {
     ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
     if (any(greaterThan(v, hi)) || slots[j] == kNoBrick) continue;
+    valid |= 1u << j;
     if (cellMissed || !complete[j]) alone |= 1u << j;
-    else finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], nears[j], hits[j]);
   }
   while (alone != 0u) {
     int j = findLSB(alone);
     alone &= alone - 1u;
     ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
-    BvhHit hit;
-    bool near = closestPoint(voxelCentre(v), radii[j], hit);
-    finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], near, hit);
+    nears[j] = closestPoint(voxelCentre(v), radii[j], hits[j]);
+  }
+  uint sided = 0u, windy = 0u, windIn = 0u; // open meshes: signed by the side; by the winding number; of those, inside
+  for (int j = 0; j < 8; ++j) {
+    ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
+    uint rule = (valid & (1u << j)) != 0u && nears[j] ? openSignRule(voxelCentre(v), hits[j].instance, hits[j].leaf)
+                                                       : kOpenRuleClosed;
+    if (rule == kOpenRuleSide) sided |= 1u << j;
+    if (rule == kOpenRuleWinding) windy |= 1u << j;
+  }
+  for (uint left = windy; left != 0u;) {
+    int j = findLSB(left);
+    left &= left - 1u;
+    if (openWindingInside(voxelCentre(lo + ivec3(j & 1, (j >> 1) & 1, j >> 2)), hits[j].instance)) windIn |= 1u << j;
+  }
+  for (int j = 0; j < 8; ++j) {
+    if ((valid & (1u << j)) == 0u) continue;
+    ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
+    uint bit = 1u << j;
+    uint open = (sided & bit) != 0u ? kOpenSideSign
+              : (windy & bit) == 0u ? kNoOpenSign : ((windIn & bit) != 0u ? kWindingInside : kWindingOutside);
+    finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], nears[j], hits[j], open);
   }
 }
 #endif

@@ -25,6 +25,12 @@ GpuSceneBvh::GpuSceneBvh(const gpu::VulkanContext& ctx, const Scene& scene, cons
                              sizeof(glm::uvec4) + std::max<std::size_t>(mPieces.instancedClosedPieces(scene), 1) *
                                                       sizeof(gpu::shared::UnionPiece),
                              kStorage, gpu::Buffer::Memory::Device, "overlapping closed pieces");
+  // Where open meshes need the winding number, and the dipoles that sum it.
+  mOpen = sceneOpenPieces(scene, mMeshes);
+  gpu::reserveAndUpload(ctx, mOpenFlags, mOpen.flagsOfLeaf.data(), mOpen.flagsOfLeaf.size() * 4, kStorage,
+                        "open-mesh flags");
+  gpu::reserveAndUpload(ctx, mWindingNodes, mOpen.windingNodes.data(),
+                        mOpen.windingNodes.size() * sizeof(gpu::shared::WindingNode), kStorage, "winding dipoles");
   // Where each instance's triangles lie; the transforms follow with every update.
   for (const Instance& inst : scene.instances) {
     gpu::shared::VoxelizeInstance v{};

@@ -10,6 +10,7 @@
 #include "scene/Scene.h"
 #include "sdf/coarse/CoarseSdf.h"
 #include "sdf/scenebvh/ClosedPieces.h"
+#include "sdf/scenebvh/OpenPieces.h"
 
 #include <array>
 
@@ -51,6 +52,11 @@ public:
   /// @brief The host copy of unionPieces()'s list as last uploaded (empty: no closed pieces overlap).
   const std::vector<gpu::shared::UnionPiece>& unionList() const { return mUnionList; }
   const SceneClosedPieces& closedPieces() const { return mPieces; }
+  /// @brief Per leaf-ordered triangle its open-mesh flags (SceneOpenPieces::flagsOfLeaf: 0 on closed meshes).
+  const gpu::Buffer& openFlags() const { return mOpenFlags; }
+  /// @brief Per bottom-level node its triangles' dipole (SceneOpenPieces::windingNodes).
+  const gpu::Buffer& windingNodes() const { return mWindingNodes; }
+  const SceneOpenPieces& openPieces() const { return mOpen; }
   const MeshBvhs& meshes() const { return mMeshes; }
   /// @brief The top level as last uploaded (for the CPU side of G-buffer normals and tests).
   const InstanceBvh& top() const { return mTop; }
@@ -68,10 +74,11 @@ private:
   std::uint32_t mTriangleCount = 0; ///< every instance's triangles together
   std::vector<gpu::shared::VoxelizeInstance> mVoxelizeInstances;
   SceneClosedPieces mPieces;
+  SceneOpenPieces mOpen;
   std::vector<gpu::shared::UnionPiece> mUnionList;
   std::vector<glm::uvec4> mUnionUpload; ///< the header and the list as uploaded (kept alive for vkCmdUpdateBuffer)
   gpu::Buffer mBlasNodes, mCorners, mTriangleIds, mTlasNodes, mTlasSlots, mInstances, mVoxelizeBuf;
-  gpu::Buffer mPieceOf, mUnionPieces;
+  gpu::Buffer mPieceOf, mUnionPieces, mOpenFlags, mWindingNodes;
 };
 
 } // namespace rtsdf

@@ -60,7 +60,7 @@ if [ -n "$explore" ]; then
 fi
 pair "$seeds/fuzz_vdb/sphere.vdb" "$seeds/fuzz_vdb/sphere.vdb" "$seeds/fuzz_compare/sphere-sphere"
 
-export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
+export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
 status=0
 for target in "${targets[@]}"; do
   regressions="fuzz/regressions/$target"

@@ -7,11 +7,15 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <dlfcn.h>
+#include <link.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <set>
 
 namespace rtsdf::gpu {
 namespace {
@@ -49,6 +53,27 @@ bool layerAvailable(const char* name) {
   return false;
 }
 
+/// The shared objects loaded in the process now (by path).
+std::set<std::string> loadedObjects() {
+  std::set<std::string> names;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* out) {
+        if (info->dlpi_name && *info->dlpi_name) static_cast<std::set<std::string>*>(out)->insert(info->dlpi_name);
+        return 0;
+      },
+      &names);
+  return names;
+}
+
+/// Keep the objects that vkCreateInstance loaded (drivers, layers, their LLVM) loaded until the process exits.
+/// The loader unloads them at vkDestroyInstance, which loses their one-time state (lavapipe's pthread_once
+/// initialisation runs, and allocates, again in every instance) and leaves what their globals held
+/// unreachable: LeakSanitizer then reports it as leaked, in stacks of an unloaded library that name nothing.
+void keepLoadedSince(const std::set<std::string>& before) {
+  for (const std::string& name : loadedObjects())
+    if (!before.count(name)) dlopen(name.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+}
+
 VkInstance createInstance(bool validation, bool sync, const std::vector<std::string>& extra,
                           const VkDebugUtilsMessengerCreateInfoEXT* messenger) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
@@ -79,7 +104,9 @@ VkInstance createInstance(bool validation, bool sync, const std::vector<std::str
   ci.enabledExtensionCount = std::uint32_t(extensions.size());
   ci.ppEnabledExtensionNames = extensions.data();
   VkInstance instance = VK_NULL_HANDLE;
+  const std::set<std::string> loaded = loadedObjects();
   const VkResult r = vkCreateInstance(&ci, nullptr, &instance);
+  keepLoadedSince(loaded);
   if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
     throw VulkanError(r, "creating a Vulkan instance: no Vulkan driver is installed (on Debian: mesa-vulkan-drivers "
                          "provides lavapipe)");

@@ -2,6 +2,7 @@
 
 #include "sdf/SdfPipeline.h"
 #include "util/Error.h"
+#include "util/Text.h"
 
 #include <fmt/format.h>
 
@@ -31,7 +32,7 @@ gpu::ContextOptions deviceContextOptions(const std::string& device) {
 void throwOnValidationErrors(const gpu::VulkanContext& ctx) {
   if (ctx.validationErrors())
     throw Error(fmt::format("Vulkan validation reported {} error(s); last: {}", ctx.validationErrors(),
-                            ctx.lastValidationMessage()));
+                            oneLine(ctx.lastValidationMessage())));
 }
 
 void warmUpGpu(double seconds, const std::function<void()>& gpuWork) {

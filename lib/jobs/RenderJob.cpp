@@ -76,6 +76,20 @@ Image visibilityErrorImage(const Scene& scene, const RenderedFrame& frame, const
   return err;
 }
 
+/// The truth a picture is compared with: the ray tracer at the picture's settings. A ray-traced picture gets
+/// kTruthSampleFactor times its samples and another seed (an independent stream of rays), so that its
+/// comparison measures its own noise: with the truth's, the squared error the comparison reports is the
+/// picture's plus at most a quarter of it (the variance of a pixel's estimate falls at least as 1 / samples).
+constexpr int kTruthSampleFactor = 4;
+RenderSettings truthSettings(const RenderSettings& picture) {
+  RenderSettings truth = picture;
+  if (picture.technique == ShadowTechnique::RayTraced) {
+    truth.rayTraced.samples = picture.rayTraced.samples * kTruthSampleFactor;
+    truth.rayTraced.seed = picture.rayTraced.seed + 1;
+  }
+  return truth;
+}
+
 } // namespace
 
 RenderJobResult renderScene(const RenderJobOptions& o, const JobControl& control) {
@@ -93,8 +107,10 @@ RenderJobResult renderScene(const RenderJobOptions& o, const JobControl& control
   }
   result.image = composeImage(scene, result.frame);
   if (o.compare) {
-    spdlog::info("ray tracing the truth ({} samples per pixel and light)", o.render.rayTraced.samples);
-    const RenderedFrame truth = renderRayTraced(scene, o.time, o.render, &control);
+    const RenderSettings ts = truthSettings(o.render);
+    spdlog::info("ray tracing the truth ({} samples per pixel and light, seed {})", ts.rayTraced.samples,
+                 ts.rayTraced.seed);
+    const RenderedFrame truth = renderRayTraced(scene, o.time, ts, &control);
     result.error = compareWithTruth(scene, result.frame, truth);
     result.errorImage = visibilityErrorImage(scene, result.frame, truth);
     result.compared = true;

@@ -20,7 +20,9 @@ struct RenderJobOptions {
   int frames = 8;             ///< frames rendered (SDF refinement and TAA accumulate); the last is kept
   double fps = 30.0;          ///< frames per second of scene time
   double time = 0.0;          ///< scene time of the last frame
-  bool compare = false;       ///< also ray trace the truth and measure the image error
+  /// Also ray trace the truth and measure the image error. A ray-traced picture is compared with a truth of 4x
+  /// its samples and another seed: its own noise, not a match with itself.
+  bool compare = false;
   std::string device;         ///< Vulkan device by index or name; empty: the best one
   RenderSettings render = defaultRenderSettings();
   /// @brief The renderer's defaults, with the pipeline's own (PipelineSettings: closest-point refinement, no
@@ -39,7 +41,8 @@ template <> struct KnobTable<RenderJobOptions> {
       knob("fps", &S::fps, "--fps", KnobRange::above(0), "Frames per second of scene time"),
       knob("time", &S::time, "-t,--time", KnobRange::finite(), "Scene time of the written frame in seconds"),
       flagKnob("compare", &S::compare, "--compare",
-               "Also ray trace the truth and print the visibility RMSE and FLIP of the picture"),
+               "Also ray trace the truth and print the visibility RMSE and FLIP of the picture (a ray-traced picture: "
+               "against 4x its samples with another seed)"),
       knob("device", &S::device, "--device", KnobRange::any(), "Vulkan device by index or name (see 'rtsdf info')"));
 };
 

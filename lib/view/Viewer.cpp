@@ -22,6 +22,7 @@
 #include <cstring>
 #include <map>
 #include <memory>
+#include <optional>
 
 namespace rtsdf {
 namespace sh = gpu::shared;
@@ -105,7 +106,9 @@ struct UploadedFrame {
 class ViewSession {
 public:
   ViewSession(const ViewOptions& o, Scene scene);
-  ~ViewSession() { mSwapchain->waitIdle(); } // the last frame reads buffers the members below own
+  ~ViewSession() {
+    if (mSwapchain) mSwapchain->waitIdle(); // the last frame reads buffers the members below own
+  }
   ViewSession(const ViewSession&) = delete;
   ViewSession& operator=(const ViewSession&) = delete;
   /// Render and show the frame at @a time (@a wallMs: the previous frame's wall time, for the text line).
@@ -115,8 +118,11 @@ public:
   bool quit() const { return mState.quit || mWindow.closeRequested(); }
   bool paused() const { return mState.paused; }
   Window& window() { return mWindow; }
-  void writeScreenshot(const std::string& path);
-  void checkValidation() const { throwOnValidationErrors(*mCtx); }
+  /// The last frame's picture, read back from the GPU.
+  PngPixels screenshot();
+  /// Destroy every GPU object, then the device, and throw (throwOnValidationErrors) when validation reported an
+  /// error, those at the device's destruction (objects left alive) included, as runOnDevice does for the jobs.
+  void close();
   const std::string& lastLine() const { return mLine; }
   const PassTimes& lastPassMs() const { return mPassMs; }
 
@@ -325,7 +331,21 @@ std::string ViewSession::statusLine(double wallMs) const {
   return line + (mState.paused ? " | paused" : "");
 }
 
-void ViewSession::writeScreenshot(const std::string& path) {
+void ViewSession::close() {
+  mSwapchain->waitIdle();
+  mRenderer.reset();
+  mCompose.reset();
+  mProfiler.reset();
+  mUploaded = UploadedFrame{};
+  mPixels = Buffer();
+  mOverlay = Buffer();
+  mEmpty = Buffer();
+  mSwapchain.reset(); // its surface goes before the instance
+  mCtx->close();
+  throwOnValidationErrors(*mCtx);
+}
+
+PngPixels ViewSession::screenshot() {
   mSwapchain->waitIdle();
   std::vector<std::uint32_t> packed(std::size_t(mWidth) * std::size_t(mHeight));
   download(*mCtx, mPixels, packed.data(), packed.size() * 4);
@@ -336,7 +356,7 @@ void ViewSession::writeScreenshot(const std::string& path) {
       const int shift = 8 * (bgra ? 2 - c : c);
       png.rgb[3 * i + std::size_t(c)] = std::uint8_t((packed[i] >> shift) & 0xFFu);
     }
-  writePng(path, png);
+  return png;
 }
 } // namespace
 
@@ -370,8 +390,10 @@ ViewResult runViewer(const ViewOptions& o, const JobControl& control) {
   result.meanFrameMs = result.frames > 1 ? wallSum / (result.frames - 1) : lastWallMs;
   result.lastLine = session.lastLine();
   result.passMs = session.lastPassMs();
-  session.checkValidation();
-  if (!o.screenshot.empty() && result.frames > 0) session.writeScreenshot(o.screenshot);
+  std::optional<PngPixels> shot;
+  if (!o.screenshot.empty() && result.frames > 0) shot = session.screenshot();
+  session.close(); // a validation error, at the device's destruction too, fails the view before its file
+  if (shot) writePng(o.screenshot, *shot);
   return result;
 }
 

@@ -438,18 +438,18 @@ TEST(Cli, RendersTheAnalyticSceneWithEveryTechnique) {
     const Result r = rtsdfCmd("-q render " + scene + " --shadows " + t + " --width 64 --height 36 " +
                               flagsOf.at(t) + " --samples 16 --compare -o " + q(exr));
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    // The printed error against the truth (measured on lavapipe: sdf 0.0523, shadowmap 0.0644; the truth against
-    // itself, same seed, 0 exactly).
+    // The printed error against the truth (measured on lavapipe: sdf 0.0523, shadowmap 0.0644; the ray tracer's
+    // 16 samples against a truth of 64 with another seed, 0.0243: its noise).
     const double rmse = numberAfter(r.output, "visibility RMSE "), flip = numberAfter(r.output, "FLIP ");
-    const double limit = std::string(t) == "sdf" ? 0.08 : std::string(t) == "shadowmap" ? 0.1 : 0.0;
+    const double limit = std::string(t) == "sdf" ? 0.08 : std::string(t) == "shadowmap" ? 0.1 : 0.04;
     EXPECT_LE(rmse, limit) << r.output;
-    if (limit > 0.0) EXPECT_GT(rmse, 0.01) << r.output; // a different technique cannot match the truth exactly
+    EXPECT_GT(rmse, 0.01) << r.output; // no picture, the ray tracer's included, matches an independent truth
     EXPECT_TRUE(flip >= 0.0 && flip <= 2.0 * limit) << r.output;
     // The error concentrates in the penumbrae: their RMSE is at least the whole picture's.
     EXPECT_GE(numberAfter(r.output, "penumbra RMSE "), rmse) << r.output;
-    // Light in the truth's umbra: none where the truth renders itself, a visibility error otherwise.
+    // Light in the truth's umbra: a visibility error of every technique.
     const double umbra = numberAfter(r.output, "umbra mean |diff| ");
-    EXPECT_TRUE(limit > 0.0 ? umbra >= 0.0 && umbra <= 1.0 : umbra == 0.0) << r.output;
+    EXPECT_TRUE(umbra >= 0.0 && umbra <= 1.0) << r.output;
     const Image img = readExr(exr);
     EXPECT_EQ(img.width(), 64);
     EXPECT_EQ(img.height(), 36);

@@ -340,6 +340,31 @@ TEST(Jobs, RenderJobComparesWithTheTruthAndWritesEveryFile) {
   EXPECT_EQ(out.errorPng.filename(), "r_error.png");
 }
 
+// A ray-traced picture is compared with a truth of its own kind made independently (4x the samples, another
+// seed): the error is its noise, which falls as the samples rise, not the zero of a picture matched with itself.
+TEST(Jobs, RenderJobComparesARayTracedPictureWithAnIndependentTruth) {
+  RenderJobOptions o;
+  o.scene = test::dataPath("scenes/analytic.json");
+  o.frames = 1;
+  o.compare = true;
+  o.render.technique = ShadowTechnique::RayTraced;
+  o.render.width = 64;
+  o.render.height = 36;
+  std::vector<ShadowImageError> errors;
+  for (int samples : {4, 16}) {
+    o.render.rayTraced.samples = samples;
+    const RenderJobResult r = renderScene(o);
+    ASSERT_TRUE(r.compared);
+    ASSERT_GT(r.error.penumbraPixels, 0u);
+    errors.push_back(r.error);
+  }
+  // Measured (64x36): penumbra RMSE 0.1322 at 4 samples, 0.0411 at 16. The variance of a pixel falls at least as
+  // 1 / samples, so 4x the samples at least halves the RMSE (3.2x here: stratified samples do better).
+  EXPECT_GT(errors[1].penumbraRmse, 0.0);
+  EXPECT_GT(errors[0].penumbraRmse, 2.0 * errors[1].penumbraRmse);
+  EXPECT_LT(errors[1].penumbraRmse, 0.06);
+}
+
 // A bake writes the refined voxels only: outside the ray mask the fine SDF is the coarse one upsampled (an unsigned
 // distance minus beta), which lay within the band deep inside a solid with the wrong sign (3.3% of a sphere's band
 // voxels, 8.75 voxels off, before). An inside-out sphere, oriented at load, against the closed form: every sign

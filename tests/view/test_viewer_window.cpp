@@ -117,3 +117,25 @@ TEST(ViewerWindow, CommandLineWritesTheScreenshot) {
   EXPECT_EQ(p.width, 160);
   EXPECT_EQ(p.height, 90);
 }
+
+// A Vulkan validation error fails the view as it fails every job, one reported when the device is destroyed (an
+// object left alive) included, and leaves no screenshot; the build's test hook (RTSDF_TEST_VALIDATION_ERROR)
+// commits a deliberate one.
+TEST(ViewerWindow, AValidationErrorFailsTheViewAndWritesNoScreenshot) {
+  for (const char* kind : {"now", "leak"}) {
+    SCOPED_TRACE(kind);
+    const fs::path shot = scratch(fmt::format("validation-{}.png", kind));
+    fs::remove(shot);
+    int status = 0;
+    const std::string out = test::runCommand(
+        fmt::format("RTSDF_TEST_VALIDATION_ERROR={} {} -q view {} --frames 1 --width 160 --height 90 --coarse 32 "
+                    "--fine 64 --screenshot {} 2>&1",
+                    kind, RTSDF_BINARY, test::dataPath("scenes/default.json"), shot.string()),
+        status);
+    EXPECT_NE(status, 0) << out;
+    const std::size_t at = out.find("Vulkan validation reported 1 error(s); last:");
+    ASSERT_NE(at, std::string::npos) << out;
+    EXPECT_LE(out.find('\n', at) - at, 300u) << "one readable line: " << out; // the layer's message is cut
+    EXPECT_FALSE(fs::exists(shot));
+  }
+}

@@ -107,30 +107,45 @@ std::uint32_t walkDelayedLoad(ByteWalker& w, std::uint32_t size, std::uint64_t e
   return count;
 }
 
+/// What a grid's metadata tells the reader of its tree.
+struct GridMetadata {
+  std::vector<std::uint32_t> delayed; ///< the leaf counts of its delayed-load entries
+  bool half = false;                  ///< is_saved_as_half_float: the tree's buffers hold half floats
+};
+
 /// MetaMap::readMeta: a count, then (name, type, size, value) per entry, each value read as its registered type
-/// reads it. Returns the leaf counts of the delayed-load entries.
-std::vector<std::uint32_t> walkMetadata(ByteWalker& w, const char* what, std::uint64_t end) {
+/// reads it.
+GridMetadata walkMetadata(ByteWalker& w, const char* what, std::uint64_t end) {
   const std::uint32_t count = w.read<std::uint32_t>(what, end);
   if (count > (end - w.pos()) / 12) w.fail(fmt::format("{} entries of {} cannot fit", count, what));
-  std::vector<std::uint32_t> delayed;
+  GridMetadata found;
+  // GridBase::saveFloatAsHalf() is this entry (any type, read as a bool), not the "_HalfFloat" of the type name:
+  // readMeta drops what the descriptor set. A bool is all OpenVDB writes; other types are refused.
+  const std::string halfKey = openvdb::GridBase::META_SAVE_HALF_FLOAT;
   for (std::uint32_t i = 0; i < count; ++i) {
     const std::string name = w.text("metadata name", end), type = w.text("metadata type", end);
     const auto size = w.read<std::uint32_t>("metadata size", end);
     const auto fixed = fixedMetadataSizes().find(type);
     if (type == openvdb::io::DelayedLoadMetadata::staticTypeName()) {
-      delayed.push_back(walkDelayedLoad(w, size, end));
+      found.delayed.push_back(walkDelayedLoad(w, size, end));
     } else if (fixed != fixedMetadataSizes().end()) {
       if (size != fixed->second)
         w.fail(fmt::format("metadata '{}' of type {} has {} bytes, not {}", shown(name), type, size, fixed->second));
-      if (type == openvdb::BoolMetadata::staticTypeName()) w.flag("bool metadata value", end);
-      else w.skip(size, "metadata value", end);
+      if (type == openvdb::BoolMetadata::staticTypeName()) {
+        const bool value = w.flag("bool metadata value", end);
+        if (name == halfKey) found.half = value;
+      } else {
+        w.skip(size, "metadata value", end);
+      }
     } else if (type == openvdb::StringMetadata::staticTypeName() || !openvdb::Metadata::isRegisteredType(type)) {
       w.skip(size, "metadata value", end); // a string, or raw bytes (UnknownMetadata)
     } else {
       w.fail(fmt::format("metadata '{}' of type {}, which this reader cannot check", shown(name), shown(type)));
     }
+    if (name == halfKey && type != openvdb::BoolMetadata::staticTypeName())
+      w.fail(fmt::format("metadata '{}' of type {}, not bool", halfKey, shown(type)));
   }
-  return delayed;
+  return found;
 }
 
 /// math::Transform::read (format 219 on): the map's type, then its fields; a frustum holds a second, affine map.
@@ -171,7 +186,7 @@ bool walkHeader(ByteWalker& w) {
     const bool dash = i == 8 || i == 13 || i == 18 || i == 23;
     if (dash ? c != '-' : !std::isxdigit(static_cast<unsigned char>(c))) w.fail("a UUID that is not one");
   }
-  if (!walkMetadata(w, "file metadata", end).empty()) w.fail("delayed-load metadata in the file's metadata");
+  if (!walkMetadata(w, "file metadata", end).delayed.empty()) w.fail("delayed-load metadata in the file's metadata");
   return offsets;
 }
 
@@ -191,7 +206,8 @@ std::uint64_t walkGridData(ByteWalker& w, const TreeLayout& tree, GridCodec code
     end = std::uint64_t(endPos);
   }
   codec.compression = w.read<std::uint32_t>("grid compression", end);
-  const std::vector<std::uint32_t> delayed = walkMetadata(w, "grid metadata", end);
+  const GridMetadata meta = walkMetadata(w, "grid metadata", end);
+  codec.half = meta.half;
   walkTransform(w, end);
   TreeWalk walk;
   if (!instance) { // an instance shares its parent's tree: it has no topology or blocks of its own
@@ -200,7 +216,7 @@ std::uint64_t walkGridData(ByteWalker& w, const TreeLayout& tree, GridCodec code
       w.fail(fmt::format("its topology ends at byte {}, not at its block offset {}", w.pos(), blockPos));
     walkBuffers(w, tree, codec, walk, end);
   }
-  for (const std::uint32_t count : delayed)
+  for (const std::uint32_t count : meta.delayed)
     if (count != walk.leaves.size())
       w.fail(fmt::format("its delayed-load metadata counts {} leaves where its tree has {}", count, walk.leaves.size()));
   if (offsets && std::int64_t(w.pos()) != endPos)
@@ -215,16 +231,14 @@ std::uint64_t walkGrid(ByteWalker& w, int index, bool offsets) {
   const std::string name = w.text("grid name", w.size());
   std::string type = w.text("grid type", w.size());
   const std::string parent = w.text("instance parent name", w.size());
-  GridCodec codec;
+  // The descriptor marks half floats in the type name; the grid's metadata decides (walkMetadata).
   const std::string half = "_HalfFloat";
-  if (type.size() >= half.size() && type.compare(type.size() - half.size(), half.size(), half) == 0) {
-    codec.half = true;
+  if (type.size() >= half.size() && type.compare(type.size() - half.size(), half.size(), half) == 0)
     type.erase(type.size() - half.size());
-  }
   w.setContext(fmt::format("grid {} ('{}' of type {})", index, shown(name), shown(type)));
   const TreeLayout* tree = treeLayoutOf(type);
   if (!tree) w.fail(fmt::format("rtsdf reads grids of {} values only", readableGridTypes()));
-  const std::uint64_t memory = walkGridData(w, *tree, codec, !parent.empty(), offsets);
+  const std::uint64_t memory = walkGridData(w, *tree, GridCodec{}, !parent.empty(), offsets);
   w.setContext({});
   return memory;
 }

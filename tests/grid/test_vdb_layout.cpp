@@ -285,3 +285,26 @@ TEST(VdbLayout, OtherGridTypesAreRefused) {
             std::string::npos) << m;
   EXPECT_LT(m.size(), 300u);
 }
+
+// OpenVDB reads half floats when the grid's is_saved_as_half_float metadata says so, whatever the descriptor's
+// "_HalfFloat" type suffix says (the fuzzer's input: the walk had trusted the suffix and let a chunk through).
+TEST(VdbLayout, HalfFloatsFollowTheGridsMetadataNotTheTypeName) {
+  openvdb::initialize();
+  const std::string half = written({oneLeaf()}, openvdb::io::COMPRESS_BLOSC, true, false);
+  const std::string suffixed = "Tree_float_5_4_3_HalfFloat";
+  const std::size_t at = half.find(suffixed);
+  ASSERT_NE(at, std::string::npos);
+  std::string unsuffixed = half.substr(0, at - 4);
+  const std::uint32_t length = 16;
+  unsuffixed += std::string(reinterpret_cast<const char*>(&length), 4) + "Tree_float_5_4_3" + half.substr(at + 26);
+  for (const std::string* bytes : {&half, &unsuffixed}) {
+    openvdb::GridPtrVec read;
+    ASSERT_NO_THROW(read = readVdbBytes(*bytes, "h.vdb"));
+    EXPECT_EQ(firstDifference(canonical(read), canonical(plainOpenVdb(*bytes))), std::string::npos);
+    EXPECT_TRUE(read.front()->saveFloatAsHalf());
+  }
+  const std::string finding = fileBytes(std::string(RTSDF_DATA_DIR) +
+                                        "/../fuzz/regressions/fuzz_vdb/half-float-flag-in-metadata-not-in-the-type-name.vdb");
+  ASSERT_GT(finding.size(), 1000u);
+  EXPECT_EQ(refusal(finding, "f.vdb").rfind("f.vdb: not a readable .vdb file: ", 0), 0u) << refusal(finding, "f.vdb");
+}

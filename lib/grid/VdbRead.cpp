@@ -27,7 +27,12 @@ openvdb::GridPtrVec readVdbBytes(const std::string& bytes, const std::string& na
   in.exceptions(std::ios::failbit | std::ios::badbit | std::ios::eofbit);
   try {
     openvdb::io::Stream stream(in, /*delayLoad=*/false);
-    return *stream.getGrids();
+    openvdb::GridPtrVec grids = *stream.getGrids();
+    // A map whose matrix is singular reads without complaint; OpenVDB throws only when the transform is copied,
+    // from a constructor whose exception ends the process: ask for each affine map here, where it is an error.
+    for (const auto& g : grids)
+      if (g) (void)g->transform().baseMap()->getAffineMap();
+    return grids;
   } catch (const std::ios_base::failure&) {
     throw Error(fmt::format("{}: not a readable .vdb file: it ends early or is corrupt (a read ran past its end)",
                             name));

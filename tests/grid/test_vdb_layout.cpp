@@ -310,3 +310,36 @@ TEST(VdbLayout, HalfFloatsFollowTheGridsMetadataNotTheTypeName) {
   ASSERT_GT(finding.size(), 1000u);
   EXPECT_EQ(refusal(finding, "f.vdb").rfind("f.vdb: not a readable .vdb file: ", 0), 0u) << refusal(finding, "f.vdb");
 }
+
+// fuzz_compare's input: a file whose scale-translate map is singular reads in plain OpenVDB, which throws only
+// when the transform is copied (ending the process there); readVdbBytes refuses it.
+TEST(VdbLayout, SingularMapsAreRefused) {
+  const std::string pair = fileBytes(std::string(RTSDF_DATA_DIR) +
+                                     "/../fuzz/regressions/fuzz_compare/singular-scale-translate-map-ended-the-process");
+  ASSERT_GT(pair.size(), 4u);
+  std::uint32_t split;
+  std::memcpy(&split, pair.data(), 4);
+  const std::string rest = pair.substr(4);
+  const std::size_t first = split % (rest.size() + 1); // as fuzz/fuzz_compare.cpp splits it
+  int singular = 0;
+  for (const std::string& part : {rest.substr(0, first), rest.substr(first)}) {
+    openvdb::GridPtrVec plain;
+    try {
+      plain = plainOpenVdb(part);
+    } catch (const std::exception&) {
+      continue;
+    }
+    bool broken = false;
+    for (const auto& g : plain) {
+      try {
+        (void)g->transform().baseMap()->getAffineMap();
+      } catch (const openvdb::ArithmeticError&) {
+        broken = true;
+      }
+    }
+    if (!broken) continue;
+    ++singular;
+    EXPECT_EQ(refusal(part, "s.vdb").rfind("s.vdb: not a readable .vdb file: ", 0), 0u) << refusal(part, "s.vdb");
+  }
+  EXPECT_EQ(singular, 1);
+}

@@ -50,14 +50,9 @@ PY
 # Two-file compare: the first 4 bytes say where the first file ends (fuzz/fuzz_compare.cpp).
 pair() { /usr/bin/python3 -c 'import sys,struct; a=open(sys.argv[1],"rb").read(); b=open(sys.argv[2],"rb").read()
 open(sys.argv[3],"wb").write(struct.pack("<I",len(a))+a+b)' "$@"; }
-# The bunny as rtsdf bake writes it (zip + half, blosc) leads the fuzzer within seconds into OpenVDB's own heap
-# overflow on a chunk whose stated uncompressed size exceeds its buffer (fuzz/findings/, docs/reliability.md):
-# explored by hand with --explore, not in CI's fixed runs until the reader walks the block data.
-if [ -n "$explore" ]; then
-  cp fuzz/seeds-explore/fuzz_vdb/* "$seeds/fuzz_vdb/"
-  pair fuzz/seeds-explore/fuzz_vdb/bunny-zip-half.vdb fuzz/seeds-explore/fuzz_vdb/bunny-blosc.vdb "$seeds/fuzz_compare/zip-half-blosc"
-  pair fuzz/seeds-explore/fuzz_vdb/bunny-blosc.vdb "$seeds/fuzz_vdb/sphere.vdb" "$seeds/fuzz_compare/bunny-sphere"
-fi
+# The bunny as rtsdf bake writes it (fuzz/seeds/fuzz_vdb: zip + half, blosc), paired for compare.
+pair fuzz/seeds/fuzz_vdb/bunny-zip-half.vdb fuzz/seeds/fuzz_vdb/bunny-blosc.vdb "$seeds/fuzz_compare/zip-half-blosc"
+pair fuzz/seeds/fuzz_vdb/bunny-blosc.vdb "$seeds/fuzz_vdb/sphere.vdb" "$seeds/fuzz_compare/bunny-sphere"
 pair "$seeds/fuzz_vdb/sphere.vdb" "$seeds/fuzz_vdb/sphere.vdb" "$seeds/fuzz_compare/sphere-sphere"
 
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp:print_suppressions=0"
@@ -68,8 +63,7 @@ for target in "${targets[@]}"; do
   bound=(-seed=1 -runs="${runs[$target]}" -max_total_time="${seconds[$target]}")
   if [ -n "$explore" ]; then bound=(-max_total_time="$explore"); fi
   echo "== $target: ${bound[*]} (seeds: $(ls "$seeds/$target" | wc -l), regressions: $(ls "$regressions" | wc -l))"
-  # Regressions are replayed one by one, then the fuzzer starts from the seeds alone: a regression of OpenVDB's
-  # block data would lead it straight back into the library's open overflow (docs/reliability.md).
+  # Regressions are replayed one by one (each must end cleanly), then the fuzzer starts from the seeds.
   if [ -n "$(ls "$regressions")" ] && ! "build-fuzz/fuzz/$target" "$regressions"/* -timeout=10 -rss_limit_mb=2048 \
        -malloc_limit_mb=2048 2> "build-fuzz/$target-replay.log"; then
     tail -40 "build-fuzz/$target-replay.log"

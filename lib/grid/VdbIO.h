@@ -132,9 +132,11 @@ void writeVdb(const std::filesystem::path& path, const openvdb::GridPtrVec& grid
 ///        or not a readable .vdb (see readVdbBytes).
 openvdb::GridPtrVec readVdb(const std::filesystem::path& path);
 
-/// @brief Read every grid of a .vdb held in memory, defensively: the header, metadata tables and grid
-///        descriptors are walked first (every length bounded by the bytes, every grid ending inside them), then
-///        OpenVDB reads through a stream that throws at its first read past the end.
+/// @brief Read every grid of a .vdb held in memory, defensively: the whole file is walked first as OpenVDB 10 reads
+///        it (header, metadata, descriptors, transforms, topology and every chunk of values: each length bounded by
+///        the bytes and by what the reader expects, each grid ending at its end offset), then OpenVDB reads through
+///        a stream that throws at its first read past the end. Grids of types other than float, double, int32,
+///        int64, vec3s/d/i, bool and mask (points, strings, ...) are refused.
 /// @param name what errors call the bytes (the file's path).
 /// @throw Error naming @a name, the problem and its byte offset, on one short line.
 openvdb::GridPtrVec readVdbBytes(const std::string& bytes, const std::string& name);

@@ -139,15 +139,20 @@ bool OpenWindingCpu::windingSigns(const glm::vec3& p, std::uint32_t instance, st
 }
 
 float OpenWindingCpu::windingNumber(const glm::vec3& p, std::uint32_t instance) const {
+  const glm::vec3 po = xformPoint(mTop.instances.at(instance).worldToObject, p);
+  const float w = windingWalk(po, instance, kWindingFarRatio);
+  return std::fabs(w - 0.5f) < kWindingRecheckBand ? windingWalk(po, instance, kWindingRecheckFarRatio) : w;
+}
+
+float OpenWindingCpu::windingWalk(const glm::vec3& po, std::uint32_t instance, float ratio) const {
   const BvhInstance& inst = mTop.instances.at(instance);
-  const glm::vec3 po = xformPoint(inst.worldToObject, p);
   float sum = 0.0f;
   std::vector<std::uint32_t> stack{inst.blasRoot};
   while (!stack.empty()) {
     const std::uint32_t i = stack.back();
     stack.pop_back();
     const WindingNode& wn = mPieces.windingNodes[i];
-    if (windingFar(po, wn)) {
+    if (windingFar(po, wn, ratio)) {
       sum += dipoleSolidAngle(po, wn);
       continue;
     }

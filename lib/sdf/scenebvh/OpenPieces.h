@@ -38,13 +38,16 @@ public:
   ///        of instance @a instance (windingSigns of its flags and the feature nearest to @a p).
   bool windingSigns(const glm::vec3& p, std::uint32_t instance, std::uint32_t triangle) const;
   /// @brief The winding number of instance @a instance's mesh at @a p (open_winding.glsl's walk: far nodes by their
-  ///        dipoles, the rest triangle by triangle, in object space).
+  ///        dipoles, the rest triangle by triangle, in object space; near 1/2 a second walk with farther clusters).
   float windingNumber(const glm::vec3& p, std::uint32_t instance) const;
   /// @brief The same summing every triangle's solid angle (no dipole).
   float windingNumberExact(const glm::vec3& p, std::uint32_t instance) const;
   const SceneOpenPieces& pieces() const { return mPieces; }
 
 private:
+  /// One walk at object-space @a po: clusters farther than @a ratio radii by their dipoles.
+  float windingWalk(const glm::vec3& po, std::uint32_t instance, float ratio) const;
+
   const Scene& mScene;
   MeshBvhs mMeshes;
   SceneOpenPieces mPieces;

@@ -11,8 +11,8 @@ layout(std430, binding = RTSDF_OPEN_FLAGS) readonly buffer OpenFlags { uint open
 // Per bottom-level node (blasNodes' index): its triangles' dipole.
 layout(std430, binding = RTSDF_WINDING_NODES) readonly buffer WindingNodes { WindingNode windingNodes[]; };
 
-// The winding number of inst's mesh at object-space point po.
-float windingNumberAt(BvhInstance inst, vec3 po) {
+// The winding number of inst's mesh at object-space point po, clusters farther than 'ratio' radii by their dipoles.
+float windingNumberAt(BvhInstance inst, vec3 po, float ratio) {
   float sum = 0.0;
   uint stack[RTSDF_BVH_STACK];
   int sp = 0;
@@ -20,7 +20,7 @@ float windingNumberAt(BvhInstance inst, vec3 po) {
   while (sp > 0) {
     uint i = stack[--sp];
     WindingNode wn = windingNodes[i];
-    if (windingFar(po, wn)) {
+    if (windingFar(po, wn, ratio)) {
       sum += dipoleSolidAngle(po, wn);
       continue;
     }
@@ -52,8 +52,12 @@ uint openSignRule(vec3 p, uint slot, uint leaf) {
   return windingSigns(flags, nearestFeature(p, a, b, c)) ? kOpenRuleWinding : kOpenRuleSide;
 }
 
-// Whether world point p is inside the mesh of the instance in slot 'slot' by its winding number (w >= 1/2).
+// Whether world point p is inside the mesh of the instance in slot 'slot' by its winding number (w >= 1/2); near 1/2
+// a second, finer walk decides (kWindingRecheckBand).
 bool openWindingInside(vec3 p, uint slot) {
   BvhInstance inst = instances[slot];
-  return windingNumberAt(inst, xformPoint(inst.worldToObject, p)) >= 0.5;
+  vec3 po = xformPoint(inst.worldToObject, p);
+  float w = windingNumberAt(inst, po, kWindingFarRatio);
+  if (abs(w - 0.5) < kWindingRecheckBand) w = windingNumberAt(inst, po, kWindingRecheckFarRatio);
+  return w >= 0.5;
 }

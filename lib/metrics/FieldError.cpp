@@ -47,11 +47,13 @@ using LeafRange = openvdb::tree::LeafManager<const openvdb::FloatTree>::LeafRang
 
 /// Calls visit(coord, value, acc) on every active voxel of @a tree in parallel and joins the tasks' sums. Each task
 /// visits with its own copy of @a visit, so value accessors it captures by value are never shared between threads.
+/// The split and the joins are deterministic (fixed chunks of leaves), so the same grids give the same sums to the
+/// last bit whatever the threads' timing.
 template <class Visit>
 Accum accumulateActiveVoxels(const openvdb::FloatTree& tree, const Visit& visit) {
   openvdb::tree::LeafManager<const openvdb::FloatTree> leaves(tree);
-  return tbb::parallel_reduce(
-      leaves.leafRange(), Accum{},
+  return tbb::parallel_deterministic_reduce(
+      leaves.leafRange(/*grainsize=*/32), Accum{},
       [&](const LeafRange& r, Accum acc) {
         Visit taskVisit = visit;
         for (auto leaf = r.begin(); leaf; ++leaf)

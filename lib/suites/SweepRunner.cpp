@@ -170,6 +170,10 @@ std::vector<SweepRecord> SweepRunner::run(const SweepPoint& p) {
 
 std::vector<SweepRecord> SweepRunner::runPipeline(const SweepPoint& p) {
   const bool dynamic = p.group == SweepGroup::Dynamic;
+  // The sweep times each pass of a frame at the point's settings: a frame that skips the passes whose inputs did
+  // not change (every still frame after the first) would time nothing. A full rebuild gives the same field.
+  PipelineSettings settings = p.pipeline;
+  settings.fullRebuild = true;
   std::unique_ptr<Renderer> renderer;
   std::unique_ptr<SdfPipeline> pipeline;
   RenderSettings rs;
@@ -177,10 +181,10 @@ std::vector<SweepRecord> SweepRunner::runPipeline(const SweepPoint& p) {
     rs.width = mOptions.shadowWidth;
     rs.height = mOptions.shadowHeight;
     rs.technique = ShadowTechnique::Sdf;
-    rs.pipeline = p.pipeline;
+    rs.pipeline = settings;
     renderer = std::make_unique<Renderer>(*mCtx, mScene, mBounds, rs);
   } else {
-    pipeline = std::make_unique<SdfPipeline>(*mCtx, mScene, mBounds, p.pipeline);
+    pipeline = std::make_unique<SdfPipeline>(*mCtx, mScene, mBounds, settings);
   }
   const SdfPipeline& sdf = renderer ? *renderer->sdfPipeline() : *pipeline;
 

@@ -115,6 +115,7 @@ BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const Bounds& bou
     for (int f = 0; f < o.frames; ++f) {
       control.checkStop();
       r.lastFrame = pipe.runFrame(o.time);
+      r.cutVoxels += r.lastFrame.cutVoxels;
       control.report("refining", std::uint64_t(f + 1), std::uint64_t(o.frames));
     }
     r.seconds = secondsSince(t0);
@@ -123,6 +124,7 @@ BakeResult bakeRtsdf(const BakeOptions& o, const Scene& scene, const Bounds& bou
     r.spec = pipe.fineSpec();
     r.coarseSpec = pipe.coarseSpec();
     r.device = ctx.info().name;
+    warnOfCutWalks(r.cutVoxels, r.device);
     return r;
   });
 }
@@ -298,6 +300,9 @@ std::string rtsdfReport(const BakeResult& r, const fs::path& output) {
   t += fmt::format("fine       {}\n", r.spec.describe());
   t += fmt::format("ray mask   {} coarse voxels, {} fine voxels (band {:.6g} = {:.2f} fine voxels)\n",
                    st.maskCoarseVoxels, st.maskFineVoxels, double(p.band), p.band / r.spec.voxelSize);
+  if (r.cutVoxels)
+    t += fmt::format("cut walks  {} voxel refinements ended by the device's loop budget (upper bounds)\n",
+                     r.cutVoxels);
   t += fmt::format("last frame {}host (CPU) {:.1f} ms\n", passes, st.hostMs);
   t += fmt::format("time       {:.3f} s for {} frames on {}\n", r.seconds, o.frames, r.device);
   t += fmt::format("output     {} ({} active voxels)\n", output.string(), r.grid->activeVoxelCount());

@@ -90,6 +90,9 @@ struct BakeResult {
   double seconds = 0.0;           ///< the build's wall time (loading and writing excluded)
   ExactSdfStats exact;            ///< counters of the exact method
   FrameStats lastFrame;           ///< the last frame's mask and pass times (jfa: passes only; rtsdf)
+  /// rtsdf: refinements of a fine voxel that a CPU device's loop budget ended (FrameStats::cutVoxels), summed over
+  /// the frames and cascade levels; each kept an upper bound of its distance. 0 on a GPU.
+  std::uint64_t cutVoxels = 0;
   std::string device;             ///< the Vulkan device that ran (jfa, rtsdf)
   std::string sceneSummary;       ///< meshes, instances, triangles, dropped triangles
   std::vector<std::filesystem::path> inputs; ///< the scene and mesh files read (an output never replaces one)

@@ -33,6 +33,7 @@ BakeResult bakeCascades(const BakeOptions& o, const Scene& scene, const JobContr
     for (int f = 0; f < o.frames; ++f) {
       control.checkStop();
       r.levelFrames = set.runFrame(o.time);
+      for (const FrameStats& level : r.levelFrames) r.cutVoxels += level.cutVoxels;
       control.report("refining", std::uint64_t(f + 1), std::uint64_t(o.frames));
     }
     r.seconds = secondsSince(t0);
@@ -52,6 +53,7 @@ BakeResult bakeCascades(const BakeOptions& o, const Scene& scene, const JobContr
     r.coarseSpec = set.level(0).coarseSpec();
     r.lastFrame = r.levelFrames.front();
     r.device = ctx.info().name;
+    warnOfCutWalks(r.cutVoxels, r.device);
     return r;
   });
 }

@@ -5,6 +5,7 @@
 #include "util/Text.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 namespace rtsdf {
 
@@ -33,6 +34,14 @@ void throwOnValidationErrors(const gpu::VulkanContext& ctx) {
   if (ctx.validationErrors())
     throw Error(fmt::format("Vulkan validation reported {} error(s); last: {}", ctx.validationErrors(),
                             oneLine(ctx.lastValidationMessage())));
+}
+
+void warnOfCutWalks(std::uint64_t cutVoxels, const std::string& device) {
+  if (cutVoxels)
+    spdlog::warn("{} fine voxel refinement(s) on {} ran out of the CPU device's loop budget (a voxel about equally "
+                 "near very many triangles, such as the centre of a finely tessellated sphere): each kept the "
+                 "nearest surface found, an upper bound of its distance; a GPU device has no such limit",
+                 cutVoxels, device);
 }
 
 void warmUpGpu(double seconds, const std::function<void()>& gpuWork) {

@@ -6,6 +6,7 @@
 #include "scene/Scene.h"
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <utility>
@@ -28,6 +29,10 @@ gpu::ContextOptions deviceContextOptions(const std::string& device);
 /// @brief Refuse results computed while the validation layer reported errors.
 /// @throw Error with the count and the last message.
 void throwOnValidationErrors(const gpu::VulkanContext& ctx);
+
+/// @brief Warn (spdlog) when @a cutVoxels fine voxel refinements of a job on device @a device were ended by a CPU
+///        device's loop budget (FrameStats::cutVoxels): their distances are upper bounds, not exact.
+void warnOfCutWalks(std::uint64_t cutVoxels, const std::string& device);
 
 /// @brief Run @a work on a new Vulkan context of @a options, then destroy the device (gpu::VulkanContext::close)
 ///        and refuse the result when the validation layer reported any error, those at the device's destruction

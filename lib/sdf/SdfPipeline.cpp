@@ -170,6 +170,7 @@ FrameStats SdfPipeline::finishFrame() {
     stats.maskFineVoxels = counts.maskedFine;
     stats.maskCoarseVoxels = counts.coarse;
     stats.refinedFineVoxels = mPlan.refine ? counts.refinedFine : 0; // a skipped mask left the last run's counts
+    stats.cutVoxels = mPlan.refine ? counts.cutVoxels : 0;
     stats.activeBricks = counts.activeBricks;
     stats.overflowBricks = counts.overflowBricks;
     stats.poolBricks = mPool->capacity();

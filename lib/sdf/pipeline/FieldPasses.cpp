@@ -62,7 +62,7 @@ void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
   if (refine && mSettings.band > 0.0)
     mRefine->execute(cmd, profiler, {bvh, mask.refineList(), mask.countsBuffer(), coarse, mask.fineRanges(),
                                      pool.slots()},
-                     {pages, mFine ? mFine : pool.placeholder()}, p);
+                     {pages, mFine ? mFine : pool.placeholder(), mask.refineStats()}, p);
   if (upsample && mFine) mUpsample.execute(cmd, profiler, {coarse, mask.fineToCoarse(), pool.slots()}, {mFine}, p);
   // Shading that samples the bricks finds the grids here.
   gpu::recordUpload(cmd, mSamplingParams, &p, sizeof(p));

@@ -15,6 +15,9 @@ struct FrameStats {
   double time = 0.0;
   std::uint64_t maskCoarseVoxels = 0, maskFineVoxels = 0;
   std::uint64_t refinedFineVoxels = 0; ///< masked fine voxels refined this frame (the others kept their value)
+  /// Of those, the voxels whose BVH walks a CPU device's loop budget ended (RTSDF_CPU_LOOP_BUDGET): each keeps the
+  /// nearest surface found, an upper bound of its distance, and a sign that may be wrong.
+  std::uint64_t cutVoxels = 0;
   std::uint64_t activeBricks = 0;      ///< bricks holding fine voxels under the band (each has a pool slot...)
   std::uint64_t overflowBricks = 0;    ///< ...but these: the pool was full; the next frame grows it and starts over
   std::uint64_t poolBricks = 0;        ///< the pool's capacity this frame

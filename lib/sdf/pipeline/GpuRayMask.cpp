@@ -16,7 +16,8 @@ using gpu::kStorageFilled;
 using gpu::kStorageRead;
 
 namespace {
-constexpr std::uint32_t kReadbackWords = gpu::shared::kMaskCountWords + gpu::shared::kBrickCountWords;
+constexpr std::uint32_t kStatsAt = gpu::shared::kMaskCountWords + gpu::shared::kBrickCountWords;
+constexpr std::uint32_t kReadbackWords = kStatsAt + gpu::shared::kRefineStatWords;
 } // namespace
 
 GpuRayMask::GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, const GridSpec& fine,
@@ -35,6 +36,8 @@ GpuRayMask::GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, co
                         "ray mask fine ranges");
   mCounts = Buffer(ctx, gpu::shared::kMaskCountWords * 4, kStorageRead | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                    Buffer::Memory::Device, "ray mask counts");
+  mRefineStats = Buffer(ctx, gpu::shared::kRefineStatWords * 4, kStorageRead, Buffer::Memory::Device,
+                        "refinement statistics");
   mCountsReadback = Buffer(ctx, kReadbackWords * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Host,
                            "ray mask counts (readback)");
   if (mBand > 0.0) {
@@ -76,6 +79,7 @@ void GpuRayMask::recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std
                             const BrickPool& pool) {
   mLastParams = params(frame, movedCount);
   vkCmdFillBuffer(cmd, mCounts.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd, mRefineStats.handle(), 0, VK_WHOLE_SIZE, 0u);
   pool.recordResetCounts(cmd);
   gpu::computeBarrier(cmd);
   // d = 0 refines nothing (not even voxels with c = 0): the counts stay zero, and so does the dispatch.
@@ -92,6 +96,8 @@ void GpuRayMask::recordCountsReadback(VkCommandBuffer cmd, const BrickPool& pool
   vkCmdCopyBuffer(cmd, mCounts.handle(), mCountsReadback.handle(), 1, &mask);
   const VkBufferCopy bricks{0, gpu::shared::kMaskCountWords * 4, gpu::shared::kBrickCountWords * 4};
   vkCmdCopyBuffer(cmd, pool.counts().handle(), mCountsReadback.handle(), 1, &bricks);
+  const VkBufferCopy stats{0, kStatsAt * 4, gpu::shared::kRefineStatWords * 4};
+  vkCmdCopyBuffer(cmd, mRefineStats.handle(), mCountsReadback.handle(), 1, &stats);
   VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
@@ -110,11 +116,12 @@ GpuRayMask::Counts GpuRayMask::counts() const {
   n.refineList = words[kMaskCountRefineList];
   n.activeBricks = words[kMaskCountWords + kBrickCountActive];
   n.overflowBricks = words[kMaskCountWords + kBrickCountOverflow];
+  n.cutVoxels = words[kStatsAt + kRefineStatCutVoxels];
   // Each fine voxel lies under one coarse voxel and each coarse voxel is appended once: more would be a bug.
   const glm::ivec3 bd = mBrickDims;
   if (n.refinedFine > n.maskedFine || n.maskedFine > mFineSpec.voxelCount() || n.coarse > mCoarseSpec.voxelCount() ||
       n.refineList > n.coarse || n.activeBricks > std::uint64_t(bd.x) * bd.y * bd.z ||
-      n.overflowBricks > n.activeBricks)
+      n.overflowBricks > n.activeBricks || n.cutVoxels > n.refinedFine)
     throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine of {} under {} coarse voxels ({} "
                             "listed), {} bricks ({} without a slot), more than the grids hold ({}, {} and {})",
                             n.refinedFine, n.maskedFine, n.coarse, n.refineList, n.activeBricks, n.overflowBricks,

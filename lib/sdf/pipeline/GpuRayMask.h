@@ -30,6 +30,7 @@ public:
   struct Counts {
     std::uint32_t refinedFine = 0, maskedFine = 0, coarse = 0, refineList = 0;
     std::uint32_t activeBricks = 0, overflowBricks = 0;
+    std::uint32_t cutVoxels = 0; ///< refined fine voxels whose walks the loop budget ended (kRefineStatCutVoxels)
   };
   /// @param settings the pipeline's settings in effect (band, beta, settling and refresh periods)
   /// @param refineParts the refinement's invocations per listed coarse voxel (refinePartsFor)
@@ -63,6 +64,8 @@ public:
 
   const gpu::shared::MaskParams& lastParams() const { return mLastParams; }
   const gpu::Buffer& countsBuffer() const { return mCounts; }
+  /// @brief The refinement's kRefineStat* words, zeroed with the counts and read back with them.
+  const gpu::Buffer& refineStats() const { return mRefineStats; }
   const gpu::Buffer& refineList() const { return mRefineList; }
   const gpu::Buffer& fineRanges() const { return mFineRanges; }
   const gpu::Buffer& fineToCoarse() const { return mFineToCoarse; }
@@ -76,7 +79,7 @@ private:
   glm::ivec3 mBrickDims;
   MaskCompactPass mCompact;
   MaskDispatchPass mDispatch;
-  gpu::Buffer mCoarseState, mFineToCoarse, mFineRanges, mCounts, mCountsReadback, mRefineList, mCoarseList;
+  gpu::Buffer mCoarseState, mFineToCoarse, mFineRanges, mCounts, mRefineStats, mCountsReadback, mRefineList, mCoarseList;
   gpu::shared::MaskParams mLastParams{};
 };
 

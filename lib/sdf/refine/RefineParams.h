@@ -24,6 +24,11 @@ RTSDF_SHARED_BEGIN
 /// The most fine voxels along an axis of a cell-search box (refinePartsFor): 2, so that every voxel of a box is one
 /// of its 8 corners (the corner bounds of the cell search, refine_main.glsl).
 #define RTSDF_CELL_BOX 2
+/// Loop steps each invocation of the closest shaders for CPU devices (refine_closest*_cpu.comp) may spend on BVH and
+/// winding walks (RTSDF_LOOP_BUDGET, bvh_traverse.glsl): lavapipe ends every loop once the 8 lanes of a subgroup have
+/// run 65535 iterations in all, so 8 x 7000 leaves room for the fixed loops. A voxel whose walk the budget ended
+/// keeps the nearest found (an upper bound of the distance) and is counted (kRefineStatCutVoxels).
+#define RTSDF_CPU_LOOP_BUDGET 7000
 
 /// Flags of RefineParams::coarseDims.w in the refinement shaders.
 const int kRefineWriteDense = 1; // f_t is also written to the dense fine SDF (FineStorage::Dense)
@@ -54,7 +59,12 @@ const uint kRefineBindingPieceOf = kRefineBindingVotePages + RTSDF_BRICK_PAGES; 
 const uint kRefineBindingUnionPieces = kRefineBindingPieceOf + 1u; // GpuSceneBvh::unionPieces(): this frame's overlap
 const uint kRefineBindingOpenFlags = kRefineBindingUnionPieces + 1u; // GpuSceneBvh::openFlags(): open meshes' rims
 const uint kRefineBindingWindingNodes = kRefineBindingOpenFlags + 1u; // GpuSceneBvh::windingNodes(): their dipoles
-const uint kRefineBindingCount = kRefineBindingWindingNodes + 1u;
+const uint kRefineBindingStats = kRefineBindingWindingNodes + 1u; // kRefineStat* words (zeroed every frame)
+const uint kRefineBindingCount = kRefineBindingStats + 1u;
+
+/// Words of the refinement's statistics buffer (kRefineBindingStats).
+const uint kRefineStatCutVoxels = 0u; // fine voxels whose walks the loop budget ended (CPU devices' shaders only)
+const uint kRefineStatWords = 4u;
 
 /// Push constants of refine_upsample.comp and the refinement shaders.
 struct RefineParams {

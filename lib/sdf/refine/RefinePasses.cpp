@@ -76,6 +76,7 @@ void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const 
   b[kRefineBindingUnionPieces] = &in.bvh.unionPieces();
   b[kRefineBindingOpenFlags] = &in.bvh.openFlags();
   b[kRefineBindingWindingNodes] = &in.bvh.windingNodes();
+  b[kRefineBindingStats] = &out.stats;
   mPipeline.dispatchIndirect(cmd, b, &params, in.counts);
   gpu::computeBarrier(cmd);
 }

@@ -81,7 +81,8 @@ public:
   /// Per fine voxel, in its brick: the SDF (in: f_{t-1} where not fresh; out: f_t, signed) and its decayed votes;
   /// @a dense: f_t also written into the dense fine SDF where params.coarseDims.w has kRefineWriteDense (else a
   /// placeholder).
-  struct Outputs { const BrickPages& pool; const gpu::Buffer& dense; };
+  /// @a stats: the kRefineStat* words, added to (the caller zeroes them).
+  struct Outputs { const BrickPages& pool; const gpu::Buffer& dense; const gpu::Buffer& stats; };
   using Params = gpu::shared::RefineParams;
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;

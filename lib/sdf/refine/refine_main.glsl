@@ -48,6 +48,7 @@ layout(std430, binding = kRefineBindingCoarse) readonly buffer Coarse { float co
 layout(std430, binding = kRefineBindingFineRanges) readonly buffer FineRanges { ivec2 fineRanges[]; };
 layout(std430, binding = kRefineBindingBrickSlots) readonly buffer BrickSlots { uint brickSlots[]; };
 layout(std430, binding = kRefineBindingDense) writeonly buffer Dense { float dense[]; };
+layout(std430, binding = kRefineBindingStats) buffer Stats { uint refineStats[]; };
 #define RTSDF_VALUE_PAGES kRefineBindingValuePages
 #define RTSDF_VOTE_PAGES kRefineBindingVotePages
 #include "sdf/mask/brick_pool.glsl"
@@ -244,6 +245,7 @@ vec2 castRays(ivec3 v, bool fresh, uint slot, uint local, out float nearest) {
 void storeVoxel(ivec3 v, uint slot, uint local, float f, bool inside, vec2 vote) {
   ivec3 fd = params.fineDims.xyz;
   storeValue(slot, local, inside ? -f : f);
+  if (loopCut) atomicAdd(refineStats[kRefineStatCutVoxels], 1u); // the walks' budget ended: an upper bound
   if ((params.coarseDims.w & kRefineWriteDense) != 0) dense[uint((v.z * fd.y + v.y) * fd.x + v.x)] = inside ? -f : f;
 #if RTSDF_SIGN_RAYS // without sign rays the closest triangle's side gives the sign: no vote is ever read
   storeVotes(slot, local, packHalf2x16(min(vote, vec2(60000.0))));
@@ -297,11 +299,14 @@ void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, boo
 
 // Refine fine voxel v on its own (fresh: new to the mask) in its brick slot at offset local.
 void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
+  loopCut = false; // set by this voxel's own walks
   float bound = voxelBound(v, fresh, slot, local);
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
   float radius = closestRadius(bound);
   BvhHit hit;
+  uint hidden = loopHide(2u); // the distance's walk leaves half of the voxel's share to its sign's
   bool near = closestPoint(voxelCentre(v), radius, hit);
+  loopRestore(hidden);
   finishClosest(v, fresh, slot, local, radius, near, hit, openSignAt(v, near, hit));
 #else
   float nearest;
@@ -321,7 +326,9 @@ void refineVoxels(ivec3 lo, ivec3 hi, bool fresh) {
   for (int j = 0; j < voxels; ++j) {
     ivec3 v = lo + ivec3(j % size.x, j / size.x % size.y, j / (size.x * size.y));
     uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    uint hidden = loopHide(uint(voxels - j)); // an equal share of the loop budget left for each voxel left
     if (slot != kNoBrick) refineVoxel(v, fresh, slot, brickLocalOf(v));
+    loopRestore(hidden);
   }
 }
 
@@ -338,7 +345,12 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   // the bound did not hold and the box's voxels walk on their own.
   vec3 centre = params.coarseOriginInvH.xyz + (vec3(c) + 0.5) / params.coarseOriginInvH.w;
   float radius = coarse[ci] + params.beta + 0.8660254 / params.coarseOriginInvH.w + length(m - centre);
+  // The loop budget (CPU devices): a quarter of it for the shared walk, the rest shared by the voxels; a shared walk
+  // the budget ended may have missed a triangle the candidates need, so then every voxel walks on its own.
+  uint hidden = loopHide(4u);
   collectCellCandidates(m, 0.5 * (last - first), radius * (1.0 + 1.0e-5));
+  loopRestore(hidden);
+  if (loopCut) cellMissed = true;
   ClosestQuery q[8];
   float radii[8];
   uint slots[8];
@@ -356,7 +368,7 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   // The voxels the candidates may not answer walk on their own, then the winding number is summed for those it signs,
   // then every voxel is finished: each in a loop of its own (a walk or a sum inside the voxel loop would run, masked,
   // once per voxel even where no voxel needs it), and finishClosest inlined once.
-  uint valid = 0u, alone = 0u;
+  uint valid = 0u, alone = 0u, cut = 0u; // cut: the voxels whose own walks the loop budget ended
   for (int j = 0; j < 8; ++j) {
     ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
     if (any(greaterThan(v, hi)) || slots[j] == kNoBrick) continue;
@@ -365,9 +377,13 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   }
   while (alone != 0u) {
     int j = findLSB(alone);
+    uint share = loopHide(uint(bitCount(alone)) + 1u); // and a share for the signs' walks after
     alone &= alone - 1u;
     ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
+    loopCut = false;
     nears[j] = closestPoint(voxelCentre(v), radii[j], hits[j]);
+    loopRestore(share);
+    if (loopCut) cut |= 1u << j;
   }
   uint sided = 0u, windy = 0u, windIn = 0u; // open meshes: signed by the side; by the winding number; of those, inside
   for (int j = 0; j < 8; ++j) {
@@ -379,8 +395,12 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   }
   for (uint left = windy; left != 0u;) {
     int j = findLSB(left);
+    uint share = loopHide(uint(bitCount(left)) + 1u);
     left &= left - 1u;
+    loopCut = false;
     if (openWindingInside(voxelCentre(lo + ivec3(j & 1, (j >> 1) & 1, j >> 2)), hits[j].instance)) windIn |= 1u << j;
+    loopRestore(share);
+    if (loopCut) cut |= 1u << j;
   }
   for (int j = 0; j < 8; ++j) {
     if ((valid & (1u << j)) == 0u) continue;
@@ -388,7 +408,10 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
     uint bit = 1u << j;
     uint open = (sided & bit) != 0u ? kOpenSideSign
               : (windy & bit) == 0u ? kNoOpenSign : ((windIn & bit) != 0u ? kWindingInside : kWindingOutside);
+    uint share = loopHide(uint(bitCount(valid >> j))); // this voxel and those after it
+    loopCut = (cut & bit) != 0u;
     finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], nears[j], hits[j], open);
+    loopRestore(share);
   }
 }
 #endif

@@ -7,6 +7,44 @@
 
 #define RTSDF_BVH_STACK 64
 
+// The loop budget of a CPU device's shaders (RTSDF_LOOP_BUDGET > 0, RefineParams.h): lavapipe ends every loop of a
+// shader invocation once its subgroup has run 65535 loop iterations in all (one counter shared by every loop of
+// the 8 lanes), and then each later loop runs its body once, so that one long walk (a voxel near the centre of a
+// finely tessellated sphere is equally near all its triangles: the walk visits the whole tree) silently cut the
+// walks and skipped the stores of the other lanes, whichever voxels the refine list's order put beside it. Every walk
+// loop here takes a step from the invocation's own budget instead; a lane whose budget is spent ends its walks with
+// the nearest found so far (an upper bound of the distance) and sets loopCut, which the caller counts. 8 lanes of
+// RTSDF_LOOP_BUDGET steps each stay under the limit with room for the fixed loops.
+#ifndef RTSDF_LOOP_BUDGET
+#define RTSDF_LOOP_BUDGET 0
+#endif
+#if RTSDF_LOOP_BUDGET > 0
+uint loopBudget = uint(RTSDF_LOOP_BUDGET);
+bool loopCut = false;
+bool loopStep() {
+  if (loopBudget == 0u) {
+    loopCut = true;
+    return false;
+  }
+  --loopBudget;
+  return true;
+}
+#define RTSDF_LOOP_STEP loopStep()
+// Hide all but a 1/parts share of the budget left, so that the walks until loopRestore(hidden) spend at most that
+// share and leave the rest to the work after them (a long walk cannot starve the voxels beside it).
+uint loopHide(uint parts) {
+  uint hidden = loopBudget - loopBudget / max(parts, 1u);
+  loopBudget -= hidden;
+  return hidden;
+}
+void loopRestore(uint hidden) { loopBudget += hidden; }
+#else
+bool loopCut = false; // never set: no budget
+#define RTSDF_LOOP_STEP true
+uint loopHide(uint parts) { return 0u; }
+void loopRestore(uint hidden) {}
+#endif
+
 uint nodeFirst(BvhNode n) { return floatBitsToUint(n.lo.w); }
 uint nodeCount(BvhNode n) { return floatBitsToUint(n.hi.w); }
 
@@ -21,10 +59,10 @@ uint nodeCount(BvhNode n) { return floatBitsToUint(n.hi.w); }
   uint tstack[RTSDF_BVH_STACK];                                                                                        \
   int tsp = 0;                                                                                                         \
   tstack[tsp++] = 0u;                                                                                                  \
-  while (tsp > 0) {                                                                                                    \
+  while (tsp > 0 && RTSDF_LOOP_STEP) {                                                                                 \
     /* Inner nodes until a leaf, so that SIMD lanes enter their instances together (while-while). */                  \
     uint tlasFirst = 0u, tc = 0u;                                                                                      \
-    while (tsp > 0) {                                                                                                  \
+    while (tsp > 0 && RTSDF_LOOP_STEP) {                                                                               \
       BvhNode NODE = tlasNodes[tstack[--tsp]];                                                                         \
       if (CULLED) continue;                                                                                            \
       if (nodeCount(NODE) != 0u) {                                                                                     \
@@ -35,7 +73,7 @@ uint nodeCount(BvhNode n) { return floatBitsToUint(n.hi.w); }
       tstack[tsp++] = nodeFirst(NODE) + 1u;                                                                            \
       tstack[tsp++] = nodeFirst(NODE);                                                                                 \
     }                                                                                                                  \
-    for (uint ti = 0u; ti < tc; ++ti) {                                                                                \
+    for (uint ti = 0u; ti < tc && RTSDF_LOOP_STEP; ++ti) {                                                             \
       uint tlasSlot = tlasSlots[tlasFirst + ti];                                                                       \
       BvhInstance INST = instances[tlasSlot];
 #define RTSDF_TLAS_WALK_END                                                                                            \
@@ -95,10 +133,10 @@ bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
     uint stack[RTSDF_BVH_STACK];
     int sp = 0;
     stack[sp++] = inst.blasRoot;
-    while (sp > 0) {
+    while (sp > 0 && RTSDF_LOOP_STEP) {
       // Inner nodes until a leaf, then its triangles: SIMD lanes test theirs together (while-while).
       uint leafFirst = 0u, cnt = 0u;
-      while (sp > 0) {
+      while (sp > 0 && RTSDF_LOOP_STEP) {
         BvhNode n = blasNodes[stack[--sp]];
         if (isinf(rayBox(oo, invDD, n.lo.xyz, n.hi.xyz, tmin, best))) continue;
         if (nodeCount(n) != 0u) {
@@ -113,7 +151,7 @@ bool traceNearest(vec3 o, vec3 d, float tmin, float tmax, out BvhHit hit) {
         if (tl <= tr) { if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; if (!isinf(tl)) stack[sp++] = nodeFirst(n); }
         else { if (!isinf(tl)) stack[sp++] = nodeFirst(n); if (!isinf(tr)) stack[sp++] = nodeFirst(n) + 1u; }
       }
-      for (uint k = 0u; k < cnt; ++k) {
+      for (uint k = 0u; k < cnt && RTSDF_LOOP_STEP; ++k) {
         uint tri = leafFirst + k;
         bool front;
         if (rayTriangle(oo, dd, corners[3u * tri].xyz, corners[3u * tri + 1u].xyz, corners[3u * tri + 2u].xyz, tmin,
@@ -141,7 +179,7 @@ bool occludedWithin(vec3 o, vec3 d, float tmax) {
     uint stack[RTSDF_BVH_STACK];
     int sp = 0;
     stack[sp++] = inst.blasRoot;
-    while (sp > 0 && !blocked) {
+    while (sp > 0 && !blocked && RTSDF_LOOP_STEP) {
       BvhNode n = blasNodes[stack[--sp]];
       if (isinf(rayBox(oo, invDD, n.lo.xyz, n.hi.xyz, 0.0, tmax))) continue;
       uint cnt = nodeCount(n);
@@ -150,7 +188,7 @@ bool occludedWithin(vec3 o, vec3 d, float tmax) {
         stack[sp++] = nodeFirst(n);
         continue;
       }
-      for (uint k = 0u; k < cnt && !blocked; ++k) {
+      for (uint k = 0u; k < cnt && !blocked && RTSDF_LOOP_STEP; ++k) {
         uint tri = nodeFirst(n) + k;
         float t = tmax;
         bool front;
@@ -321,10 +359,10 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
   uint stack[RTSDF_BVH_STACK];                                                                                         \
   int sp = 0;                                                                                                          \
   stack[sp++] = INST.blasRoot;                                                                                         \
-  while (sp > 0 && (GOING)) {                                                                                          \
+  while (sp > 0 && (GOING) && RTSDF_LOOP_STEP) {                                                                       \
     /* Inner nodes until a leaf: the lanes of a SIMD machine then test their triangles together (while-while). */     \
     uint leafFirst = 0u, leafCount = 0u;                                                                               \
-    while (sp > 0) {                                                                                                   \
+    while (sp > 0 && RTSDF_LOOP_STEP) {                                                                                \
       BvhNode n = blasNodes[stack[--sp]];                                                                              \
       float reach = (REACH);                                                                                           \
       if (INST.minScale * boxDistance(PO, n.lo.xyz, n.hi.xyz) > reach) continue;                                       \
@@ -335,14 +373,14 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
       }                                                                                                                \
       RTSDF_POINT_WALK_PUSH_CHILDREN(INST, PO, SKIPPED, n, reach)                                                      \
     }                                                                                                                  \
-    for (uint k = 0u; k < leafCount; ++k) {                                                                            \
+    for (uint k = 0u; k < leafCount && RTSDF_LOOP_STEP; ++k) {                                                         \
       uint LEAF = leafFirst + k;
 #else
 #define RTSDF_POINT_WALK_BEGIN(INST, PO, REACH, SKIPPED, GOING, LEAF)                                                  \
   uint stack[RTSDF_BVH_STACK];                                                                                         \
   int sp = 0;                                                                                                          \
   stack[sp++] = INST.blasRoot;                                                                                         \
-  while (sp > 0 && (GOING)) {                                                                                          \
+  while (sp > 0 && (GOING) && RTSDF_LOOP_STEP) {                                                                       \
     BvhNode n = blasNodes[stack[--sp]];                                                                                \
     float reach = (REACH);                                                                                             \
     if (INST.minScale * boxDistance(PO, n.lo.xyz, n.hi.xyz) > reach) continue;                                         \
@@ -351,7 +389,7 @@ void worldTriangle(BvhInstance inst, uint leaf, out vec3 a, out vec3 b, out vec3
       RTSDF_POINT_WALK_PUSH_CHILDREN(INST, PO, SKIPPED, n, reach)                                                      \
       continue;                                                                                                        \
     }                                                                                                                  \
-    for (uint k = 0u; k < leafCount; ++k) {                                                                            \
+    for (uint k = 0u; k < leafCount && RTSDF_LOOP_STEP; ++k) {                                                         \
       uint LEAF = leafFirst + k;
 #endif
 #define RTSDF_POINT_WALK_END                                                                                           \

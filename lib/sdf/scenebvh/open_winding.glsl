@@ -17,7 +17,7 @@ float windingNumberAt(BvhInstance inst, vec3 po, float ratio) {
   uint stack[RTSDF_BVH_STACK];
   int sp = 0;
   stack[sp++] = inst.blasRoot;
-  while (sp > 0) {
+  while (sp > 0 && RTSDF_LOOP_STEP) {
     uint i = stack[--sp];
     WindingNode wn = windingNodes[i];
     if (windingFar(po, wn, ratio)) {
@@ -31,7 +31,7 @@ float windingNumberAt(BvhInstance inst, vec3 po, float ratio) {
       stack[sp++] = nodeFirst(n);
       continue;
     }
-    for (uint k = 0u; k < cnt; ++k) {
+    for (uint k = 0u; k < cnt && RTSDF_LOOP_STEP; ++k) {
       uint tri = nodeFirst(n) + k;
       sum += triangleSolidAngle(po, corners[3u * tri].xyz, corners[3u * tri + 1u].xyz, corners[3u * tri + 2u].xyz);
     }

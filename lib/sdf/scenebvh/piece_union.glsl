@@ -20,7 +20,7 @@ bool oddCrossings(BvhInstance inst, vec3 po, vec3 d, uint piece) {
   uint stack[RTSDF_BVH_STACK];
   int sp = 0;
   stack[sp++] = inst.blasRoot;
-  while (sp > 0) {
+  while (sp > 0 && RTSDF_LOOP_STEP) {
     BvhNode n = blasNodes[stack[--sp]];
     if (isinf(rayBox(po, invD, n.lo.xyz, n.hi.xyz, 0.0, 1.0 / 0.0))) continue;
     uint cnt = nodeCount(n);
@@ -29,7 +29,7 @@ bool oddCrossings(BvhInstance inst, vec3 po, vec3 d, uint piece) {
       stack[sp++] = nodeFirst(n);
       continue;
     }
-    for (uint k = 0u; k < cnt; ++k) {
+    for (uint k = 0u; k < cnt && RTSDF_LOOP_STEP; ++k) {
       uint tri = nodeFirst(n) + k;
       if (pieceOf[tri] == piece &&
           rayCrossesTriangle(po, d, corners[3u * tri].xyz, corners[3u * tri + 1u].xyz, corners[3u * tri + 2u].xyz))

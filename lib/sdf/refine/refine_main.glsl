@@ -7,8 +7,8 @@
 //   rays mode (the paper): x rays uniform on the sphere, r_t = nearest hit, f_t = min(alpha f_{t-1} +
 //   (1 - alpha) c^_t, r_t) with c^_t = c_t + beta + sqrt(3)/2 h_coarse (an upper bound: see below);
 //   front/back-face hits, decayed by alpha, vote for the sign (more back-face hits: inside).
-//   closest mode: f_t = exact distance by closest-point traversal; sign from the ray votes when x > 0,
-//   else from the side of the closest triangle.
+//   closest mode: f_t = exact distance by closest-point traversal; sign from the side of the closest triangle, or
+//   from the ray votes (x > 0) where that side is in doubt (kSignVoteFacing).
 //   closest mode: where the nearest surface is an open mesh's, the exact field's rule signs (open_winding.glsl): the
 //   winding number w >= 1/2 at a rim and anywhere on a mesh of several pieces, elsewhere the nearest triangle's side
 //   (with or without sign rays: rays escaping through the openings are no guide).
@@ -265,16 +265,18 @@ uint openSignAt(ivec3 v, bool near, BvhHit hit) {
   return openWindingInside(p, hit.instance) ? kWindingInside : kWindingOutside;
 }
 
-// Closest mode's end of fine voxel v, given the answer of its closest-point query of the given radius: the distance
-// (the radius where nothing lay within it) and the sign (as 'open' (openSignAt) says on an open mesh, else the rays'
-// votes when x > 0, else the closest triangle's side).
-void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, bool near, BvhHit hit, uint open) {
+// Closest mode's end of fine voxel v, given the answer of its closest-point query of the given radius (facing: the
+// answer's closestFacing): the distance (the radius where nothing lay within it) and the sign (as 'open' (openSignAt)
+// says on an open mesh, else the closest triangle's side, or the rays' votes when x > 0 where the side is in doubt:
+// kSignVoteFacing).
+void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, bool near, BvhHit hit, float facing,
+                   uint open) {
   float f = near ? hit.point.w : radius;
 #if RTSDF_SIGN_RAYS
   float nearest;
   vec2 vote = castRays(v, fresh, slot, local, nearest);
-  // Should this variant run with x = 0 after all, the side still gives the sign (the host picks the _side variant).
-  bool bySide = params.rays == 0u;
+  // With x = 0 after all (the host picks the _side variant then), or no vote yet, the side still gives the sign.
+  bool bySide = params.rays == 0u || (near && facing >= kSignVoteFacing) || vote.x + vote.y == 0.0;
   bool inside = !bySide ? vote.y > vote.x : (hit.point.w >= 0.0 && hit.frontFace == 0u);
 #else
   vec2 vote = vec2(0.0);
@@ -306,8 +308,9 @@ void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
   BvhHit hit;
   uint hidden = loopHide(2u); // the distance's walk leaves half of the voxel's share to its sign's
   bool near = closestPoint(voxelCentre(v), radius, hit);
+  float facing = closestFacing;
   loopRestore(hidden);
-  finishClosest(v, fresh, slot, local, radius, near, hit, openSignAt(v, near, hit));
+  finishClosest(v, fresh, slot, local, radius, near, hit, facing, openSignAt(v, near, hit));
 #else
   float nearest;
   vec2 vote = castRays(v, fresh, slot, local, nearest);
@@ -364,7 +367,11 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   closestAmongCandidates(q, complete);
   BvhHit hits[8];
   bool nears[8];
-  [[unroll]] for (int j = 0; j < 8; ++j) nears[j] = closestEnd(q[j], hits[j]);
+  float facings[8];
+  [[unroll]] for (int j = 0; j < 8; ++j) {
+    nears[j] = closestEnd(q[j], hits[j]);
+    facings[j] = q[j].facing;
+  }
   // The voxels the candidates may not answer walk on their own, then the winding number is summed for those it signs,
   // then every voxel is finished: each in a loop of its own (a walk or a sum inside the voxel loop would run, masked,
   // once per voxel even where no voxel needs it), and finishClosest inlined once.
@@ -382,6 +389,7 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
     ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
     loopCut = false;
     nears[j] = closestPoint(voxelCentre(v), radii[j], hits[j]);
+    facings[j] = closestFacing;
     loopRestore(share);
     if (loopCut) cut |= 1u << j;
   }
@@ -410,7 +418,7 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
               : (windy & bit) == 0u ? kNoOpenSign : ((windIn & bit) != 0u ? kWindingInside : kWindingOutside);
     uint share = loopHide(uint(bitCount(valid >> j))); // this voxel and those after it
     loopCut = (cut & bit) != 0u;
-    finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], nears[j], hits[j], open);
+    finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], nears[j], hits[j], facings[j], open);
     loopRestore(share);
   }
 }

@@ -312,8 +312,13 @@ void closestTriangle(inout ClosestQuery s, vec3 a, vec3 b, vec3 c, uint mirrored
   }
 }
 
+// The facing (ClosestQuery::facing) of the last answer closestEnd gave: how squarely off the triangle that gave its side
+// the point lies (0: in its plane, where the side is a coin toss).
+float closestFacing = 0.0;
+
 // The query's answer: false when no triangle lies within its radius.
 bool closestEnd(ClosestQuery s, out BvhHit hit) {
+  closestFacing = s.facing;
   hit.point = s.found ? vec4(s.point, s.best) : vec4(0.0, 0.0, 0.0, -1.0);
   hit.instance = s.instance;
   hit.triangle = s.triangle;

@@ -130,7 +130,8 @@ template <> struct KnobTable<PipelineSettings> {
            KnobRange::atLeast(0).orNegative("the band, at most a quarter of the scene's longest side"),
            "Margin around the scene bounds, at most the scene's longest side"),
       knob("rays", &S::rays, "--rays", KnobRange::closed(0, 1024),
-           "Rays cast per masked fine voxel per frame (closest mode: rays that vote on the sign) [x]"),
+           "Rays cast per masked fine voxel per frame (closest mode: rays that vote on the sign where the nearest "
+           "triangle's side is in doubt) [x]"),
       knob("alpha", &S::alpha, "--alpha", KnobRange::closed(0, 1),
            "How much of its history a voxel keeps each frame in rays mode: the new distance is the smaller of the "
            "ray hit and alpha times the old one plus (1 - alpha) times the coarse one [alpha]"),

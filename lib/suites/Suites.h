@@ -48,7 +48,7 @@ struct BenchOptions {
   FrameSize frameSize = FrameSize::M;
   int frames = 10;                        ///< frames run; the report's medians are over frames 2..N
   RefineMode refine = RefineMode::Closest;
-  int rays = 1;                           ///< x (in closest mode: the rays that vote for the sign)
+  int rays = 1;                           ///< x (in closest mode: sign votes where the side is in doubt)
   bool fullRecompute = false;              ///< refine every masked voxel every frame (the paper's frame, the anchor)
   bool fullRebuild = false;                ///< run every pass of every frame over the whole grid (PipelineSettings)
   FineStorage fineStorage = FineStorage::Dense; ///< frame suite: a dense fine SDF resolved every frame, or bricks only

@@ -50,6 +50,15 @@ struct Field {
 /// their tables (docs/settings.md); "device" into @a device where given; unknown keys refused.
 template <class... Structs> void applySettings(const py::kwargs& kw, std::string* device, Structs&... structs);
 
+/// The setting (SettingError::setting(), the knob tables' name) of the Python keyword @a keyword in @a structs'
+/// tables; "" where none has it.
+template <class... Structs> std::string settingOfKeyword(const std::string& keyword, Structs&... structs) {
+  std::string setting;
+  const auto name = [&](const auto& k, auto&) { setting = k.setting; };
+  (visitKnobByKeyword(structs, keyword, name) || ...);
+  return setting;
+}
+
 /// The keywords of S's table, "a, b, c".
 template <class S> std::string keywordsOf() {
   std::string s;

@@ -5,6 +5,7 @@
 #include "jobs/Bake.h"
 #include "jobs/Compare.h"
 #include "jobs/JobSupport.h"
+#include "jobs/SettingUse.h"
 #include "reference/ExactSdf.h"
 #include "scene/SceneGeometry.h"
 #include "sdf/SdfPipeline.h"
@@ -35,6 +36,14 @@ Field bakeField(const py::handle& sceneOrPath, const std::string& method, int re
   // res is the result's resolution: the coarse grid's for jfa, the fine grid's for rtsdf (coarse: half of it).
   setOutputResolution(o, res);
   applySettings(kw, nullptr, o.pipeline, o); // the bake's device is a knob of BakeOptions
+  // A keyword the bake would ignore is refused, as the command line refuses its flag (jobs/SettingUse.h); the bake
+  // refuses a full domain itself, naming the exact method.
+  for (const auto& [key, value] : kw) {
+    const std::string keyword = py::str(key);
+    const std::string setting = settingOfKeyword(keyword, o.pipeline, o);
+    if (setting.empty() || setting == "full domain") continue;
+    if (const std::string why = bakeIgnores(o, setting); !why.empty()) throw py::value_error(keyword + "= " + why);
+  }
   PythonJob job(progress);
   const BakeResult r = job.run([&] { return bake(*scene, o, job.control()); });
   return {r.grid, r.spec, double(r.options.pipeline.band), toString(o.method), upAxis};

@@ -89,3 +89,29 @@ def test_compare_reads_the_named_grid_and_against_an_anchor(two_grids, tmp_path)
     exact = rtsdf.compare(tmp_path / "fine.vdb", against="exact")  # the anchor is the exact bake itself
     assert exact["max_abs"] == pytest.approx(0.0, abs=1e-6) and "exact bake of" in exact["b"]
     assert "mean" in exact["report"]
+
+
+@pytest.mark.parametrize("keywords, named, cli", [
+    (dict(method="exact", coarse=32), "coarse=", ["-m", "exact", "--coarse", "32"]),
+    (dict(method="exact", rays=3), "rays=", ["-m", "exact", "--rays", "3"]),
+    (dict(method="rtsdf", res=32, refine="rays", rays=2, closest_search="cell"), "closest_search=",
+     ["-m", "rtsdf", "--res", "32", "--refine", "rays", "--rays", "2", "--closest-search", "cell"]),
+    (dict(method="rtsdf", res=32, refine="closest", rays=0, alpha=0.5), "alpha=",
+     ["-m", "rtsdf", "--res", "32", "--refine", "closest", "--rays", "0", "--alpha", "0.5"]),
+])
+def test_bake_refuses_a_keyword_it_would_ignore_as_the_command_line_refuses_its_flag(tmp_path, keywords, named, cli):
+    with pytest.raises(ValueError) as python_error:
+        rtsdf.bake(BUNNY, **keywords)
+    message = str(python_error.value)
+    assert message.startswith(named), message
+    out = tmp_path / "x.vdb"
+    run = subprocess.run([RTSDF, "bake", BUNNY, "-o", str(out)] + cli, capture_output=True, text=True)
+    assert run.returncode != 0 and not out.exists()
+    flag = "--" + named[:-1].replace("_", "-")
+    # the same reason after the keyword as after the flag
+    assert message[len(named):] in run.stderr.replace(flag, ""), (message, run.stderr)
+
+
+def test_bake_takes_the_keywords_its_method_reads():
+    field = rtsdf.bake(BUNNY, method="rtsdf", res=32, refine="closest", rays=0, frames=1, closest_search="voxel")
+    assert field.method == "rtsdf"

@@ -226,6 +226,7 @@ TEST_F(PieceUnionGpu, DISABLED_LargestClosestErrorsOnTheDefaultScene) {
   s.mode = RefineMode::Closest;
   s.rays = std::getenv("RTSDF_DIAG_RAYS") ? std::atoi(std::getenv("RTSDF_DIAG_RAYS")) : 0;
   s.fullRecompute = true;
+  if (std::getenv("RTSDF_DIAG_SPARSE")) s.fineStorage = FineStorage::Sparse; // size L on lavapipe
   SdfPipeline pipe(*sCtx, scene, geo.bounds, s);
   for (int f = 0; f < (s.rays ? 4 : 1); ++f) pipe.runFrame(0.0); // sign rays settle after 4 refinements
   const GridSpec& fs = pipe.fineSpec();

@@ -128,6 +128,12 @@ public:
     PipelineSettings s;
     std::string device;
     applySettings(kw, &device, s);
+    for (const auto& [key, value] : kw) { // as bake: a keyword the pipeline would ignore is refused
+      const std::string keyword = py::str(key);
+      const std::string setting = settingOfKeyword(keyword, s);
+      if (setting.empty()) continue;
+      if (const std::string why = pipelineIgnores(s, setting); !why.empty()) throw py::value_error(keyword + "= " + why);
+    }
     Bounds bounds;
     for (int f = 0; f < frames; ++f) bounds.add(buildSceneGeometry(*mScene, f / fps).bounds);
     mCtx = std::make_unique<gpu::VulkanContext>(deviceContextOptions(device));

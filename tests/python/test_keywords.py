@@ -115,3 +115,9 @@ def test_bake_refuses_a_keyword_it_would_ignore_as_the_command_line_refuses_its_
 def test_bake_takes_the_keywords_its_method_reads():
     field = rtsdf.bake(BUNNY, method="rtsdf", res=32, refine="closest", rays=0, frames=1, closest_search="voxel")
     assert field.method == "rtsdf"
+
+
+def test_a_pipeline_refuses_a_keyword_it_would_ignore():
+    with pytest.raises(ValueError, match="^closest_search= "):
+        rtsdf.Pipeline(BUNNY, refine="rays", rays=2, closest_search="cell")
+    assert rtsdf.Pipeline(BUNNY, coarse=16, fine=32, refine="closest", closest_search="cell") is not None

@@ -167,6 +167,16 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
     c.sweepOptions.run.device = c.suite.device;
     c.sweepOptions.run.repeats = c.suite.repeats;
   });
+  // The flags by the settings bench::benchIgnores names (a flag every suite and the sweep read has none).
+  static const std::pair<const char*, const char*> kBenchSettings[] = {
+      {"--res", "resolution"},          {"--band-fraction", "band fraction"},     {"--repeats", "repeats"},
+      {"--suite", "benchmark suite"},   {"--size", "frame size"},                 {"--frames", "frames"},
+      {"--refine", "refinement mode"},  {"--rays", "rays"},                       {"--still", "still"},
+      {"--full-recompute", "full recompute"}, {"--full-rebuild", "full rebuild"}, {"--fine-storage", "fine storage"},
+      {"--csv", "frame csv"},           {"--warm-up", "warm-up seconds"},         {"--device", "device"},
+      {"--out", "output folder"},       {"--error-band", "error band"},           {"--no-shadows", "shadows"},
+      {"--truth-samples", "truth samples"}};
+  for (const auto& [flag, setting] : kBenchSettings) c.flags.add(setting, flag);
 }
 
 void bindCompare(CLI::App& app, CompareCommand& c, SettingFlags& flags) {
@@ -252,6 +262,10 @@ void finishCommands(CLI::App& app, Commands& c) {
     refuseIgnoredFlags(cmd, c.flags, [&o = c.render.options](const std::string& s) { return renderIgnores(o, s); });
   if (c.which == "view")
     refuseIgnoredFlags(cmd, c.flags, [&o = c.view](const std::string& s) { return viewIgnores(o, s); });
+  if (c.which == "bench")
+    refuseIgnoredFlags(cmd, c.bench.flags, [&b = c.bench](const std::string& s) {
+      return bench::benchIgnores(b.suite, !b.sweep.empty(), s);
+    });
 }
 
 std::string helpSettings() {

@@ -41,6 +41,7 @@ struct BenchCommand {
   std::string sweep; ///< quick, default or paper: the sweep instead of a suite (empty: a suite)
   bench::SweepJobOptions sweepOptions;
   bool announce = false; ///< say what will run and for how long first (`rtsdf bench` with no arguments)
+  SettingFlags flags;    ///< bench's own flags by the settings bench::benchIgnores names
 };
 
 struct CompareCommand {

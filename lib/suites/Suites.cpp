@@ -32,6 +32,36 @@ std::string cpuName() {
   return "unknown CPU";
 }
 
+std::string benchIgnores(const BenchOptions& o, bool sweep, const std::string& setting) {
+  using S = BenchSuite;
+  // Read by these suites (and the sweep where bySweep); who: them in words, for the message.
+  const auto readBy = [&](std::initializer_list<S> suites, bool bySweep, const char* who) -> std::string {
+    if (sweep) return bySweep ? "" : fmt::format("does not apply to the sweep (only {})", who);
+    for (S s : suites)
+      if (s == o.suite) return {};
+    return fmt::format("does not apply to the {} suite (only {}): leave it out or choose that suite",
+                       toString(o.suite), who);
+  };
+  for (const char* f : {"frame size", "frames", "refinement mode", "rays", "still", "full recompute", "full rebuild",
+                        "fine storage", "frame csv"})
+    if (setting == f) return readBy({S::Frame}, false, "the frame suite reads it");
+  if (setting == "resolution")
+    return readBy({S::Reference, S::Coarse, S::Sign}, false, "the reference, coarse and sign suites read it");
+  if (setting == "band fraction") return readBy({S::Reference}, false, "the reference suite reads it");
+  if (setting == "repeats")
+    return readBy({S::Reference, S::Coarse, S::Refine}, true,
+                  "the reference, coarse and refine suites and the sweep read it");
+  if (setting == "warm-up seconds")
+    return readBy({S::Coarse, S::Refine, S::Render, S::Frame}, false,
+                  "the coarse, refine, render and frame suites read it");
+  if (setting == "device")
+    return readBy({S::Coarse, S::Refine, S::Render, S::Frame, S::Sign}, true, "the GPU suites and the sweep read it");
+  if (setting == EnumNames<BenchSuite>::kSetting) return sweep ? "does not apply to the sweep (it runs no suite)" : "";
+  for (const char* f : {"output folder", "error band", "shadows", "truth samples"})
+    if (setting == f) return sweep ? "" : "does not apply to a suite (only the sweep, --sweep, reads it)";
+  return {};
+}
+
 double warmMedianMs(const BenchOptions& s, const std::function<double()>& run) {
   run();
   warmUpGpu(s.warmUpSeconds, run);

@@ -62,6 +62,16 @@ struct BenchOptions {
   void validate() const;
 };
 
+/// @brief Why `bench` with @a options (the speed/accuracy sweep instead when @a sweep) ignores the setting named
+///        @a setting, as a clause after the flag ("does not apply to ..."), or "" when it reads it. The settings:
+///        the frame suite's ("frame size", "frames", "refinement mode", "rays", "still", "full recompute",
+///        "full rebuild", "fine storage", "frame csv"), "resolution" (reference, coarse and sign suites), "band
+///        fraction" (reference), "repeats" (reference, coarse, refine, the sweep), "warm-up seconds" (the GPU suites
+///        that time frames: coarse, refine, render, frame), "device" (every GPU suite and the sweep), "benchmark
+///        suite" (not the sweep), and the sweep's ("output folder", "error band", "shadows", "truth samples").
+///        Others: "".
+std::string benchIgnores(const BenchOptions& options, bool sweep, const std::string& setting);
+
 /// @brief Run the suite of @a options and return its Markdown report (machine and date first).
 /// @throw SettingError, Error (bad scenes, no Vulkan device for the GPU suites).
 std::string runBenchSuite(const BenchOptions& options, const JobControl& control = {});

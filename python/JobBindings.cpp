@@ -151,6 +151,7 @@ public:
     d["time"] = st.time;
     d["mask_voxels"] = st.maskFineVoxels;
     d["refined_voxels"] = st.refinedFineVoxels;
+    d["cut_voxels"] = st.cutVoxels; // refinements a CPU device's loop budget ended (FrameStats::cutVoxels)
     d["host_ms"] = st.hostMs;
     d["wall_ms"] = st.wallMs;
     py::dict passes;

@@ -124,6 +124,9 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
       if (onFrame) onFrame(fr);
       control.report("animate", std::uint64_t(f + 1), std::uint64_t(a.frames));
     }
+    std::uint64_t cut = 0;
+    for (const AnimateFrame& fr : run.frames) cut += fr.stats.cutVoxels;
+    warnOfCutWalks(cut, ctx.info().name);
     return run;
   });
   written.keep();

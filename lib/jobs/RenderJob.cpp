@@ -52,11 +52,14 @@ RenderedFrame renderOnGpu(const RenderJobOptions& o, const Scene& scene, RenderJ
       spdlog::info("SDF: {}", result.sdfGrids);
     }
     RenderedFrame frame;
+    std::uint64_t cut = 0;
     for (int f = 0; f < o.frames; ++f) {
       control.checkStop();
       frame = renderer.renderFrame(t0 + f / o.fps, f + 1 == o.frames);
+      cut += frame.sdf.cutVoxels;
       control.report("render", std::uint64_t(f + 1), std::uint64_t(o.frames));
     }
+    warnOfCutWalks(cut, ctx.info().name);
     return frame;
   });
 }

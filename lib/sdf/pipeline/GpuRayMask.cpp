@@ -122,10 +122,12 @@ GpuRayMask::Counts GpuRayMask::counts() const {
   if (n.refinedFine > n.maskedFine || n.maskedFine > mFineSpec.voxelCount() || n.coarse > mCoarseSpec.voxelCount() ||
       n.refineList > n.coarse || n.activeBricks > std::uint64_t(bd.x) * bd.y * bd.z ||
       n.overflowBricks > n.activeBricks || n.cutVoxels > n.refinedFine)
-    throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine of {} under {} coarse voxels ({} "
-                            "listed), {} bricks ({} without a slot), more than the grids hold ({}, {} and {})",
-                            n.refinedFine, n.maskedFine, n.coarse, n.refineList, n.activeBricks, n.overflowBricks,
-                            mFineSpec.voxelCount(), mCoarseSpec.voxelCount(), std::uint64_t(bd.x) * bd.y * bd.z));
+    throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine ({} of them cut) of {} under {} coarse "
+                            "voxels ({} listed), {} bricks ({} without a slot), more than the grids hold ({}, {} and "
+                            "{})",
+                            n.refinedFine, n.cutVoxels, n.maskedFine, n.coarse, n.refineList, n.activeBricks,
+                            n.overflowBricks, mFineSpec.voxelCount(), mCoarseSpec.voxelCount(),
+                            std::uint64_t(bd.x) * bd.y * bd.z));
   return n;
 }
 

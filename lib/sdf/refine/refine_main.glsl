@@ -154,7 +154,7 @@ void collectCellCandidates(vec3 m, vec3 halfSize, float radius) {
       uint at = cellCount;
       if (at == uint(RTSDF_CELL_CANDIDATES)) {
         float farthest = -1.0;
-        for (uint j = 0u; j < uint(RTSDF_CELL_CANDIDATES); ++j)
+        for (uint j = 0u; j < uint(RTSDF_CELL_CANDIDATES) && RTSDF_LOOP_STEP; ++j) // cut: cellMissed
           if (cellDistance[j] > farthest) { farthest = cellDistance[j]; at = j; }
         if (farthest <= cellReach) {
           if (dist >= farthest) { cellDropped = dist; continue; }
@@ -227,7 +227,7 @@ vec2 castRays(ivec3 v, bool fresh, uint slot, uint local, out float nearest) {
   vec2 vote = fresh ? vec2(0.0) : params.alpha * unpackHalf2x16(loadVotes(slot, local));
   float front = 0.0, back = 0.0;
   nearest = 1.0 / 0.0;
-  for (uint r = 0u; r < params.rays; ++r) {
+  for (uint r = 0u; r < params.rays && RTSDF_LOOP_STEP; ++r) {
     uint h = rayHash(i, params.frame, r, params.seed);
     float z = 1.0 - 2.0 * unitFloat(h);
     float phi = 6.28318530718 * unitFloat(pcgHash(h));

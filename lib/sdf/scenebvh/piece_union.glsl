@@ -43,7 +43,7 @@ bool oddCrossings(BvhInstance inst, vec3 po, vec3 d, uint piece) {
 // of the instance in slot 'skipSlot' (the nearest surface's, whose own rule said outside; kOpenPiece skips none).
 bool insideAnotherPiece(vec3 p, uint skipSlot, uint skipPiece) {
   uint count = unionHeader.x;
-  for (uint k = 0u; k < count; ++k) {
+  for (uint k = 0u; k < count && RTSDF_LOOP_STEP; ++k) {
     UnionPiece u = unionPieces[k];
     uint slot = floatBitsToUint(u.lo.w), piece = floatBitsToUint(u.hi.w);
     if (slot == skipSlot && piece == skipPiece) continue;

@@ -195,6 +195,17 @@ void checkGlbFile(const fs::path& path, std::uint64_t fileSize) {
   if (isGlb(read(0, 4))) checkGlb(read, fileSize, path.string());
 }
 
+void checkGltfForm(const std::string& head, const std::string& extension, const std::string& name) {
+  std::string ext = toLower(extension);
+  if (!ext.empty() && ext[0] == '.') ext.erase(0, 1);
+  if (ext == "glb" && !isGlb(head)) throw Error(fmt::format("{}: not a binary glTF: a .glb starts with 'glTF'", name));
+  if (ext != "gltf" || isGlb(head)) return;
+  const std::size_t bom = head.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0; // a UTF-8 byte order mark, tolerated
+  const std::size_t first = head.find_first_not_of(" \t\r\n", bom);
+  if (first == std::string::npos || head[first] != '{')
+    throw Error(fmt::format("{}: not a glTF: a .gltf is a JSON object (it starts with '{{') or a GLB", name));
+}
+
 void checkGltfIndices(const std::string& bytes, const std::string& name, const fs::path& folder, bool allowOutside) {
   std::optional<GltfParts> parts = splitGltf(bytes);
   if (!parts) return;

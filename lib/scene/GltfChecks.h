@@ -18,6 +18,14 @@ void checkGlbLengths(const std::string& head, std::uint64_t fileSize, const std:
 /// @brief checkGlbLengths over every chunk of a .glb or .gltf file, reading only the chunk headers.
 void checkGlbFile(const std::filesystem::path& path, std::uint64_t fileSize);
 
+/// @brief Refuse bytes a glTF importer would not take as glTF: a .glb (@a extension, any case, with or without the
+///        dot) that does not start with the binary glTF magic "glTF", and a .gltf that is neither a GLB nor JSON
+///        (its first byte other than white space is not '{'). assimp would go on to try every other importer on
+///        them, and one of them reads past the end of a short buffer (fuzz_gltf). Other extensions pass.
+/// @param head the file's first bytes (a few suffice).
+/// @throw Error "<name>: not a binary glTF: a .glb starts with 'glTF'".
+void checkGltfForm(const std::string& head, const std::string& extension, const std::string& name);
+
 /// @brief Check each triangle index of a glTF's meshes (in a .gltf's JSON or a .glb's chunks) against the
 ///        vertex count of its primitive. Indices the check cannot reach (a buffer it cannot read, a sparse
 ///        accessor, an accessor past its buffer) are left to assimp, which reports what is malformed.

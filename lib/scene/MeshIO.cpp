@@ -90,6 +90,7 @@ Mesh loadMeshFile(const fs::path& path, const MeshLoadOptions& options) {
   const std::string ext = toLower(path.extension().string());
   checkHeaderClaims(readFileHead(path, 1 << 16), size, ext, path.string());
   if (ext == ".glb" || ext == ".gltf") {
+    checkGltfForm(readFileHead(path, 64), ext, path.string());
     checkGlbFile(path, size);
     checkGltfIndices(readFileHead(path, size), path.string(), fs::absolute(path).parent_path(),
                      options.allowOutsideReferences);
@@ -118,8 +119,10 @@ Mesh loadMeshFile(const fs::path& path, const MeshLoadOptions& options) {
 Mesh loadMeshFromMemory(const std::string& bytes, const std::string& extension, const std::string& name) {
   checkHeaderClaims(bytes.substr(0, 1 << 16), bytes.size(), extension, name);
   if (toLower(extension) == ".glb" || toLower(extension) == "glb" || toLower(extension) == ".gltf" ||
-      toLower(extension) == "gltf")
+      toLower(extension) == "gltf") {
+    checkGltfForm(bytes.substr(0, 64), extension, name);
     checkGltfIndices(bytes, name, {}, false);
+  }
   if (toLower(extension) == ".obj" || toLower(extension) == "obj") checkObjLines(bytes, name);
   Assimp::Importer importer;
   configure(importer);

@@ -247,3 +247,18 @@ TEST(InputChecks, AMillionKeyframesParse) {
   EXPECT_EQ(s.instances[0].animation.keyframes.size(), std::size_t(kFrames));
   EXPECT_EQ(s.instances[0].animation.keyframes.back().time, kFrames - 1);
 }
+
+// A .glb without the binary glTF magic, or a .gltf that is not JSON, is refused before assimp sees it: assimp went on to
+// try every other importer on such bytes, and one read past the end of a short buffer (fuzz_gltf's finding, kept in
+// fuzz/regressions/fuzz_gltf). A real glTF of either kind still reaches the importer.
+TEST(InputChecks, AGlbWithoutItsMagicOrAGltfThatIsNotJsonIsRefused) {
+  const std::string finding("g\0gindexarrayl\0JSON{\"a\0glT", 27);
+  const std::string glb = errorOf([&] { loadMeshFromMemory(finding, ".glb", "f.glb"); });
+  EXPECT_NE(glb.find("f.glb: not a binary glTF"), std::string::npos) << glb;
+  const std::string gltf = errorOf([&] { loadMeshFromMemory(finding, "gltf", "f.gltf"); });
+  EXPECT_NE(gltf.find("f.gltf: not a glTF"), std::string::npos) << gltf;
+  // JSON (after white space and a byte order mark) gets past the form check to the importer, which says what is wrong.
+  const std::string json = errorOf([&] { loadMeshFromMemory("\xEF\xBB\xBF  {\"asset\": {}}", ".gltf", "j.gltf"); });
+  EXPECT_EQ(json.find("not a glTF"), std::string::npos) << json;
+  EXPECT_NE(json.find("j.gltf"), std::string::npos) << json;
+}

@@ -59,6 +59,19 @@ template <class... Structs> std::string settingOfKeyword(const std::string& keyw
   return setting;
 }
 
+/// Refuse the first keyword of @a kw whose setting (in @a structs' tables) the job would ignore: @a ignores(setting)
+/// says why ("" where it acts), as the command line's refuseIgnoredFlags does for flags.
+/// @throw py::value_error "<keyword>= <why>".
+template <class Ignores, class... Structs>
+void refuseIgnoredKeywords(const py::kwargs& kw, const Ignores& ignores, Structs&... structs) {
+  for (const auto& [key, value] : kw) {
+    const std::string keyword = py::str(key);
+    const std::string setting = settingOfKeyword(keyword, structs...);
+    if (setting.empty()) continue;
+    if (const std::string why = ignores(setting); !why.empty()) throw py::value_error(keyword + "= " + why);
+  }
+}
+
 /// The keywords of S's table, "a, b, c".
 template <class S> std::string keywordsOf() {
   std::string s;

@@ -38,12 +38,8 @@ Field bakeField(const py::handle& sceneOrPath, const std::string& method, int re
   applySettings(kw, nullptr, o.pipeline, o); // the bake's device is a knob of BakeOptions
   // A keyword the bake would ignore is refused, as the command line refuses its flag (jobs/SettingUse.h); the bake
   // refuses a full domain itself, naming the exact method.
-  for (const auto& [key, value] : kw) {
-    const std::string keyword = py::str(key);
-    const std::string setting = settingOfKeyword(keyword, o.pipeline, o);
-    if (setting.empty() || setting == "full domain") continue;
-    if (const std::string why = bakeIgnores(o, setting); !why.empty()) throw py::value_error(keyword + "= " + why);
-  }
+  refuseIgnoredKeywords(
+      kw, [&o](const std::string& s) { return s == "full domain" ? std::string() : bakeIgnores(o, s); }, o.pipeline, o);
   PythonJob job(progress);
   const BakeResult r = job.run([&] { return bake(*scene, o, job.control()); });
   return {r.grid, r.spec, double(r.options.pipeline.band), toString(o.method), upAxis};
@@ -128,12 +124,7 @@ public:
     PipelineSettings s;
     std::string device;
     applySettings(kw, &device, s);
-    for (const auto& [key, value] : kw) { // as bake: a keyword the pipeline would ignore is refused
-      const std::string keyword = py::str(key);
-      const std::string setting = settingOfKeyword(keyword, s);
-      if (setting.empty()) continue;
-      if (const std::string why = pipelineIgnores(s, setting); !why.empty()) throw py::value_error(keyword + "= " + why);
-    }
+    refuseIgnoredKeywords(kw, [&s](const std::string& setting) { return pipelineIgnores(s, setting); }, s);
     Bounds bounds;
     for (int f = 0; f < frames; ++f) bounds.add(buildSceneGeometry(*mScene, f / fps).bounds);
     mCtx = std::make_unique<gpu::VulkanContext>(deviceContextOptions(device));

@@ -55,6 +55,8 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   "sdf_shadow_umbra_buffer.comp   render/sdfshadow/sdf_shadow_main.glsl  RTSDF_SHADOW_FIELD_BUFFER RTSDF_SHADOW_UMBRA"
   "sdf_shadow_bricks.comp         render/sdfshadow/sdf_shadow_main.glsl  RTSDF_SHADOW_FIELD_BRICKS"
   "sdf_shadow_umbra_bricks.comp   render/sdfshadow/sdf_shadow_main.glsl  RTSDF_SHADOW_FIELD_BRICKS RTSDF_SHADOW_UMBRA"
+  "sdf_shadow_cascade.comp        render/sdfshadow/sdf_shadow_main.glsl  RTSDF_SHADOW_FIELD_CASCADE"
+  "sdf_shadow_umbra_cascade.comp  render/sdfshadow/sdf_shadow_main.glsl  RTSDF_SHADOW_FIELD_CASCADE RTSDF_SHADOW_UMBRA"
   "volume_fill.comp               render/sdfshadow/volume_fill.comp"
   "shadow_map.comp                render/shadowmap/shadow_map.comp"
   "shadow_lookup.comp             render/shadowmap/shadow_lookup.comp"

@@ -24,7 +24,7 @@ glm::dvec3 cascadeCentre(const Scene& scene, double time) {
 BakeResult bakeCascades(const BakeOptions& o, const Scene& scene, const JobControl& control) {
   return runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
     const glm::dvec3 centre = cascadeCentre(scene, o.time);
-    const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene, o.time).bounds, o.pipeline);
+    const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene, o.time).bounds, centre, o.pipeline);
     CascadeSet set(ctx, scene, CascadeLayout::around(centre, shape), o.pipeline);
     spdlog::info("cascades: {} levels around ({:.6g}, {:.6g}, {:.6g}), level 0 {:.6g} wide; {}", shape.levels,
                  centre.x, centre.y, centre.z, shape.levelZeroExtent, set.memory().describe());

@@ -93,6 +93,7 @@ struct Renderer::Gpu {
   gpu::GpuProfiler profiler;
   GpuGBuffer gbuffer;
   Buffer lights, visibility, history, depth, maps;
+  Buffer cascadeLevels;           ///< cascades: a CascadeFieldLevel per level
   gpu::SampledVolume fineTexture; ///< SdfSampling::Texture: the fine SDF for hardware-filtered sampling
   bool textureCurrent = false;    ///< fineTexture holds the fine SDF as the last frame left it
   Gpu(const gpu::VulkanContext& ctx, bool umbra)
@@ -108,18 +109,30 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
   settings.validate();
   checkRenderable(scene);
   // The GPU works near the scene: the SDF's frame (its fine grid's corner, SdfPipeline::frameOrigin()), or the
-  // corner of the bounds for shadow maps. Known before anything is allocated, so a bad camera is refused first.
-  if (settings.technique == ShadowTechnique::Sdf)
+  // corner of the bounds for shadow maps and cascades (whose levels move with the camera). Known before anything is
+  // allocated, so a bad camera is refused first.
+  const bool cascaded = settings.technique == ShadowTechnique::Sdf && settings.pipeline.cascades > 1;
+  if (settings.technique == ShadowTechnique::Sdf && !cascaded)
     mFrameOrigin = pipelineGrids(sdfBounds, settings.pipeline).second.origin;
   else
     mFrameOrigin = sdfBounds.empty() ? glm::dvec3(0.0) : sdfBounds.min;
   mCamera = makeCameraParams(scene.camera, settings.width, settings.height, mFrameOrigin);
+  mEye = scene.cameraAt(0.0).position;
   mLights = makeGpuLights(scene.lights, mFrameOrigin);
   if (settings.technique == ShadowTechnique::Sdf) {
     // Sampling the bricks needs no dense fine SDF; the other ways sample one.
     PipelineSettings ps = settings.pipeline;
     ps.fineStorage = settings.sdf.sampling == SdfSampling::Bricks ? FineStorage::Sparse : FineStorage::Dense;
-    mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, ps);
+    if (cascaded) {
+      if (settings.sdf.sampling == SdfSampling::Bricks)
+        throw SettingError("SDF sampling", "--sdf-sampling bricks: cascade levels are sampled from their dense fine "
+                                           "buffers (texture or buffer sampling)");
+      mCascades = std::make_unique<CascadeSet>(ctx, scene, CascadeLayout::around(mEye, cascadeShapeFor(sdfBounds, mEye, ps)),
+                                               ps);
+      mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, mFrameOrigin);
+    } else {
+      mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, ps);
+    }
   }
   const bool umbra = settings.technique == ShadowTechnique::Sdf && settings.sdf.penumbra == PenumbraEstimate::Umbra;
   mGpu = std::make_unique<Gpu>(ctx, umbra);
@@ -130,9 +143,12 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
   const VkDeviceSize visBytes = VkDeviceSize(pixels * mLights.size() * 4);
   mGpu->visibility = Buffer(ctx, visBytes, kStorage, Buffer::Memory::Device, "visibility");
   mGpu->history = Buffer(ctx, visBytes, kStorage, Buffer::Memory::Device, "TAA history");
-  if (mSdf) {
-    const GridSpec f = mSdf->fineSpec().inFrame(mFrameOrigin);
-    mSampling = settings.sdf.sampling;
+  if (mSdf || mCascades) {
+    const GridSpec f = (mSdf ? mSdf->fineSpec() : mCascades->layout().levels.at(0).fine).inFrame(mFrameOrigin);
+    mSampling = mCascades ? SdfSampling::Buffer : settings.sdf.sampling;
+    if (mCascades)
+      mGpu->cascadeLevels = Buffer(ctx, sizeof(sh::CascadeFieldLevel) * std::size_t(mCascades->levels()), kStorage,
+                                   Buffer::Memory::Device, "cascade levels");
     if (mSampling == SdfSampling::Texture && !gpu::SampledVolume::supported(ctx)) {
       spdlog::warn("{} cannot filter R32_SFLOAT 3D textures: SDF shadows sample the fine buffer instead",
                    ctx.info().name);
@@ -158,6 +174,7 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     p.jitter = settings.sdf.jitter ? 1.0f : 0.0f;
     p.lateralProbes = std::uint32_t(settings.sdf.lateralProbes);
     p.lightSamples = std::uint32_t(settings.sdf.lightSamples);
+    p.cascadeLevels = mCascades ? std::uint32_t(mCascades->levels()) : 0u;
     sh::ContactShadowParams& c = mContactParams;
     c.image = p.image;
     c.lights = std::uint32_t(mLights.size());
@@ -194,11 +211,19 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   ++mFrame;
   if (mFollowsSceneCamera && !mScene.cameraPath.empty())
     mCamera = makeCameraParams(mScene.cameraAt(time), mSettings.width, mSettings.height, mFrameOrigin);
+  if (mFollowsSceneCamera) mEye = mScene.cameraAt(time).position;
   const GpuSceneBvh* bvh = nullptr;
   if (mSdf) {
     out.sdf = mSdf->runFrame(time);
     out.passMs = out.sdf.passMs;
     bvh = &mSdf->bvh();
+  } else if (mCascades) {
+    mCascades->moveTo(mEye);
+    out.sdf = sumFrameStats(mCascades->runFrame(time));
+    out.passMs = out.sdf.passMs;
+    mBvh->update(time);
+    bvh = mBvh.get();
+    uploadCascadeLevels();
   } else {
     // Shadow maps cover the scene as it is now (the maps' frame follows the moving instances' bounds).
     mBvh->update(time);
@@ -215,7 +240,14 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   Gpu& g = *mGpu;
   g.profiler.reset(cmd.handle());
   g.gbufferPass.execute(cmd.handle(), &g.profiler, {*bvh}, {g.gbuffer}, mCamera);
-  if (mSdf) {
+  if (mCascades) {
+    mSdfParams.image.z = mFrame;
+    GpuCascadeField levels{g.cascadeLevels, {}};
+    for (int i = 0; i < mCascades->levels(); ++i) levels.fields.push_back(&mCascades->level(i).fineBuffer());
+    g.sdfShadowPass.execute(cmd.handle(), &g.profiler,
+                            {g.gbuffer, *levels.fields[0], nullptr, g.lights, nullptr, false, &levels},
+                            {g.visibility}, mSdfParams);
+  } else if (mSdf) {
     mSdfParams.image.z = mFrame;
     const gpu::SampledVolume* texture = mSampling == SdfSampling::Texture ? &g.fineTexture : nullptr;
     if (mSampling == SdfSampling::Bricks) {
@@ -230,6 +262,8 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
                               mSdfParams);
       g.textureCurrent = texture != nullptr;
     }
+  }
+  if (mSdf || mCascades) {
     mContactParams.image.z = mFrame;
     if (mContactParams.rays > 0u)
       g.contactShadowPass.execute(cmd.handle(), &g.profiler, {*bvh, g.gbuffer, g.lights}, {g.visibility},
@@ -257,7 +291,29 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
 
 void Renderer::setCamera(const Camera& camera) {
   mCamera = makeCameraParams(camera, mSettings.width, mSettings.height, mFrameOrigin);
+  mEye = camera.position;
   mFollowsSceneCamera = false;
+}
+
+void Renderer::uploadCascadeLevels() {
+  mCascadeLevels.clear();
+  for (const CascadeLevel& level : mCascades->layout().levels) {
+    const GridSpec f = level.fine.inFrame(mFrameOrigin);
+    sh::CascadeFieldLevel l{};
+    l.originH = glm::vec4(glm::vec3(f.origin), float(f.voxelSize));
+    l.dims = glm::ivec4(f.dims, 0);
+    l.blend = glm::vec4(float(kCascadeBlendVoxels * f.voxelSize), 0.0f, 0.0f, 0.0f);
+    mCascadeLevels.push_back(l);
+  }
+  upload(mCtx, mGpu->cascadeLevels, mCascadeLevels.data(), mCascadeLevels.size() * sizeof(sh::CascadeFieldLevel));
+}
+
+CascadeFieldCpu Renderer::cascadeField() const {
+  if (!mCascades) throw Error("the renderer has no cascade levels (cascades 1)");
+  CascadeFieldCpu out;
+  out.levels = mCascadeLevels;
+  for (int i = 0; i < mCascades->levels(); ++i) out.fields.push_back(mCascades->level(i).fineField());
+  return out;
 }
 
 const GpuGBuffer& Renderer::gpuGBuffer() const { return mGpu->gbuffer; }

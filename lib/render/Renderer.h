@@ -6,7 +6,9 @@
 #include "render/RayTracedShadows.h"
 #include "render/RenderPasses.h"
 #include "render/RenderTypes.h"
+#include "render/sdfshadow/SdfShadowCpu.h"
 #include "sdf/SdfPipeline.h"
+#include "sdf/cascade/CascadeSet.h"
 #include "util/Knobs.h"
 
 #include <memory>
@@ -206,7 +208,13 @@ struct RenderedFrame {
   double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
 };
 
-/// @brief Renders frames of a scene's camera with the GPU techniques (Sdf, ShadowMap).
+/// @brief The band at a cascade level's border over which the march fades it into the next coarser level, in the
+///        level's fine voxels (CascadeSamplerCpu's blendVoxels).
+constexpr double kCascadeBlendVoxels = 4.0;
+
+/// @brief Renders frames of a scene's camera with the GPU techniques (Sdf, ShadowMap). With
+///        PipelineSettings::cascades > 1 the SDF is K camera-centred levels (CascadeSet) that follow the camera, and
+///        the march samples them blended (sdf_shadow_cascade.comp).
 class Renderer {
 public:
   /// @param sdfBounds the SDF grids' bounds (the union over the animation, so the grids stay fixed).
@@ -221,7 +229,13 @@ public:
   /// @param readBack download the G-buffer and visibility (off for benchmarks of the GPU time alone).
   RenderedFrame renderFrame(double time, bool readBack = true);
 
+  /// @brief The one box's pipeline (Sdf technique, cascades 1), else null.
   const SdfPipeline* sdfPipeline() const { return mSdf.get(); }
+  /// @brief The camera-centred levels (Sdf technique, cascades > 1), else null.
+  const CascadeSet* cascades() const { return mCascades.get(); }
+  /// @brief The cascade levels as the last frame's march sampled them, read back (for the CPU reference).
+  /// @throw Error when the renderer has no cascades.
+  CascadeFieldCpu cascadeField() const;
   /// @brief Render the next frames from @a camera (an orbiting viewer's) instead of the scene camera's path; the TAA
   ///        history is kept.
   /// @throw Error when the camera is degenerate.
@@ -238,7 +252,8 @@ public:
   const glm::dvec3& frameOrigin() const { return mFrameOrigin; }
   /// @brief The lights as uploaded (in the frame of frameOrigin()), for the CPU references of the passes.
   const std::vector<gpu::shared::GpuLight>& gpuLights() const { return mLights; }
-  /// @brief How the SDF march samples the fine SDF in this renderer (Texture may have fallen back to Buffer).
+  /// @brief How the SDF march samples the fine SDF in this renderer (Texture may have fallen back to Buffer; cascades
+  ///        sample each level's buffer).
   SdfSampling sdfSampling() const { return mSampling; }
   /// @brief The SDF shadow parameters of the last frame (for the CPU reference).
   const gpu::shared::SdfShadowParams& sdfShadowParams() const { return mSdfParams; }
@@ -252,6 +267,8 @@ public:
 
 private:
   struct Gpu;
+  /// The levels' grids as the march samples them (mCascadeLevels), uploaded.
+  void uploadCascadeLevels();
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   RenderSettings mSettings;
@@ -264,8 +281,11 @@ private:
   gpu::shared::ContactShadowParams mContactParams{};
   std::vector<gpu::shared::ShadowMapParams> mMapParams;
   std::unique_ptr<SdfPipeline> mSdf;
+  std::unique_ptr<CascadeSet> mCascades;
+  std::vector<gpu::shared::CascadeFieldLevel> mCascadeLevels; ///< as uploaded for the last frame
+  glm::dvec3 mEye{0.0}; ///< the camera's world position (the cascades' centre)
   SdfSampling mSampling = SdfSampling::Buffer;
-  std::unique_ptr<GpuSceneBvh> mBvh; // ShadowMap technique (Sdf uses the pipeline's)
+  std::unique_ptr<GpuSceneBvh> mBvh; // ShadowMap technique and cascades (one box's Sdf uses the pipeline's)
   std::unique_ptr<Gpu> mGpu;
   int mFrame = 0;
 };

@@ -7,7 +7,8 @@
 
 RTSDF_SHARED_BEGIN
 
-/// sdf_shadow.comp (field: a sampled 3D texture), sdf_shadow_buffer.comp (field: a storage buffer) and
+/// sdf_shadow.comp (field: a sampled 3D texture), sdf_shadow_buffer.comp (field: a storage buffer),
+/// sdf_shadow_cascade.comp (camera-centred cascade levels, bindings below) and
 /// sdf_shadow_bricks.comp (field: the coarse SDF, with the brick pool's slots, parameters, value pages and the
 /// fine-to-coarse tables after kSdfShadowBindingCount: the fine SDF as SdfPipeline's sparse state holds it).
 const uint kSdfShadowBindingPositions = 0u;
@@ -21,6 +22,20 @@ const uint kSdfShadowBindingBrickParams = kSdfShadowBindingCount + 1u; // one Re
 const uint kSdfShadowBindingValuePages = kSdfShadowBindingCount + 2u;  // RTSDF_BRICK_PAGES pages of the values
 const uint kSdfShadowBindingFineToCoarse = kSdfShadowBindingCount + 6u; // maskCoarseOfFine(): the band test
 const uint kSdfShadowBindingBrickCount = kSdfShadowBindingCount + 7u;
+
+/// sdf_shadow_cascade.comp (cascade levels: the field binding unused): the level table (CascadeFieldLevel per level,
+/// finest first) and each level's dense fine SDF at its own binding (levels past the count bind level 0's again).
+#define RTSDF_MAX_CASCADE_LEVELS 10
+const uint kSdfShadowBindingCascadeLevels = kSdfShadowBindingCount + 0u;
+const uint kSdfShadowBindingCascadeFields = kSdfShadowBindingCount + 1u;
+const uint kSdfShadowBindingCascadeCount = kSdfShadowBindingCascadeFields + RTSDF_MAX_CASCADE_LEVELS;
+
+/// One cascade level as the march samples it (CascadeSamplerCpu's rule, sampleSdf in SdfShadowMarch.h).
+struct CascadeFieldLevel {
+  vec4 originH; // xyz: world corner of the level's fine voxel (0,0,0) (frame-relative), w: its fine voxel size
+  ivec4 dims;   // xyz: fine voxels per axis
+  vec4 blend;   // x: the band at the level's margin over which it fades into the next coarser level (scene units)
+};
 
 /// volume_fill.comp: the dense fine SDF (x fastest) into the 3D texture the march samples (a storage image).
 const uint kVolumeFillBindingField = 0u;
@@ -54,6 +69,8 @@ struct SdfShadowParams {
   uint lightSamples;  // umbra: marches per pixel, light and frame (>= 1)
   float contactReach; // > 0: mark the pixels where something other than the receiver's own plane lies within
                       // this distance (sdfShadowMarch's contact) for ContactShadowPass; 0: the pass does not run
+  uint cascadeLevels; // 0: one box (gridOriginH, gridDims); else the march samples this many cascade levels
+                      // (CascadeFieldLevel), gridOriginH's voxel being level 0's
 };
 
 /// SdfShadowPass adds this to the visibility of the pixels (and lights) whose contact rays ContactShadowPass is to

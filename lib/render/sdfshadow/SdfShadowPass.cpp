@@ -55,6 +55,8 @@ SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra)
                       sizeof(SdfShadowParams)),
       mBrickPipeline(ctx, umbra ? "sdf_shadow_umbra_bricks.comp" : "sdf_shadow_bricks.comp",
                      kSdfShadowBindingBrickCount, sizeof(SdfShadowParams)),
+      mCascadePipeline(ctx, umbra ? "sdf_shadow_umbra_cascade.comp" : "sdf_shadow_cascade.comp",
+                       kSdfShadowBindingCascadeCount, sizeof(SdfShadowParams)),
       mFill(ctx), mFillMethod(VolumeFillPass::defaultMethod(ctx)), mUmbra(umbra) {
   if (gpu::SampledVolume::supported(ctx))
     mTexturePipeline = gpu::ComputePipeline(ctx, umbra ? "sdf_shadow_umbra.comp" : "sdf_shadow.comp",
@@ -90,6 +92,19 @@ void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
     for (std::uint32_t k = 0; k < RTSDF_BRICK_PAGES; ++k)
       bb[kSdfShadowBindingValuePages + k] = in.bricks->pool.values[k];
     mBrickPipeline.dispatch(cmd, bb, &params, groups);
+  } else if (in.cascade) {
+    const std::size_t levels = in.cascade->fields.size();
+    if (levels == 0 || levels > RTSDF_MAX_CASCADE_LEVELS || levels != params.cascadeLevels)
+      throw Error(fmt::format("SdfShadowPass: {} cascade level field(s) given for {} level(s) (at most {})", levels,
+                              params.cascadeLevels, RTSDF_MAX_CASCADE_LEVELS));
+    gpu::ProfileScope scope(profiler, cmd, kName);
+    std::array<gpu::Binding, kSdfShadowBindingCascadeCount> cb;
+    std::copy(b.begin(), b.end(), cb.begin());
+    cb[kSdfShadowBindingField] = in.cascade->fields[0]; // unread: the levels' own bindings hold the field
+    cb[kSdfShadowBindingCascadeLevels] = &in.cascade->levels;
+    for (std::size_t k = 0; k < RTSDF_MAX_CASCADE_LEVELS; ++k)
+      cb[kSdfShadowBindingCascadeFields + k] = in.cascade->fields[k < levels ? k : 0];
+    mCascadePipeline.dispatch(cmd, cb, &params, groups);
   } else {
     gpu::ProfileScope scope(profiler, cmd, kName);
     b[kSdfShadowBindingField] = &in.field;

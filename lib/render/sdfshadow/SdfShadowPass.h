@@ -34,6 +34,12 @@ private:
   gpu::ComputePipeline mCompute; ///< empty where SampledVolume::storageSupported is false
 };
 
+/// @brief Camera-centred cascade levels as SdfShadowPass samples them (Params::cascadeLevels of them).
+struct GpuCascadeField {
+  const gpu::Buffer& levels;              ///< a CascadeFieldLevel per level, finest first
+  std::vector<const gpu::Buffer*> fields; ///< each level's dense fine SDF (x fastest), finest first
+};
+
 /// @brief SDF soft shadows: per pixel and light, sphere tracing of the fine SDF towards the light.
 class SdfShadowPass {
 public:
@@ -54,6 +60,9 @@ public:
     /// Whether @a texture is filled from @a field first; false where it still holds @a field's values (the field
     /// unchanged since the last fill: FrameStats::fieldChanged), so the copy is skipped.
     bool fillTexture = true;
+    /// Where given (and no texture or bricks), the march samples these cascade levels (sdf_shadow_cascade.comp);
+    /// @a field is unread.
+    const GpuCascadeField* cascade = nullptr;
   };
   struct Outputs { const gpu::Buffer& visibility; }; ///< params.gridDims.w * width * height floats, light-major
   using Params = gpu::shared::SdfShadowParams;
@@ -62,12 +71,13 @@ public:
   /// @note The texture variant is built only where the device filters R32_SFLOAT 3D textures linearly.
   explicit SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra = false);
   /// @throw Error when a texture is given but the device cannot filter it (see gpu::SampledVolume::supported),
-  ///        or when params.penumbra is (or is not) kPenumbraUmbra and the pass was built otherwise.
+  ///        when params.penumbra is (or is not) kPenumbraUmbra and the pass was built otherwise, or when the cascade
+  ///        levels given are not params.cascadeLevels (1 to RTSDF_MAX_CASCADE_LEVELS).
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 
 private:
-  gpu::ComputePipeline mTexturePipeline, mBufferPipeline, mBrickPipeline;
+  gpu::ComputePipeline mTexturePipeline, mBufferPipeline, mBrickPipeline, mCascadePipeline;
   VolumeFillPass mFill;
   VolumeFillPass::Method mFillMethod;
   bool mUmbra = false;

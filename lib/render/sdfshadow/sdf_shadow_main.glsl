@@ -7,8 +7,9 @@
 // as a 3D texture, one hardware-filtered (trilinear) fetch per step (RTSDF_SHADOW_FIELD_TEXTURE: sdf_shadow.comp),
 // as a dense storage buffer filtered here exactly as the CPU copy filters it, 8 fetches per step
 // (RTSDF_SHADOW_FIELD_BUFFER: sdf_shadow_buffer.comp), or sampled from the brick pool and the coarse SDF, the
-// sparse fine state (RTSDF_SHADOW_FIELD_BRICKS: sdf_shadow_bricks.comp); each also with RTSDF_SHADOW_UMBRA
-// (sdf_shadow_umbra*.comp: several marches per pixel and light).
+// sparse fine state (RTSDF_SHADOW_FIELD_BRICKS: sdf_shadow_bricks.comp), or from camera-centred cascade levels, each
+// a dense buffer filtered here (RTSDF_SHADOW_FIELD_CASCADE: sdf_shadow_cascade.comp); each also with
+// RTSDF_SHADOW_UMBRA (sdf_shadow_umbra*.comp: several marches per pixel and light).
 #include "render/sdfshadow/SdfShadowParams.h"
 #if defined(RTSDF_SHADOW_FIELD_TEXTURE)
 layout(binding = kSdfShadowBindingField) uniform sampler3D fieldTexture;
@@ -18,8 +19,10 @@ layout(std430, binding = kSdfShadowBindingField) readonly buffer Field { float f
 #define RTSDF_SDF_FETCH(i) field[i]
 #elif defined(RTSDF_SHADOW_FIELD_BRICKS)
 #include "sdf_shadow_bricks.glsl"
+#elif defined(RTSDF_SHADOW_FIELD_CASCADE)
+#include "sdf_shadow_cascade.glsl"
 #else
-#error "define RTSDF_SHADOW_FIELD_TEXTURE, RTSDF_SHADOW_FIELD_BUFFER or RTSDF_SHADOW_FIELD_BRICKS"
+#error "define RTSDF_SHADOW_FIELD_TEXTURE, RTSDF_SHADOW_FIELD_BUFFER, RTSDF_SHADOW_FIELD_BRICKS or RTSDF_SHADOW_FIELD_CASCADE"
 #endif
 #include "render/sdfshadow/SdfShadowMarch.h"
 
@@ -37,9 +40,10 @@ void main() {
   uint pixels = uint(params.image.x * params.image.y);
   vec4 pos = positions[i];
   vec3 n = normals[i].xyz;
-  vec3 lo = params.gridOriginH.xyz;
-  vec3 hi = lo + vec3(params.gridDims.xyz) * params.gridOriginH.w;
+  vec3 lo, hi;
+  marchBox(params, lo, hi);
   float jitter = pixelJitter(i, uint(params.image.z), uint(params.image.w));
+  SdfShadowParams at = marchParamsAt(params, pos.xyz);
   for (int l = 0; l < params.gridDims.w; ++l) {
     float v = 1.0;
     vec3 L;
@@ -47,9 +51,9 @@ void main() {
     if (pos.w >= 0.0 && lightGeometry(lights[l], pos.xyz, lo, hi, L, tMax, w)) {
       bool contact = false;
 #ifdef RTSDF_SHADOW_UMBRA
-      v = sdfShadowUmbra(params, pos.xyz, n, L, tMax, w, jitter, contact);
+      v = sdfShadowUmbra(at, pos.xyz, n, L, tMax, w, jitter, contact);
 #else
-      v = sdfShadowMarch(params, params.penumbra, pos.xyz, n, L, tMax, w, jitter, contact);
+      v = sdfShadowMarch(at, params.penumbra, pos.xyz, n, L, tMax, w, jitter, contact);
 #endif
       if (contact && v > 0.0) v += kContactPending;
     }

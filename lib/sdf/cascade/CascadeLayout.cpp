@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace rtsdf {
@@ -25,6 +26,17 @@ CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const PipelineSettings& 
       throw Error("cascades: the scene has no extent to size level 0 by (give the cascade extent)");
     shape.levelZeroExtent = std::ldexp(sceneBounds.maxExtent(), 1 - s.cascades);
   }
+  return shape;
+}
+
+CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const glm::dvec3& centre, const PipelineSettings& s) {
+  CascadeShape shape = cascadeShapeFor(sceneBounds, s);
+  if (s.cascadeExtent > 0.0) return shape;
+  const glm::dvec3 reach = glm::max(centre - sceneBounds.min, sceneBounds.max - centre);
+  const double radius = std::max({reach.x, reach.y, reach.z});
+  // side = 2 radius + 2 coarse voxels of the outermost level, its coarse voxel being side / coarseRes.
+  const double outermost = 2.0 * radius * s.coarseRes / std::max(1, s.coarseRes - 2);
+  shape.levelZeroExtent = std::ldexp(outermost, 1 - s.cascades);
   return shape;
 }
 

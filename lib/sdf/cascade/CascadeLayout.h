@@ -32,6 +32,12 @@ struct CascadeShape {
 /// @throw SettingError as PipelineSettings::validate; Error when @a sceneBounds is empty and no extent is given.
 CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const PipelineSettings& s);
 
+/// @brief The same for levels centred on @a centre (the camera): by default level 0's side is such that the
+///        outermost level, snapped around @a centre, holds all of @a sceneBounds (twice the farthest distance from
+///        @a centre to a face of the bounds, along an axis, plus a coarse voxel each side for the snapping).
+/// @throw as the overload above.
+CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const glm::dvec3& centre, const PipelineSettings& s);
+
 /// @brief One level: its coarse and fine grids (the same corner; the coarse covers the fine exactly).
 struct CascadeLevel {
   int index = 0;

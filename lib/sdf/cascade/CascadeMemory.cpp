@@ -14,7 +14,8 @@ PipelineSettings levelSettings(const PipelineSettings& s, int level) {
   out.cascades = 1;
   out.cascadeExtent = -1.0;
   out.padding = 0.0;
-  out.band = std::ldexp(s.band, level);
+  // A band in voxels stays so: each level's pipeline resolves it against its own fine voxel, 2^level times level 0's.
+  out.band = s.band.inVoxels() ? s.band : Length(std::ldexp(double(s.band), level));
   return out;
 }
 
@@ -46,9 +47,10 @@ CascadeMemory estimateCascadeMemory(const Scene& scene, const CascadeLayout& lay
   CascadeMemory m;
   for (const CascadeLevel& level : layout.levels) {
     const PipelineSettings ls = levelSettings(s, level.index);
-    const double margin = levelSceneMargin(ls.band, level.coarse.voxelSize, level.fine.voxelSize);
+    const double margin =
+        levelSceneMargin(ls.band.sceneUnits(level.fine.voxelSize), level.coarse.voxelSize, level.fine.voxelSize);
     const std::uint64_t triangles = instanceTriangles(levelScene(scene, level.box(), margin));
-    m.levels.push_back(estimatePipelineMemory(level.grids(), ls, triangles));
+    m.levels.push_back(estimatePipelineMemory(level.grids(), withLengthsResolved(ls, level.fine.voxelSize), triangles));
     m.triangles.push_back(triangles);
     m.deviceBytes += m.levels.back().deviceBytes;
     m.hostBytes = std::max(m.hostBytes, m.levels.back().hostBytes);

@@ -25,7 +25,8 @@ struct CascadeMemory {
 
 /// @brief Level @a level's settings in a cascade under @a s: one box (cascades 1), padding 0 (a level's box is its
 ///        grid), and the band d 2^level: the same number of voxels in every level's band, as each level's voxel is
-///        2^level times level 0's (a band of level 0's width would be under a voxel a few levels up).
+///        2^level times level 0's (a band of level 0's width would be under a voxel a few levels up). A band given in
+///        voxels is kept in voxels (of each level's own fine grid), which is the same.
 PipelineSettings levelSettings(const PipelineSettings& s, int level);
 
 /// @brief Estimate the memory of the cascade @a layout over @a scene under @a s (see PipelineMemory for what one

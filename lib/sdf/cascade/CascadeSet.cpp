@@ -4,6 +4,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 namespace rtsdf {
 
 CascadeSet::CascadeSet(const gpu::VulkanContext& ctx, const Scene& scene, const CascadeLayout& layout,
@@ -21,7 +23,8 @@ CascadeSet::Level CascadeSet::buildLevel(int i) const {
   const CascadeLevel& level = mLayout.levels.at(std::size_t(i));
   Level out;
   const PipelineSettings settings = levelSettings(mSettings, i);
-  const double margin = levelSceneMargin(settings.band, level.coarse.voxelSize, level.fine.voxelSize);
+  const double margin =
+      levelSceneMargin(settings.band.sceneUnits(level.fine.voxelSize), level.coarse.voxelSize, level.fine.voxelSize);
   out.scene = std::make_unique<Scene>(rtsdf::levelScene(mScene, level.box(), margin));
   if (out.scene->instances.empty()) {
     // Nothing near this level: one instance far outside keeps the pipeline's buffers non-empty; it lies beyond the
@@ -55,6 +58,28 @@ std::vector<int> CascadeSet::moveTo(const glm::dvec3& camera) {
       rebuilt.push_back(i);
     }
   return rebuilt;
+}
+
+FrameStats sumFrameStats(const std::vector<FrameStats>& levels) {
+  FrameStats sum;
+  sum.fieldChanged = false;
+  for (const FrameStats& f : levels) {
+    sum.time = f.time;
+    sum.maskCoarseVoxels += f.maskCoarseVoxels;
+    sum.maskFineVoxels += f.maskFineVoxels;
+    sum.refinedFineVoxels += f.refinedFineVoxels;
+    sum.cutVoxels += f.cutVoxels;
+    sum.activeBricks += f.activeBricks;
+    sum.overflowBricks += f.overflowBricks;
+    sum.poolBricks += f.poolBricks;
+    sum.deviceBytes += f.deviceBytes;
+    sum.movedInstances = std::max(sum.movedInstances, f.movedInstances);
+    sum.hostMs += f.hostMs;
+    sum.wallMs += f.wallMs;
+    sum.passMs.insert(sum.passMs.end(), f.passMs.begin(), f.passMs.end());
+    sum.fieldChanged = sum.fieldChanged || f.fieldChanged;
+  }
+  return sum;
 }
 
 } // namespace rtsdf

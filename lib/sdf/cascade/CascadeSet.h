@@ -55,4 +55,8 @@ private:
   std::vector<Level> mLevels;
 };
 
+/// @brief One frame's statistics over every level: counts, bytes and times summed, passes listed level after level
+///        (passTotal sums a pass over the levels), the field changed where any level's did.
+FrameStats sumFrameStats(const std::vector<FrameStats>& levels);
+
 } // namespace rtsdf

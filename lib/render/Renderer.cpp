@@ -117,7 +117,7 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
   else
     mFrameOrigin = sdfBounds.empty() ? glm::dvec3(0.0) : sdfBounds.min;
   mCamera = makeCameraParams(scene.camera, settings.width, settings.height, mFrameOrigin);
-  mEye = scene.cameraAt(0.0).position;
+  mEye = scene.cameraAt(0.0);
   mLights = makeGpuLights(scene.lights, mFrameOrigin);
   if (settings.technique == ShadowTechnique::Sdf) {
     // Sampling the bricks needs no dense fine SDF; the other ways sample one.
@@ -125,9 +125,9 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
     ps.fineStorage = settings.sdf.sampling == SdfSampling::Bricks ? FineStorage::Sparse : FineStorage::Dense;
     if (cascaded) {
       if (settings.sdf.sampling == SdfSampling::Bricks)
-        throw SettingError("SDF sampling", "--sdf-sampling bricks: cascade levels are sampled from their dense fine "
-                                           "buffers (texture or buffer sampling)");
-      mCascades = std::make_unique<CascadeSet>(ctx, scene, CascadeLayout::around(mEye, cascadeShapeFor(sdfBounds, mEye, ps)),
+        throw SettingError("SDF sampling", "bricks with cascades: each level is sampled from its dense fine buffer "
+                                           "(texture or buffer sampling)");
+      mCascades = std::make_unique<CascadeSet>(ctx, scene, CascadeLayout::around(mEye.position, cascadeShapeFor(sdfBounds, mEye.position, ps)),
                                                ps);
       mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, mFrameOrigin);
     } else {
@@ -211,14 +211,14 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   ++mFrame;
   if (mFollowsSceneCamera && !mScene.cameraPath.empty())
     mCamera = makeCameraParams(mScene.cameraAt(time), mSettings.width, mSettings.height, mFrameOrigin);
-  if (mFollowsSceneCamera) mEye = mScene.cameraAt(time).position;
+  if (mFollowsSceneCamera) mEye = mScene.cameraAt(time);
   const GpuSceneBvh* bvh = nullptr;
   if (mSdf) {
     out.sdf = mSdf->runFrame(time);
     out.passMs = out.sdf.passMs;
     bvh = &mSdf->bvh();
   } else if (mCascades) {
-    mCascades->moveTo(mEye);
+    mCascades->moveTo(mEye.position, cascadeLookAhead());
     out.sdf = sumFrameStats(mCascades->runFrame(time));
     out.passMs = out.sdf.passMs;
     mBvh->update(time);
@@ -291,8 +291,15 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
 
 void Renderer::setCamera(const Camera& camera) {
   mCamera = makeCameraParams(camera, mSettings.width, mSettings.height, mFrameOrigin);
-  mEye = camera.position;
+  mEye = camera;
   mFollowsSceneCamera = false;
+}
+
+glm::dvec3 Renderer::cascadeLookAhead() const {
+  const glm::dvec3 forward = mEye.target - mEye.position;
+  const double length = glm::length(forward);
+  if (!(length > 0.0)) return glm::dvec3(0.0);
+  return forward / length * (kCascadeLookAhead * mCascades->layout().shape.levelZeroExtent);
 }
 
 void Renderer::uploadCascadeLevels() {

@@ -211,6 +211,9 @@ struct RenderedFrame {
 /// @brief The band at a cascade level's border over which the march fades it into the next coarser level, in the
 ///        level's fine voxels (CascadeSamplerCpu's blendVoxels).
 constexpr double kCascadeBlendVoxels = 4.0;
+/// @brief How far ahead of the camera along the view the cascade levels are centred, in each level's side: the
+///        levels reach further into the view than behind the camera (still nested, the camera inside each).
+constexpr double kCascadeLookAhead = 0.25;
 
 /// @brief Renders frames of a scene's camera with the GPU techniques (Sdf, ShadowMap). With
 ///        PipelineSettings::cascades > 1 the SDF is K camera-centred levels (CascadeSet) that follow the camera, and
@@ -269,6 +272,8 @@ private:
   struct Gpu;
   /// The levels' grids as the march samples them (mCascadeLevels), uploaded.
   void uploadCascadeLevels();
+  /// Level 0's offset from the camera along the view (kCascadeLookAhead of its side).
+  glm::dvec3 cascadeLookAhead() const;
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   RenderSettings mSettings;
@@ -283,7 +288,7 @@ private:
   std::unique_ptr<SdfPipeline> mSdf;
   std::unique_ptr<CascadeSet> mCascades;
   std::vector<gpu::shared::CascadeFieldLevel> mCascadeLevels; ///< as uploaded for the last frame
-  glm::dvec3 mEye{0.0}; ///< the camera's world position (the cascades' centre)
+  Camera mEye; ///< the camera in world units (the cascades' centre and view)
   SdfSampling mSampling = SdfSampling::Buffer;
   std::unique_ptr<GpuSceneBvh> mBvh; // ShadowMap technique and cascades (one box's Sdf uses the pipeline's)
   std::unique_ptr<Gpu> mGpu;

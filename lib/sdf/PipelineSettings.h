@@ -107,8 +107,8 @@ struct PipelineSettings {
   /// Camera-centred cascade levels (lib/sdf/cascade): 1 is one box fitted to the scene; K > 1 gives K boxes of these
   /// coarse and fine voxel counts around the camera, level i's voxels 2^i times level 0's (CascadeLayout).
   int cascades = 1;
-  /// The side of cascade level 0 in scene units (cascades > 1); < 0: the scene's longest side / 2^(cascades - 1), so
-  /// that the outermost level spans the scene.
+  /// The side of cascade level 0 in scene units (cascades > 1); < 0: the outermost level, centred on the camera,
+  /// holds the whole scene (cascadeShapeFor), level 0 being 2^(cascades - 1) times smaller.
   double cascadeExtent = -1.0;
   /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
   void validate() const;
@@ -166,9 +166,9 @@ template <> struct KnobTable<PipelineSettings> {
            "Capacity of the brick pool at the first frame, in bricks (regrown when it overflows)"),
       knob("cascades", &S::cascades, "--cascades", KnobRange::closed(1, kMaxCascades),
            "Camera-centred cascade levels, each of the coarse and fine voxel counts, level i's voxel 2^i times level "
-           "0's (1: one box fitted to the scene)"),
+           "0's; shading samples the finest level holding a point (1: one box fitted to the scene)"),
       knob("cascade extent", &S::cascadeExtent, "--cascade-extent",
-           KnobRange::above(0).orNegative("the scene's longest side / 2^(cascades - 1)"),
+           KnobRange::above(0).orNegative("the outermost level, around the camera, holds the scene"),
            "Side of cascade level 0 in scene units (cascades > 1)"));
 };
 

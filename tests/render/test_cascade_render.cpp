@@ -196,3 +196,83 @@ TEST_F(CascadeRender, BrickSamplingOfCascadesIsRefusedByName) {
     EXPECT_EQ(e.setting(), "SDF sampling");
   }
 }
+
+namespace {
+
+/// The pixels both frames see on the same instance among the first @a instances (room (0, 0) of tiledRooms), on the
+/// lit side of the light.
+std::vector<std::uint8_t> roomPixels(const Scene& scene, const RenderedFrame& frame, const RenderedFrame& truth,
+                                     std::size_t instances) {
+  std::vector<std::uint8_t> mask = litSideMask(scene, truth.gbuffer, 0);
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    const float id = truth.gbuffer.normal[i].w;
+    if (!frame.gbuffer.hit(i) || !truth.gbuffer.hit(i) || frame.gbuffer.normal[i].w != id ||
+        !(id >= 0.0f && id < float(instances)))
+      mask[i] = 0;
+  }
+  return mask;
+}
+
+/// Visibility RMSE of @a frame against @a truth over the pixels of @a mask.
+double maskedRmse(const RenderedFrame& frame, const RenderedFrame& truth, const std::vector<std::uint8_t>& mask,
+                  std::size_t& pixels) {
+  double sum = 0.0;
+  pixels = 0;
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (!mask[i]) continue;
+    const double d = double(frame.visibility[0][i]) - double(truth.visibility[0][i]);
+    sum += d * d;
+    ++pixels;
+  }
+  return pixels ? std::sqrt(sum / double(pixels)) : 1.0;
+}
+
+} // namespace
+
+// The room keeps its shadows inside a town: the default room alone (one box at render's counts, coarse 64 / fine
+// 128) and the same room as room (0, 0) of a 16 x 16 town of rooms (35 units wide) in one box and under 4 cascade
+// levels (fine 256, level 0 2.4 units: about a room), seen by the same camera; the visibility error against the
+// ray-traced truth over the room's pixels that all three see. One box over the town at the same counts has a voxel
+// 17 times the room's.
+TEST_F(CascadeRender, TheRoomKeepsItsShadowsInsideATownOfRooms) {
+  const Scene room = defaultScene(), town = tiledRooms(16);
+  RenderSettings s;
+  s.width = 320;
+  s.height = 180;
+  s.taa.enabled = false;
+  s.sdf.jitter = false;
+  s.pipeline.coarseRes = 64;
+  s.pipeline.fineRes = 128;
+  RenderSettings truthSettings = s;
+  truthSettings.technique = ShadowTechnique::RayTraced;
+  truthSettings.rayTraced.samples = 256;
+  const std::size_t roomInstances = room.instances.size();
+  struct Shot {
+    RenderedFrame frame, truth;
+  };
+  auto shoot = [&](const Scene& scene, const RenderSettings& settings) {
+    Renderer r(*sCtx, scene, boundsOf(scene), settings);
+    return Shot{r.renderFrame(0.0), renderRayTraced(scene, 0.0, truthSettings)};
+  };
+  const Shot alone = shoot(room, s), single = shoot(town, s);
+  RenderSettings c = s;
+  c.pipeline.cascades = 4;
+  c.pipeline.fineRes = 256;
+  c.pipeline.cascadeExtent = 2.4;
+  const Shot cascaded = shoot(town, c);
+  // The room's pixels the town leaves in view (its neighbours hide the rest), in every frame.
+  std::vector<std::uint8_t> mask = roomPixels(town, cascaded.frame, cascaded.truth, roomInstances);
+  const std::vector<std::uint8_t> aloneMask = roomPixels(room, alone.frame, alone.truth, roomInstances);
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = mask[i] && aloneMask[i];
+  std::size_t pixels = 0;
+  const double eAlone = maskedRmse(alone.frame, alone.truth, mask, pixels);
+  const double eSingle = maskedRmse(single.frame, single.truth, mask, pixels);
+  const double eCascaded = maskedRmse(cascaded.frame, cascaded.truth, mask, pixels);
+  std::cout << "visibility RMSE over the room's " << pixels << " pixels in view: alone " << eAlone << ", town in one box "
+            << eSingle << ", town in 4 levels " << eCascaded << "\n";
+  EXPECT_GT(pixels, 10000u);
+  EXPECT_LT(eCascaded, 0.6 * eSingle) << "the levels hold the room better than one box over the town";
+  // Measured 0.042 against the room alone's 0.021 (docs/cascades.md): a guard against losing more, not the aim
+  // (the room's own error, within 10%).
+  EXPECT_LT(eCascaded, 2.5 * eAlone);
+}

@@ -36,6 +36,9 @@ bool wholeMultiple(double x, double step) { return std::floor(x / step) == x / s
 bool inside(const Bounds& inner, const Bounds& outer) {
   return glm::all(glm::greaterThanEqual(inner.min, outer.min)) && glm::all(glm::lessThanEqual(inner.max, outer.max));
 }
+bool holds(const Bounds& b, const glm::dvec3& p) {
+  return glm::all(glm::greaterThanEqual(p, b.min)) && glm::all(glm::lessThanEqual(p, b.max));
+}
 
 } // namespace
 
@@ -61,6 +64,29 @@ TEST(CascadeLayout, LevelsDoubleTheirVoxelsAndSnapToTheirCoarseVoxel) {
   EXPECT_EQ(layout.finestHolding(camera), 0);
   EXPECT_EQ(layout.finestHolding(camera + glm::dvec3(10, 0, 0)), 2); // level 0 spans ±3.1, level 1 ±6.25
   EXPECT_EQ(layout.finestHolding(camera + glm::dvec3(1000, 0, 0)), -1);
+}
+
+// Levels centred ahead of the camera (lookAhead: a quarter of level 0's side along a diagonal view, as the renderer
+// places them) reach twice as far into the view as behind it, still nest, and each still holds the camera.
+TEST(CascadeLayout, LevelsAheadOfTheCameraStillNestAndHoldTheCamera) {
+  const CascadeShape shape = shape4();
+  const glm::dvec3 camera(12.3456, 1.7, -98.765), forward = glm::normalize(glm::dvec3(-1.0, -0.6, -1.1));
+  const glm::dvec3 ahead = forward * (0.25 * shape.levelZeroExtent);
+  const CascadeLayout layout = CascadeLayout::around(camera, shape, ahead);
+  for (const CascadeLevel& l : layout.levels) {
+    const double side = shape.levelZeroExtent * std::ldexp(1.0, l.index), c = shape.coarseVoxel(l.index);
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_TRUE(wholeMultiple(l.coarse.origin[a], c)) << "level " << l.index << " axis " << a;
+      EXPECT_LE(std::abs(l.box().center()[a] - (camera[a] + std::ldexp(ahead[a], l.index))), 0.5 * c + 1e-12);
+    }
+    EXPECT_TRUE(holds(l.box(), camera)) << l.index;
+    // Along the view the level reaches 3/4 of its side ahead and 1/4 behind (to the snapping).
+    const glm::dvec3 far = camera + forward * (0.7 * side), near = camera - forward * (0.2 * side);
+    EXPECT_TRUE(holds(l.box(), far) && holds(l.box(), near)) << l.index;
+    EXPECT_FALSE(holds(l.box(), camera - forward * (0.6 * side))) << l.index;
+    if (l.index > 0) EXPECT_TRUE(inside(layout.levels[std::size_t(l.index) - 1].box(), l.box())) << l.index;
+  }
+  EXPECT_EQ(layout.lookAhead, ahead);
 }
 
 TEST(CascadeLayout, ACameraPathMovesLevelsByWholeCoarseVoxelsOnly) {

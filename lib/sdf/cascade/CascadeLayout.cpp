@@ -42,17 +42,19 @@ CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const glm::dvec3& centre
 
 Bounds CascadeLevel::box() const { return fine.bounds(); }
 
-CascadeLayout CascadeLayout::around(const glm::dvec3& camera, const CascadeShape& shape) {
+CascadeLayout CascadeLayout::around(const glm::dvec3& camera, const CascadeShape& shape, const glm::dvec3& lookAhead) {
   CascadeLayout layout;
   layout.shape = shape;
   layout.camera = camera;
+  layout.lookAhead = lookAhead;
   for (int i = 0; i < shape.levels; ++i) {
     const double c = shape.coarseVoxel(i);
+    const glm::dvec3 centre = camera + std::ldexp(1.0, i) * lookAhead;
     CascadeLevel level;
     level.index = i;
-    // The lattice point nearest the camera: the level moves only when the camera crosses half a coarse voxel, and
+    // The lattice point nearest the centre: the level moves only when the centre crosses half a coarse voxel, and
     // then by whole coarse voxels (a multiple of c in double: the same voxel centres before and after).
-    for (int a = 0; a < 3; ++a) level.centreCell[a] = std::int64_t(std::floor(camera[a] / c + 0.5));
+    for (int a = 0; a < 3; ++a) level.centreCell[a] = std::int64_t(std::floor(centre[a] / c + 0.5));
     const glm::dvec3 corner = glm::dvec3(level.centreCell - glm::i64vec3(shape.coarseRes / 2));
     level.coarse.origin = corner * c;
     level.coarse.voxelSize = c;

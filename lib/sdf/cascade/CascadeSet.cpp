@@ -46,8 +46,8 @@ std::vector<FrameStats> CascadeSet::runFrame(double time) {
   return stats;
 }
 
-std::vector<int> CascadeSet::moveTo(const glm::dvec3& camera) {
-  const CascadeLayout next = CascadeLayout::around(camera, mLayout.shape);
+std::vector<int> CascadeSet::moveTo(const glm::dvec3& camera, const glm::dvec3& lookAhead) {
+  const CascadeLayout next = CascadeLayout::around(camera, mLayout.shape, lookAhead);
   const std::vector<glm::i64vec3> shift = next.shiftSince(mLayout);
   mLayout = next;
   std::vector<int> rebuilt;

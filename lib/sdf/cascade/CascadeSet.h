@@ -29,9 +29,10 @@ public:
 
   /// @brief One frame of every level at @a time seconds, finest first; their statistics.
   std::vector<FrameStats> runFrame(double time);
-  /// @brief Centre the levels on @a camera; a level whose snapped box changed is rebuilt (its history lost).
+  /// @brief Centre the levels on @a camera (level i on camera + lookAhead 2^i, CascadeLayout::around); a level
+  ///        whose snapped box changed is rebuilt (its history lost).
   /// @return the indices of the levels rebuilt.
-  std::vector<int> moveTo(const glm::dvec3& camera);
+  std::vector<int> moveTo(const glm::dvec3& camera, const glm::dvec3& lookAhead = glm::dvec3(0.0));
   int levels() const { return int(mLevels.size()); }
   const SdfPipeline& level(int i) const { return *mLevels.at(std::size_t(i)).pipeline; }
   /// @brief The instances level @a i places (levelScene).

@@ -2,6 +2,7 @@
 #include "Bindings.h"
 
 #include "gpu/VulkanContext.h"
+#include "grid/VdbIO.h"
 #include "jobs/Bake.h"
 #include "jobs/Compare.h"
 #include "jobs/JobSupport.h"
@@ -25,7 +26,7 @@
 namespace rtsdf::python {
 namespace {
 
-Field bakeField(const py::handle& sceneOrPath, const std::string& method, int res, const py::object& band,
+py::object bakeField(const py::handle& sceneOrPath, const std::string& method, int res, const py::object& band,
                 const py::object& progress, const std::string& up, const py::kwargs& kw) {
   const UpAxis upAxis = parseEnum<UpAxis>(up); // before any work, as the command line refuses --up w
   const ScenePtr scene = sceneOf(sceneOrPath);
@@ -42,7 +43,14 @@ Field bakeField(const py::handle& sceneOrPath, const std::string& method, int re
       kw, [&o](const std::string& s) { return s == "full domain" ? std::string() : bakeIgnores(o, s); }, o.pipeline, o);
   PythonJob job(progress);
   const BakeResult r = job.run([&] { return bake(*scene, o, job.control()); });
-  return {r.grid, r.spec, double(r.options.pipeline.band), toString(o.method), upAxis};
+  if (r.levels.size() <= 1)
+    return py::cast(Field{r.grid, r.spec, double(r.options.pipeline.band), toString(o.method), upAxis});
+  // Cascade levels: one Field each, finest first, each on its own voxels with its own band (level 0's times 2^i).
+  py::list levels;
+  for (std::size_t i = 0; i < r.levels.size(); ++i)
+    levels.append(Field{r.levels[i], gridSpecOf(*r.levels[i]),
+                        std::ldexp(double(r.options.pipeline.band), int(i)), toString(o.method), upAxis});
+  return levels;
 }
 
 /// Exact signed distances (negative inside) at points of shape (..., 3), in parallel without the GIL, in the
@@ -176,7 +184,8 @@ private:
 
 void bindJobs(py::module_& m) {
   static const std::string bakeDoc =
-      "Bake the signed distance field of a scene, an rtsdf.Mesh or a scene/mesh path; returns a Field.\n\n"
+      "Bake the signed distance field of a scene, an rtsdf.Mesh or a scene/mesh path; returns a Field (with "
+      "method='rtsdf' and cascades=K > 1: a list of K Fields, the camera-centred levels, finest first).\n\n"
       "method exact|openvdb|jfa|rtsdf, res voxels across the longest side (the fine grid for rtsdf, the coarse "
       "grid for jfa), band d (a number in scene units or a string such as '3vox'; default: the pipeline's, 6 voxels); "
       "progress: None (quiet) or callable(stage, fraction); up: 'y' or 'z', the up axis of the .vdb Field.write "

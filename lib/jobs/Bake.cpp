@@ -221,6 +221,8 @@ BakeResult bakeValidated(const Scene& scene, const BakeOptions& given, const Job
     levels.frames = bakeFrames(given);
     geo.reset();
     r = bakeCascades(levels, scene, control);
+    // The options in effect, lengths in scene units: level 0's (level i's band is 2^i times it).
+    levels.pipeline = withLengthsResolved(levels.pipeline, r.spec.voxelSize);
     r.options = levels;
   } else {
     const BakeOptions options = bakeOptionsResolved(given, geo->bounds);

@@ -84,10 +84,11 @@ std::string cascadeReport(const BakeResult& r) {
   std::string t;
   for (std::size_t i = 0; i < r.levels.size(); ++i) {
     const GridSpec spec = gridSpecOf(*r.levels[i]);
-    const auto band = r.levels[i]->getMetadata<openvdb::StringMetadata>("rtsdf:band");
+    const auto band = r.levels[i]->getMetadata<openvdb::DoubleMetadata>("rtsdf:band");
     const FrameStats* st = i < r.levelFrames.size() ? &r.levelFrames[i] : nullptr;
     t += fmt::format("level {:<5}'{}': {}, band {}, mask {} coarse voxels, {} active voxels\n", i,
-                     cascadeGridName(int(i)), spec.describe(), band ? band->value() : "?",
+                     cascadeGridName(int(i)), spec.describe(),
+                     band ? fmt::format("{:.6g} = {:.2f} voxels", band->value(), band->value() / spec.voxelSize) : "?",
                      st ? st->maskCoarseVoxels : 0, r.levels[i]->activeVoxelCount());
   }
   return t;

@@ -86,6 +86,27 @@ def test_rtsdf_bake_and_pipeline_frames():
     assert np.array_equal(sparse.fine().values, fine.values)
 
 
+def test_a_cascade_bake_returns_every_level(tmp_path):
+    scene = os.path.join(DATA, "scenes", "default.json")
+    # The default band (6 voxels) is each level's own: level i's is 2^i times level 0's in scene units.
+    levels = rtsdf.bake(scene, method="rtsdf", res=32, refine="closest", rays=0, frames=1, cascades=2)
+    assert isinstance(levels, list) and len(levels) == 2
+    assert levels[1].voxel_size == pytest.approx(2 * levels[0].voxel_size)
+    assert levels[0].band == pytest.approx(6 * levels[0].voxel_size)
+    assert levels[1].band == pytest.approx(6 * levels[1].voxel_size)
+    for level in levels:
+        assert level.active.sum() > 500
+        assert np.all(np.abs(level.values[level.active]) <= level.band * (1 + 1e-5))
+    # The same levels as the command line's, level for level.
+    cli = tmp_path / "levels.vdb"
+    subprocess.run([RTSDF, "-q", "bake", scene, "-m", "rtsdf", "--res", "32", "--refine", "closest", "--rays", "0",
+                    "--frames", "1", "--cascades", "2", "-o", str(cli)], check=True)
+    for i, level in enumerate(levels):
+        theirs = rtsdf.read(str(cli), grid=f"surface_L{i}")
+        assert theirs.shape == level.shape and theirs.voxel_size == level.voxel_size
+        assert np.max(np.abs(theirs.values[level.active] - level.values[level.active])) < 1e-5
+
+
 def test_log_is_quiet_unless_asked(capfd):
     bunny = os.path.join(DATA, "scenes", "bunny.json")
     rtsdf.bake(bunny, res=16)

@@ -168,12 +168,14 @@ TEST_F(CascadeRender, SdfShadowPassOverTheLevelsEqualsTheCpuMarch) {
 }
 
 // The levels follow the scene camera's path: each frame centres them on the camera at its time (a move rebuilds the
-// levels whose box moved), and the march over the moved levels still equals its CPU copy.
+// levels whose box moved), and the march over the moved levels still equals its CPU copy; 5 levels, so the shader
+// variant for more than 4 levels runs (the test above runs the one for up to 4).
 TEST_F(CascadeRender, TheLevelsFollowTheCameraPath) {
   Scene scene = defaultScene();
   scene.cameraPath = {{0.0, {1.6, 1.3, 1.8}, {0.0, 0.25, 0.0}, 0.785398},
                       {1.0, {-1.4, 1.1, 1.7}, {0.0, 0.25, 0.0}, 0.785398}};
   RenderSettings s = cascadeSettings(96, 54);
+  s.pipeline.cascades = 5;
   Renderer r(*sCtx, scene, boundsOf(scene), s);
   for (double t : {0.0, 1.0}) {
     const RenderedFrame f = r.renderFrame(t);

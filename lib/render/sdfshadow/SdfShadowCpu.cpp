@@ -7,8 +7,13 @@ const float* const* gLevelFields = nullptr;
 const rtsdf::gpu::shared::CascadeFieldLevel* gLevels = nullptr;
 } // namespace
 #define RTSDF_SDF_FETCH(i) gField[i]
-#define RTSDF_SDF_LEVEL_FETCH(level, i) gLevelFields[level][i]
 #define RTSDF_CASCADE_LEVEL(i) gLevels[i]
+#include "render/sdfshadow/DenseGridSampler.h"
+RTSDF_SHARED_BEGIN
+#define RTSDF_LEVEL_FETCH(level, i) gLevelFields[level][i]
+RTSDF_DEFINE_DENSE_SAMPLER(sampleLevelGrid, RTSDF_LEVEL_FETCH)
+RTSDF_SHARED_END
+#define RTSDF_SDF_LEVEL_SAMPLE(level, originH, dims, p) sampleLevelGrid(level, originH, dims, p)
 #include "render/sdfshadow/SdfShadowMarch.h"
 #include "render/sdfshadow/SdfShadowCpu.h"
 #include "util/Error.h"

@@ -1,22 +1,14 @@
 // Shared by C++ and GLSL: the SDF soft-shadow march that SdfShadowPass's shaders and their CPU copy (sdfShadowsCpu)
 // both run. The includer defines how the field is fetched first (RTSDF_SDF_TEXTURE, RTSDF_SDF_FETCH and/or
-// RTSDF_SDF_LEVEL_FETCH, see sampleSdf).
+// RTSDF_SDF_LEVEL_SAMPLE, see sampleSdf).
 #ifndef RTSDF_RENDER_SDFSHADOW_SDFSHADOWMARCH_H
 #define RTSDF_RENDER_SDFSHADOW_SDFSHADOWMARCH_H
 #include "render/sdfshadow/SdfShadowParams.h"
 
-#if !defined(RTSDF_SDF_TEXTURE) && !defined(RTSDF_SDF_FETCH) && !defined(RTSDF_SDF_LEVEL_FETCH)
-#error "define RTSDF_SDF_TEXTURE, RTSDF_SDF_FETCH or RTSDF_SDF_LEVEL_FETCH before including SdfShadowMarch.h"
+#if !defined(RTSDF_SDF_TEXTURE) && !defined(RTSDF_SDF_FETCH) && !defined(RTSDF_SDF_LEVEL_SAMPLE)
+#error "define RTSDF_SDF_TEXTURE, RTSDF_SDF_FETCH or RTSDF_SDF_LEVEL_SAMPLE before including SdfShadowMarch.h"
 #endif
-
-// A dense grid's value: level < 0 the one box's field (RTSDF_SDF_FETCH), else cascade level @a level's.
-#if defined(RTSDF_SDF_FETCH) && defined(RTSDF_SDF_LEVEL_FETCH)
-#define RTSDF_DENSE_FETCH(level, i) ((level) < 0 ? RTSDF_SDF_FETCH(i) : RTSDF_SDF_LEVEL_FETCH(level, i))
-#elif defined(RTSDF_SDF_FETCH)
-#define RTSDF_DENSE_FETCH(level, i) RTSDF_SDF_FETCH(i)
-#elif defined(RTSDF_SDF_LEVEL_FETCH)
-#define RTSDF_DENSE_FETCH(level, i) RTSDF_SDF_LEVEL_FETCH(level, i)
-#endif
+#include "render/sdfshadow/DenseGridSampler.h"
 
 RTSDF_SHARED_BEGIN
 
@@ -24,40 +16,20 @@ RTSDF_SHARED_BEGIN
 /// defines one of: RTSDF_SDF_TEXTURE(uvw), a hardware-filtered 3D texture lookup at normalized coordinates
 /// (texel centres at (i + 0.5) / dims, clamp to edge: the same field, to the filter's sub-texel precision);
 /// RTSDF_SDF_FETCH(linear index), a dense buffer filtered here (the CPU copy's path); and/or
-/// RTSDF_SDF_LEVEL_FETCH(level, linear index) with RTSDF_CASCADE_LEVEL(level) (a CascadeFieldLevel): cascade levels,
-/// each a dense buffer filtered here, sampled where s.cascadeLevels > 0.
+/// RTSDF_SDF_LEVEL_SAMPLE(level, originH, dims, p) with RTSDF_CASCADE_LEVEL(level) (a CascadeFieldLevel): cascade
+/// levels, each a dense buffer filtered by RTSDF_DEFINE_DENSE_SAMPLER's function, sampled where s.cascadeLevels > 0.
 #if defined(RTSDF_SDF_TEXTURE)
 RTSDF_FN float sampleSdf(SdfShadowParams s, vec3 p) {
   vec3 extent = vec3(s.gridDims.x, s.gridDims.y, s.gridDims.z) * s.gridOriginH.w;
   return RTSDF_SDF_TEXTURE((p - vec3(s.gridOriginH)) / extent);
 }
 #else
-/// The trilinear filter of a dense grid (corner originH.xyz, voxel originH.w, dims.xyz voxels) at p; @a level
-/// picks the buffer (RTSDF_DENSE_FETCH).
-RTSDF_FN float sampleDenseGrid(vec4 originH, ivec4 dims, int level, vec3 p) {
-  RTSDF_PRECISE vec3 g = (p - vec3(originH)) / originH.w - vec3(0.5f);
-  vec3 hiC = vec3(dims.x - 1, dims.y - 1, dims.z - 1);
-  g = clamp(g, vec3(0.0f), hiC);
-  ivec3 i0 = ivec3(floor(g));
-  ivec3 i1 = min(i0 + ivec3(1), ivec3(dims.x - 1, dims.y - 1, dims.z - 1));
-  RTSDF_PRECISE vec3 f = g - vec3(i0);
-  int sx = 1, sy = dims.x, sz = dims.x * dims.y;
-  float c000 = RTSDF_DENSE_FETCH(level, i0.x * sx + i0.y * sy + i0.z * sz);
-  float c100 = RTSDF_DENSE_FETCH(level, i1.x * sx + i0.y * sy + i0.z * sz);
-  float c010 = RTSDF_DENSE_FETCH(level, i0.x * sx + i1.y * sy + i0.z * sz);
-  float c110 = RTSDF_DENSE_FETCH(level, i1.x * sx + i1.y * sy + i0.z * sz);
-  float c001 = RTSDF_DENSE_FETCH(level, i0.x * sx + i0.y * sy + i1.z * sz);
-  float c101 = RTSDF_DENSE_FETCH(level, i1.x * sx + i0.y * sy + i1.z * sz);
-  float c011 = RTSDF_DENSE_FETCH(level, i0.x * sx + i1.y * sy + i1.z * sz);
-  float c111 = RTSDF_DENSE_FETCH(level, i1.x * sx + i1.y * sy + i1.z * sz);
-  RTSDF_PRECISE float x00 = c000 + (c100 - c000) * f.x, x10 = c010 + (c110 - c010) * f.x;
-  RTSDF_PRECISE float x01 = c001 + (c101 - c001) * f.x, x11 = c011 + (c111 - c011) * f.x;
-  RTSDF_PRECISE float y0 = x00 + (x10 - x00) * f.y, y1 = x01 + (x11 - x01) * f.y;
-  RTSDF_PRECISE float r = y0 + (y1 - y0) * f.z;
-  return r;
-}
+#if defined(RTSDF_SDF_FETCH)
+#define RTSDF_ONE_BOX_FETCH(level, i) RTSDF_SDF_FETCH((i) + 0 * (level)) // one buffer: the level is -1
+RTSDF_DEFINE_DENSE_SAMPLER(sampleDenseGrid, RTSDF_ONE_BOX_FETCH)
+#endif
 
-#if defined(RTSDF_SDF_LEVEL_FETCH)
+#if defined(RTSDF_SDF_LEVEL_SAMPLE)
 /// The cascade levels' field at p (CascadeSamplerCpu's rule): the finest level whose box holds p more than one of
 /// its fine voxels inside its faces (the whole stencil lies in it); within its blend band of that margin, mixed
 /// linearly with the next coarser level (weight 0 on the margin itself); the outermost level, clamped, beyond.
@@ -71,25 +43,25 @@ RTSDF_FN float sampleCascade(SdfShadowParams s, vec3 p) {
     vec3 d = min(p - lo, hi - p);
     float inside = min(d.x, min(d.y, d.z)) - h;
     if (inside <= 0.0f) continue;
-    float here = sampleDenseGrid(lv.originH, lv.dims, i, p);
+    float here = RTSDF_SDF_LEVEL_SAMPLE(i, lv.originH, lv.dims, p);
     if (i + 1 == n || inside >= lv.blend.x) return here;
     CascadeFieldLevel next = RTSDF_CASCADE_LEVEL(i + 1);
     float w = inside / lv.blend.x;
-    return w * here + (1.0f - w) * sampleDenseGrid(next.originH, next.dims, i + 1, p);
+    return w * here + (1.0f - w) * RTSDF_SDF_LEVEL_SAMPLE(i + 1, next.originH, next.dims, p);
   }
   CascadeFieldLevel last = RTSDF_CASCADE_LEVEL(n - 1);
-  return sampleDenseGrid(last.originH, last.dims, n - 1, p);
+  return RTSDF_SDF_LEVEL_SAMPLE(n - 1, last.originH, last.dims, p);
 }
 #endif
 
 RTSDF_FN float sampleSdf(SdfShadowParams s, vec3 p) {
-#if defined(RTSDF_SDF_LEVEL_FETCH)
+#if defined(RTSDF_SDF_LEVEL_SAMPLE)
   if (s.cascadeLevels > 0u) return sampleCascade(s, p);
 #endif
 #if defined(RTSDF_SDF_FETCH)
-  return sampleDenseGrid(s.gridOriginH, s.gridDims, -1, p);
+  return sampleDenseGrid(-1, s.gridOriginH, s.gridDims, p);
 #else
-  return sampleDenseGrid(s.gridOriginH, s.gridDims, 0, p);
+  return RTSDF_SDF_LEVEL_SAMPLE(0, s.gridOriginH, s.gridDims, p);
 #endif
 }
 #endif
@@ -99,7 +71,7 @@ RTSDF_FN float sampleSdf(SdfShadowParams s, vec3 p) {
 /// finest level holding p (the field the march starts in is no finer, and a start under its voxel would hit the
 /// receiver's own plane). One box: unchanged.
 RTSDF_FN SdfShadowParams marchParamsAt(SdfShadowParams s, vec3 p) {
-#if defined(RTSDF_SDF_LEVEL_FETCH)
+#if defined(RTSDF_SDF_LEVEL_SAMPLE)
   int n = int(s.cascadeLevels);
   for (int i = 0; i < n; ++i) {
     CascadeFieldLevel lv = RTSDF_CASCADE_LEVEL(i);
@@ -127,7 +99,7 @@ RTSDF_FN SdfShadowParams marchParamsAt(SdfShadowParams s, vec3 p) {
 RTSDF_FN void marchBox(SdfShadowParams s, RTSDF_OUT(vec3) lo, RTSDF_OUT(vec3) hi) {
   vec4 originH = s.gridOriginH;
   ivec4 dims = s.gridDims;
-#if defined(RTSDF_SDF_LEVEL_FETCH)
+#if defined(RTSDF_SDF_LEVEL_SAMPLE)
   if (s.cascadeLevels > 0u) {
     CascadeFieldLevel last = RTSDF_CASCADE_LEVEL(int(s.cascadeLevels) - 1);
     originH = last.originH;

@@ -55,6 +55,8 @@ SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra)
                       sizeof(SdfShadowParams)),
       mBrickPipeline(ctx, umbra ? "sdf_shadow_umbra_bricks.comp" : "sdf_shadow_bricks.comp",
                      kSdfShadowBindingBrickCount, sizeof(SdfShadowParams)),
+      mCascade4Pipeline(ctx, umbra ? "sdf_shadow_umbra_cascade4.comp" : "sdf_shadow_cascade4.comp",
+                        kSdfShadowBindingCascadeCount, sizeof(SdfShadowParams)),
       mCascadePipeline(ctx, umbra ? "sdf_shadow_umbra_cascade.comp" : "sdf_shadow_cascade.comp",
                        kSdfShadowBindingCascadeCount, sizeof(SdfShadowParams)),
       mFill(ctx), mFillMethod(VolumeFillPass::defaultMethod(ctx)), mUmbra(umbra) {
@@ -104,7 +106,7 @@ void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
     cb[kSdfShadowBindingCascadeLevels] = &in.cascade->levels;
     for (std::size_t k = 0; k < RTSDF_MAX_CASCADE_LEVELS; ++k)
       cb[kSdfShadowBindingCascadeFields + k] = in.cascade->fields[k < levels ? k : 0];
-    mCascadePipeline.dispatch(cmd, cb, &params, groups);
+    (levels <= 4 ? mCascade4Pipeline : mCascadePipeline).dispatch(cmd, cb, &params, groups);
   } else {
     gpu::ProfileScope scope(profiler, cmd, kName);
     b[kSdfShadowBindingField] = &in.field;

@@ -77,7 +77,8 @@ public:
                const Params& params) const;
 
 private:
-  gpu::ComputePipeline mTexturePipeline, mBufferPipeline, mBrickPipeline, mCascadePipeline;
+  gpu::ComputePipeline mTexturePipeline, mBufferPipeline, mBrickPipeline;
+  gpu::ComputePipeline mCascade4Pipeline, mCascadePipeline; ///< up to 4 levels (a cheaper switch), up to 10
   VolumeFillPass mFill;
   VolumeFillPass::Method mFillMethod;
   bool mUmbra = false;

@@ -33,7 +33,8 @@ RTSDF_DEFINE_DENSE_SAMPLER(sampleDenseGrid, RTSDF_ONE_BOX_FETCH)
 /// The cascade levels' field at p (CascadeSamplerCpu's rule): the finest level whose box holds p more than one of
 /// its fine voxels inside its faces (the whole stencil lies in it); within its blend band of that margin, mixed
 /// linearly with the next coarser level (weight 0 on the margin itself); the outermost level, clamped, beyond.
-RTSDF_FN float sampleCascade(SdfShadowParams s, vec3 p) {
+/// @a scale: the fine voxel of the level sampled (the finer one in a blend band) over s.gridOriginH.w.
+RTSDF_FN float sampleCascade(SdfShadowParams s, vec3 p, RTSDF_OUT(float) scale) {
   int n = int(s.cascadeLevels);
   for (int i = 0; i < n; ++i) {
     CascadeFieldLevel lv = RTSDF_CASCADE_LEVEL(i);
@@ -43,6 +44,7 @@ RTSDF_FN float sampleCascade(SdfShadowParams s, vec3 p) {
     vec3 d = min(p - lo, hi - p);
     float inside = min(d.x, min(d.y, d.z)) - h;
     if (inside <= 0.0f) continue;
+    scale = h / s.gridOriginH.w;
     float here = RTSDF_SDF_LEVEL_SAMPLE(i, lv.originH, lv.dims, p);
     if (i + 1 == n || inside >= lv.blend.x) return here;
     CascadeFieldLevel next = RTSDF_CASCADE_LEVEL(i + 1);
@@ -50,13 +52,15 @@ RTSDF_FN float sampleCascade(SdfShadowParams s, vec3 p) {
     return w * here + (1.0f - w) * RTSDF_SDF_LEVEL_SAMPLE(i + 1, next.originH, next.dims, p);
   }
   CascadeFieldLevel last = RTSDF_CASCADE_LEVEL(n - 1);
+  scale = last.originH.w / s.gridOriginH.w;
   return RTSDF_SDF_LEVEL_SAMPLE(n - 1, last.originH, last.dims, p);
 }
 #endif
 
 RTSDF_FN float sampleSdf(SdfShadowParams s, vec3 p) {
 #if defined(RTSDF_SDF_LEVEL_SAMPLE)
-  if (s.cascadeLevels > 0u) return sampleCascade(s, p);
+  float scale;
+  if (s.cascadeLevels > 0u) return sampleCascade(s, p, scale);
 #endif
 #if defined(RTSDF_SDF_FETCH)
   return sampleDenseGrid(-1, s.gridOriginH, s.gridDims, p);
@@ -65,6 +69,16 @@ RTSDF_FN float sampleSdf(SdfShadowParams s, vec3 p) {
 #endif
 }
 #endif
+
+/// The field at p, and in @a scale how much coarser than s.gridOriginH.w the field there is: the fine voxel of the
+/// cascade level sampled over it (1 for one box), by which the march scales its lengths at that sample.
+RTSDF_FN float sampleSdfScaled(SdfShadowParams s, vec3 p, RTSDF_OUT(float) scale) {
+#if defined(RTSDF_SDF_LEVEL_SAMPLE)
+  if (s.cascadeLevels > 0u) return sampleCascade(s, p, scale);
+#endif
+  scale = 1.0f;
+  return sampleSdf(s, p);
+}
 
 /// The march's parameters for a receiver at p: with cascade levels, its lengths (epsilon, bias, steps, the normal
 /// offset and the voxel the gradient and thresholds use) are in level 0's voxels; scaled here to the voxels of the
@@ -169,9 +183,11 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, uint penumbra, vec3 p, vec3 n, 
   float tClose = 0.0f, tApproach = 0.0f, tOutside = 0.0f;
   for (uint i = 0u; i < s.maxSteps; ++i) {
     if (t >= tMax) break;
-    RTSDF_PRECISE float h = sampleSdf(s, o + L * t) - s.bias;
-    if (t <= s.contactReach && h + s.bias < s.normalOffset + t * ln - 0.125f * s.gridOriginH.w) contact = true;
-    if (!centered && h < s.epsilon) return 0.0f; // the march hit a surface: umbra
+    // k: the bias, hit threshold and steps follow the voxel of the field sampled here (cascade levels; 1: one box).
+    float k;
+    RTSDF_PRECISE float h = sampleSdfScaled(s, o + L * t, k) - s.bias * k;
+    if (t <= s.contactReach && h + s.bias * k < s.normalOffset + t * ln - 0.125f * s.gridOriginH.w) contact = true;
+    if (!centered && h < s.epsilon * k) return 0.0f; // the march hit a surface: umbra
     if (w > 0.0f) {
       if (penumbra == kPenumbraImproved) {
         // Aaltonen's triangulation: the nearest point to the occluder between this sample and the last.
@@ -191,7 +207,7 @@ RTSDF_FN float sdfShadowMarch(SdfShadowParams s, uint penumbra, vec3 p, vec3 n, 
     ph = h;
     // Steps never shorter than minStep (progress inside occluders, centred mode; samples near the closest
     // approach to an occluder's edge), never longer than maxStep.
-    t += clamp(abs(h), s.minStep, s.maxStep);
+    t += clamp(abs(h), s.minStep * k, s.maxStep * k);
   }
   if (centered) {
     if (s.lateralProbes > 0u && res > -1.0f && res < 1.0f && tApproach > 0.0f)

@@ -133,6 +133,8 @@ private:
   Camera camera() const { return mState.orbiting ? mState.orbit.camera() : mScene.cameraAt(mTime); }
   void recordCompose(VkCommandBuffer cmd, const sh::ComposeParams& params);
   sh::ComposeParams composeParams() const;
+  /// The pipeline whose fields the slice and mask views show: the one box's, or cascade level 0's; null without one.
+  const SdfPipeline* shownPipeline() const;
   std::string statusLine(double wallMs) const;
 
   const ViewOptions& mOptions;
@@ -212,6 +214,8 @@ void ViewSession::rebuild() {
   mRenderer = std::make_unique<Renderer>(*mCtx, mScene, mBounds, settings());
   if (const SdfPipeline* sdf = mRenderer->sdfPipeline())
     spdlog::info("SDF: coarse {}, fine {}", sdf->coarseSpec().describe(), sdf->fineSpec().describe());
+  else if (const CascadeSet* levels = mRenderer->cascades())
+    spdlog::info("SDF: {} cascade levels; the slice and mask views show level 0's fields", levels->levels());
 }
 
 void ViewSession::handleInput(const WindowInput& input) {
@@ -238,6 +242,12 @@ void ViewSession::handleInput(const WindowInput& input) {
   }
 }
 
+const SdfPipeline* ViewSession::shownPipeline() const {
+  if (!mRenderer) return nullptr;
+  if (const CascadeSet* levels = mRenderer->cascades()) return &levels->level(0);
+  return mRenderer->sdfPipeline();
+}
+
 sh::ComposeParams ViewSession::composeParams() const {
   sh::ComposeParams p{};
   const Camera cam = camera();
@@ -246,7 +256,7 @@ sh::ComposeParams ViewSession::composeParams() const {
   p.image = glm::ivec4(mWidth, mHeight, int(mScene.lights.size()), int(mState.view));
   p.coarseDims.w = int(mSwapchain->byteOrder());
   p.fineDims.w = mOptions.overlay ? std::min(kTextStripRows * lineCount(wrapText(mLine, mWidth)), mHeight) : 0;
-  const SdfPipeline* sdf = mRenderer ? mRenderer->sdfPipeline() : nullptr;
+  const SdfPipeline* sdf = shownPipeline();
   if (sdf) {
     const GridSpec f = sdf->fineSpec().inFrame(origin), c = sdf->coarseSpec().inFrame(origin);
     p.fineDims = glm::ivec4(f.dims, p.fineDims.w);
@@ -263,7 +273,7 @@ void ViewSession::recordCompose(VkCommandBuffer cmd, const sh::ComposeParams& pa
   const std::vector<std::uint32_t> text =
       packCoverage(rasterizeText(wrapText(mLine, mWidth), mWidth, std::max(params.fineDims.w, 1)));
   if (params.fineDims.w > 0) gpu::recordUpload(cmd, mOverlay, text.data(), text.size() * 4);
-  const SdfPipeline* sdf = mRenderer ? mRenderer->sdfPipeline() : nullptr;
+  const SdfPipeline* sdf = shownPipeline();
   const GpuGBuffer& g = mRenderer ? mRenderer->gpuGBuffer() : mUploaded.gbuffer;
   const Buffer& vis = mRenderer ? mRenderer->gpuVisibility() : mUploaded.visibility;
   const Buffer& lights = mRenderer ? mRenderer->gpuLightBuffer() : mUploaded.lights;

@@ -47,10 +47,13 @@ RenderedFrame renderOnGpu(const RenderJobOptions& o, const Scene& scene, RenderJ
   for (int f = 0; f < o.frames; ++f) bounds.add(buildSceneGeometry(scene, t0 + f / o.fps).bounds);
   return runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
     Renderer renderer(ctx, scene, bounds, o.render);
-    if (const SdfPipeline* sdf = renderer.sdfPipeline()) {
+    if (const SdfPipeline* sdf = renderer.sdfPipeline())
       result.sdfGrids = fmt::format("coarse {}, fine {}", sdf->coarseSpec().describe(), sdf->fineSpec().describe());
-      spdlog::info("SDF: {}", result.sdfGrids);
-    }
+    else if (const CascadeSet* levels = renderer.cascades())
+      result.sdfGrids = fmt::format("{} cascade levels around the camera, level 0: coarse {}, fine {}",
+                                    levels->levels(), levels->level(0).coarseSpec().describe(),
+                                    levels->level(0).fineSpec().describe());
+    if (!result.sdfGrids.empty()) spdlog::info("SDF: {}", result.sdfGrids);
     RenderedFrame frame;
     std::uint64_t cut = 0;
     for (int f = 0; f < o.frames; ++f) {

@@ -29,14 +29,15 @@ void contactShadowsCpu(const SceneGeometry& geometry, const GBuffer& g, const st
       glm::vec3 L;
       float tMax = 0.0f, w = 0.0f;
       if (v < sh::kContactPending || !sh::lightGeometry(lights[l], p, -far, far, L, tMax, w)) continue;
-      const float reach = std::min(params.distance, tMax);
+      const float scale = sh::contactReachScale(v); // 1 for one box; 2^i for a receiver in cascade level i
+      const float reach = std::min(params.distance * scale, tMax);
       std::uint32_t open = 0;
       for (std::uint32_t k = 0; k < params.rays; ++k) {
         float t = 0.0f;
         bool front = false;
         open += field.intersect(o, sh::lightDiscDirection(L, w, k, params.rays, turn), reach, t, front) ? 0u : 1u;
       }
-      v = std::min(v - sh::kContactPending, float(open) / float(params.rays));
+      v = std::min(v - sh::kContactPending * scale, float(open) / float(params.rays));
     }
   });
 }

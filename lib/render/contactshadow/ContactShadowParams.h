@@ -20,7 +20,8 @@ struct ContactShadowParams {
   ivec4 image;        // x: width, y: height, z: frame number (the rays' turn), w: seed
   uint lights;        // number of lights
   uint rays;          // short rays per pixel and light (>= 1: the pass does not run with none)
-  float distance;     // how far the rays reach from the surface (scene units): the SDF's first voxels
+  float distance;     // how far the rays reach from the surface (scene units): the SDF's first voxels (times the
+                      // mark's reach scale, contactReachScale: a receiver in cascade level i reaches 2^i as far)
   float normalOffset; // the rays start this far off the surface along its normal (scene units)
   float jitter;       // 0: the same rays every frame; 1: the pattern turned per pixel and frame (TAA averages)
   float pad0, pad1, pad2;

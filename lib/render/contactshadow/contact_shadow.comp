@@ -35,8 +35,9 @@ void main() {
     float tMax, w;
     if (marked < kContactPending || !lightGeometry(lights[l], pos.xyz, vec3(-3.0e38), vec3(3.0e38), L, tMax, w))
       continue;
-    float v = marked - kContactPending;
-    float reach = min(params.distance, tMax);
+    float scale = contactReachScale(marked); // 1 for one box; 2^i for a receiver in cascade level i
+    float v = marked - kContactPending * scale;
+    float reach = min(params.distance * scale, tMax);
     uint open = 0u;
     for (uint k = 0u; k < params.rays; ++k)
       open += occludedWithin(o, lightDiscDirection(L, w, k, params.rays, turn), reach) ? 0u : 1u;

@@ -48,7 +48,7 @@ LightVisibility marchEveryPixel(const GBuffer& g, const std::vector<sh::GpuLight
         v = params.penumbra == sh::kPenumbraUmbra
                 ? sh::sdfShadowUmbra(at, p, n, L, tMax, w, jitter, contact)
                 : sh::sdfShadowMarch(at, params.penumbra, p, n, L, tMax, w, jitter, contact);
-        if (contact && v > 0.0f) v += sh::kContactPending;
+        if (contact && v > 0.0f) v = sh::contactMark(v, at.gridOriginH.w / params.gridOriginH.w);
       }
     }
   });

@@ -81,7 +81,7 @@ RTSDF_FN float sampleSdfScaled(SdfShadowParams s, vec3 p, RTSDF_OUT(float) scale
 }
 
 /// The march's parameters for a receiver at p: with cascade levels, its lengths (epsilon, bias, steps, the normal
-/// offset and the voxel the gradient and thresholds use) are in level 0's voxels; scaled here to the voxels of the
+/// offset, the contact reach and the voxel the gradient and thresholds use) are in level 0's voxels; scaled here to the voxels of the
 /// finest level holding p (the field the march starts in is no finer, and a start under its voxel would hit the
 /// receiver's own plane). One box: unchanged.
 RTSDF_FN SdfShadowParams marchParamsAt(SdfShadowParams s, vec3 p) {
@@ -100,6 +100,7 @@ RTSDF_FN SdfShadowParams marchParamsAt(SdfShadowParams s, vec3 p) {
       s.maxStep *= k;
       s.minStep *= k;
       s.normalOffset *= k;
+      s.contactReach *= k;
       s.gridOriginH.w = h;
       return s;
     }

@@ -77,6 +77,15 @@ struct SdfShadowParams {
 /// trace; that pass takes it off again (the visibility itself is in [0, 1]).
 const float kContactPending = 2.0f;
 
+/// A pixel's mark for ContactShadowPass: its visibility v (in (0, 1]) plus kContactPending times the scale of the
+/// contact rays' reach: 1 for one box; with cascade levels 2^i for a receiver in level i, whose field is that much
+/// coarser (marchParamsAt scales the march's contact test alike), so the rays reach as far as the march looked.
+RTSDF_FN float contactMark(float v, float reachScale) { return v + kContactPending * reachScale; }
+/// The reach scale contactMark stored in @a marked (>= kContactPending), a power of two; the visibility is
+/// marked - kContactPending * scale. (marked / kContactPending lies in [scale, scale + 1/2]: a quarter added before
+/// the floor keeps a log2 a little short of a whole number from losing a level.)
+RTSDF_FN float contactReachScale(float marked) { return exp2(floor(log2(marked / kContactPending) + 0.25f)); }
+
 RTSDF_SHARED_END
 
 #endif

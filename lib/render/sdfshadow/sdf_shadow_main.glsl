@@ -3,7 +3,7 @@
 // SdfShadowPass: per pixel and light, sphere-trace the fine SDF towards the light (sdfShadowMarch, or sdfShadowUmbra
 // with RTSDF_SHADOW_UMBRA, in render/sdfshadow/SdfShadowMarch.h, shared with the CPU copy). Visibility is written
 // light-major; where the march found something within params.contactReach of the receiver (its contact flag),
-// marked by kContactPending for ContactShadowPass. One source, six shaders (lib/Shaders.cmake's table): the field
+// marked for ContactShadowPass (contactMark: kContactPending times the reach's scale added). One source, six shaders (lib/Shaders.cmake's table): the field
 // as a 3D texture, one hardware-filtered (trilinear) fetch per step (RTSDF_SHADOW_FIELD_TEXTURE: sdf_shadow.comp),
 // as a dense storage buffer filtered here exactly as the CPU copy filters it, 8 fetches per step
 // (RTSDF_SHADOW_FIELD_BUFFER: sdf_shadow_buffer.comp), or sampled from the brick pool and the coarse SDF, the
@@ -55,7 +55,7 @@ void main() {
 #else
       v = sdfShadowMarch(at, params.penumbra, pos.xyz, n, L, tMax, w, jitter, contact);
 #endif
-      if (contact && v > 0.0) v += kContactPending;
+      if (contact && v > 0.0) v = contactMark(v, at.gridOriginH.w / params.gridOriginH.w);
     }
     visibility[uint(l) * pixels + i] = v;
   }

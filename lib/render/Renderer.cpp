@@ -127,8 +127,8 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
       if (settings.sdf.sampling == SdfSampling::Bricks)
         throw SettingError("SDF sampling", "bricks with cascades: each level is sampled from its dense fine buffer "
                                            "(texture or buffer sampling)");
-      mCascades = std::make_unique<CascadeSet>(ctx, scene, CascadeLayout::around(mEye.position, cascadeShapeFor(sdfBounds, mEye.position, ps)),
-                                               ps);
+      const CascadeShape shape = cascadeShapeFor(sdfBounds, mEye.position, ps);
+      mCascades = std::make_unique<CascadeSet>(ctx, scene, CascadeLayout::around(mEye.position, shape), ps);
       mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, mFrameOrigin);
     } else {
       mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, ps);

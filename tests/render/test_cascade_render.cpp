@@ -3,6 +3,7 @@
 // town of rooms against the ray-traced truth.
 #include "GpuFixture.h"
 #include "TestUtil.h"
+#include "TownOfRooms.h"
 #include "render/Renderer.h"
 #include "render/sdfshadow/SdfShadowCpu.h"
 #include "scene/SceneGeometry.h"
@@ -27,22 +28,6 @@ using CascadeRender = test::VulkanSuite<CascadeRenderTag>;
 Scene defaultScene() { return loadScene(test::dataPath("scenes/default.json")); }
 Bounds boundsOf(const Scene& s, double t = 0.0) { return buildSceneGeometry(s, t).bounds; }
 
-/// The default room tiled @a n x @a n times, 2.2 units apart (scripts/make_rooms.py writes the same as a file).
-Scene tiledRooms(int n) {
-  const Scene room = defaultScene();
-  Scene town = room;
-  town.instances.clear();
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (const Instance& inst : room.instances) {
-        Instance copy = inst;
-        copy.name += "_" + std::to_string(i) + "_" + std::to_string(j);
-        copy.transform.translation += glm::dvec3(2.2 * i, 0.0, 2.2 * j);
-        if (copy.animation.kind == Animation::Kind::Orbit) copy.animation.center += glm::dvec3(2.2 * i, 0.0, 2.2 * j);
-        town.instances.push_back(copy);
-      }
-  return town;
-}
 
 /// The levels of @a layout as the march samples them, in the frame of @a origin, with fields from @a f(world point).
 template <class F>
@@ -134,9 +119,10 @@ TEST(CascadeShading, TheMarchSamplesTheLevelsAsCascadeSamplerCpuDoes) {
   EXPECT_THROW(sampleCascadeFieldCpu(levels, sh::SdfShadowParams{}, glm::vec3(0.0f)), Error) << "0 levels asked for";
 }
 
-// SdfShadowPass over two cascade levels (sdf_shadow_cascade.comp and its umbra variant) against the same march on the
-// CPU over the levels read back, on the default scene seen from inside the room: a real share of the pixels in shadow and received in each
-// level, and at most 0.1% of the pixels apart by more than 1e-4 (as for the one box's buffer march).
+// SdfShadowPass over two cascade levels (sdf_shadow_cascade4.comp and its umbra variant) against the same march on
+// the CPU over the levels read back, on the default scene seen from inside the room: a real share of the pixels in
+// shadow and received in each level, and at most 0.1% of the pixels apart by more than 1e-4 (as for the one box's
+// buffer march).
 TEST_F(CascadeRender, SdfShadowPassOverTheLevelsEqualsTheCpuMarch) {
   Scene scene = defaultScene();
   scene.camera.position = {0.7, 0.8, 0.6}; // in the room, so that level 0 holds the near half of the view
@@ -237,7 +223,7 @@ double maskedRmse(const RenderedFrame& frame, const RenderedFrame& truth, const 
 // ray-traced truth over the room's pixels that all three see. One box over the town at the same counts has a voxel
 // 17 times the room's.
 TEST_F(CascadeRender, TheRoomKeepsItsShadowsInsideATownOfRooms) {
-  const Scene room = defaultScene(), town = tiledRooms(16);
+  const Scene room = defaultScene(), town = test::tiledRooms(16);
   RenderSettings s;
   s.width = 320;
   s.height = 180;
@@ -270,8 +256,8 @@ TEST_F(CascadeRender, TheRoomKeepsItsShadowsInsideATownOfRooms) {
   const double eAlone = maskedRmse(alone.frame, alone.truth, mask, pixels);
   const double eSingle = maskedRmse(single.frame, single.truth, mask, pixels);
   const double eCascaded = maskedRmse(cascaded.frame, cascaded.truth, mask, pixels);
-  std::cout << "visibility RMSE over the room's " << pixels << " pixels in view: alone " << eAlone << ", town in one box "
-            << eSingle << ", town in 4 levels " << eCascaded << "\n";
+  std::cout << "visibility RMSE over the room's " << pixels << " pixels in view: alone " << eAlone
+            << ", town in one box " << eSingle << ", town in 4 levels " << eCascaded << "\n";
   EXPECT_GT(pixels, 10000u);
   EXPECT_LT(eCascaded, 0.6 * eSingle) << "the levels hold the room better than one box over the town";
   // Measured 0.035 against the room alone's 0.021 (docs/cascades.md): a guard against losing more, not the aim

@@ -2,6 +2,7 @@
 // sees of the scene, the memory they need over worlds of 50, 200 and 1000 m, and the warning that one box is too
 // coarse for its scene.
 #include "TestUtil.h"
+#include "TownOfRooms.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "sdf/cascade/CascadeLayout.h"
@@ -201,22 +202,6 @@ TEST(CascadeMemory, DeviceMemoryStaysNearlyConstantFrom50To1000Metres) {
 
 namespace {
 
-/// The default room tiled @a n x @a n times, 2.2 units apart (the town of rooms).
-Scene tiledRooms(int n) {
-  const Scene room = loadScene(test::dataPath("scenes/default.json"));
-  Scene town = room;
-  town.instances.clear();
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (const Instance& inst : room.instances) {
-        Instance copy = inst;
-        copy.name += "_" + std::to_string(i) + "_" + std::to_string(j);
-        copy.transform.translation += glm::dvec3(2.2 * i, 0.0, 2.2 * j);
-        if (copy.animation.kind == Animation::Kind::Orbit) copy.animation.center += glm::dvec3(2.2 * i, 0.0, 2.2 * j);
-        town.instances.push_back(copy);
-      }
-  return town;
-}
 
 std::string adviceAtRenderDefaults(const Scene& scene) {
   PipelineSettings s;
@@ -229,13 +214,13 @@ std::string adviceAtRenderDefaults(const Scene& scene) {
 } // namespace
 
 TEST(SingleBoxCheck, TheEightByEightTownOfRoomsWarnsAndNamesTheCascades) {
-  EXPECT_EQ(adviceAtRenderDefaults(tiledRooms(1)), "") << "the room alone suits one box";
-  const std::string eight = adviceAtRenderDefaults(tiledRooms(8));
+  EXPECT_EQ(adviceAtRenderDefaults(test::tiledRooms(1)), "") << "the room alone suits one box";
+  const std::string eight = adviceAtRenderDefaults(test::tiledRooms(8));
   EXPECT_NE(eight.find("--cascades"), std::string::npos) << eight;
   EXPECT_NE(eight.find("coarse voxels on the shortest axis"), std::string::npos) << eight;
   EXPECT_NE(eight.find("of a typical feature"), std::string::npos) << eight;
   EXPECT_LT(eight.size(), 240u) << "one short line";
-  EXPECT_NE(adviceAtRenderDefaults(tiledRooms(4)), "");
+  EXPECT_NE(adviceAtRenderDefaults(test::tiledRooms(4)), "");
 }
 
 TEST(ToroidalLevelCpu, SlabUpdatesAlongACameraPathEqualAFullRebuildVoxelForVoxel) {

@@ -30,6 +30,16 @@ RTSDF_DEFINE_DENSE_SAMPLER(sampleDenseGrid, RTSDF_ONE_BOX_FETCH)
 #endif
 
 #if defined(RTSDF_SDF_LEVEL_SAMPLE)
+/// How far p lies inside cascade level @a lv's box beyond one of its fine voxels (> 0: the level's whole trilinear
+/// stencil lies in it), in scene units.
+RTSDF_FN float insideLevel(CascadeFieldLevel lv, vec3 p) {
+  float h = lv.originH.w;
+  vec3 lo = vec3(lv.originH);
+  vec3 hi = lo + vec3(lv.dims.x, lv.dims.y, lv.dims.z) * h;
+  vec3 d = min(p - lo, hi - p);
+  return min(d.x, min(d.y, d.z)) - h;
+}
+
 /// The cascade levels' field at p (CascadeSamplerCpu's rule): the finest level whose box holds p more than one of
 /// its fine voxels inside its faces (the whole stencil lies in it); within its blend band of that margin, mixed
 /// linearly with the next coarser level (weight 0 on the margin itself); the outermost level, clamped, beyond.
@@ -38,13 +48,9 @@ RTSDF_FN float sampleCascade(SdfShadowParams s, vec3 p, RTSDF_OUT(float) scale) 
   int n = int(s.cascadeLevels);
   for (int i = 0; i < n; ++i) {
     CascadeFieldLevel lv = RTSDF_CASCADE_LEVEL(i);
-    float h = lv.originH.w;
-    vec3 lo = vec3(lv.originH);
-    vec3 hi = lo + vec3(lv.dims.x, lv.dims.y, lv.dims.z) * h;
-    vec3 d = min(p - lo, hi - p);
-    float inside = min(d.x, min(d.y, d.z)) - h;
+    float inside = insideLevel(lv, p);
     if (inside <= 0.0f) continue;
-    scale = h / s.gridOriginH.w;
+    scale = lv.originH.w / s.gridOriginH.w;
     float here = RTSDF_SDF_LEVEL_SAMPLE(i, lv.originH, lv.dims, p);
     if (i + 1 == n || inside >= lv.blend.x) return here;
     CascadeFieldLevel next = RTSDF_CASCADE_LEVEL(i + 1);
@@ -81,19 +87,16 @@ RTSDF_FN float sampleSdfScaled(SdfShadowParams s, vec3 p, RTSDF_OUT(float) scale
 }
 
 /// The march's parameters for a receiver at p: with cascade levels, its lengths (epsilon, bias, steps, the normal
-/// offset, the contact reach and the voxel the gradient and thresholds use) are in level 0's voxels; scaled here to the voxels of the
-/// finest level holding p (the field the march starts in is no finer, and a start under its voxel would hit the
-/// receiver's own plane). One box: unchanged.
+/// offset, the contact reach and the voxel the gradient and thresholds use) are in level 0's voxels; scaled here to
+/// the voxels of the finest level holding p (the field the march starts in is no finer, and a start under its voxel
+/// would hit the receiver's own plane). One box: unchanged.
 RTSDF_FN SdfShadowParams marchParamsAt(SdfShadowParams s, vec3 p) {
 #if defined(RTSDF_SDF_LEVEL_SAMPLE)
   int n = int(s.cascadeLevels);
   for (int i = 0; i < n; ++i) {
     CascadeFieldLevel lv = RTSDF_CASCADE_LEVEL(i);
     float h = lv.originH.w;
-    vec3 lo = vec3(lv.originH);
-    vec3 hi = lo + vec3(lv.dims.x, lv.dims.y, lv.dims.z) * h;
-    vec3 d = min(p - lo, hi - p);
-    if (min(d.x, min(d.y, d.z)) - h > 0.0f || i + 1 == n) {
+    if (insideLevel(lv, p) > 0.0f || i + 1 == n) {
       float k = h / s.gridOriginH.w;
       s.epsilon *= k;
       s.bias *= k;

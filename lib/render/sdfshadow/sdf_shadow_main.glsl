@@ -3,13 +3,14 @@
 // SdfShadowPass: per pixel and light, sphere-trace the fine SDF towards the light (sdfShadowMarch, or sdfShadowUmbra
 // with RTSDF_SHADOW_UMBRA, in render/sdfshadow/SdfShadowMarch.h, shared with the CPU copy). Visibility is written
 // light-major; where the march found something within params.contactReach of the receiver (its contact flag),
-// marked for ContactShadowPass (contactMark: kContactPending times the reach's scale added). One source, six shaders (lib/Shaders.cmake's table): the field
-// as a 3D texture, one hardware-filtered (trilinear) fetch per step (RTSDF_SHADOW_FIELD_TEXTURE: sdf_shadow.comp),
-// as a dense storage buffer filtered here exactly as the CPU copy filters it, 8 fetches per step
-// (RTSDF_SHADOW_FIELD_BUFFER: sdf_shadow_buffer.comp), or sampled from the brick pool and the coarse SDF, the
-// sparse fine state (RTSDF_SHADOW_FIELD_BRICKS: sdf_shadow_bricks.comp), or from camera-centred cascade levels, each
-// a dense buffer filtered here (RTSDF_SHADOW_FIELD_CASCADE: sdf_shadow_cascade.comp); each also with
-// RTSDF_SHADOW_UMBRA (sdf_shadow_umbra*.comp: several marches per pixel and light).
+// marked for ContactShadowPass (contactMark: kContactPending times the reach's scale added). One source, ten shaders
+// (lib/Shaders.cmake's table): the field as a 3D texture, one hardware-filtered (trilinear) fetch per step
+// (RTSDF_SHADOW_FIELD_TEXTURE: sdf_shadow.comp), as a dense storage buffer filtered here exactly as the CPU copy
+// filters it, 8 fetches per step (RTSDF_SHADOW_FIELD_BUFFER: sdf_shadow_buffer.comp), sampled from the brick pool and
+// the coarse SDF, the sparse fine state (RTSDF_SHADOW_FIELD_BRICKS: sdf_shadow_bricks.comp), or from camera-centred
+// cascade levels, each a dense buffer filtered here (RTSDF_SHADOW_FIELD_CASCADE: sdf_shadow_cascade4.comp for up to
+// 4 levels, sdf_shadow_cascade.comp for up to 10); each also with RTSDF_SHADOW_UMBRA (sdf_shadow_umbra*.comp:
+// several marches per pixel and light).
 #include "render/sdfshadow/SdfShadowParams.h"
 #if defined(RTSDF_SHADOW_FIELD_TEXTURE)
 layout(binding = kSdfShadowBindingField) uniform sampler3D fieldTexture;
@@ -22,7 +23,7 @@ layout(std430, binding = kSdfShadowBindingField) readonly buffer Field { float f
 #elif defined(RTSDF_SHADOW_FIELD_CASCADE)
 #include "sdf_shadow_cascade.glsl"
 #else
-#error "define RTSDF_SHADOW_FIELD_TEXTURE, RTSDF_SHADOW_FIELD_BUFFER, RTSDF_SHADOW_FIELD_BRICKS or RTSDF_SHADOW_FIELD_CASCADE"
+#error "define RTSDF_SHADOW_FIELD_TEXTURE, _BUFFER, _BRICKS or _CASCADE"
 #endif
 #include "render/sdfshadow/SdfShadowMarch.h"
 

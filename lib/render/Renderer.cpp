@@ -128,7 +128,8 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
         throw SettingError("SDF sampling", "bricks with cascades: each level is sampled from its dense fine buffer "
                                            "(texture or buffer sampling)");
       const CascadeShape shape = cascadeShapeFor(sdfBounds, mEye.position, ps);
-      mCascades = std::make_unique<CascadeSet>(ctx, scene, CascadeLayout::around(mEye.position, shape), ps);
+      mCascades = std::make_unique<CascadeSet>(
+          ctx, scene, CascadeLayout::around(mEye.position, shape, cascadeLookAhead(shape.levelZeroExtent)), ps);
       mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, mFrameOrigin);
     } else {
       mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, ps);
@@ -218,7 +219,7 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
     out.passMs = out.sdf.passMs;
     bvh = &mSdf->bvh();
   } else if (mCascades) {
-    mCascades->moveTo(mEye.position, cascadeLookAhead());
+    mCascades->moveTo(mEye.position, cascadeLookAhead(mCascades->layout().shape.levelZeroExtent));
     out.sdf = sumFrameStats(mCascades->runFrame(time));
     out.passMs = out.sdf.passMs;
     mBvh->update(time);
@@ -295,11 +296,11 @@ void Renderer::setCamera(const Camera& camera) {
   mFollowsSceneCamera = false;
 }
 
-glm::dvec3 Renderer::cascadeLookAhead() const {
+glm::dvec3 Renderer::cascadeLookAhead(double levelZeroExtent) const {
   const glm::dvec3 forward = mEye.target - mEye.position;
   const double length = glm::length(forward);
   if (!(length > 0.0)) return glm::dvec3(0.0);
-  return forward / length * (kCascadeLookAhead * mCascades->layout().shape.levelZeroExtent);
+  return forward / length * (kCascadeLookAhead * levelZeroExtent);
 }
 
 void Renderer::uploadCascadeLevels() {

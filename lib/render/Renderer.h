@@ -211,8 +211,9 @@ struct RenderedFrame {
 /// @brief The band at a cascade level's border over which the march fades it into the next coarser level, in the
 ///        level's fine voxels (CascadeSamplerCpu's blendVoxels).
 constexpr double kCascadeBlendVoxels = 4.0;
-/// @brief How far ahead of the camera along the view the cascade levels are centred, in each level's side: the
-///        levels reach further into the view than behind the camera (still nested, the camera inside each).
+/// @brief How far ahead of the camera along the view the cascade levels below the outermost are centred, in each
+///        level's side: they reach further into the view than behind the camera (still nested, the camera inside
+///        each); the outermost stays on the camera and holds the scene around it.
 constexpr double kCascadeLookAhead = 0.25;
 
 /// @brief Renders frames of a scene's camera with the GPU techniques (Sdf, ShadowMap). With
@@ -272,8 +273,8 @@ private:
   struct Gpu;
   /// The levels' grids as the march samples them (mCascadeLevels), uploaded.
   void uploadCascadeLevels();
-  /// Level 0's offset from the camera along the view (kCascadeLookAhead of its side).
-  glm::dvec3 cascadeLookAhead() const;
+  /// Level 0's offset from the camera along the view: kCascadeLookAhead of its side @a levelZeroExtent.
+  glm::dvec3 cascadeLookAhead(double levelZeroExtent) const;
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   RenderSettings mSettings;

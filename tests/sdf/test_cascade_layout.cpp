@@ -68,7 +68,8 @@ TEST(CascadeLayout, LevelsDoubleTheirVoxelsAndSnapToTheirCoarseVoxel) {
 }
 
 // Levels centred ahead of the camera (lookAhead: a quarter of level 0's side along a diagonal view, as the renderer
-// places them) reach twice as far into the view as behind it, still nest, and each still holds the camera.
+// places them) reach three times as far into the view as behind it, still nest, and each still holds the camera;
+// the outermost stays centred on the camera.
 TEST(CascadeLayout, LevelsAheadOfTheCameraStillNestAndHoldTheCamera) {
   const CascadeShape shape = shape4();
   const glm::dvec3 camera(12.3456, 1.7, -98.765), forward = glm::normalize(glm::dvec3(-1.0, -0.6, -1.1));
@@ -76,16 +77,19 @@ TEST(CascadeLayout, LevelsAheadOfTheCameraStillNestAndHoldTheCamera) {
   const CascadeLayout layout = CascadeLayout::around(camera, shape, ahead);
   for (const CascadeLevel& l : layout.levels) {
     const double side = shape.levelZeroExtent * std::ldexp(1.0, l.index), c = shape.coarseVoxel(l.index);
+    const bool outermost = l.index + 1 == shape.levels;
     for (int a = 0; a < 3; ++a) {
       EXPECT_TRUE(wholeMultiple(l.coarse.origin[a], c)) << "level " << l.index << " axis " << a;
-      EXPECT_LE(std::abs(l.box().center()[a] - (camera[a] + std::ldexp(ahead[a], l.index))), 0.5 * c + 1e-12);
+      const double centre = outermost ? camera[a] : camera[a] + std::ldexp(ahead[a], l.index);
+      EXPECT_LE(std::abs(l.box().center()[a] - centre), 0.5 * c + 1e-12);
     }
     EXPECT_TRUE(holds(l.box(), camera)) << l.index;
+    if (l.index > 0) EXPECT_TRUE(inside(layout.levels[std::size_t(l.index) - 1].box(), l.box())) << l.index;
+    if (outermost) continue;
     // Along the view the level reaches 3/4 of its side ahead and 1/4 behind (to the snapping).
     const glm::dvec3 far = camera + forward * (0.7 * side), near = camera - forward * (0.2 * side);
     EXPECT_TRUE(holds(l.box(), far) && holds(l.box(), near)) << l.index;
     EXPECT_FALSE(holds(l.box(), camera - forward * (0.6 * side))) << l.index;
-    if (l.index > 0) EXPECT_TRUE(inside(layout.levels[std::size_t(l.index) - 1].box(), l.box())) << l.index;
   }
   EXPECT_EQ(layout.lookAhead, ahead);
 }

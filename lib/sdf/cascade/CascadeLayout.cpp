@@ -49,7 +49,9 @@ CascadeLayout CascadeLayout::around(const glm::dvec3& camera, const CascadeShape
   layout.lookAhead = lookAhead;
   for (int i = 0; i < shape.levels; ++i) {
     const double c = shape.coarseVoxel(i);
-    const glm::dvec3 centre = camera + std::ldexp(1.0, i) * lookAhead;
+    // The outermost level stays on the camera, so that it holds what the default extent sized it for (the whole
+    // scene around the camera, behind it too); the finer ones reach ahead and still nest in it.
+    const glm::dvec3 centre = i + 1 < shape.levels ? camera + std::ldexp(1.0, i) * lookAhead : camera;
     CascadeLevel level;
     level.index = i;
     // The lattice point nearest the centre: the level moves only when the centre crosses half a coarse voxel, and

@@ -53,12 +53,13 @@ struct CascadeLevel {
 struct CascadeLayout {
   CascadeShape shape;
   glm::dvec3 camera{0.0};
-  glm::dvec3 lookAhead{0.0}; ///< level i is centred on camera + lookAhead 2^i
+  glm::dvec3 lookAhead{0.0}; ///< level i < K - 1 is centred on camera + lookAhead 2^i, the outermost on the camera
   std::vector<CascadeLevel> levels; ///< finest first
   /// @brief The layout for @a camera: level i's coarse voxel c_i, its centre the coarse lattice point nearest the
   ///        camera (round(camera / c_i) c_i), its corner coarseRes / 2 coarse voxels below that.
-  /// @param lookAhead where given, level i is centred on camera + lookAhead 2^i instead (levels that reach further
-  ///        along the view than behind it; they still nest while |lookAhead| is at most a quarter of level 0's side).
+  /// @param lookAhead where given, level i below the outermost is centred on camera + lookAhead 2^i instead (levels
+  ///        that reach further along the view than behind it; they still nest while each component of lookAhead is
+  ///        at most a quarter of level 0's side); the outermost level stays on the camera.
   static CascadeLayout around(const glm::dvec3& camera, const CascadeShape& shape,
                               const glm::dvec3& lookAhead = glm::dvec3(0.0));
   /// @brief The finest level whose box holds @a p at least @a margin (scene units) inside its faces, or -1.

@@ -219,12 +219,13 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
     out.passMs = out.sdf.passMs;
     bvh = &mSdf->bvh();
   } else if (mCascades) {
-    mCascades->moveTo(mEye.position, cascadeLookAhead(mCascades->layout().shape.levelZeroExtent));
+    const bool moved =
+        !mCascades->moveTo(mEye.position, cascadeLookAhead(mCascades->layout().shape.levelZeroExtent)).empty();
     out.sdf = sumFrameStats(mCascades->runFrame(time));
     out.passMs = out.sdf.passMs;
     mBvh->update(time);
     bvh = mBvh.get();
-    uploadCascadeLevels();
+    if (moved || mCascadeLevels.empty()) uploadCascadeLevels(); // the table changes only when a level moves
   } else {
     // Shadow maps cover the scene as it is now (the maps' frame follows the moving instances' bounds).
     mBvh->update(time);

@@ -42,6 +42,8 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   "refine_closest_cell_side_cpu.comp  sdf/refine/refine_main.glsl  ${closest}
                                   RTSDF_CELL_SEARCH=1 RTSDF_SIGN_RAYS=0 RTSDF_POINT_WALK_WHILE_WHILE=1
                                   RTSDF_LOOP_BUDGET=RTSDF_CPU_LOOP_BUDGET"
+  # The exact winding number of the voxels the closest shaders' walks left near 1/2 (WindingExactPass).
+  "winding_exact.comp             sdf/refine/winding_exact.comp"
   # The ray mask and the brick pool.
   "mask_compact.comp              sdf/mask/mask_compact.comp"
   "mask_dispatch.comp             sdf/mask/mask_dispatch.comp"

@@ -262,7 +262,7 @@ bool ExactDistanceField::insideNearestPiece(const glm::vec3& p, const Hit& hit) 
 
 bool ExactDistanceField::insideNearestPiece(const glm::vec3& p, const Hit& hit, bool winding) const {
   const MeshData& md = mImpl->meshes[hit.mesh];
-  if (winding && md.winding) return md.winding->evaluate(glm::dvec3(p)) >= 0.5;
+  if (winding && md.winding) return md.winding->inside(glm::dvec3(p));
   const glm::uvec3 tri = md.mesh->triangles[hit.triangle];
   glm::vec3 n;
   switch (TriangleFeature(hit.feature)) {

@@ -55,7 +55,7 @@ bool PieceUnion::insideAnotherPiece(const glm::vec3& p, unsigned mesh, std::uint
     if ((o.mesh == mesh && o.piece == nearest) || glm::any(glm::lessThan(p, o.lo)) ||
         glm::any(glm::greaterThan(p, o.hi)))
       continue;
-    if (o.winding->evaluate(glm::dvec3(p)) >= 0.5) return true;
+    if (o.winding->inside(glm::dvec3(p))) return true;
   }
   return false;
 }

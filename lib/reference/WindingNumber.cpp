@@ -120,7 +120,14 @@ double WindingNumberTree::solidAngle(int t, const glm::dvec3& p) const {
   return 2.0 * std::atan2(det, div);
 }
 
-double WindingNumberTree::evaluate(const glm::dvec3& p) const {
+bool WindingNumberTree::inside(const glm::dvec3& p) const {
+  double w = evaluate(p);
+  if (std::fabs(w - 0.5) < kRecheckBand) w = evaluate(p, kRecheckBetaFactor * mBeta);
+  if (std::fabs(w - 0.5) < kExactBand) w = evaluateExact(p);
+  return w >= 0.5;
+}
+
+double WindingNumberTree::evaluate(const glm::dvec3& p, double beta) const {
   if (mNodes.empty()) return 0.0;
   double sum = 0.0;
   int stack[128];
@@ -130,7 +137,7 @@ double WindingNumberTree::evaluate(const glm::dvec3& p) const {
     const Node& n = mNodes[stack[--top]];
     const glm::dvec3 d = n.center - p;
     const double dist2 = glm::dot(d, d);
-    if (dist2 > mBeta * mBeta * n.radius * n.radius) {
+    if (dist2 > beta * beta * n.radius * n.radius) {
       // Far field: the cluster acts as a dipole of strength areaNormal at its centre.
       sum += glm::dot(d, n.areaNormal) / (dist2 * std::sqrt(dist2));
       continue;

@@ -21,9 +21,21 @@ public:
                     double beta = 2.0);
 
   /// @brief The winding number at @a p (approximate only through the far-field dipoles).
-  double evaluate(const glm::dvec3& p) const;
+  double evaluate(const glm::dvec3& p) const { return evaluate(p, mBeta); }
+  /// @brief The same with clusters replaced by their dipoles only beyond @a beta times their radius.
+  double evaluate(const glm::dvec3& p, double beta) const;
 
-  /// @brief The exact winding number by summing every triangle's solid angle (slow; for tests).
+  /// @brief Whether @a p is inside by the winding number, w >= 1/2. Where evaluate() lies within kRecheckBand of
+  ///        1/2 the sum is taken again with kRecheckBetaFactor times beta: beside a rim the dipoles' error can
+  ///        exceed the distance from 1/2 (it signed voxels of the open teapot wrongly). Still within kExactBand of
+  ///        1/2, every triangle is summed (evaluateExact): rare, and then exact. The GPU's refinement follows the
+  ///        same steps (open_winding.glsl: kWindingRecheckBand, kWindingExactBand; WindingExactPass).
+  bool inside(const glm::dvec3& p) const;
+  static constexpr double kRecheckBand = 0.1;
+  static constexpr double kRecheckBetaFactor = 2.0;
+  static constexpr double kExactBand = 0.05;
+
+  /// @brief The exact winding number by summing every triangle's solid angle (slow: near 1/2 only, and tests).
   double evaluateExact(const glm::dvec3& p) const;
 
 private:

@@ -171,6 +171,8 @@ FrameStats SdfPipeline::finishFrame() {
     stats.maskCoarseVoxels = counts.coarse;
     stats.refinedFineVoxels = mPlan.refine ? counts.refinedFine : 0; // a skipped mask left the last run's counts
     stats.cutVoxels = mPlan.refine ? counts.cutVoxels : 0;
+    stats.nearHalfVoxels = mPlan.refine ? counts.nearHalf : 0;
+    stats.nearHalfKept = mPlan.refine ? counts.nearHalfKept : 0;
     stats.activeBricks = counts.activeBricks;
     stats.overflowBricks = counts.overflowBricks;
     stats.poolBricks = mPool->capacity();

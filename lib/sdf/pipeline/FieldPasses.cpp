@@ -13,6 +13,13 @@ FieldPasses::FieldPasses(const gpu::VulkanContext& ctx, const GridSpec& coarse, 
       mUpsample(ctx),
       mRefine(settings.mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
                                                 : std::make_unique<ClosestRefinePass>(ctx, closest)) {
+  if (settings.mode == RefineMode::Closest) {
+    mWindingExact = std::make_unique<WindingExactPass>(ctx);
+    mWindingDoubts = Buffer(ctx, (1 + gpu::shared::kWindingExactCapacity) * sizeof(glm::uvec4),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                            Buffer::Memory::Device, "winding numbers near 1/2");
+  }
   if (settings.fineStorage == FineStorage::Dense)
     mFine = Buffer(ctx, fine.voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, Buffer::Memory::Device,
                    "fine SDF");
@@ -59,10 +66,20 @@ void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
                              bool upsample) const {
   const BrickPages pages = pool.pages();
   const Buffer& coarse = mCoarse.distanceBuffer();
-  if (refine && mSettings.band > 0.0)
+  const Buffer& dense = mFine ? mFine : pool.placeholder();
+  if (refine && mSettings.band > 0.0) {
+    // An empty list of voxels for the exact winding number: no work groups (x = 0, y = z = 1).
+    static const glm::uvec4 kEmptyList(0u, 1u, 1u, 0u);
+    if (mWindingDoubts) {
+      gpu::recordUpload(cmd, mWindingDoubts, &kEmptyList, sizeof(kEmptyList));
+      gpu::computeBarrier(cmd);
+    }
     mRefine->execute(cmd, profiler, {bvh, mask.refineList(), mask.countsBuffer(), coarse, mask.fineRanges(),
                                      pool.slots()},
-                     {pages, mFine ? mFine : pool.placeholder(), mask.refineStats()}, p);
+                     {pages, dense, mask.refineStats(), mWindingDoubts ? mWindingDoubts : pool.placeholder()}, p);
+    if (mWindingExact && bvh.openPieces().any())
+      mWindingExact->execute(cmd, profiler, {bvh, mWindingDoubts}, {pages, dense, mask.refineStats()}, p);
+  }
   if (upsample && mFine) mUpsample.execute(cmd, profiler, {coarse, mask.fineToCoarse(), pool.slots()}, {mFine}, p);
   // Shading that samples the bricks finds the grids here.
   gpu::recordUpload(cmd, mSamplingParams, &p, sizeof(p));

@@ -1,7 +1,8 @@
 #pragma once
 /// @file FieldPasses.h
 /// @brief The passes that compute one pipeline's fields on its pair of grids: the coarse SDF (CoarseSdfBuilder), the
-///        refinement of the masked fine voxels (RayRefinePass or ClosestRefinePass) and the upsampling into the
+///        refinement of the masked fine voxels (RayRefinePass or ClosestRefinePass, then WindingExactPass where an
+///        open mesh's winding number lay near 1/2) and the upsampling into the
 ///        dense fine SDF (UpsamplePass), with what they write besides the brick pool.
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"
@@ -64,7 +65,9 @@ private:
   CoarseSdfBuilder mCoarse;
   UpsamplePass mUpsample;
   std::unique_ptr<RefinePass> mRefine; ///< RayRefinePass or ClosestRefinePass, by the mode
+  std::unique_ptr<WindingExactPass> mWindingExact; ///< closest mode: the winding numbers near 1/2
   gpu::Buffer mFine, mSamplingParams;
+  gpu::Buffer mWindingDoubts; ///< closest mode: the voxels for mWindingExact (kRefineBindingWindingDoubts)
 };
 
 } // namespace rtsdf

@@ -6,7 +6,7 @@
 namespace rtsdf {
 
 double FrameStats::refineMs() const {
-  return passTotal(RayRefinePass::kName) + passTotal(ClosestRefinePass::kName);
+  return passTotal(RayRefinePass::kName) + passTotal(ClosestRefinePass::kName) + passTotal(WindingExactPass::kName);
 }
 
 FrameRecorder::FrameRecorder(const gpu::VulkanContext& ctx) : mProfiler(ctx), mCmd(ctx) {}

@@ -18,6 +18,10 @@ struct FrameStats {
   /// Of those, the voxels whose BVH walks a CPU device's loop budget ended (RTSDF_CPU_LOOP_BUDGET): each keeps the
   /// nearest surface found, an upper bound of its distance, and a sign that may be wrong.
   std::uint64_t cutVoxels = 0;
+  /// Closest mode: refined voxels whose walked winding number lay within kWindingExactBand of 1/2, signed by the
+  /// exact sum over their mesh (WindingExactPass) but for nearHalfKept of them (the list was full or the mesh too
+  /// large to sum: they keep the walked number's side, which may be wrong).
+  std::uint64_t nearHalfVoxels = 0, nearHalfKept = 0;
   std::uint64_t activeBricks = 0;      ///< bricks holding fine voxels under the band (each has a pool slot...)
   std::uint64_t overflowBricks = 0;    ///< ...but these: the pool was full; the next frame grows it and starts over
   std::uint64_t poolBricks = 0;        ///< the pool's capacity this frame
@@ -39,7 +43,7 @@ struct FrameStats {
     return std::find(skippedPasses.begin(), skippedPasses.end(), pass) != skippedPasses.end();
   }
   double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
-  /// @brief The refinement pass's time, whichever mode ran (RayRefinePass or ClosestRefinePass).
+  /// @brief The refinement's time, whichever mode ran (RayRefinePass, or ClosestRefinePass and WindingExactPass).
   double refineMs() const;
 };
 

@@ -117,11 +117,14 @@ GpuRayMask::Counts GpuRayMask::counts() const {
   n.activeBricks = words[kMaskCountWords + kBrickCountActive];
   n.overflowBricks = words[kMaskCountWords + kBrickCountOverflow];
   n.cutVoxels = words[kStatsAt + kRefineStatCutVoxels];
+  n.nearHalf = words[kStatsAt + kRefineStatNearHalf];
+  n.nearHalfKept = words[kStatsAt + kRefineStatNearHalfKept];
   // Each fine voxel lies under one coarse voxel and each coarse voxel is appended once: more would be a bug.
   const glm::ivec3 bd = mBrickDims;
   if (n.refinedFine > n.maskedFine || n.maskedFine > mFineSpec.voxelCount() || n.coarse > mCoarseSpec.voxelCount() ||
       n.refineList > n.coarse || n.activeBricks > std::uint64_t(bd.x) * bd.y * bd.z ||
-      n.overflowBricks > n.activeBricks || n.cutVoxels > n.refinedFine)
+      n.overflowBricks > n.activeBricks || n.cutVoxels > n.refinedFine || n.nearHalf > n.refinedFine ||
+      n.nearHalfKept > n.nearHalf)
     throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine ({} of them cut) of {} under {} coarse "
                             "voxels ({} listed), {} bricks ({} without a slot), more than the grids hold ({}, {} and "
                             "{})",

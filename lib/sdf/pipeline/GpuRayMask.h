@@ -31,6 +31,7 @@ public:
     std::uint32_t refinedFine = 0, maskedFine = 0, coarse = 0, refineList = 0;
     std::uint32_t activeBricks = 0, overflowBricks = 0;
     std::uint32_t cutVoxels = 0; ///< refined fine voxels whose walks the loop budget ended (kRefineStatCutVoxels)
+    std::uint32_t nearHalf = 0, nearHalfKept = 0; ///< kRefineStatNearHalf, kRefineStatNearHalfKept
   };
   /// @param settings the pipeline's settings in effect (band, beta, settling and refresh periods)
   /// @param refineParts the refinement's invocations per listed coarse voxel (refinePartsFor)

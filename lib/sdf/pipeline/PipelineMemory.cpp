@@ -35,9 +35,11 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel), the refinement state (8 bytes per voxel) and
   // the refine list; the dense fine SDF; per brick its stamp and slot; the BVH (nodes of 32 bytes, at most two per
   // triangle, corners 48 bytes and ids 4 bytes per triangle), whose mesh-space corners VoxelizePass places in
-  // voxel space (48 bytes per triangle).
+  // voxel space (48 bytes per triangle). Closest mode: the list of voxels for the exact winding number (1 MiB).
+  const std::uint64_t nearHalfList =
+      s.mode == RefineMode::Closest ? (1 + std::uint64_t(gpu::shared::kWindingExactCapacity)) * 16 : 0;
   m.deviceBytes = 8 * coarseBuf + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
-                  triangles * (64 + 48 + 4 + 48) + 4096;
+                  triangles * (64 + 48 + 4 + 48) + nearHalfList + 4096;
   // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
   // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
   m.hostBytes = nc * 29 + nf * 16;

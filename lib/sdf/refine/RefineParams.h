@@ -68,11 +68,31 @@ const uint kRefineBindingUnionPieces = kRefineBindingPieceOf + 1u; // GpuSceneBv
 const uint kRefineBindingOpenFlags = kRefineBindingUnionPieces + 1u; // GpuSceneBvh::openFlags(): open meshes' rims
 const uint kRefineBindingWindingNodes = kRefineBindingOpenFlags + 1u; // GpuSceneBvh::windingNodes(): their dipoles
 const uint kRefineBindingStats = kRefineBindingWindingNodes + 1u; // kRefineStat* words (zeroed every frame)
-const uint kRefineBindingCount = kRefineBindingStats + 1u;
+const uint kRefineBindingWindingDoubts = kRefineBindingStats + 1u; // closest mode: the voxels WindingExactPass signs
+const uint kRefineBindingCount = kRefineBindingWindingDoubts + 1u;
 
 /// Words of the refinement's statistics buffer (kRefineBindingStats).
 const uint kRefineStatCutVoxels = 0u; // fine voxels whose walks the loop budget ended (CPU devices' shaders only)
+const uint kRefineStatNearHalf = 1u;  // fine voxels whose walked winding number lay within kWindingExactBand of 1/2
+const uint kRefineStatNearHalfKept = 2u; // of those, left with the walked number's side (list full, mesh too large)
 const uint kRefineStatWords = 4u;
+
+/// WindingExactPass (winding_exact.comp): the winding number of the voxels the refinement's walks left near 1/2
+/// (kWindingExactBand), summed over every triangle of the mesh by one work group per voxel, each invocation every
+/// RTSDF_WINDING_EXACT_GROUP-th triangle. The list (kRefineBindingWindingDoubts): a VkDispatchIndirectCommand
+/// (x: entries, y = z = 1) in a uvec4, then kWindingExactCapacity entries (a dispatch's guaranteed group count)
+/// of uvec4(dense index, brick slot, offset in the brick, instance slot). A mesh of more than
+/// kWindingExactMaxTriangles is not summed: on a CPU device each invocation's loop must stay in its budget.
+#define RTSDF_WINDING_EXACT_GROUP 128
+const uint kWindingExactCapacity = 65535u;
+const uint kWindingExactMaxTriangles = RTSDF_WINDING_EXACT_GROUP * RTSDF_CPU_LOOP_BUDGET;
+const uint kWindingExactBindingDoubts = kBvhBindingCount + 0u; // the list above
+const uint kWindingExactBindingDense = kBvhBindingCount + 1u;  // the dense fine SDF (kRefineWriteDense)
+const uint kWindingExactBindingTriangles = kBvhBindingCount + 2u; // per instance slot: uvec2(first leaf-ordered
+                                                                  // triangle of its mesh, count)
+const uint kWindingExactBindingStats = kBvhBindingCount + 3u;  // the refinement's kRefineStat* words
+const uint kWindingExactBindingValuePages = kBvhBindingCount + 4u; // the brick pool's value pages
+const uint kWindingExactBindingCount = kWindingExactBindingValuePages + RTSDF_BRICK_PAGES;
 
 /// Push constants of refine_upsample.comp and the refinement shaders.
 struct RefineParams {

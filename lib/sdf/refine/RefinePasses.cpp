@@ -77,7 +77,22 @@ void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const 
   b[kRefineBindingOpenFlags] = &in.bvh.openFlags();
   b[kRefineBindingWindingNodes] = &in.bvh.windingNodes();
   b[kRefineBindingStats] = &out.stats;
+  b[kRefineBindingWindingDoubts] = &out.doubts;
   mPipeline.dispatchIndirect(cmd, b, &params, in.counts);
+  gpu::computeBarrier(cmd);
+}
+
+void WindingExactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                               const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kWindingExactBindingCount> b;
+  in.bvh.bindTo(b);
+  b[kWindingExactBindingDoubts] = &in.doubts;
+  b[kWindingExactBindingDense] = &out.dense;
+  b[kWindingExactBindingTriangles] = &in.bvh.instanceTriangles();
+  b[kWindingExactBindingStats] = &out.stats;
+  bindPages(b, kWindingExactBindingValuePages, out.pool.values);
+  mPipeline.dispatchIndirect(cmd, b, &params, in.doubts);
   gpu::computeBarrier(cmd);
 }
 

@@ -82,7 +82,14 @@ public:
   /// @a dense: f_t also written into the dense fine SDF where params.coarseDims.w has kRefineWriteDense (else a
   /// placeholder).
   /// @a stats: the kRefineStat* words, added to (the caller zeroes them).
-  struct Outputs { const BrickPages& pool; const gpu::Buffer& dense; const gpu::Buffer& stats; };
+  /// @a doubts: closest mode's list of voxels for WindingExactPass (its header zeroed by the caller; a placeholder
+  /// in rays mode).
+  struct Outputs {
+    const BrickPages& pool;
+    const gpu::Buffer& dense;
+    const gpu::Buffer& stats;
+    const gpu::Buffer& doubts;
+  };
   using Params = gpu::shared::RefineParams;
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
@@ -120,6 +127,26 @@ public:
       : RefinePass(ctx, shaderFor(variant), kName) {}
   /// @brief The embedded shader of @a variant, e.g. "refine_closest_cell_side_cpu.comp".
   static const char* shaderFor(const Variant& variant);
+};
+
+/// @brief After ClosestRefinePass: the voxels whose walked winding number lay within kWindingExactBand of 1/2 (listed
+///        by the refinement, at most kWindingExactCapacity a frame) take the side of the exact sum over every triangle
+///        of their mesh, one work group per voxel (winding_exact.comp), as the exact field's rule does there.
+class WindingExactPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "WindingExactPass";
+  struct Inputs {
+    const GpuSceneBvh& bvh;     ///< the refinement's (corners, instances, instanceTriangles())
+    const gpu::Buffer& doubts;  ///< the refinement's list (kRefineBindingWindingDoubts), the indirect dispatch first
+  };
+  /// The listed voxels' values re-signed in the pool (and @a dense where params has kRefineWriteDense); @a stats:
+  /// kRefineStatNearHalfKept counts the voxels of meshes too large to sum.
+  struct Outputs { const BrickPages& pool; const gpu::Buffer& dense; const gpu::Buffer& stats; };
+  using Params = gpu::shared::RefineParams;
+  explicit WindingExactPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "winding_exact.comp", gpu::shared::kWindingExactBindingCount, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
 };
 
 } // namespace rtsdf

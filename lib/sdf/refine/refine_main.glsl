@@ -11,7 +11,9 @@
 //   from the ray votes (x > 0) where that side is in doubt (kSignVoteFacing).
 //   closest mode: where the nearest surface is an open mesh's, the exact field's rule signs (open_winding.glsl): the
 //   winding number w >= 1/2 at a rim and anywhere on a mesh of several pieces, elsewhere the nearest triangle's side
-//   (with or without sign rays: rays escaping through the openings are no guide).
+//   (with or without sign rays: rays escaping through the openings are no guide). Where the walked winding number lies
+//   within kWindingExactBand of 1/2, the voxel is listed for WindingExactPass, which sums every triangle after this
+//   pass and stores the side that sum gives.
 //   Both modes: where that says outside, a point inside a closed piece that overlaps another is inside
 //   (piece_union.glsl: closed pieces through each other are a union, as in the exact field).
 // The list holds the coarse voxels MaskCompactPass chose to refine this frame (the others keep their values);
@@ -49,6 +51,8 @@ layout(std430, binding = kRefineBindingFineRanges) readonly buffer FineRanges { 
 layout(std430, binding = kRefineBindingBrickSlots) readonly buffer BrickSlots { uint brickSlots[]; };
 layout(std430, binding = kRefineBindingDense) writeonly buffer Dense { float dense[]; };
 layout(std430, binding = kRefineBindingStats) buffer Stats { uint refineStats[]; };
+// Closest mode: the voxels whose winding number the walks left near 1/2, for WindingExactPass (RefineParams.h).
+layout(std430, binding = kRefineBindingWindingDoubts) buffer WindingDoubts { uvec4 doubtHeader; uvec4 doubts[]; };
 #define RTSDF_VALUE_PAGES kRefineBindingValuePages
 #define RTSDF_VOTE_PAGES kRefineBindingVotePages
 #include "sdf/mask/brick_pool.glsl"
@@ -256,13 +260,29 @@ void storeVoxel(ivec3 v, uint slot, uint local, float f, bool inside, vec2 vote)
 // How fine voxel v, nearest to hit (near: a triangle was found), is signed where its nearest surface is an open mesh's
 // (open_winding.glsl): kNoOpenSign on a closed mesh (the side or the votes), kOpenSideSign where the exact field takes
 // the nearest triangle's side (the votes, escaping through the openings, are no guide there), else by the winding
-// number (kWindingOutside, kWindingInside).
-const uint kNoOpenSign = 0u, kOpenSideSign = 1u, kWindingOutside = 2u, kWindingInside = 3u;
+// number (kWindingOutside, kWindingInside; with kWindingNearHalf where the exact sum must decide: windingSign).
+const uint kNoOpenSign = 0u, kOpenSideSign = 1u, kWindingOutside = 2u, kWindingInside = 3u, kWindingNearHalf = 4u;
+uint windingSign(float w) {
+  return (w >= 0.5 ? kWindingInside : kWindingOutside) | (abs(w - 0.5) < kWindingExactBand ? kWindingNearHalf : 0u);
+}
 uint openSignAt(ivec3 v, bool near, BvhHit hit) {
   vec3 p = voxelCentre(v);
   uint rule = near ? openSignRule(p, hit.instance, hit.leaf) : kOpenRuleClosed;
   if (rule != kOpenRuleWinding) return rule == kOpenRuleSide ? kOpenSideSign : kNoOpenSign;
-  return openWindingInside(p, hit.instance) ? kWindingInside : kWindingOutside;
+  return windingSign(openWindingNumber(p, hit.instance));
+}
+
+// List fine voxel v (brick slot, offset) for WindingExactPass, which signs it by the exact sum over the mesh of the
+// instance in slot 'instance' (past the list's capacity it keeps the walked side, counted).
+void listNearHalf(ivec3 v, uint slot, uint local, uint instance) {
+  uint n = atomicAdd(refineStats[kRefineStatNearHalf], 1u);
+  if (n >= kWindingExactCapacity) {
+    atomicAdd(refineStats[kRefineStatNearHalfKept], 1u);
+    return;
+  }
+  ivec3 fd = params.fineDims.xyz;
+  doubts[n] = uvec4(uint((v.z * fd.y + v.y) * fd.x + v.x), slot, local, instance);
+  atomicAdd(doubtHeader.x, 1u);
 }
 
 // Closest mode's end of fine voxel v, given the answer of its closest-point query of the given radius (facing: the
@@ -286,15 +306,23 @@ void finishClosest(ivec3 v, bool fresh, uint slot, uint local, float radius, boo
   // An open mesh's nearest surface: the winding number signs where the exact field's rule says so (then neither the
   // side nor the votes, which escape through the openings, decide).
   bool byOpenRule = open != kNoOpenSign;
+  bool nearHalf = (open & kWindingNearHalf) != 0u;
+  open &= ~kWindingNearHalf;
   if (byOpenRule) inside = open == kOpenSideSign ? (hit.point.w >= 0.0 && hit.frontFace == 0u) : open == kWindingInside;
   // Closed pieces through each other are a union: a point the nearest triangle's side puts outside its piece may
   // still be inside another (hit.instance is the instance's slot: instances[] is in the scene's order). Votes that
   // say outside may be wrong about any piece (the first hit of a ray from inside a part may be another part's
   // front face), so then no piece is skipped.
+  // A winding number near 1/2 may be on either side: the union is asked whatever it says, and where no other piece
+  // holds the voxel, the exact sum decides after this pass.
   bool skipNearest = (bySide || byOpenRule) && near;
-  if (!inside && unionHeader.x != 0u)
-    inside = insideAnotherPiece(voxelCentre(v), skipNearest ? hit.instance : 0xFFFFFFFFu,
-                                skipNearest ? pieceOf[hit.leaf] : kOpenPiece);
+  if ((!inside || nearHalf) && unionHeader.x != 0u &&
+      insideAnotherPiece(voxelCentre(v), skipNearest ? hit.instance : 0xFFFFFFFFu,
+                         skipNearest ? pieceOf[hit.leaf] : kOpenPiece)) {
+    inside = true;
+    nearHalf = false;
+  }
+  if (nearHalf) listNearHalf(v, slot, local, hit.instance);
   storeVoxel(v, slot, local, f, inside, vote);
 }
 #endif
@@ -393,7 +421,8 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
     loopRestore(share);
     if (loopCut) cut |= 1u << j;
   }
-  uint sided = 0u, windy = 0u, windIn = 0u; // open meshes: signed by the side; by the winding number; of those, inside
+  // open meshes: signed by the side; by the winding number; of those, inside; and near 1/2 (the exact sum decides)
+  uint sided = 0u, windy = 0u, windIn = 0u, windHalf = 0u;
   for (int j = 0; j < 8; ++j) {
     ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
     uint rule = (valid & (1u << j)) != 0u && nears[j] ? openSignRule(voxelCentre(v), hits[j].instance, hits[j].leaf)
@@ -406,7 +435,9 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
     uint share = loopHide(uint(bitCount(left)) + 1u);
     left &= left - 1u;
     loopCut = false;
-    if (openWindingInside(voxelCentre(lo + ivec3(j & 1, (j >> 1) & 1, j >> 2)), hits[j].instance)) windIn |= 1u << j;
+    uint sign = windingSign(openWindingNumber(voxelCentre(lo + ivec3(j & 1, (j >> 1) & 1, j >> 2)), hits[j].instance));
+    if ((sign & ~kWindingNearHalf) == kWindingInside) windIn |= 1u << j;
+    if ((sign & kWindingNearHalf) != 0u) windHalf |= 1u << j;
     loopRestore(share);
     if (loopCut) cut |= 1u << j;
   }
@@ -415,7 +446,9 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
     ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
     uint bit = 1u << j;
     uint open = (sided & bit) != 0u ? kOpenSideSign
-              : (windy & bit) == 0u ? kNoOpenSign : ((windIn & bit) != 0u ? kWindingInside : kWindingOutside);
+              : (windy & bit) == 0u ? kNoOpenSign
+                                    : ((windIn & bit) != 0u ? kWindingInside : kWindingOutside) |
+                                          ((windHalf & bit) != 0u ? kWindingNearHalf : 0u);
     uint share = loopHide(uint(bitCount(valid >> j))); // this voxel and those after it
     loopCut = (cut & bit) != 0u;
     finishClosest(v, fresh, slots[j], brickLocalOf(v), radii[j], nears[j], hits[j], facings[j], open);

@@ -40,6 +40,11 @@ GpuSceneBvh::GpuSceneBvh(const gpu::VulkanContext& ctx, const Scene& scene, cons
     mTriangleCount += v.triangleCount;
     mVoxelizeInstances.push_back(v);
   }
+  std::vector<glm::uvec2> ranges;
+  for (const gpu::shared::VoxelizeInstance& v : mVoxelizeInstances) ranges.emplace_back(v.firstTriangle, v.triangleCount);
+  if (ranges.empty()) ranges.emplace_back(0u, 0u);
+  gpu::reserveAndUpload(ctx, mInstanceTriangles, ranges.data(), ranges.size() * sizeof(glm::uvec2), kStorage,
+                        "instance triangles");
   // The top level of n instances has 2n - 1 nodes (one instance per leaf): sized once, so frames only write.
   const std::size_t n = std::max<std::size_t>(scene.instances.size(), 1);
   using gpu::Buffer;

@@ -57,6 +57,8 @@ public:
   /// @brief Per bottom-level node its triangles' dipole (SceneOpenPieces::windingNodes).
   const gpu::Buffer& windingNodes() const { return mWindingNodes; }
   const SceneOpenPieces& openPieces() const { return mOpen; }
+  /// @brief Per instance (the scene's order) uvec2(its mesh's first leaf-ordered triangle, triangle count).
+  const gpu::Buffer& instanceTriangles() const { return mInstanceTriangles; }
   const MeshBvhs& meshes() const { return mMeshes; }
   /// @brief The top level as last uploaded (for the CPU side of G-buffer normals and tests).
   const InstanceBvh& top() const { return mTop; }
@@ -78,7 +80,7 @@ private:
   std::vector<gpu::shared::UnionPiece> mUnionList;
   std::vector<glm::uvec4> mUnionUpload; ///< the header and the list as uploaded (kept alive for vkCmdUpdateBuffer)
   gpu::Buffer mBlasNodes, mCorners, mTriangleIds, mTlasNodes, mTlasSlots, mInstances, mVoxelizeBuf;
-  gpu::Buffer mPieceOf, mUnionPieces, mOpenFlags, mWindingNodes;
+  gpu::Buffer mPieceOf, mUnionPieces, mOpenFlags, mWindingNodes, mInstanceTriangles;
 };
 
 } // namespace rtsdf

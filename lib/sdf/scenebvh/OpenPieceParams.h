@@ -35,6 +35,11 @@ const float kWindingFarRatio = 2.0f;
 /// second walk with farther clusters decides (errors about a quarter: (radius / distance)^2), for a few voxels only.
 const float kWindingRecheckBand = 0.1f;
 const float kWindingRecheckFarRatio = 4.0f;
+/// Still within this of 1/2 after the second walk, the exact sum over every triangle of the mesh decides
+/// (WindingExactPass, one work group per voxel), as the exact field's tree does (WindingNumberTree::kExactBand): the
+/// second walk left 12 voxels of the open teapot at size M on the other side of the exact sum (2 voxels off), and a
+/// third, finer walk in the refinement runs out of a CPU device's loop budget there.
+const float kWindingExactBand = 0.05f;
 
 /// The feature of triangle abc nearest to p (0: the face, 1-3: corner A, B, C, 4-6: edge AB, BC, CA), by the regions
 /// the exact field's closestPointOnTriangle tells apart (Ericson 5.1.5), the same comparisons in the same order.

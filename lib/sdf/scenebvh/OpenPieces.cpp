@@ -140,8 +140,9 @@ bool OpenWindingCpu::windingSigns(const glm::vec3& p, std::uint32_t instance, st
 
 float OpenWindingCpu::windingNumber(const glm::vec3& p, std::uint32_t instance) const {
   const glm::vec3 po = xformPoint(mTop.instances.at(instance).worldToObject, p);
-  const float w = windingWalk(po, instance, kWindingFarRatio);
-  return std::fabs(w - 0.5f) < kWindingRecheckBand ? windingWalk(po, instance, kWindingRecheckFarRatio) : w;
+  float w = windingWalk(po, instance, kWindingFarRatio);
+  if (std::fabs(w - 0.5f) < kWindingRecheckBand) w = windingWalk(po, instance, kWindingRecheckFarRatio);
+  return std::fabs(w - 0.5f) < kWindingExactBand ? windingNumberExact(p, instance) : w; // WindingExactPass
 }
 
 float OpenWindingCpu::windingWalk(const glm::vec3& po, std::uint32_t instance, float ratio) const {

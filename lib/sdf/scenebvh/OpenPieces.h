@@ -38,7 +38,8 @@ public:
   ///        of instance @a instance (windingSigns of its flags and the feature nearest to @a p).
   bool windingSigns(const glm::vec3& p, std::uint32_t instance, std::uint32_t triangle) const;
   /// @brief The winding number of instance @a instance's mesh at @a p (open_winding.glsl's walk: far nodes by their
-  ///        dipoles, the rest triangle by triangle, in object space; near 1/2 a second walk with farther clusters).
+  ///        dipoles, the rest triangle by triangle, in object space; near 1/2 a second walk with farther clusters;
+  ///        still within kWindingExactBand of 1/2, every triangle: WindingExactPass).
   float windingNumber(const glm::vec3& p, std::uint32_t instance) const;
   /// @brief The same summing every triangle's solid angle (no dipole).
   float windingNumberExact(const glm::vec3& p, std::uint32_t instance) const;

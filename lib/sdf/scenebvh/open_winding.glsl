@@ -1,6 +1,6 @@
 // Open meshes keep the exact field's winding number (sdf/scenebvh/OpenPieceParams.h): openSignRule tells how the
 // exact field signs a point whose nearest surface is a given triangle of an instance (its side, or the winding number:
-// windingSigns), openWindingInside whether the point is inside by the winding number. The winding number sums the solid angles of the
+// windingSigns), openWindingNumber the winding number there. The winding number sums the solid angles of the
 // instance's bottom level in object space, clusters far from the point by their dipoles. Include after
 // bvh_traverse.glsl, with RTSDF_OPEN_FLAGS and RTSDF_WINDING_NODES defined as the bindings of GpuSceneBvh's
 // openFlags() and windingNodes() buffers.
@@ -52,12 +52,13 @@ uint openSignRule(vec3 p, uint slot, uint leaf) {
   return windingSigns(flags, nearestFeature(p, a, b, c)) ? kOpenRuleWinding : kOpenRuleSide;
 }
 
-// Whether world point p is inside the mesh of the instance in slot 'slot' by its winding number (w >= 1/2); near 1/2
-// a second, finer walk decides (kWindingRecheckBand).
-bool openWindingInside(vec3 p, uint slot) {
+// The winding number of the mesh of the instance in slot 'slot' at world point p; near 1/2 a second, finer walk
+// decides (kWindingRecheckBand). Still within kWindingExactBand of 1/2, the caller sends the point to the exact sum
+// (WindingExactPass).
+float openWindingNumber(vec3 p, uint slot) {
   BvhInstance inst = instances[slot];
   vec3 po = xformPoint(inst.worldToObject, p);
   float w = windingNumberAt(inst, po, kWindingFarRatio);
   if (abs(w - 0.5) < kWindingRecheckBand) w = windingNumberAt(inst, po, kWindingRecheckFarRatio);
-  return w >= 0.5;
+  return w;
 }

@@ -121,25 +121,45 @@ double WindingNumberTree::solidAngle(int t, const glm::dvec3& p) const {
 }
 
 bool WindingNumberTree::inside(const glm::dvec3& p) const {
-  double w = evaluate(p);
-  if (std::fabs(w - 0.5) < kRecheckBand) w = evaluate(p, kRecheckBetaFactor * mBeta);
-  if (std::fabs(w - 0.5) < kExactBand) w = evaluateExact(p);
+  // Each finer sum re-walks only the clusters the coarser one took as dipoles within the finer beta: the triangles
+  // summed one by one and the clusters far enough for both are kept.
+  Marginal first, second;
+  double w = walk(p, nullptr, 0, mBeta, &first, kRecheckBetaFactor * mBeta) * kInv4Pi;
+  if (std::fabs(w - 0.5) >= kRecheckBand) return w >= 0.5;
+  const double beta2 = kRecheckBetaFactor * mBeta, beta3 = kFinalBetaFactor * mBeta;
+  w = first.complete ? w + (walk(p, first.nodes, first.count, beta2, &second, beta3) - first.sum) * kInv4Pi
+                     : walk(p, nullptr, 0, beta2, &second, beta3) * kInv4Pi;
+  if (std::fabs(w - 0.5) >= kFinalBand) return w >= 0.5;
+  w = second.complete ? w + (walk(p, second.nodes, second.count, beta3, nullptr, 0.0) - second.sum) * kInv4Pi
+                      : evaluate(p, beta3);
   return w >= 0.5;
 }
 
 double WindingNumberTree::evaluate(const glm::dvec3& p, double beta) const {
+  return walk(p, nullptr, 0, beta, nullptr, 0.0) * kInv4Pi;
+}
+
+double WindingNumberTree::walk(const glm::dvec3& p, const int* start, int starts, double beta, Marginal* marginal,
+                               double finerBeta) const {
   if (mNodes.empty()) return 0.0;
   double sum = 0.0;
-  int stack[128];
+  int stack[Marginal::kMaxMarginal + 128]; // the start nodes, then a depth-first walk's two per level
   int top = 0;
-  stack[top++] = 0;
+  if (start) {
+    for (int i = 0; i < starts; ++i) stack[top++] = start[i];
+  } else {
+    stack[top++] = 0;
+  }
   while (top) {
-    const Node& n = mNodes[stack[--top]];
+    const int index = stack[--top];
+    const Node& n = mNodes[std::size_t(index)];
     const glm::dvec3 d = n.center - p;
     const double dist2 = glm::dot(d, d);
     if (dist2 > beta * beta * n.radius * n.radius) {
       // Far field: the cluster acts as a dipole of strength areaNormal at its centre.
-      sum += glm::dot(d, n.areaNormal) / (dist2 * std::sqrt(dist2));
+      const double dipole = glm::dot(d, n.areaNormal) / (dist2 * std::sqrt(dist2));
+      sum += dipole;
+      if (marginal && dist2 <= finerBeta * finerBeta * n.radius * n.radius) marginal->add(index, dipole);
       continue;
     }
     if (n.left < 0) {
@@ -149,7 +169,7 @@ double WindingNumberTree::evaluate(const glm::dvec3& p, double beta) const {
     stack[top++] = n.left;
     stack[top++] = n.right;
   }
-  return sum * kInv4Pi;
+  return sum;
 }
 
 double WindingNumberTree::evaluateExact(const glm::dvec3& p) const {

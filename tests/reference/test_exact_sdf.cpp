@@ -346,7 +346,8 @@ TEST(ExactSdfSign, PartsPassingThroughEachOtherAreAUnion) {
 }
 
 // The winding number's dipole sum (beta 2) can miss 1/2 by more than the point's distance from it beside the open
-// teapot's rims; inside() sums again with twice beta where the first sum lies within 0.1 of 1/2, as the GPU does.
+// teapot's rims; inside() sums again with finer dipoles where the first sum lies near 1/2 (the GPU sums every
+// triangle there).
 // Over a grid through the teapot, every point whose exact winding number is not within 1e-3 of 1/2 gets the exact
 // sum's side; the beta-2 sum alone gets some wrong (printed: the case for the recheck).
 TEST(ExactSdf, TheWindingNumbersRecheckNearOneHalfSignsTheTeapotAsTheExactSum) {
@@ -371,8 +372,9 @@ TEST(ExactSdf, TheWindingNumbersRecheckNearOneHalfSignsTheTeapotAsTheExactSum) {
     firstSumWrong += (w >= 0.5) != (exact >= 0.5);
     recheckWrong += tree.inside(p) != (exact >= 0.5);
   });
-  std::printf("teapot, %d^3 points: %d within 0.1 of 1/2 by the dipoles, %d of them on the wrong side by the beta-2 "
-              "sum, %d after the recheck\n", n, nearHalf.load(), firstSumWrong.load(), recheckWrong.load());
+  std::printf("teapot, %d^3 points: %d within %.2f of 1/2 by the dipoles, %d of them on the wrong side by the beta-2 "
+              "sum, %d after the recheck\n", n, nearHalf.load(), WindingNumberTree::kRecheckBand, firstSumWrong.load(),
+              recheckWrong.load());
   EXPECT_GT(nearHalf.load(), 100);
   EXPECT_GT(firstSumWrong.load(), 0) << "no point the beta-2 sum gets wrong: the grid no longer tests the recheck";
   EXPECT_EQ(recheckWrong.load(), 0);

@@ -36,7 +36,8 @@ const float kWindingFarRatio = 2.0f;
 const float kWindingRecheckBand = 0.1f;
 const float kWindingRecheckFarRatio = 4.0f;
 /// Still within this of 1/2 after the second walk, the exact sum over every triangle of the mesh decides
-/// (WindingExactPass, one work group per voxel), as the exact field's tree does (WindingNumberTree::kExactBand): the
+/// (WindingExactPass, one work group per voxel), where the exact field's tree sums again with finer dipoles
+/// (WindingNumberTree::inside, errors of a few 1e-3; a GPU sums every triangle faster than it walks that finely): the
 /// second walk left 12 voxels of the open teapot at size M on the other side of the exact sum (2 voxels off), and a
 /// third, finer walk in the refinement runs out of a CPU device's loop budget there.
 const float kWindingExactBand = 0.05f;

@@ -129,12 +129,14 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
                                    "time, mask, error against the exact field; --csv writes a row per frame); sign: every method's "
                                    "signs on generated meshes whose faces lie (inside-out, flipped, parts through "
                                    "each other, an inner shell; in two units) vs the clean solid and OpenVDB, at the "
-                                   "first --res");
-  addEnum(cmd, "--size", s.frameSize, "Frame suite: S (coarse 64 / fine 128), M (128/256) or L (256/512)");
-  noted(cmd->add_option("--frames", s.frames, "Frame suite: frames run (medians over frames 2..N)"), "frames", flags)
+                                   "first --res; cascade: --cascades levels following each scene's camera path "
+                                   "(walking, then driving) against every level rebuilt each frame (--csv writes a "
+                                   "row per frame)");
+  addEnum(cmd, "--size", s.frameSize, "Frame and cascade suites: S (coarse 64 / fine 128), M (128/256) or L (256/512); per level for cascades");
+  noted(cmd->add_option("--frames", s.frames, "Frame and cascade suites: frames run (per camera speed and build for cascades; medians over frames 2..N)"), "frames", flags)
       ->check(inRange(1, 100000))->capture_default_str();
-  addEnum(cmd, "--refine", s.refine, "Frame suite: refinement mode");
-  noted(cmd->add_option("--rays", s.rays, "Frame suite: rays per masked voxel per frame [x]"), "rays", flags)
+  addEnum(cmd, "--refine", s.refine, "Frame and cascade suites: refinement mode");
+  noted(cmd->add_option("--rays", s.rays, "Frame and cascade suites: rays per masked voxel per frame [x]"), "rays", flags)
       ->check(inRange(0, 1024))->capture_default_str();
   cmd->add_flag("--still", s.still, "Frame suite: every frame at time 0 (a static scene)");
   cmd->add_flag("--full-recompute", s.fullRecompute, "Frame suite: refine every masked voxel every frame (the "
@@ -143,7 +145,12 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
                                                  "(incremental refinement, no pass skipped)");
   addEnum(cmd, "--fine-storage", s.fineStorage, "Frame suite: dense (a dense fine SDF resolved every frame) or "
                                                 "sparse (the bricks only)");
-  cmd->add_option("--csv", s.csv, "Frame suite: write one CSV row per frame to this file");
+  cmd->add_option("--csv", s.csv, "Frame and cascade suites: write one CSV row per frame to this file");
+  noted(cmd->add_option("--cascades", s.cascades, "Cascade suite: camera-centred levels (2 or more)"), "cascades",
+        flags)->check(inRange(1, kMaxCascades))->capture_default_str();
+  noted(cmd->add_option("--cascade-extent", s.cascadeExtent, "Cascade suite: level 0's side in scene units (default: "
+                                                            "the outermost level holds the scene)"),
+        "cascade extent", flags);
   noted(cmd->add_option("--warm-up", s.warmUpSeconds, "Seconds of untimed GPU work before each timed run (GPU suites, "
                                                       "not --sweep), so that a GPU's clocks have risen; 0: none"),
         "warm-up seconds", flags)->check(inRange(0.0, 60.0))->capture_default_str();
@@ -174,6 +181,7 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
       {"--refine", "refinement mode"},  {"--rays", "rays"},                       {"--still", "still"},
       {"--full-recompute", "full recompute"}, {"--full-rebuild", "full rebuild"}, {"--fine-storage", "fine storage"},
       {"--csv", "frame csv"},           {"--warm-up", "warm-up seconds"},         {"--device", "device"},
+      {"--cascades", "cascades"},       {"--cascade-extent", "cascade extent"},
       {"--out", "output folder"},       {"--error-band", "error band"},           {"--no-shadows", "shadows"},
       {"--truth-samples", "truth samples"}};
   for (const auto& [flag, setting] : kBenchSettings) c.flags.add(setting, flag);

@@ -53,18 +53,6 @@ openvdb::CoordBBox focusBox(const Scene& scene, const AnimateOptions& a, std::si
                             openvdb::Coord(int(std::ceil(hi.x)), int(std::ceil(hi.y)), int(std::ceil(hi.z))));
 }
 
-/// Against the exact field of the same moment, over the fine voxels in the band (|exact| <= d).
-FieldError frameError(const Scene& scene, const SdfPipeline& pipe, double t, const openvdb::CoordBBox* focus) {
-  const SceneGeometry geo = buildSceneGeometry(scene, t);
-  ExactSdfOptions eo;
-  eo.band = fineLevelSetBand(pipe.settings(), pipe.fineSpec());
-  eo.progress = false;
-  const auto exact = exactSignedDistance(geo, pipe.fineSpec(), eo);
-  if (focus) exact->clip(*focus);
-  const auto fine = denseToLevelSet(pipe.fineField(), pipe.fineSpec(), float(eo.band));
-  fine->setTransform(exact->transform().copy());
-  return compareFields(*exact, *fine);
-}
 
 /// The frame files this run wrote: removed again unless the run finishes (keep()), so a failed or interrupted
 /// animation leaves no output of any kind.
@@ -85,6 +73,19 @@ private:
 };
 
 } // namespace
+
+FieldError fieldErrorAgainstExact(const Scene& scene, const SdfPipeline& pipe, double t,
+                                  const openvdb::CoordBBox* focus) {
+  const SceneGeometry geo = buildSceneGeometry(scene, t);
+  ExactSdfOptions eo;
+  eo.band = fineLevelSetBand(pipe.settings(), pipe.fineSpec());
+  eo.progress = false;
+  const auto exact = exactSignedDistance(geo, pipe.fineSpec(), eo);
+  if (focus) exact->clip(*focus);
+  const auto fine = denseToLevelSet(pipe.fineField(), pipe.fineSpec(), float(eo.band));
+  fine->setTransform(exact->transform().copy());
+  return compareFields(*exact, *fine);
+}
 
 AnimateResult animate(const AnimateOptions& a, const JobControl& control,
                       const std::function<void(const AnimateFrame&)>& onFrame) {
@@ -114,7 +115,7 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
       fr.frame = f;
       fr.time = a.still ? 0.0 : f / a.fps;
       fr.stats = pipe.runFrame(fr.time);
-      if (a.measureError) fr.error = frameError(scene, pipe, fr.time, a.focus.empty() ? nullptr : &box);
+      if (a.measureError) fr.error = fieldErrorAgainstExact(scene, pipe, fr.time, a.focus.empty() ? nullptr : &box);
       if (!a.vdbDir.empty()) {
         const fs::path file = a.vdbDir / fmt::format("frame{:04d}.vdb", f);
         writeVdb(file, {fineLevelSet(pipe, stamp, fr.time)}, a.vdb);

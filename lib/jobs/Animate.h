@@ -73,6 +73,11 @@ struct AnimateResult {
   std::string csv() const;
 };
 
+/// @brief @a pipe's fine field against the exact field of @a scene at @a t seconds, over the fine voxels in the band
+///        (|exact| <= fineLevelSetBand), within @a focus (fine index space) when not null.
+FieldError fieldErrorAgainstExact(const Scene& scene, const SdfPipeline& pipe, double t,
+                                  const openvdb::CoordBBox* focus = nullptr);
+
 /// @brief Run the pipeline over @a options.frames frames of @a options.scene.
 /// @param onFrame called after each frame (e.g. to print it), may be empty.
 /// @throw SettingError, Error as bake() does; Interrupted when @a control asks to stop between frames.

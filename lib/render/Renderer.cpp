@@ -129,7 +129,7 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
                                            "(texture or buffer sampling)");
       const CascadeShape shape = cascadeShapeFor(sdfBounds, mEye.position, ps);
       mCascades = std::make_unique<CascadeSet>(
-          ctx, scene, CascadeLayout::around(mEye.position, shape, cascadeLookAhead(shape.levelZeroExtent)), ps);
+          ctx, scene, CascadeLayout::around(mEye.position, shape, cascadeLookAhead(mEye, shape.levelZeroExtent)), ps);
       mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, mFrameOrigin);
     } else {
       mSdf = std::make_unique<SdfPipeline>(ctx, scene, sdfBounds, ps);
@@ -220,7 +220,7 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
     bvh = &mSdf->bvh();
   } else if (mCascades) {
     const bool moved =
-        !mCascades->moveTo(mEye.position, cascadeLookAhead(mCascades->layout().shape.levelZeroExtent)).empty();
+        !mCascades->moveTo(mEye.position, cascadeLookAhead(mEye, mCascades->layout().shape.levelZeroExtent)).empty();
     out.sdf = sumFrameStats(mCascades->runFrame(time));
     out.passMs = out.sdf.passMs;
     mBvh->update(time);
@@ -297,8 +297,8 @@ void Renderer::setCamera(const Camera& camera) {
   mFollowsSceneCamera = false;
 }
 
-glm::dvec3 Renderer::cascadeLookAhead(double levelZeroExtent) const {
-  const glm::dvec3 forward = mEye.target - mEye.position;
+glm::dvec3 cascadeLookAhead(const Camera& eye, double levelZeroExtent) {
+  const glm::dvec3 forward = eye.target - eye.position;
   const double length = glm::length(forward);
   if (!(length > 0.0)) return glm::dvec3(0.0);
   return forward / length * (kCascadeLookAhead * levelZeroExtent);

@@ -215,6 +215,9 @@ constexpr double kCascadeBlendVoxels = 4.0;
 ///        level's side: they reach further into the view than behind the camera (still nested, the camera inside
 ///        each); the outermost stays on the camera and holds the scene around it.
 constexpr double kCascadeLookAhead = 0.25;
+/// @brief Level 0's offset from @a eye's position along its view: kCascadeLookAhead of its side @a levelZeroExtent
+///        (zero when the eye has no view direction). The renderer's, and the cascade suite's.
+glm::dvec3 cascadeLookAhead(const Camera& eye, double levelZeroExtent);
 
 /// @brief Renders frames of a scene's camera with the GPU techniques (Sdf, ShadowMap). With
 ///        PipelineSettings::cascades > 1 the SDF is K camera-centred levels (CascadeSet) that follow the camera, and
@@ -273,8 +276,6 @@ private:
   struct Gpu;
   /// The levels' grids as the march samples them (mCascadeLevels), uploaded.
   void uploadCascadeLevels();
-  /// Level 0's offset from the camera along the view: kCascadeLookAhead of its side @a levelZeroExtent.
-  glm::dvec3 cascadeLookAhead(double levelZeroExtent) const;
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   RenderSettings mSettings;

@@ -3,6 +3,7 @@
 // FrameSuite.cpp).
 #include "suites/Suites.h"
 
+#include "suites/CascadeSuite.h"
 #include "suites/FrameSuite.h"
 #include "suites/SuiteTables.h"
 
@@ -42,9 +43,12 @@ std::string benchIgnores(const BenchOptions& o, bool sweep, const std::string& s
     return fmt::format("does not apply to the {} suite (only {}): leave it out or choose that suite",
                        toString(o.suite), who);
   };
-  for (const char* f : {"frame size", "frames", "refinement mode", "rays", "still", "full recompute", "full rebuild",
-                        "fine storage", "frame csv"})
+  for (const char* f : {"frame size", "frames", "refinement mode", "rays", "frame csv"})
+    if (setting == f) return readBy({S::Frame, S::Cascade}, false, "the frame and cascade suites read it");
+  for (const char* f : {"still", "full recompute", "full rebuild", "fine storage"})
     if (setting == f) return readBy({S::Frame}, false, "the frame suite reads it");
+  if (setting == "cascades" || setting == "cascade extent")
+    return readBy({S::Cascade}, false, "the cascade suite reads it");
   if (setting == "resolution")
     return readBy({S::Reference, S::Coarse, S::Sign}, false, "the reference, coarse and sign suites read it");
   if (setting == "band fraction") return readBy({S::Reference}, false, "the reference suite reads it");
@@ -55,7 +59,8 @@ std::string benchIgnores(const BenchOptions& o, bool sweep, const std::string& s
     return readBy({S::Coarse, S::Refine, S::Render, S::Frame}, false,
                   "the coarse, refine, render and frame suites read it");
   if (setting == "device")
-    return readBy({S::Coarse, S::Refine, S::Render, S::Frame, S::Sign}, true, "the GPU suites and the sweep read it");
+    return readBy({S::Coarse, S::Refine, S::Render, S::Frame, S::Sign, S::Cascade}, true,
+                  "the GPU suites and the sweep read it");
   if (setting == EnumNames<BenchSuite>::kSetting) return sweep ? "does not apply to the sweep (it runs no suite)" : "";
   for (const char* f : {"output folder", "error band", "shadows", "truth samples"})
     if (setting == f) return sweep ? "" : "does not apply to a suite (only the sweep, --sweep, reads it)";
@@ -88,6 +93,8 @@ void BenchOptions::validate() const {
     throw SettingError("scenes", fmt::format("the frame suite runs on one scene, not {}", scenes.size()));
   requireInRange("band fraction", bandFraction, 1e-6, 10.0);
   requireInRange("warm-up seconds", warmUpSeconds, 0.0, 60.0);
+  requireInRange("cascades", cascades, 1, kMaxCascades);
+  if (cascadeExtent >= 0.0) requireInRange("cascade extent", cascadeExtent, 1e-9, 1e9);
   for (int r : resolutions) requireInRange("resolution", r, 1, GridSpec::kMaxResolution);
 }
 
@@ -96,6 +103,9 @@ std::string runBenchSuite(const BenchOptions& options, const JobControl& control
   BenchOptions s = options;
   if (s.scenes.empty()) s.scenes = {bundledScene("default.json"), bundledScene("bunny.json")};
   if (s.suite == BenchSuite::Frame) s.scenes.resize(1);
+  if (s.suite == BenchSuite::Cascade && options.scenes.empty())
+    throw SettingError("scenes", "the cascade suite needs scenes with a camera path (scripts/make_level.py --size 50, "
+                                 "200 and 1000 writes the measured towns)");
   const std::vector<fs::path> inputs(s.scenes.begin(), s.scenes.end());
   if (!s.output.empty()) checkOutputPath(s.output, {}, inputs);
   if (!s.csv.empty()) checkOutputPath(s.csv, ".csv", inputs);
@@ -110,6 +120,12 @@ std::string runBenchSuite(const BenchOptions& options, const JobControl& control
     BenchOptions sign = s;
     sign.scenes = options.scenes; // names of its cases, not scenes
     md += signSuite(sign, control);
+    break;
+  }
+  case BenchSuite::Cascade: {
+    const CascadeRun run = runCascadeSuite(s, control);
+    md += cascadeReport(s, run);
+    if (!s.csv.empty()) writeTextAtomically(s.csv, cascadeCsv(run));
     break;
   }
   case BenchSuite::Frame: {

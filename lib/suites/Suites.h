@@ -19,7 +19,8 @@ enum class BenchSuite {
   Refine,    ///< the paper's ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet
   Render,    ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth
   Frame,     ///< the pipeline frame by frame on one scene: host / GPU / wall time, mask, error (suites/FrameSuite.h)
-  Sign       ///< every method's signs on generated meshes whose faces lie, vs the clean solid and OpenVDB
+  Sign,      ///< every method's signs on generated meshes whose faces lie, vs the clean solid and OpenVDB
+  Cascade    ///< cascade levels along a camera path, walking and driving, vs every level rebuilt (CascadeSuite.h)
 };
 
 /// @brief The paper's three sizes of the frame suite.
@@ -53,7 +54,10 @@ struct BenchOptions {
   bool fullRebuild = false;                ///< run every pass of every frame over the whole grid (PipelineSettings)
   FineStorage fineStorage = FineStorage::Dense; ///< frame suite: a dense fine SDF resolved every frame, or bricks only
   bool still = false;                     ///< every frame at time 0 (static); default: the scene's animation at 30 fps
-  std::filesystem::path csv;              ///< the frame suite's per-frame CSV (atomically); empty: none
+  std::filesystem::path csv;              ///< the frame and cascade suites' per-frame CSV (atomically); empty: none
+  // The cascade suite (scenes with a camera path; also frameSize, frames, refine and rays).
+  int cascades = 1;            ///< the levels (PipelineSettings::cascades); the suite needs 2 or more
+  double cascadeExtent = -1.0; ///< level 0's side (PipelineSettings::cascadeExtent; < 0: the default rule)
   /// Seconds of untimed GPU work before each timed run (GPU suites), on a pipeline or renderer of its own so
   /// that the measured one starts as it always does: a GPU's clocks rise only under sustained load (see
   /// warmUpGpu). 0: none, for tests and CPU devices.
@@ -65,7 +69,9 @@ struct BenchOptions {
 /// @brief Why `bench` with @a options (the speed/accuracy sweep instead when @a sweep) ignores the setting named
 ///        @a setting, as a clause after the flag ("does not apply to ..."), or "" when it reads it. The settings:
 ///        the frame suite's ("frame size", "frames", "refinement mode", "rays", "still", "full recompute",
-///        "full rebuild", "fine storage", "frame csv"), "resolution" (reference, coarse and sign suites), "band
+///        "full rebuild", "fine storage", "frame csv"; of these the cascade suite reads "frame size", "frames",
+///        "refinement mode", "rays" and "frame csv"), "cascades" and "cascade extent" (the cascade suite),
+///        "resolution" (reference, coarse and sign suites), "band
 ///        fraction" (reference), "repeats" (reference, coarse, refine, the sweep), "warm-up seconds" (the GPU suites
 ///        that time frames: coarse, refine, render, frame), "device" (every GPU suite and the sweep), "benchmark
 ///        suite" (not the sweep), and the sweep's ("output folder", "error band", "shadows", "truth samples").
@@ -89,7 +95,8 @@ template <> struct EnumNames<bench::BenchSuite> {
                                                                           {"refine", bench::BenchSuite::Refine},
                                                                           {"render", bench::BenchSuite::Render},
                                                                           {"frame", bench::BenchSuite::Frame},
-                                                                          {"sign", bench::BenchSuite::Sign}};
+                                                                          {"sign", bench::BenchSuite::Sign},
+                                                                          {"cascade", bench::BenchSuite::Cascade}};
 };
 template <> struct EnumNames<bench::FrameSize> {
   static constexpr const char* kSetting = "frame size";

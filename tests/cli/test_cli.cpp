@@ -10,6 +10,7 @@
 #include <chrono>
 #include <csignal>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <thread>
@@ -306,6 +307,61 @@ TEST(Cli, BenchFrameSuiteWritesOneCsvRowPerFrame) {
       EXPECT_TRUE(v[11] >= v[10] && v[11] == std::floor(1.5 * rows[0][10]) + 64.0) << line;
       EXPECT_EQ(v[12], 0.0) << line;
       EXPECT_GT(v[13], 1.0) << line; // device MiB
+    }
+  }
+}
+
+// The cascade suite on a generated 50 m town (2 levels of coarse 64 / fine 128, 3 frames per run): each camera speed
+// runs incrementally and with every pass of every level rebuilt, on the same camera path, so both builds move the
+// same levels each frame and the full rebuild refines at least as many voxels; every level's error at the last
+// frame is reported.
+TEST(Cli, BenchCascadeSuiteFollowsTheCameraPathAgainstAFullRebuild) {
+  TempDir dir;
+  int status = 0;
+  const std::string log = test::runCommand("/usr/bin/python3 " + q(test::dataPath("../scripts/make_level.py")) +
+                                               " --out " + q(dir / "town") + " --size 50 2>&1",
+                                           status);
+  ASSERT_EQ(status, 0) << log;
+  const Result r = rtsdfCmd("bench " + q(dir / "town" / "level.json") + " --suite cascade --cascades 2 " +
+                            "--cascade-extent 12.5 --size S --frames 3 --rays 0 --csv " + q(dir / "c.csv") + " -o " +
+                            q(dir / "c.md"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream md(dir / "c.md");
+  const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  for (const char* part : {"| walking | incremental / full rebuild |", "| driving | incremental / full rebuild |",
+                           "| ClosestRefinePass |", "| walking | 1 |", "| driving | 1 |"})
+    EXPECT_NE(report.find(part), std::string::npos) << part << "\n" << report;
+  std::ifstream csv(dir / "c.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "scene,camera,build,frame,time,speed,levels_moved,move_ms,gpu_ms,wall_ms,refined_voxels,device_mib");
+  struct Row { std::string camera, build; int frame = 0, moved = 0; double time = 0, speed = 0, gpu = 0; long refined = 0; };
+  std::vector<Row> rows;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> c;
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
+    ASSERT_EQ(c.size(), 12u) << line;
+    rows.push_back({c[1], c[2], std::stoi(c[3]), std::stoi(c[6]), std::stod(c[4]), std::stod(c[5]), std::stod(c[8]),
+                    std::stol(c[10])});
+  }
+  ASSERT_EQ(rows.size(), 12u); // walking and driving, incremental and full rebuild, 3 frames each
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& row = rows[i];
+    SCOPED_TRACE(row.camera + " " + row.build + " frame " + std::to_string(row.frame));
+    EXPECT_EQ(row.frame, int(i % 3) + 1);
+    EXPECT_EQ(row.camera, i < 6 ? "walking" : "driving");
+    EXPECT_EQ(row.build, i % 6 < 3 ? "incremental" : "full rebuild");
+    EXPECT_LT(row.speed, 100.0);
+    if (row.camera == "walking") EXPECT_LT(row.speed, 4.0);
+    else EXPECT_GT(row.speed, 4.0);
+    EXPECT_GT(row.gpu, 0.0);
+    if (i % 6 >= 3) { // the full rebuild beside the incremental run of the same frame
+      const Row& incremental = rows[i - 3];
+      EXPECT_EQ(row.time, incremental.time);
+      EXPECT_EQ(row.moved, incremental.moved);
+      EXPECT_GE(row.refined, incremental.refined);
+      EXPECT_GT(row.refined, 0);
     }
   }
 }

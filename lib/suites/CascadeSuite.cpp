@@ -1,0 +1,233 @@
+#include "suites/CascadeSuite.h"
+
+#include "jobs/Animate.h"
+#include "jobs/JobSupport.h"
+#include "render/Renderer.h"
+#include "scene/SceneGeometry.h"
+#include "scene/SceneLoader.h"
+#include "sdf/cascade/CascadeSet.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <numeric>
+
+namespace rtsdf::bench {
+
+namespace {
+
+constexpr double kFps = 30.0;
+/// A camera faster than this (scene units per second) drives: scripts/make_level.py's towns walk at 1.4 m/s and
+/// drive at 12.
+constexpr double kDrivingSpeed = 4.0;
+
+double speedAt(const Scene& scene, double t) {
+  return glm::length(scene.cameraAt(t + 1.0 / kFps).position - scene.cameraAt(t).position) * kFps;
+}
+
+/// When the camera path first drives (-1: never), scanned frame by frame.
+double drivingStart(const Scene& scene) {
+  const double end = scene.cameraPath.back().time;
+  for (double t = 0.0; t < end; t += 1.0 / kFps)
+    if (speedAt(scene, t) > kDrivingSpeed) return t;
+  return -1.0;
+}
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// The median of @a get over frames 2..N of @a rows (all of them when there is one).
+template <class Get> double medianAfterFirst(const std::vector<const CascadeRow*>& rows, Get get) {
+  std::vector<double> v;
+  for (std::size_t i = rows.size() > 1 ? 1 : 0; i < rows.size(); ++i) v.push_back(get(*rows[i]));
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct RunSpec {
+  std::string sceneName, camera, build;
+  double start = 0.0;
+  bool fullRebuild = false;
+};
+
+/// One run: the levels built around the camera at spec.start, then options.frames frames at 30 fps.
+void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds, PipelineSettings ps,
+            const BenchOptions& o, const RunSpec& spec, const JobControl& control, CascadeRun& out) {
+  ps.fullRebuild = ps.fullRecompute = spec.fullRebuild;
+  const Camera eye = scene.cameraAt(spec.start);
+  const CascadeShape shape = cascadeShapeFor(bounds, eye.position, ps);
+  CascadeSet set(ctx, scene, CascadeLayout::around(eye.position, shape, cascadeLookAhead(eye, shape.levelZeroExtent)),
+                 ps);
+  for (int f = 0; f < o.frames; ++f) {
+    control.checkStop();
+    CascadeRow r;
+    r.scene = spec.sceneName;
+    r.camera = spec.camera;
+    r.build = spec.build;
+    r.frame = f + 1;
+    r.time = spec.start + f / kFps;
+    r.speed = speedAt(scene, r.time);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Camera at = scene.cameraAt(r.time);
+    r.levelsMoved = int(set.moveTo(at.position, cascadeLookAhead(at, shape.levelZeroExtent)).size());
+    r.moveMs = msSince(t0);
+    const FrameStats stats = sumFrameStats(set.runFrame(r.time));
+    r.wallMs = msSince(t0);
+    r.gpuMs = passSum(stats.passMs);
+    r.refinedVoxels = stats.refinedFineVoxels;
+    r.deviceMiB = double(stats.deviceBytes) / (1024.0 * 1024.0);
+    r.passMs = stats.passMs;
+    spdlog::info("{} {} {}: frame {}, {} level(s) moved, wall {:.1f} ms, GPU {:.1f} ms", r.scene, r.camera, r.build,
+                 r.frame, r.levelsMoved, r.wallMs, r.gpuMs);
+    out.rows.push_back(std::move(r));
+  }
+  if (spec.fullRebuild) return;
+  const double t = out.rows.back().time;
+  for (int i = 0; i < set.levels(); ++i) {
+    control.checkStop();
+    const FieldError e = fieldErrorAgainstExact(set.levelScene(i), set.level(i), t);
+    out.errors.push_back({spec.sceneName, spec.camera, i, set.level(i).fineSpec().voxelSize, e.meanAbs, e.maxAbs,
+                          100.0 * e.signErrorRate()});
+  }
+}
+
+} // namespace
+
+CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
+  if (o.cascades < 2)
+    throw SettingError("cascades", fmt::format("the cascade suite needs 2 or more levels, not {}", o.cascades));
+  PipelineSettings ps;
+  std::tie(ps.coarseRes, ps.fineRes) = frameSizeResolutions(o.frameSize);
+  ps.mode = o.refine;
+  ps.rays = o.rays;
+  ps.cascades = o.cascades;
+  ps.cascadeExtent = o.cascadeExtent;
+  ps.fineStorage = FineStorage::Dense; // as the renderer's levels, and the error's read-back
+  CascadeRun run;
+  for (const std::string& path : o.scenes) {
+    const Scene scene = loadScene(path);
+    const std::string name = std::filesystem::path(path).filename().string();
+    if (scene.cameraPath.empty())
+      throw SettingError("scenes", fmt::format("{}: the cascade suite follows the scene's camera path, and this scene "
+                                               "has none (scripts/make_level.py writes towns with one)",
+                                               path));
+    const Bounds bounds = buildSceneGeometry(scene, 0.0).bounds;
+    std::vector<std::pair<std::string, double>> cameras{{"walking", 0.0}};
+    const double drive = drivingStart(scene);
+    if (drive >= 0.0) cameras.emplace_back("driving", drive);
+    else run.notes.push_back(fmt::format("{}: the camera path never moves faster than {} units/s: no driving run", name,
+                                         kDrivingSpeed));
+    runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
+      for (const auto& [camera, start] : cameras)
+        for (const bool full : {false, true})
+          runOne(ctx, scene, bounds, ps, o, {name, camera, full ? "full rebuild" : "incremental", start, full}, control,
+                 run);
+      return 0;
+    });
+  }
+  return run;
+}
+
+std::string cascadeCsv(const CascadeRun& run) {
+  std::string csv = "scene,camera,build,frame,time,speed,levels_moved,move_ms,gpu_ms,wall_ms,refined_voxels,device_mib\n";
+  for (const CascadeRow& r : run.rows)
+    csv += fmt::format("{},{},{},{},{:.4f},{:.3f},{},{:.3f},{:.3f},{:.3f},{},{:.1f}\n", r.scene, r.camera, r.build,
+                       r.frame, r.time, r.speed, r.levelsMoved, r.moveMs, r.gpuMs, r.wallMs, r.refinedVoxels,
+                       r.deviceMiB);
+  return csv;
+}
+
+namespace {
+
+/// The rows of one scene, camera and build, in frame order.
+std::vector<const CascadeRow*> select(const CascadeRun& run, const std::string& scene, const std::string& camera,
+                                      const std::string& build) {
+  std::vector<const CascadeRow*> rows;
+  for (const CascadeRow& r : run.rows)
+    if (r.scene == scene && r.camera == camera && r.build == build) rows.push_back(&r);
+  return rows;
+}
+
+std::string sceneReport(const CascadeRun& run, const std::string& scene) {
+  std::vector<std::string> cameras, passes;
+  for (const CascadeRow& r : run.rows) {
+    if (r.scene != scene) continue;
+    if (std::find(cameras.begin(), cameras.end(), r.camera) == cameras.end()) cameras.push_back(r.camera);
+    for (const auto& entry : r.passMs)
+      if (std::find(passes.begin(), passes.end(), entry.first) == passes.end()) passes.push_back(entry.first);
+  }
+  std::string md = fmt::format("### {}\n\n| camera | build | wall (ms) | GPU (ms) | moveTo (ms) | levels moved per frame "
+                               "| refined voxels | device MiB |\n|---|---|---|---|---|---|---|---|\n",
+                               scene);
+  for (const std::string& camera : cameras) {
+    double wall[2], gpu[2];
+    for (int b = 0; b < 2; ++b) {
+      const char* build = b ? "full rebuild" : "incremental";
+      const std::vector<const CascadeRow*> rows = select(run, scene, camera, build);
+      double moved = 0.0;
+      for (std::size_t i = rows.size() > 1 ? 1 : 0; i < rows.size(); ++i) moved += rows[i]->levelsMoved;
+      moved /= double(std::max<std::size_t>(rows.size() > 1 ? rows.size() - 1 : rows.size(), 1));
+      wall[b] = medianAfterFirst(rows, [](const CascadeRow& r) { return r.wallMs; });
+      gpu[b] = medianAfterFirst(rows, [](const CascadeRow& r) { return r.gpuMs; });
+      md += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {:.0f} | {:.1f} |\n", camera, build, wall[b],
+                        gpu[b], medianAfterFirst(rows, [](const CascadeRow& r) { return r.moveMs; }), moved,
+                        medianAfterFirst(rows, [](const CascadeRow& r) { return double(r.refinedVoxels); }),
+                        rows.empty() ? 0.0 : rows.back()->deviceMiB);
+    }
+    md += fmt::format("| {} | incremental / full rebuild | {:.3f} | {:.3f} | | | | |\n", camera,
+                      wall[1] > 0.0 ? wall[0] / wall[1] : 0.0, gpu[1] > 0.0 ? gpu[0] / gpu[1] : 0.0);
+  }
+  md += "\nGPU time by pass, every level, medians of frames 2..N (0 where a frame skipped the pass):\n\n| pass |";
+  std::string rule = "|---|";
+  for (const std::string& camera : cameras) {
+    md += fmt::format(" {} incremental | {} full rebuild |", camera, camera);
+    rule += "---|---|";
+  }
+  md += "\n" + rule + "\n";
+  for (const std::string& pass : passes) {
+    md += "| " + pass + " |";
+    for (const std::string& camera : cameras)
+      for (const char* build : {"incremental", "full rebuild"})
+        md += fmt::format(" {:.2f} |", medianAfterFirst(select(run, scene, camera, build), [&](const CascadeRow& r) {
+                            return passTotal(r.passMs, pass);
+                          }));
+    md += "\n";
+  }
+  md += "\nEach level at the incremental run's last frame against the exact field of that moment (its band):\n\n"
+        "| camera | level | fine voxel | mean abs error (voxels) | max (voxels) | wrong sign |\n|---|---|---|---|---|---|\n";
+  for (const CascadeLevelError& e : run.errors)
+    if (e.scene == scene)
+      md += fmt::format("| {} | {} | {:.4g} | {:.4f} | {:.2f} | {:.3f}% |\n", e.camera, e.level, e.voxelSize,
+                        e.meanAbsVoxels, e.maxAbsVoxels, e.wrongSignPct);
+  return md + "\n";
+}
+
+} // namespace
+
+std::string cascadeReport(const BenchOptions& o, const CascadeRun& run) {
+  const auto [coarse, fine] = frameSizeResolutions(o.frameSize);
+  std::string md = fmt::format(
+      "## Cascades: {} levels of coarse {} / fine {}, level 0 {} wide, {} refinement, x = {}\n\n"
+      "Each scene's camera path at 30 fps, {} frames from t = 0 (walking) and from the moment it first moves faster "
+      "than {} units/s (driving). Incremental: the levels follow the camera (a level whose box moved is rebuilt) and "
+      "each frame runs what changed; full rebuild (the anchor): the same frames with every pass of every level over "
+      "its whole grid and every masked voxel refined. Medians of frames 2..N (the first builds every level).\n\n",
+      o.cascades, coarse, fine, o.cascadeExtent > 0.0 ? fmt::format("{:g} units", o.cascadeExtent) : "(default)",
+      toString(o.refine), o.rays, o.frames, kDrivingSpeed);
+  for (const std::string& note : run.notes) md += "- " + note + "\n";
+  if (!run.notes.empty()) md += "\n";
+  std::vector<std::string> scenes;
+  for (const CascadeRow& r : run.rows)
+    if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) scenes.push_back(r.scene);
+  for (const std::string& scene : scenes) md += sceneReport(run, scene);
+  return md;
+}
+
+} // namespace rtsdf::bench

@@ -141,7 +141,17 @@ ComputePipeline::ComputePipeline(const VulkanContext& ctx, const std::string& sh
     if (t != VK_DESCRIPTOR_TYPE_STORAGE_BUFFER && t != VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER &&
         t != VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)
       throw Error(fmt::format("{}: unsupported descriptor type {}", shader, int(t)));
-  mModule.reset(ctx, ctx.createShaderModule(shader));
+  std::string key = fmt::format("compute pipeline {} push {}", shader, pushConstantBytes);
+  for (VkDescriptorType t : mTypes) key += fmt::format(" {}", int(t));
+  mCompiled = std::static_pointer_cast<const Compiled>(ctx.shared(key, [this] { return compile(); }));
+}
+
+std::shared_ptr<ComputePipeline::Compiled> ComputePipeline::compile() const {
+  const VulkanContext& ctx = *mCtx;
+  const std::string& shader = mName;
+  const std::uint32_t pushConstantBytes = mPushBytes;
+  auto c = std::make_shared<Compiled>();
+  c->module.reset(ctx, ctx.createShaderModule(shader));
   const std::uint32_t n = std::uint32_t(mTypes.size());
   std::vector<VkDescriptorSetLayoutBinding> bindings(n);
   for (std::uint32_t i = 0; i < n; ++i) bindings[i] = {i, mTypes[i], 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
@@ -149,25 +159,26 @@ ComputePipeline::ComputePipeline(const VulkanContext& ctx, const std::string& sh
   lci.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   lci.bindingCount = n;
   lci.pBindings = bindings.data();
-  mSetLayout.create(ctx, vkCreateDescriptorSetLayout, lci,
-                    fmt::format("creating the descriptor set layout of {}", shader));
+  c->setLayout.create(ctx, vkCreateDescriptorSetLayout, lci,
+                      fmt::format("creating the descriptor set layout of {}", shader));
   VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
   VkPipelineLayoutCreateInfo pci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   pci.setLayoutCount = 1;
-  pci.pSetLayouts = mSetLayout.address();
+  pci.pSetLayouts = c->setLayout.address();
   pci.pushConstantRangeCount = pushConstantBytes ? 1 : 0;
   pci.pPushConstantRanges = &range;
-  mLayout.create(ctx, vkCreatePipelineLayout, pci, fmt::format("creating the pipeline layout of {}", shader));
+  c->layout.create(ctx, vkCreatePipelineLayout, pci, fmt::format("creating the pipeline layout of {}", shader));
   VkComputePipelineCreateInfo cci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   cci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   cci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  cci.stage.module = mModule.get();
+  cci.stage.module = c->module.get();
   cci.stage.pName = "main";
-  cci.layout = mLayout.get();
+  cci.layout = c->layout.get();
   VkPipeline pipeline = VK_NULL_HANDLE; // vkCreateComputePipelines makes arrays: not create()'s shape
   check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &cci, nullptr, &pipeline),
         fmt::format("creating the compute pipeline {}", shader).c_str());
-  mPipeline.reset(ctx, pipeline);
+  c->pipeline.reset(ctx, pipeline);
+  return c;
 }
 
 void ComputePipeline::record(VkCommandBuffer cmd, const Binding* bindings, std::size_t count, const void* push,
@@ -178,7 +189,7 @@ void ComputePipeline::record(VkCommandBuffer cmd, const Binding* bindings, std::
                             groups->y, groups->z, mCtx->info().name, limit.x, limit.y, limit.z));
   const std::uint32_t n = std::uint32_t(mTypes.size());
   if (count != n) throw Error(fmt::format("{}: {} resources given for {} bindings", mName, count, n));
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mPipeline.get());
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mCompiled->pipeline.get());
   std::vector<VkDescriptorBufferInfo> buffers(n);
   std::vector<VkDescriptorImageInfo> images(n);
   std::vector<VkWriteDescriptorSet> writes;
@@ -204,8 +215,8 @@ void ComputePipeline::record(VkCommandBuffer cmd, const Binding* bindings, std::
     }
     writes.push_back(w);
   }
-  if (n) mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mLayout.get(), 0, n, writes.data());
-  if (mPushBytes) vkCmdPushConstants(cmd, mLayout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, mPushBytes, push);
+  if (n) mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mCompiled->layout.get(), 0, n, writes.data());
+  if (mPushBytes) vkCmdPushConstants(cmd, mCompiled->layout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, mPushBytes, push);
   if (indirect)
     vkCmdDispatchIndirect(cmd, indirect->handle(), 0);
   else if (groups->x && groups->y && groups->z)

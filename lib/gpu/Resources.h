@@ -160,10 +160,15 @@ private:
 
 /// @brief A compute pipeline from an embedded shader whose bindings 0..n-1 are storage buffers (or, where
 ///        given, combined image samplers), bound by push descriptors, with an optional push-constant block.
-///        Move-only.
+///        Move-only. Pipelines of the same shader, bindings and push block alive at once share their Vulkan
+///        objects (VulkanContext::shared: push descriptors leave no state in them), compiled once.
 class ComputePipeline {
 public:
   ComputePipeline() = default;
+  ComputePipeline(ComputePipeline&&) = default;
+  ComputePipeline& operator=(ComputePipeline&&) = default;
+  ComputePipeline(const ComputePipeline&) = delete;
+  ComputePipeline& operator=(const ComputePipeline&) = delete;
   /// @brief Bindings 0..storageBuffers-1 are all storage buffers.
   ComputePipeline(const VulkanContext& ctx, const std::string& shader, std::uint32_t storageBuffers,
                   std::uint32_t pushConstantBytes);
@@ -203,11 +208,16 @@ private:
   std::string mName;
   std::vector<VkDescriptorType> mTypes;
   std::uint32_t mPushBytes = 0;
-  // Destroyed in reverse order: pipeline, pipeline layout, set layout, shader module.
-  UniqueHandle<vkDestroyShaderModule> mModule;
-  UniqueHandle<vkDestroyDescriptorSetLayout> mSetLayout;
-  UniqueHandle<vkDestroyPipelineLayout> mLayout;
-  UniqueHandle<vkDestroyPipeline> mPipeline;
+  struct Compiled {
+    // Destroyed in reverse order: pipeline, pipeline layout, set layout, shader module.
+    UniqueHandle<vkDestroyShaderModule> module;
+    UniqueHandle<vkDestroyDescriptorSetLayout> setLayout;
+    UniqueHandle<vkDestroyPipelineLayout> layout;
+    UniqueHandle<vkDestroyPipeline> pipeline;
+  };
+  /// Compile the shader with this pipeline's bindings and push block.
+  std::shared_ptr<Compiled> compile() const;
+  std::shared_ptr<const Compiled> mCompiled;
 };
 
 /// @brief Make every earlier shader and transfer write visible to every later shader and transfer access.

@@ -361,6 +361,18 @@ void VulkanContext::release() {
   mMessages = nullptr;
 }
 
+std::shared_ptr<void> VulkanContext::shared(const std::string& key,
+                                           const std::function<std::shared_ptr<void>()>& make) const {
+  const std::lock_guard<std::mutex> lock(mSharedMutex);
+  std::weak_ptr<void>& slot = mShared[key];
+  std::shared_ptr<void> held = slot.lock();
+  if (!held) {
+    held = make();
+    slot = held;
+  }
+  return held;
+}
+
 std::int64_t VulkanContext::liveObjects() const { return mMessages ? mMessages->live.load() : 0; }
 
 void VulkanContext::trackObject(int delta) const {

@@ -7,6 +7,10 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -92,6 +96,12 @@ public:
   /// @brief vkCmdPushDescriptorSetKHR (VK_KHR_push_descriptor is required and enabled).
   PFN_vkCmdPushDescriptorSetKHR pushDescriptorSet() const { return mPushDescriptorSet; }
 
+  /// @brief The objects stored under @a key while some holder still keeps them, else those @a make returns (then
+  ///        stored under @a key). A cache of weak references: compute pipelines of the same shader and layout are
+  ///        compiled once for every pass alive that uses them (compiling is nearly all of a pipeline's set-up: 130
+  ///        ms for one cascade level's passes on lavapipe), and destroyed with their last holder as before.
+  std::shared_ptr<void> shared(const std::string& key, const std::function<std::shared_ptr<void>()>& make) const;
+
   /// @brief Objects created through the RAII wrappers and not yet destroyed; a leak report is logged at
   ///        shutdown when it is not zero.
   std::int64_t liveObjects() const;
@@ -111,6 +121,8 @@ private:
   Messages* mMessages = nullptr;
   PFN_vkCmdPushDescriptorSetKHR mPushDescriptorSet = nullptr;
   VkPhysicalDeviceMemoryProperties mMemory{};
+  mutable std::mutex mSharedMutex;
+  mutable std::map<std::string, std::weak_ptr<void>> mShared;
 };
 
 } // namespace rtsdf::gpu

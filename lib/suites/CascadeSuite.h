@@ -15,7 +15,7 @@ namespace rtsdf::bench {
 
 /// @brief One frame of one run of the cascade suite.
 struct CascadeRow {
-  std::string scene;  ///< the scene file's name
+  std::string scene;  ///< the scene file as given
   std::string camera; ///< "walking" or "driving"
   std::string build;  ///< "incremental" or "full rebuild" (every pass of every level over its whole grid)
   int frame = 0;                   ///< from 1 (the first frame builds every level)

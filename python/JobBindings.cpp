@@ -151,6 +151,8 @@ public:
     d["mask_voxels"] = st.maskFineVoxels;
     d["refined_voxels"] = st.refinedFineVoxels;
     d["cut_voxels"] = st.cutVoxels; // refinements a CPU device's loop budget ended (FrameStats::cutVoxels)
+    d["near_half_voxels"] = st.nearHalfVoxels; // signed by the exact winding number (FrameStats::nearHalfVoxels)
+    d["near_half_kept"] = st.nearHalfKept;
     d["host_ms"] = st.hostMs;
     d["wall_ms"] = st.wallMs;
     py::dict passes;

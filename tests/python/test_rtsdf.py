@@ -73,6 +73,10 @@ def test_rtsdf_bake_and_pipeline_frames():
     second = pipe.frame(0.0)
     assert first["mask_voxels"] > 1000 and first["refined_voxels"] == first["mask_voxels"]
     assert first["cut_voxels"] == 0  # no walk here runs out of a CPU device's loop budget (none on a GPU)
+    # The open teapot's winding number lies near 1/2 beside its handle's ends: those voxels take the exact sum's side.
+    teapot = rtsdf.Pipeline(rtsdf.load_scene(os.path.join(DATA, "scenes", "teapot.json")), frames=1, coarse=64,
+                            fine=128, refine="closest", rays=0).frame(0.0)
+    assert 0 < teapot["near_half_voxels"] < teapot["refined_voxels"] and teapot["near_half_kept"] == 0
     assert second["refined_voxels"] == 0  # nothing moved, everything settled
     assert "VoxelizePass" in first["pass_ms"]
     assert "VoxelizePass" not in second["pass_ms"]  # nothing moved: the coarse SDF is kept, not rebuilt

@@ -221,7 +221,8 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   } else if (mCascades) {
     const bool moved =
         !mCascades->moveTo(mEye.position, cascadeLookAhead(mEye, mCascades->layout().shape.levelZeroExtent)).empty();
-    out.sdf = sumFrameStats(mCascades->runFrame(time));
+    out.levels = mCascades->runFrame(time);
+    out.sdf = sumFrameStats(out.levels);
     out.passMs = out.sdf.passMs;
     mBvh->update(time);
     bvh = mBvh.get();

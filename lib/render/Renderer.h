@@ -204,7 +204,8 @@ struct RenderedFrame {
   GBuffer gbuffer;
   LightVisibility visibility; ///< after TAA (the raw frame when TAA is off or for ray tracing)
   PassTimes passMs;           ///< GPU (or CPU, for ray tracing) time per pass
-  FrameStats sdf;             ///< the SDF generation's statistics (Sdf technique)
+  FrameStats sdf;             ///< the SDF generation's statistics (Sdf technique; with cascades summed over levels)
+  std::vector<FrameStats> levels; ///< with cascades: each level's, finest first
   double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
 };
 
@@ -243,6 +244,8 @@ public:
   /// @brief The cascade levels as the last frame's march sampled them, read back (for the CPU reference).
   /// @throw Error when the renderer has no cascades.
   CascadeFieldCpu cascadeField() const;
+  /// @brief The cascade levels' grids as the last frame's march sampled them (frame-relative; empty without cascades).
+  const std::vector<gpu::shared::CascadeFieldLevel>& cascadeLevels() const { return mCascadeLevels; }
   /// @brief Render the next frames from @a camera (an orbiting viewer's) instead of the scene camera's path; the TAA
   ///        history is kept.
   /// @throw Error when the camera is degenerate.

@@ -70,7 +70,7 @@ KeyEffect applyViewKey(ViewState& s, const Camera& sceneCamera, int key, bool sh
   case GLFW_KEY_1: s.technique = ShadowTechnique::Sdf; return KeyEffect::Technique;
   case GLFW_KEY_2: s.technique = ShadowTechnique::ShadowMap; return KeyEffect::Technique;
   case GLFW_KEY_3: s.technique = ShadowTechnique::RayTraced; return KeyEffect::Technique;
-  case GLFW_KEY_V: s.view = ViewMode((int(s.view) + 1) % 3); return KeyEffect::View;
+  case GLFW_KEY_V: s.view = ViewMode((int(s.view) + 1) % (s.pipeline.cascades > 1 ? 4 : 3)); return KeyEffect::View;
   case GLFW_KEY_UP: s.sliceHeight += s.sliceStep; return KeyEffect::View;
   case GLFW_KEY_DOWN: s.sliceHeight -= s.sliceStep; return KeyEffect::View;
   case GLFW_KEY_X: s.pipeline.rays = std::clamp(s.pipeline.rays + (shift ? -1 : 1), 1, 1024); return KeyEffect::Pipeline;
@@ -154,6 +154,7 @@ private:
   Buffer mPixels, mOverlay, mEmpty;
   std::string mLine;
   PassTimes mPassMs;
+  std::vector<double> mLevelGpuMs; ///< with cascades: each level's GPU time in the last frame, finest first
 };
 
 gpu::ContextOptions windowContextOptions(const std::string& device) {
@@ -266,6 +267,11 @@ sh::ComposeParams ViewSession::composeParams() const {
     p.slice = glm::vec4(float(mState.sliceHeight - origin.y), float(mState.pipeline.band),
                         float(std::max(double(mState.pipeline.band), f.voxelSize)), 0.0f);
   }
+  if (mRenderer && mState.view == ViewMode::Levels) {
+    const std::vector<sh::CascadeFieldLevel>& levels = mRenderer->cascadeLevels();
+    p.cascade.x = int(std::min<std::size_t>(levels.size(), RTSDF_MAX_CASCADE_LEVELS));
+    for (int i = 0; i < p.cascade.x; ++i) p.levels[i] = levels[std::size_t(i)];
+  }
   return p;
 }
 
@@ -289,9 +295,12 @@ void ViewSession::showFrame(double time, double wallMs) {
   mSwapchain->waitForFrame();
   const PassTimes composed = mComposed ? mProfiler->results() : PassTimes{};
   mTime = time;
+  mLevelGpuMs.clear();
   if (mRenderer) {
     mRenderer->setCamera(camera());
-    mPassMs = mRenderer->renderFrame(time, false).passMs;
+    const RenderedFrame f = mRenderer->renderFrame(time, false);
+    mPassMs = f.passMs;
+    for (const FrameStats& level : f.levels) mLevelGpuMs.push_back(passSum(level.passMs));
   } else {
     Scene& scene = mScene; // the truth renders the scene's camera: put the orbit's there for this frame
     const Camera kept = scene.camera;
@@ -337,6 +346,10 @@ std::string ViewSession::statusLine(double wallMs) const {
     for (const char* suffix : {"Pass", " (CPU)"})
       if (const auto at = shortName.find(suffix); at != std::string::npos) shortName.erase(at, std::strlen(suffix));
     line += fmt::format(" {} {:.2f}", shortName, total[name]);
+  }
+  if (!mLevelGpuMs.empty()) {
+    line += " | levels (GPU ms)";
+    for (std::size_t i = 0; i < mLevelGpuMs.size(); ++i) line += fmt::format(" L{} {:.2f}", i, mLevelGpuMs[i]);
   }
   return line + (mState.paused ? " | paused" : "");
 }

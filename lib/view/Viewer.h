@@ -17,12 +17,13 @@ namespace rtsdf {
 enum class ViewMode {
   Shaded, ///< the lit scene
   Slice,  ///< the fine SDF on a horizontal plane (blue outside, orange inside, contour lines)
-  Mask    ///< the ray mask (coarse voxels with |c| <= d) on a horizontal plane
+  Mask,   ///< the ray mask (coarse voxels with |c| <= d) on a horizontal plane
+  Levels  ///< the lit scene tinted by the cascade level the march samples at each point (with --cascades)
 };
 template <> struct EnumNames<ViewMode> {
   static constexpr const char* kSetting = "view";
   static constexpr std::pair<const char*, ViewMode> kValues[] = {
-      {"shaded", ViewMode::Shaded}, {"slice", ViewMode::Slice}, {"mask", ViewMode::Mask}};
+      {"shaded", ViewMode::Shaded}, {"slice", ViewMode::Slice}, {"mask", ViewMode::Mask}, {"levels", ViewMode::Levels}};
 };
 
 /// @brief Everything the viewer needs.
@@ -60,8 +61,8 @@ template <> struct KnobTable<ViewOptions> {
       knob("time", &S::time, "-t,--time", KnobRange::finite(), "Scene time of the last frame with frames > 0"),
       knob("screenshot", &S::screenshot, "--screenshot", KnobRange::any(), "Write the last frame's picture to this .png"),
       enumKnob(&S::view, "--view",
-               "What the picture shows first: the shaded scene, a horizontal slice of the fine SDF, or the ray mask "
-               "on that slice"),
+               "What the picture shows first: the shaded scene, a horizontal slice of the fine SDF, the ray mask "
+               "on that slice, or (with --cascades) the shaded scene tinted by the level that shades each point"),
       knob("slice height", &S::sliceHeight, "--slice-height", KnobRange::finite().orNaN("the scene's middle"),
            "World height (y) of the slice"),
       flagKnob("overlay", &S::overlay, "!--no-overlay",
@@ -89,7 +90,7 @@ struct ViewState {
 enum class KeyEffect { None, Camera, Technique, Pipeline, View, Pause, Quit };
 
 /// @brief Apply GLFW key @a key (Shift held: @a shift) to @a state: 1 / 2 / 3 SDF / shadow map / ray-traced
-///        shadows; V the view (shaded, slice, mask); Up / Down the slice; X / Shift+X rays per voxel +1 / -1;
+///        shadows; V the view (shaded, slice, mask, and levels with cascades); Up / Down the slice; X / Shift+X rays per voxel +1 / -1;
 ///        D / Shift+D the band x1.25 / /1.25; A / Shift+A alpha +0.01 / -0.01; M closest / rays refinement;
 ///        Left / Right turn the camera; R the scene's camera again; Space pause; Escape or Q quit.
 /// @note Settings stay in range (x >= 1 in rays mode, alpha in [0, 1]); the caller rebuilds what changed.

@@ -955,9 +955,11 @@ int channelOf(std::uint32_t p, int c, std::uint32_t order) {
 } // namespace
 
 // ComposePass against composePixelsCpu on the default scene's SDF frame, in each view (the slice through the
-// table and the bunny), both byte orders and with a strip of text; and its shaded picture against the bytes
-// `render` writes (composeImage, displayImage, writePng's rounding). GPU exp/pow may round the last bit
-// differently: one step of 255 at most.
+// table and the bunny; two cascade levels for the level view), both byte orders and with a strip of text; its shaded
+// picture against the bytes `render` writes (composeImage, displayImage, writePng's rounding); and the level view
+// against the shaded picture tinted half way to level 0's red where a plain box test puts the point more than a
+// voxel inside level 0, else to level 1's orange. GPU exp/pow may round the last bit differently: one step of 255 at
+// most.
 TEST_F(Render, ComposePassEqualsItsCpuReference) {
   const Scene scene = defaultScene();
   const int w = 320, h = 180;
@@ -977,7 +979,11 @@ TEST_F(Render, ComposePassEqualsItsCpuReference) {
   gpu::Buffer pixels(*sCtx, std::size_t(w) * h * 4, storage, gpu::Buffer::Memory::Device, "pixels");
   ComposePass pass(*sCtx);
   std::vector<std::uint32_t> shaded;
-  for (std::uint32_t view : {sh::kViewShaded, sh::kViewSlice, sh::kViewMask}) {
+  // Level 0: the fine grid's lower corner at half its voxel (an eighth of its volume); level 1: the whole grid.
+  const glm::vec3 lo0(f.origin);
+  const float h0 = 0.5f * float(f.voxelSize);
+  const glm::vec3 hi0 = lo0 + glm::vec3(f.dims) * h0;
+  for (std::uint32_t view : {sh::kViewShaded, sh::kViewSlice, sh::kViewMask, sh::kViewLevels}) {
     SCOPED_TRACE(fmt::format("view {}", view));
     sh::ComposeParams p{};
     p.camera = r.cameraParams();
@@ -988,6 +994,11 @@ TEST_F(Render, ComposePassEqualsItsCpuReference) {
     p.coarseOriginH = glm::vec4(glm::vec3(c.origin), float(c.voxelSize));
     const double middle = boundsOf(scene).center().y - r.frameOrigin().y; // the viewer's default slice
     p.slice = glm::vec4(float(middle), 0.1f, 0.1f, 0.0f);
+    if (view == sh::kViewLevels) {
+      p.cascade.x = 2;
+      p.levels[0] = {glm::vec4(lo0, h0), glm::ivec4(f.dims, 0), glm::vec4(4.0f * h0, 0.0f, 0.0f, 0.0f)};
+      p.levels[1] = {glm::vec4(lo0, float(f.voxelSize)), glm::ivec4(f.dims, 0), glm::vec4(0.0f)};
+    }
     gpu::CommandBuffer cmd(*sCtx);
     pass.execute(cmd.handle(), nullptr,
                  {r.gpuGBuffer(), r.gpuVisibility(), r.gpuLightBuffer(), sdf.fineBuffer(), sdf.coarseBuffer(), overlay},
@@ -1023,6 +1034,21 @@ TEST_F(Render, ComposePassEqualsItsCpuReference) {
     } else {
       EXPECT_GT(changed, cpu.size() / 10) << "the slice plane covers too little of the picture";
     }
+    if (view != sh::kViewLevels) continue;
+    std::size_t inLevel[2] = {0, 0};
+    for (std::size_t i = std::size_t(w) * rows; i < cpu.size(); ++i) {
+      if (!frame.gbuffer.hit(i)) continue;
+      const glm::vec3 pos(frame.gbuffer.position[i]);
+      const bool level0 = glm::all(glm::greaterThan(pos, lo0 + h0)) && glm::all(glm::lessThan(pos, hi0 - h0));
+      ++inLevel[level0 ? 0 : 1];
+      const glm::vec3 tint = level0 ? glm::vec3(0.90f, 0.25f, 0.20f) : glm::vec3(0.95f, 0.55f, 0.15f);
+      for (int ch = 0; ch < 3; ++ch) {
+        const float expected = 0.5f * float(channelOf(shaded[i], ch, sh::kComposeRgba)) + 0.5f * 255.0f * tint[ch];
+        ASSERT_LE(std::fabs(float(channelOf(gpuPixels[i], ch, order)) - expected), 1.5f) << "pixel " << i;
+      }
+    }
+    EXPECT_GT(inLevel[0], 1000u);
+    EXPECT_GT(inLevel[1], 1000u);
   }
 }
 

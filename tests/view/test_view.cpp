@@ -63,6 +63,10 @@ TEST(ViewKeys, EveryKeyChangesWhatItSaysAndKeepsSettingsInRange) {
     EXPECT_EQ(applyViewKey(s, cam, GLFW_KEY_V, false), KeyEffect::View);
     EXPECT_EQ(s.view, v);
   }
+  s.pipeline.cascades = 3; // the level view joins the cycle
+  for (ViewMode v : {ViewMode::Slice, ViewMode::Mask, ViewMode::Levels, ViewMode::Shaded})
+    EXPECT_EQ((applyViewKey(s, cam, GLFW_KEY_V, false), s.view), v);
+  s.pipeline.cascades = 1;
   s.sliceHeight = 0.5;
   s.sliceStep = 0.1;
   applyViewKey(s, cam, GLFW_KEY_UP, false);

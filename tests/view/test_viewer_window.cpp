@@ -100,6 +100,33 @@ TEST(ViewerWindow, KeysSwitchShadowsViewsAndSettings) {
   EXPECT_GT(white, 100u);
 }
 
+// The level view over two cascade levels: the status line gives each level's GPU time, and the picture is tinted
+// by level (level 0's red where the room's surfaces lie in it, level 1's orange beyond).
+TEST(ViewerWindow, TheLevelViewTintsEachPointByItsLevelAndListsTheLevelsTimes) {
+  const fs::path shot = scratch("levels.png");
+  fs::remove(shot);
+  ViewOptions o = smallView("scenes/default.json", shot);
+  o.render.pipeline.cascades = 2;
+  o.render.pipeline.fineRes = 64;
+  o.render.pipeline.cascadeExtent = 2.4;
+  o.view = ViewMode::Levels;
+  o.frames = 2;
+  const ViewResult v = runViewer(o);
+  EXPECT_NE(v.lastLine.find("| levels |"), std::string::npos) << v.lastLine;
+  EXPECT_NE(v.lastLine.find("levels (GPU ms) L0 "), std::string::npos) << v.lastLine;
+  EXPECT_NE(v.lastLine.find(" L1 "), std::string::npos) << v.lastLine;
+  const PngPixels p = readPng(shot);
+  std::size_t reddish = 0, orange = 0;
+  for (std::size_t i = 0; i < p.rgb.size(); i += 3) {
+    const int r = p.rgb[i], g = p.rgb[i + 1], b = p.rgb[i + 2];
+    // Half way to (0.90, 0.25, 0.20): green about as low as blue; to (0.95, 0.55, 0.15): green well above blue.
+    reddish += r > g + 50 && g - b < 25;
+    orange += r > b + 60 && g - b > 40;
+  }
+  EXPECT_GT(reddish, 500u);
+  EXPECT_GT(orange, 500u);
+}
+
 // The command line's `view`: flags bound onto ViewOptions, the screenshot written, the summary printed.
 TEST(ViewerWindow, CommandLineWritesTheScreenshot) {
   const fs::path shot = scratch("cli.png");

@@ -50,7 +50,10 @@ std::vector<std::uint32_t> composePixelsCpu(const GBuffer& g, const LightVisibil
         col = sh::instanceAlbedo(int(g.normal[i].w)) * e;
       }
       glm::vec3 display(sh::displayEncode(col.x), sh::displayEncode(col.y), sh::displayEncode(col.z));
-      if (std::uint32_t(c.image.w) != sh::kViewShaded && c.fineDims.x > 1) {
+      const std::uint32_t view = std::uint32_t(c.image.w);
+      if (view == sh::kViewLevels && c.cascade.x > 0 && g.hit(i))
+        display = sh::levelTint(display, sh::finestLevelAt(c, glm::vec3(g.position[i])));
+      if ((view == sh::kViewSlice || view == sh::kViewMask) && c.fineDims.x > 1) {
         const glm::vec3 dir = sh::cameraDirection(c.camera, float(x) + 0.5f, float(y) + 0.5f);
         const float t = sh::slicePlaneDistance(c, dir, g.position[i].w);
         if (t > 0.0f) {

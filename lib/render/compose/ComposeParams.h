@@ -1,10 +1,12 @@
 // Shared by C++ and GLSL: the parameters, bindings and colours of compose.comp (ComposePass), the picture made
 // on the GPU for a window: the shaded scene (composeImage's lighting, displayImage's exposure, sRGB-encoded
-// bytes, as writePng rounds them), or a horizontal slice through the fine SDF or the ray mask, under a strip of
-// text. Its CPU copy (composePixelsCpu) calls the same functions.
+// bytes, as writePng rounds them), or a horizontal slice through the fine SDF or the ray mask, or the shaded scene
+// tinted by the cascade level that shades each point, under a strip of text. Its CPU copy (composePixelsCpu) calls
+// the same functions.
 #ifndef RTSDF_RENDER_COMPOSE_COMPOSEPARAMS_H
 #define RTSDF_RENDER_COMPOSE_COMPOSEPARAMS_H
 #include "render/RenderParams.h"
+#include "render/sdfshadow/SdfShadowParams.h"
 
 #ifdef __cplusplus
 #include <cmath>
@@ -20,6 +22,7 @@ using std::pow;
 const uint kViewShaded = 0u; // the lit scene with its shadows
 const uint kViewSlice = 1u;  // the fine SDF on a horizontal plane (blue outside, orange inside, contours)
 const uint kViewMask = 2u;   // the ray mask on a horizontal plane (yellow: coarse voxels with |c| <= d)
+const uint kViewLevels = 3u; // the lit scene tinted by the cascade level the march samples at each point
 
 /// Byte order of the packed pixels (the swapchain's format).
 const uint kComposeRgba = 0u;
@@ -34,6 +37,8 @@ struct ComposeParams {
   ivec4 coarseDims;    // xyz: coarse voxels per axis; w: byte order (kCompose*)
   vec4 coarseOriginH;  // xyz: coarse voxel (0,0,0) in the frame, w: coarse voxel size
   vec4 slice;          // x: the plane's height (frame y), y: band d, z: distance between contour lines
+  ivec4 cascade;       // x: cascade levels in levels[] (0: one box)
+  CascadeFieldLevel levels[RTSDF_MAX_CASCADE_LEVELS]; // finest first, as SdfShadowPass's table
 };
 
 const uint kComposeBindingPositions = 0u;
@@ -124,6 +129,29 @@ RTSDF_FN float slicePlaneDistance(ComposeParams p, vec3 dir, float hitDistance) 
   if (t <= 0.0f || (hitDistance >= 0.0f && t > hitDistance)) return -1.0f;
   return t;
 }
+
+/// The level view's tint of cascade level @a level (0: the finest): red, orange, yellow, green, cyan, blue, violet.
+RTSDF_FN vec3 levelColor(int level) {
+  int k = level % 7;
+  if (k == 0) return vec3(0.90f, 0.25f, 0.20f);
+  if (k == 1) return vec3(0.95f, 0.55f, 0.15f);
+  if (k == 2) return vec3(0.95f, 0.85f, 0.20f);
+  if (k == 3) return vec3(0.35f, 0.80f, 0.30f);
+  if (k == 4) return vec3(0.25f, 0.80f, 0.85f);
+  if (k == 5) return vec3(0.30f, 0.45f, 0.95f);
+  return vec3(0.70f, 0.40f, 0.90f);
+}
+
+/// The level the SDF march samples at frame point @a pos: the finest whose box holds it beyond one of its fine voxels
+/// (insideLevel, the march's rule), the outermost beyond every level.
+RTSDF_FN int finestLevelAt(ComposeParams p, vec3 pos) {
+  for (int i = 0; i < p.cascade.x; ++i)
+    if (insideLevel(p.levels[i], pos) > 0.0f) return i;
+  return p.cascade.x - 1;
+}
+
+/// The level view's colour: the shaded colour @a display half way to its level's tint.
+RTSDF_FN vec3 levelTint(vec3 display, int level) { return 0.5f * display + 0.5f * levelColor(level); }
 
 RTSDF_SHARED_END
 

@@ -1,7 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // ComposePass: the picture for a window, one packed 8-bit pixel per invocation (render/compose/ComposeParams.h has the
-// colours): the lit scene, or a slice through the fine SDF or the ray mask, under a strip of text.
+// colours): the lit scene, a slice through the fine SDF or the ray mask, or the lit scene tinted by the cascade level
+// the march samples at each point, under a strip of text.
 #include "render/compose/ComposeParams.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -54,7 +55,9 @@ void main() {
     c = instanceAlbedo(int(nrm.w)) * e;
   }
   vec3 display = vec3(displayEncode(c.x), displayEncode(c.y), displayEncode(c.z));
-  if (params.image.w != kViewShaded && params.fineDims.x > 1) {
+  if (params.image.w == kViewLevels && params.cascade.x > 0 && pos.w >= 0.0f)
+    display = levelTint(display, finestLevelAt(params, pos.xyz));
+  if ((params.image.w == kViewSlice || params.image.w == kViewMask) && params.fineDims.x > 1) {
     vec3 dir = cameraDirection(params.camera, float(px.x) + 0.5f, float(px.y) + 0.5f);
     float t = slicePlaneDistance(params, dir, pos.w);
     if (t > 0.0f) {

@@ -30,15 +30,6 @@ RTSDF_DEFINE_DENSE_SAMPLER(sampleDenseGrid, RTSDF_ONE_BOX_FETCH)
 #endif
 
 #if defined(RTSDF_SDF_LEVEL_SAMPLE)
-/// How far p lies inside cascade level @a lv's box beyond one of its fine voxels (> 0: the level's whole trilinear
-/// stencil lies in it), in scene units.
-RTSDF_FN float insideLevel(CascadeFieldLevel lv, vec3 p) {
-  float h = lv.originH.w;
-  vec3 lo = vec3(lv.originH);
-  vec3 hi = lo + vec3(lv.dims.x, lv.dims.y, lv.dims.z) * h;
-  vec3 d = min(p - lo, hi - p);
-  return min(d.x, min(d.y, d.z)) - h;
-}
 
 /// The cascade levels' field at p (CascadeSamplerCpu's rule): the finest level whose box holds p more than one of
 /// its fine voxels inside its faces (the whole stencil lies in it); within its blend band of that margin, mixed

@@ -37,6 +37,16 @@ struct CascadeFieldLevel {
   vec4 blend;   // x: the band at the level's margin over which it fades into the next coarser level (scene units)
 };
 
+/// How far p lies inside cascade level @a lv's box beyond one of its fine voxels (> 0: the level's whole trilinear
+/// stencil lies in it), in scene units.
+RTSDF_FN float insideLevel(CascadeFieldLevel lv, vec3 p) {
+  float h = lv.originH.w;
+  vec3 lo = vec3(lv.originH);
+  vec3 hi = lo + vec3(lv.dims.x, lv.dims.y, lv.dims.z) * h;
+  vec3 d = min(p - lo, hi - p);
+  return min(d.x, min(d.y, d.z)) - h;
+}
+
 /// volume_fill.comp: the dense fine SDF (x fastest) into the 3D texture the march samples (a storage image).
 const uint kVolumeFillBindingField = 0u;
 const uint kVolumeFillBindingTexture = 1u;

@@ -58,7 +58,8 @@ struct RunSpec {
 
 /// One run: the levels built around the camera at spec.start, then options.frames frames at 30 fps.
 void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds, PipelineSettings ps,
-            const BenchOptions& o, const RunSpec& spec, const JobControl& control, CascadeRun& out) {
+            const BenchOptions& o, const RunSpec& spec, const JobControl& control, JobPoll& progress,
+            CascadeRun& out) {
   ps.fullRebuild = ps.fullRecompute = spec.fullRebuild;
   const Camera eye = scene.cameraAt(spec.start);
   const CascadeShape shape = cascadeShapeFor(bounds, eye.position, ps);
@@ -86,6 +87,7 @@ void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bou
     spdlog::info("{} {} {}: frame {}, {} level(s) moved, wall {:.1f} ms, GPU {:.1f} ms", r.scene, r.camera, r.build,
                  r.frame, r.levelsMoved, r.wallMs, r.gpuMs);
     out.rows.push_back(std::move(r));
+    progress.done();
   }
   if (spec.fullRebuild) return;
   const double t = out.rows.back().time;
@@ -110,6 +112,8 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
   ps.cascadeExtent = o.cascadeExtent;
   ps.fineStorage = FineStorage::Dense; // as the renderer's levels, and the error's read-back
   CascadeRun run;
+  // Frames of every run: two camera speeds and two builds per scene (a path that never drives skips two).
+  JobPoll progress(&control, "cascade suite", std::uint64_t(o.scenes.size()) * 4 * std::uint64_t(o.frames));
   for (const std::string& path : o.scenes) {
     const Scene scene = loadScene(path);
     const std::string& name = path; // as given: towns from make_level.py share the file name level.json
@@ -121,13 +125,16 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
     std::vector<std::pair<std::string, double>> cameras{{"walking", 0.0}};
     const double drive = drivingStart(scene);
     if (drive >= 0.0) cameras.emplace_back("driving", drive);
-    else run.notes.push_back(fmt::format("{}: the camera path never moves faster than {} units/s: no driving run", name,
-                                         kDrivingSpeed));
+    else {
+      run.notes.push_back(fmt::format("{}: the camera path never moves faster than {} units/s: no driving run", name,
+                                      kDrivingSpeed));
+      progress.done(2 * std::uint64_t(o.frames));
+    }
     runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
       for (const auto& [camera, start] : cameras)
         for (const bool full : {false, true})
           runOne(ctx, scene, bounds, ps, o, {name, camera, full ? "full rebuild" : "incremental", start, full}, control,
-                 run);
+                 progress, run);
       return 0;
     });
   }

@@ -2,8 +2,8 @@
 /// @file FieldPasses.h
 /// @brief The passes that compute one pipeline's fields on its pair of grids: the coarse SDF (CoarseSdfBuilder), the
 ///        refinement of the masked fine voxels (RayRefinePass or ClosestRefinePass, then WindingExactPass where an
-///        open mesh's winding number lay near 1/2) and the upsampling into the
-///        dense fine SDF (UpsamplePass), with what they write besides the brick pool.
+///        open mesh's winding number lay near 1/2) and the upsampling into the dense fine SDF (UpsamplePass), with
+///        what they write besides the brick pool.
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"
 #include "sdf/refine/RefineParams.h"

@@ -100,6 +100,29 @@ TEST_F(CascadeSetGpu, ACameraMoveRebuildsOnlyTheLevelsWhoseBoxMoved) {
   for (int i = 0; i < 3; ++i) EXPECT_EQ(differing(set.level(i).fineField(), fresh.level(i).fineField()), 0u) << i;
 }
 
+// The orbiting teapot moves every frame; a level whose box and reach it never meets skips its coarse passes and
+// its refinement (the teapot's motion counts only near a grid: InstanceMotion's reach), the level holding the
+// teapot runs them, and after the frames every level equals levels built fresh at the last frame's time.
+TEST_F(CascadeSetGpu, AnInstanceMovingFarFromALevelLeavesItsPassesAlone) {
+  const Scene scene = room();
+  const PipelineSettings s = threeLevels();
+  const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene).bounds, s);
+  const glm::dvec3 camera(-0.6, 1.0, -0.6); // level 0 (0.6 wide) in the far corner from the teapot's orbit
+  CascadeSet set(*sCtx, scene, CascadeLayout::around(camera, shape), s);
+  set.runFrame(0.0);
+  std::vector<FrameStats> last;
+  for (int f = 1; f <= 3; ++f) last = set.runFrame(f / 30.0);
+  EXPECT_EQ(last[0].movedInstances, 0u);
+  EXPECT_TRUE(last[0].skipped("VoxelizePass"));
+  EXPECT_EQ(last[0].refinedFineVoxels, 0u);
+  EXPECT_EQ(last[2].movedInstances, 1u) << "the outermost level holds the room and its teapot";
+  EXPECT_FALSE(last[2].skipped("VoxelizePass"));
+  EXPECT_GT(last[2].refinedFineVoxels, 0u);
+  CascadeSet fresh(*sCtx, scene, CascadeLayout::around(camera, shape), s);
+  fresh.runFrame(3 / 30.0);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(differing(set.level(i).fineField(), fresh.level(i).fineField()), 0u) << i;
+}
+
 TEST_F(CascadeSetGpu, APipelineIsOneBox) {
   const Scene scene = room();
   PipelineSettings s = threeLevels();

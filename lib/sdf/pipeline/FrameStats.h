@@ -26,7 +26,7 @@ struct FrameStats {
   std::uint64_t overflowBricks = 0;    ///< ...but these: the pool was full; the next frame grows it and starts over
   std::uint64_t poolBricks = 0;        ///< the pool's capacity this frame
   std::uint64_t deviceBytes = 0;       ///< the pipeline's device buffers this frame (estimate and pool)
-  std::uint64_t movedInstances = 0;    ///< instances whose transform changed since the previous frame
+  std::uint64_t movedInstances = 0;    ///< instances whose transform changed since the previous frame near the grid
   /// CPU time of the frame outside its wait for the GPU: the BVH's top level and the instance transforms,
   /// recording, submitting, and reading the counts after the GPU finished. It grows with the instances, not with
   /// their triangles or the voxels (the GPU places the triangles and compacts the ray mask).

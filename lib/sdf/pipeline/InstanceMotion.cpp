@@ -7,7 +7,8 @@
 namespace rtsdf {
 
 std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const std::vector<Bounds>& meshBounds,
-                                                      double before, double after, const glm::dvec3& origin) {
+                                                      double before, double after, const glm::dvec3& origin,
+                                                      const Bounds& reach) {
   std::vector<gpu::shared::MovedBox> boxes;
   for (const Instance& inst : scene.instances) {
     const glm::dmat4 m0 = inst.matrixAt(before), m1 = inst.matrixAt(after);
@@ -17,9 +18,13 @@ std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const 
     for (int corner = 0; corner < 8; ++corner) {
       const glm::dvec4 p((corner & 1 ? local.max : local.min).x, (corner & 2 ? local.max : local.min).y,
                          (corner & 4 ? local.max : local.min).z, 1.0);
-      swept.add(glm::dvec3(m0 * p) - origin);
-      swept.add(glm::dvec3(m1 * p) - origin);
+      swept.add(glm::dvec3(m0 * p));
+      swept.add(glm::dvec3(m1 * p));
     }
+    if (!reach.empty() && (glm::any(glm::lessThan(swept.max, reach.min)) || glm::any(glm::greaterThan(swept.min, reach.max))))
+      continue;
+    swept.min -= origin;
+    swept.max -= origin;
     gpu::shared::MovedBox box{};
     for (int a = 0; a < 3; ++a) {
       box.lo[a] = std::nextafter(float(swept.min[a]), -INFINITY);
@@ -35,8 +40,8 @@ std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const 
   return boxes;
 }
 
-InstanceMotion::InstanceMotion(const gpu::VulkanContext& ctx, const Scene& scene)
-    : mScene(scene),
+InstanceMotion::InstanceMotion(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& reach)
+    : mScene(scene), mReach(reach),
       mBuffer(ctx, RTSDF_MAX_MOVED_BOXES * sizeof(gpu::shared::MovedBox),
               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::Buffer::Memory::Device,
               "moved instance boxes") {
@@ -51,7 +56,7 @@ void InstanceMotion::checkPlacement(double time) const { checkInstancePlacement(
 
 const std::vector<gpu::shared::MovedBox>& InstanceMotion::advance(std::uint32_t frame, double time,
                                                                   const glm::dvec3& origin) {
-  mLast = frame > 1 ? movedInstanceBoxes(mScene, mMeshBounds, mPreviousTime, time, origin)
+  mLast = frame > 1 ? movedInstanceBoxes(mScene, mMeshBounds, mPreviousTime, time, origin, mReach)
                     : std::vector<gpu::shared::MovedBox>{};
   mPreviousTime = time;
   return mLast;

@@ -17,8 +17,11 @@ namespace rtsdf {
 ///        transform changed: the union of its world bounds in both poses (the corners of @a meshBounds[mesh]
 ///        transformed in double), measured from @a origin and rounded outwards to float. At most
 ///        RTSDF_MAX_MOVED_BOXES; further ones are merged into the last box. The incremental refinement's input.
+/// @param reach where given and not empty (world space), only the boxes that meet it: an instance that moves
+///        farther from a pipeline's grid than the band and the coarse bound reach changes none of its fields.
 std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const std::vector<Bounds>& meshBounds,
-                                                      double before, double after, const glm::dvec3& origin);
+                                                      double before, double after, const glm::dvec3& origin,
+                                                      const Bounds& reach = {});
 
 /// @brief The instances' motion from frame to frame of one pipeline. Owns the meshes' own bounds (positionBounds,
 ///        what placement checks and swept boxes start from), the previous frame's time, the last frame's boxes and
@@ -26,8 +29,9 @@ std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const 
 ///        boxes"). @a scene must outlive it.
 class InstanceMotion {
 public:
+  /// @param reach the world box an instance's motion must meet to count (movedInstanceBoxes; empty: every motion).
   /// @throw VulkanError when the buffer cannot be allocated.
-  InstanceMotion(const gpu::VulkanContext& ctx, const Scene& scene);
+  InstanceMotion(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& reach = {});
   /// @brief Record: the buffer cleared (construction only).
   void recordClear(VkCommandBuffer cmd) const;
   /// @brief Refuse a frame at @a time whose instances leave the supported coordinates.
@@ -45,6 +49,7 @@ public:
 private:
   const Scene& mScene;
   std::vector<Bounds> mMeshBounds; ///< per mesh, in its own space
+  Bounds mReach;                   ///< world space (empty: every motion counts)
   double mPreviousTime = 0.0;
   std::vector<gpu::shared::MovedBox> mLast;
   gpu::Buffer mBuffer;

@@ -62,10 +62,9 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
   mFields = std::make_unique<FieldPasses>(ctx, mCoarseSpec, mFineSpec, mSettings, parts,
                                           ClosestRefinePass::Variant{s.rays > 0, cellSearch, cpuShaders});
   mMask = std::make_unique<GpuRayMask>(ctx, mCoarseSpec, mFineSpec, mSettings, parts.total());
-  // An instance moving farther from the grid than the band and the coarse bound's slack changes none of its fields
+  // An instance moving farther from the grid than the band and the mask's reach pad changes none of its fields
   // (a cascade level keeps every moving instance of the world, but most move far from it).
-  const double beta = s.beta >= 0.0 ? double(s.beta) : 0.5 * mCoarseSpec.voxelSize;
-  const double margin = double(s.band) + beta + std::sqrt(3.0) * mCoarseSpec.voxelSize + mFineSpec.voxelSize;
+  const double margin = double(s.band) + mMask->reachPad();
   Bounds reach;
   reach.add(mFineSpec.origin - margin);
   reach.add(mFineSpec.origin + glm::dvec3(mFineSpec.dims) * mFineSpec.voxelSize + margin);

@@ -66,7 +66,7 @@ gpu::shared::MaskParams GpuRayMask::params(std::uint32_t frame, std::uint32_t mo
   p.coarseOriginH = glm::vec4(glm::vec3(coarse.origin), float(coarse.voxelSize));
   // movedWithinReach: the coarse bound of the distance (beta, half a coarse diagonal to the seed's surface and
   // half one to a fine centre of the cell), and a fine voxel for rounding.
-  p.reachPad = float(mBeta + std::sqrt(3.0) * mCoarseSpec.voxelSize + mFineSpec.voxelSize);
+  p.reachPad = float(reachPad());
   p.settleFrames = mSettleFrames;
   p.refreshPeriod = mRefreshPeriod;
   p.movedBoxes = movedBoxes;
@@ -103,6 +103,10 @@ void GpuRayMask::recordCountsReadback(VkCommandBuffer cmd, const BrickPool& pool
   toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
                        nullptr);
+}
+
+double GpuRayMask::reachPad() const {
+  return mBeta + std::sqrt(3.0) * mCoarseSpec.voxelSize + mFineSpec.voxelSize;
 }
 
 GpuRayMask::Counts GpuRayMask::counts() const {

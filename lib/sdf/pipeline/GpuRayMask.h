@@ -63,6 +63,9 @@ public:
   ///        (@a frame 0) or when d = 0. The frame must be finished.
   RayMask readRayMask(std::uint32_t frame) const;
 
+  /// @brief MaskParams::reachPad: beta, a coarse voxel's diagonal and a fine voxel, the slack between a coarse
+  ///        cell's bound of the distance and its fine voxels (what a moving instance's swept box must come within).
+  double reachPad() const;
   const gpu::shared::MaskParams& lastParams() const { return mLastParams; }
   const gpu::Buffer& countsBuffer() const { return mCounts; }
   /// @brief The refinement's kRefineStat* words, zeroed with the counts and read back with them.

@@ -219,8 +219,8 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
     out.passMs = out.sdf.passMs;
     bvh = &mSdf->bvh();
   } else if (mCascades) {
-    const bool moved =
-        !mCascades->moveTo(mEye.position, cascadeLookAhead(mEye, mCascades->layout().shape.levelZeroExtent)).empty();
+    const double extent = mCascades->layout().shape.levelZeroExtent;
+    const bool moved = !mCascades->moveTo(mEye.position, cascadeLookAhead(mEye, extent)).moved.empty();
     out.levels = mCascades->runFrame(time);
     out.sdf = sumFrameStats(out.levels);
     out.passMs = out.sdf.passMs;

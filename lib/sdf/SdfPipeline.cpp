@@ -8,6 +8,7 @@
 #include "sdf/pipeline/FieldPasses.h"
 #include "sdf/pipeline/FrameRecorder.h"
 #include "sdf/pipeline/GpuRayMask.h"
+#include "sdf/pipeline/GridShift.h"
 #include "sdf/pipeline/InstanceMotion.h"
 #include "util/Error.h"
 
@@ -62,13 +63,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
   mFields = std::make_unique<FieldPasses>(ctx, mCoarseSpec, mFineSpec, mSettings, parts,
                                           ClosestRefinePass::Variant{s.rays > 0, cellSearch, cpuShaders});
   mMask = std::make_unique<GpuRayMask>(ctx, mCoarseSpec, mFineSpec, mSettings, parts.total());
-  // An instance moving farther from the grid than the band and the mask's reach pad changes none of its fields
-  // (a cascade level keeps every moving instance of the world, but most move far from it).
-  const double margin = double(s.band) + mMask->reachPad();
-  Bounds reach;
-  reach.add(mFineSpec.origin - margin);
-  reach.add(mFineSpec.origin + glm::dvec3(mFineSpec.dims) * mFineSpec.voxelSize + margin);
-  mMotion = std::make_unique<InstanceMotion>(ctx, scene, reach);
+  mMotion = std::make_unique<InstanceMotion>(ctx, scene, motionReach());
   mPool = std::make_unique<BrickPool>(ctx, mFineSpec);
   mRecorder = std::make_unique<FrameRecorder>(ctx);
   gpu::CommandBuffer cmd(ctx);
@@ -77,6 +72,44 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
   mFields->recordClear(cmd.handle());
   mMotion->recordClear(cmd.handle());
   cmd.submitAndWait();
+}
+
+Bounds SdfPipeline::motionReach() const {
+  // An instance moving farther from the grid than the band and the mask's reach pad changes none of its fields
+  // (a cascade level keeps every moving instance of the world, but most move far from it).
+  const double margin = double(mSettings.band) + mMask->reachPad();
+  Bounds reach;
+  reach.add(mFineSpec.origin - margin);
+  reach.add(mFineSpec.origin + glm::dvec3(mFineSpec.dims) * mFineSpec.voxelSize + margin);
+  return reach;
+}
+
+std::uint64_t SdfPipeline::scrollScratchBytes() const {
+  const std::uint64_t dense = mFields->dense() ? mFineSpec.voxelCount() * 4 : 0;
+  return std::max<std::uint64_t>({dense, mCoarseSpec.voxelCount() * 8, mPool->gridBricks() * 4});
+}
+
+void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::Buffer& scratch) {
+  const std::optional<glm::ivec3> shift = scrollShift({mCoarseSpec, mFineSpec}, grids);
+  if (!shift)
+    throw Error(fmt::format("SdfPipeline: cannot scroll from coarse {} / fine {} to coarse {} / fine {} (not the same "
+                            "grids moved by whole bricks)", mCoarseSpec.describe(), mFineSpec.describe(),
+                            grids.first.describe(), grids.second.describe()));
+  if (scratch.size() < scrollScratchBytes())
+    throw Error(fmt::format("SdfPipeline: a scroll scratch of {} bytes, {} needed", scratch.size(),
+                            scrollScratchBytes()));
+  waitForFrame(); // the frame's buffers are about to move, and the pool's slots are read back
+  const glm::ivec3 fineShift = *shift * (mFineSpec.dims / mCoarseSpec.dims);
+  gpu::CommandBuffer cmd(mCtx);
+  mMask->recordScroll(cmd.handle(), grids.first, grids.second, *shift, scratch);
+  mFields->recordScroll(cmd.handle(), grids.first, grids.second, fineShift, scratch);
+  mPool->recordScroll(cmd.handle(), fineShift / RTSDF_BRICK, scratch);
+  cmd.submitAndWait();
+  mCoarseSpec = mMemory.coarse = grids.first;
+  mFineSpec = mMemory.fine = grids.second;
+  mBvh->setFrameOrigin(frameOrigin());
+  mMotion->setReach(motionReach());
+  mScrolled = true;
 }
 
 SdfPipeline::~SdfPipeline() {
@@ -155,9 +188,11 @@ void SdfPipeline::submitFrame(double time) {
   changes.first = mFrame == 1;
   changes.moved = moved > 0;
   changes.poolReset = mPoolReset;
+  changes.scrolled = mScrolled;
   changes.lastListed = changes.first || mMask->counts().refineList > 0;
   mPlan = planFrame(changes, mSettings);
   mPoolReset = false;
+  mScrolled = false;
   stats.skippedPasses = skippedPasses(mPlan, mSettings);
   stats.fieldChanged = mPlan.coarse || mPlan.refine || mPlan.upsample;
   if (mPlan.coarse) mFields->recordCoarse(cmd, profiler, *mBvh);

@@ -82,6 +82,17 @@ public:
   /// @brief Wait for the submitted frame and return its statistics (counts and pass times read back).
   /// @throw Error when no frame was submitted since the last finishFrame().
   FrameStats finishFrame();
+  /// @brief Move the grids to @a grids, the same grids scrolled by whole bricks (scrollShift; a cascade level that
+  ///        follows the camera), keeping what the pipeline knows: the refinement's history, the bricks and their
+  ///        values, the dense fine SDF, shifted through @a scratch (at least as large as the dense fine SDF and the
+  ///        coarse refinement state). The next frame rebuilds the coarse SDF and refines only the band voxels new to
+  ///        it (those that entered, or that a surface entering made part of it), with those moving instances reach:
+  ///        what a pipeline built on @a grids would have, up to the float rounding of its frame (frameOrigin moves).
+  ///        Waits for a frame in flight.
+  /// @throw Error when @a grids are not a scroll of the grids (scrollShift) or @a scratch is too small.
+  void scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::Buffer& scratch);
+  /// @brief The bytes scroll() needs of its scratch buffer.
+  std::uint64_t scrollScratchBytes() const;
   /// @brief The dense fine SDF of the last frame (x fastest), scene units: read back from the GPU
   ///        (FineStorage::Dense), or resolved on the host from the coarse SDF and the bricks read back (Sparse:
   ///        resolveFineCpu, the same values bit for bit).
@@ -133,6 +144,9 @@ private:
   /// (Re)allocate the pool for @a bricks bricks, every slot free, every coarse voxel new to the band.
   /// @throw SettingError when it does not fit the device (checkPipelineMemory).
   void allocatePool(std::uint64_t bricks);
+  /// The world box an instance's motion must meet to change the fields (InstanceMotion's reach): the fine grid
+  /// grown by the band and the mask's reach pad.
+  Bounds motionReach() const;
   const gpu::VulkanContext& mCtx;
   PipelineSettings mSettings;
   PipelineMemory mMemory;   ///< the estimate checked at construction (the pool is added when sized)
@@ -142,6 +156,7 @@ private:
   /// frame that skips it leaves every voxel as the run before left it).
   std::uint32_t mMaskFrame = 0;
   bool mPoolReset = false; ///< the pool was (re)allocated since the last frame was recorded
+  bool mScrolled = false;  ///< the grids scrolled since the last frame was recorded
   FramePlan mPlan;         ///< the passes the last frame ran
   std::unique_ptr<GpuSceneBvh> mBvh;
   std::unique_ptr<InstanceMotion> mMotion;

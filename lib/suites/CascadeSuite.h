@@ -21,8 +21,9 @@ struct CascadeRow {
   int frame = 0;                   ///< from 1 (the first frame builds every level)
   double time = 0.0;               ///< scene time (s)
   double speed = 0.0;              ///< the camera's speed (scene units per second)
-  int levelsMoved = 0;             ///< levels whose snapped box moved this frame (each rebuilt from scratch)
-  double moveMs = 0.0;             ///< CascadeSet::moveTo: the rebuilt levels' host work and allocation
+  int levelsMoved = 0;             ///< levels whose snapped box moved this frame (scrolled or rebuilt)
+  int levelsRebuilt = 0;           ///< of those, the levels rebuilt from scratch (CascadeMove::rebuilt)
+  double moveMs = 0.0;             ///< CascadeSet::moveTo: the scrolls' shifts, the rebuilt levels' host work
   double gpuMs = 0.0;              ///< the sum of the frame's pass timestamps over every level
   double wallMs = 0.0;             ///< moveTo and runFrame, call to return
   std::uint64_t refinedVoxels = 0; ///< fine voxels refined this frame, every level

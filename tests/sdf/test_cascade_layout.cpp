@@ -11,6 +11,7 @@
 #include "sdf/cascade/CascadeScene.h"
 #include "sdf/cascade/SingleBoxCheck.h"
 #include "sdf/cascade/ToroidalLevelCpu.h"
+#include "sdf/pipeline/GridShift.h"
 #include "util/Error.h"
 
 #include <gtest/gtest.h>
@@ -28,6 +29,7 @@ CascadeShape shape4() {
   s.coarseRes = 64;
   s.fineRes = 256;
   s.levelZeroExtent = 6.25;
+  s.moveCells = levelMoveCells(s.coarseRes, s.fineRes); // 2: a brick of 8 fine voxels is 2 coarse ones
   return s;
 }
 
@@ -56,9 +58,9 @@ TEST(CascadeLayout, LevelsDoubleTheirVoxelsAndSnapToTheirCoarseVoxel) {
     EXPECT_EQ(l.fine.dims, glm::ivec3(256));
     EXPECT_EQ(l.coarse.origin, l.fine.origin) << "the coarse grid shares the fine one's corner";
     for (int a = 0; a < 3; ++a) {
-      EXPECT_TRUE(wholeMultiple(l.coarse.origin[a], c)) << "level " << l.index << " axis " << a;
-      // Centred on the camera to within half a coarse voxel.
-      EXPECT_LE(std::abs(l.box().center()[a] - camera[a]), 0.5 * c + 1e-12) << l.index;
+      EXPECT_TRUE(wholeMultiple(l.coarse.origin[a], c * shape.moveCells)) << "level " << l.index << " axis " << a;
+      // Centred on the camera to within half a move.
+      EXPECT_LE(std::abs(l.box().center()[a] - camera[a]), 0.5 * c * shape.moveCells + 1e-12) << l.index;
     }
     if (l.index > 0) EXPECT_TRUE(inside(layout.levels[std::size_t(l.index) - 1].box(), l.box())) << l.index;
   }
@@ -79,9 +81,9 @@ TEST(CascadeLayout, LevelsAheadOfTheCameraStillNestAndHoldTheCamera) {
     const double side = shape.levelZeroExtent * std::ldexp(1.0, l.index), c = shape.coarseVoxel(l.index);
     const bool outermost = l.index + 1 == shape.levels;
     for (int a = 0; a < 3; ++a) {
-      EXPECT_TRUE(wholeMultiple(l.coarse.origin[a], c)) << "level " << l.index << " axis " << a;
+      EXPECT_TRUE(wholeMultiple(l.coarse.origin[a], c * shape.moveCells)) << "level " << l.index << " axis " << a;
       const double centre = outermost ? camera[a] : camera[a] + std::ldexp(ahead[a], l.index);
-      EXPECT_LE(std::abs(l.box().center()[a] - centre), 0.5 * c + 1e-12);
+      EXPECT_LE(std::abs(l.box().center()[a] - centre), 0.5 * c * shape.moveCells + 1e-12);
     }
     EXPECT_TRUE(holds(l.box(), camera)) << l.index;
     if (l.index > 0) EXPECT_TRUE(inside(layout.levels[std::size_t(l.index) - 1].box(), l.box())) << l.index;
@@ -94,7 +96,7 @@ TEST(CascadeLayout, LevelsAheadOfTheCameraStillNestAndHoldTheCamera) {
   EXPECT_EQ(layout.lookAhead, ahead);
 }
 
-TEST(CascadeLayout, ACameraPathMovesLevelsByWholeCoarseVoxelsOnly) {
+TEST(CascadeLayout, ACameraPathMovesLevelsByWholeMovesOnly) {
   const CascadeShape shape = shape4();
   CascadeLayout before = CascadeLayout::around({0.01, 1.7, 0.02}, shape);
   std::vector<std::int64_t> moves(4, 0);
@@ -110,6 +112,10 @@ TEST(CascadeLayout, ACameraPathMovesLevelsByWholeCoarseVoxelsOnly) {
           (now.levels[i].fine.origin - before.levels[i].fine.origin) / now.levels[i].fine.voxelSize;
       EXPECT_EQ(moved, glm::floor(moved)) << "level " << i << " step " << step;
       EXPECT_EQ(now.levels[i].coarse.origin - before.levels[i].coarse.origin, glm::dvec3(shift[i]) * c);
+      // By whole moves (whole bricks of the fine grid: what a level scrolls by).
+      EXPECT_EQ(shift[i] % std::int64_t(shape.moveCells), glm::i64vec3(0)) << "level " << i << " step " << step;
+      EXPECT_TRUE(scrollShift(before.levels[i].grids(), now.levels[i].grids()).has_value() ||
+                  glm::any(glm::greaterThanEqual(glm::abs(shift[i]), glm::i64vec3(shape.coarseRes))));
       moves[i] += std::abs(shift[i].x) + std::abs(shift[i].y) + std::abs(shift[i].z);
     }
     before = now;
@@ -117,6 +123,59 @@ TEST(CascadeLayout, ACameraPathMovesLevelsByWholeCoarseVoxelsOnly) {
   // Coarser levels move less often: the slabs that enter a level shrink by half per level.
   for (std::size_t i = 1; i < 4; ++i) EXPECT_LT(moves[i], moves[i - 1]) << i;
   EXPECT_GT(moves[3], 0);
+}
+
+// A level moves by the fewest coarse voxels that are whole bricks, and the grids' scroll is recognised only then.
+TEST(CascadeLayout, LevelsMoveByWholeBricksAndScrollOnlyByThem) {
+  EXPECT_EQ(levelMoveCells(64, 128), 4);
+  EXPECT_EQ(levelMoveCells(64, 256), 2);
+  EXPECT_EQ(levelMoveCells(64, 512), 1);
+  EXPECT_EQ(levelMoveCells(32, 32), 8);
+  EXPECT_EQ(levelMoveCells(64, 96), 1) << "fine voxels straddling coarse ones: no scroll";
+  CascadeShape shape = shape4();
+  const CascadeLevel a = CascadeLayout::around({0, 0, 0}, shape).levels[1];
+  CascadeLevel b = a;
+  const double c = a.coarse.voxelSize;
+  b.coarse.origin = b.fine.origin = a.coarse.origin + glm::dvec3(2 * c, -4 * c, 0);
+  EXPECT_EQ(scrollShift(a.grids(), b.grids()), std::optional<glm::ivec3>(glm::ivec3(2, -4, 0)));
+  b.coarse.origin = b.fine.origin = a.coarse.origin + glm::dvec3(c, 0, 0);
+  EXPECT_FALSE(scrollShift(a.grids(), b.grids())) << "half a brick";
+  b.coarse.origin = b.fine.origin = a.coarse.origin + glm::dvec3(64 * c, 0, 0);
+  EXPECT_FALSE(scrollShift(a.grids(), b.grids())) << "nothing kept";
+  b = a;
+  b.fine.voxelSize *= 2;
+  EXPECT_FALSE(scrollShift(a.grids(), b.grids())) << "another grid";
+}
+
+// The transfers of a shift leave every cell what a shift cell by cell gives, entered cells filled.
+TEST(GridShift, ThePlanEqualsAShiftCellByCell) {
+  for (const glm::ivec3 dims : {glm::ivec3(5, 4, 3), glm::ivec3(8, 1, 6)})
+    for (const std::uint32_t elementWords : {1u, 2u})
+      for (const glm::ivec3 shift : {glm::ivec3(0), glm::ivec3(2, 0, 0), glm::ivec3(-1, 3, 0), glm::ivec3(0, 0, -2),
+                                     glm::ivec3(1, -1, 1), glm::ivec3(7, 0, 0), glm::ivec3(0, 0, 3)}) {
+        SCOPED_TRACE(testing::Message() << dims.x << "x" << dims.y << "x" << dims.z << " shift " << shift.x << ","
+                                        << shift.y << "," << shift.z << " words " << elementWords);
+        const std::size_t cells = std::size_t(dims.x) * dims.y * dims.z;
+        std::vector<std::uint32_t> words(cells * elementWords);
+        for (std::size_t i = 0; i < words.size(); ++i) words[i] = std::uint32_t(i) + 1;
+        std::vector<std::uint32_t> expected(words.size());
+        for (int z = 0; z < dims.z; ++z)
+          for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x) {
+              const glm::ivec3 from = glm::ivec3(x, y, z) + shift;
+              const bool kept = glm::all(glm::greaterThanEqual(from, glm::ivec3(0))) && glm::all(glm::lessThan(from, dims));
+              const std::size_t to = std::size_t((z * dims.y + y) * dims.x + x);
+              const std::size_t src = kept ? std::size_t((from.z * dims.y + from.y) * dims.x + from.x) : 0;
+              for (std::uint32_t w = 0; w < elementWords; ++w)
+                expected[to * elementWords + w] = kept ? words[src * elementWords + w] : 0xABCDu;
+            }
+        const GridShiftPlan plan = gridShiftPlan(dims, 4 * elementWords, shift);
+        applyGridShift(plan, words, 0xABCDu);
+        EXPECT_EQ(words, expected);
+        if (shift == glm::ivec3(0)) EXPECT_TRUE(plan.fills.empty() && plan.copies.size() == 1u) << "one copy";
+      }
+  EXPECT_EQ(gridShiftPlan({4, 4, 4}, 4, {0, 0, 1}).copies.size(), 1u) << "a shift along z is one copy";
+  EXPECT_THROW(gridShiftPlan({4, 4, 4}, 6, {0, 0, 0}), Error);
 }
 
 TEST(CascadeLayout, TheDefaultExtentMakesTheOutermostLevelSpanTheScene) {

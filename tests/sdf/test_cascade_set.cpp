@@ -44,6 +44,14 @@ std::uint64_t differing(const std::vector<float>& a, const std::vector<float>& b
   return n;
 }
 
+/// The largest |a - b| over the voxels (infinite when the fields differ in size).
+double largestDifference(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size()) return HUGE_VAL;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double(std::fabs(a[i] - b[i])));
+  return worst;
+}
+
 } // namespace
 
 TEST_F(CascadeSetGpu, EachLevelEqualsTheWholeSceneOnItsVoxelsAndIsExactUnderItsBand) {
@@ -82,22 +90,84 @@ TEST_F(CascadeSetGpu, EachLevelEqualsTheWholeSceneOnItsVoxelsAndIsExactUnderItsB
   }
 }
 
-TEST_F(CascadeSetGpu, ACameraMoveRebuildsOnlyTheLevelsWhoseBoxMoved) {
+TEST_F(CascadeSetGpu, ACameraMoveScrollsOnlyTheLevelsWhoseBoxMoved) {
   const Scene scene = room();
   const PipelineSettings s = threeLevels();
   const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene).bounds, s);
-  const double c0 = shape.coarseVoxel(0);
-  // Start at a level-2 lattice point, so that one level-0 voxel of movement moves no coarser level.
-  const glm::dvec3 start = glm::dvec3(0.0, 4.0, 0.0) * shape.coarseVoxel(2);
+  ASSERT_EQ(shape.moveCells, 4) << "2 fine voxels a coarse one: a brick of 8 is 4 coarse voxels";
+  const double move0 = shape.coarseVoxel(0) * shape.moveCells;
+  // Start at a level-2 move lattice point, so that one level-0 move moves no coarser level.
+  const glm::dvec3 start = glm::dvec3(0.0, 1.0, 0.0) * shape.coarseVoxel(2) * double(shape.moveCells);
   CascadeSet set(*sCtx, scene, CascadeLayout::around(start, shape), s);
   set.runFrame(0.0);
-  EXPECT_TRUE(set.moveTo(start + glm::dvec3(0.3 * c0, 0, 0)).empty()) << "within half a coarse voxel";
-  const glm::dvec3 next = start + glm::dvec3(0.8 * c0, 0, 0); // past half a level-0 voxel, under half a level-1 one
-  EXPECT_EQ(set.moveTo(next), std::vector<int>{0});
+  EXPECT_TRUE(set.moveTo(start + glm::dvec3(0.3 * move0, 0, 0)).moved.empty()) << "within half a move";
+  const glm::dvec3 next = start + glm::dvec3(0.8 * move0, 0, 0); // past half a level-0 move, under half a level-1 one
+  const CascadeMove move = set.moveTo(next);
+  EXPECT_EQ(move.moved, std::vector<int>{0});
+  EXPECT_TRUE(move.rebuilt.empty()) << "one move scrolls";
   set.runFrame(0.0);
   CascadeSet fresh(*sCtx, scene, CascadeLayout::around(next, shape), s);
   fresh.runFrame(0.0);
-  for (int i = 0; i < 3; ++i) EXPECT_EQ(differing(set.level(i).fineField(), fresh.level(i).fineField()), 0u) << i;
+  for (int i = 0; i < 3; ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    EXPECT_EQ(set.level(i).fineSpec().origin, fresh.level(i).fineSpec().origin);
+    const double voxel = set.level(i).fineSpec().voxelSize;
+    EXPECT_LT(largestDifference(set.level(i).fineField(), fresh.level(i).fineField()) / voxel, 1e-3);
+    EXPECT_LT(largestDifference(set.level(i).coarseField(), fresh.level(i).coarseField()) / voxel, 1e-3);
+  }
+}
+
+// A camera walking, then driving, along a diagonal that also climbs and turns back, while the teapot orbits: after
+// every frame each level equals levels built fresh there and then (float rounding: a scrolled level measures from
+// its new corner), levels scroll while their scene holds what they need and are rebuilt past it, and a scrolled
+// level refines fewer voxels than a fresh one.
+TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
+  const Scene scene = room();
+  PipelineSettings s = threeLevels();
+  s.coarseRes = 32;
+  s.fineRes = 64;
+  const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene).bounds, s);
+  glm::dvec3 camera(-0.5, 0.3, -0.4);
+  CascadeSet set(*sCtx, scene, CascadeLayout::around(camera, shape), s);
+  set.runFrame(0.0);
+  int scrolls = 0, rebuilds = 0;
+  std::uint64_t scrolledRefined = 0, freshRefined = 0;
+  double worst = 0.0;
+  for (int f = 1; f <= 14; ++f) {
+    const double speed = f < 8 ? 0.03 : 0.09;
+    camera += speed * glm::dvec3(1.0, f % 5 == 0 ? -0.5 : 0.25, f < 11 ? 0.8 : -1.2);
+    const CascadeMove move = set.moveTo(camera);
+    rebuilds += int(move.rebuilt.size());
+    scrolls += int(move.moved.size() - move.rebuilt.size());
+    const double t = f / 30.0;
+    const std::vector<FrameStats> stats = set.runFrame(t);
+    CascadeSet fresh(*sCtx, scene, CascadeLayout::around(camera, shape), s);
+    const std::vector<FrameStats> freshStats = fresh.runFrame(t);
+    for (int i = 0; i < set.levels(); ++i) {
+      SCOPED_TRACE("frame " + std::to_string(f) + ", level " + std::to_string(i));
+      ASSERT_EQ(set.level(i).fineSpec().origin, fresh.level(i).fineSpec().origin);
+      const double voxel = set.level(i).fineSpec().voxelSize;
+      const double fine = largestDifference(set.level(i).fineField(), fresh.level(i).fineField()) / voxel;
+      const double coarse = largestDifference(set.level(i).coarseField(), fresh.level(i).coarseField()) / voxel;
+      EXPECT_LT(fine, 1e-3);
+      EXPECT_LT(coarse, 1e-3);
+      worst = std::max({worst, fine, coarse});
+      const bool scrolled = std::count(move.moved.begin(), move.moved.end(), i) &&
+                            !std::count(move.rebuilt.begin(), move.rebuilt.end(), i);
+      if (scrolled) {
+        EXPECT_LE(stats[std::size_t(i)].refinedFineVoxels, freshStats[std::size_t(i)].refinedFineVoxels);
+        scrolledRefined += stats[std::size_t(i)].refinedFineVoxels;
+        freshRefined += freshStats[std::size_t(i)].refinedFineVoxels;
+      }
+    }
+  }
+  EXPECT_GE(scrolls, 8);
+  EXPECT_GE(rebuilds, 1) << "the driving camera drifts past level 0's scene";
+  // Only what entered is refined (the moving teapot's reach aside).
+  EXPECT_LT(double(scrolledRefined), 0.5 * double(freshRefined));
+  std::printf("%d scrolls, %d rebuilds; largest difference from fresh levels %.2e fine voxels; scrolled levels "
+              "refined %.3f of the voxels fresh ones did\n", scrolls, rebuilds, worst,
+              double(scrolledRefined) / double(freshRefined));
 }
 
 // The orbiting teapot moves every frame; a level whose box and reach it never meets skips its coarse passes and

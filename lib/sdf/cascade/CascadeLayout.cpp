@@ -1,11 +1,13 @@
 #include "sdf/cascade/CascadeLayout.h"
 
+#include "sdf/mask/MaskParams.h"
 #include "util/Error.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace rtsdf {
 
@@ -13,9 +15,15 @@ double CascadeShape::coarseVoxel(int i) const { return std::ldexp(levelZeroExten
 
 double CascadeShape::fineVoxel(int i) const { return std::ldexp(levelZeroExtent / fineRes, i); }
 
+int levelMoveCells(int coarseRes, int fineRes) {
+  if (coarseRes <= 0 || fineRes % coarseRes != 0) return 1;
+  return RTSDF_BRICK / std::gcd(fineRes / coarseRes, RTSDF_BRICK);
+}
+
 CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const PipelineSettings& s) {
   s.validate();
   CascadeShape shape;
+  shape.moveCells = levelMoveCells(s.coarseRes, s.fineRes);
   shape.levels = s.cascades;
   shape.coarseRes = s.coarseRes;
   shape.fineRes = s.fineRes;
@@ -34,8 +42,9 @@ CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const glm::dvec3& centre
   if (s.cascadeExtent > 0.0) return shape;
   const glm::dvec3 reach = glm::max(centre - sceneBounds.min, sceneBounds.max - centre);
   const double radius = std::max({reach.x, reach.y, reach.z});
-  // side = 2 radius + 2 coarse voxels of the outermost level, its coarse voxel being side / coarseRes.
-  const double outermost = 2.0 * radius * s.coarseRes / std::max(1, s.coarseRes - 2);
+  // side = 2 radius + (moveCells + 1) coarse voxels of the outermost level (the snapping moves its centre by up to
+  // half a move each way, and half a voxel each side to spare), its coarse voxel being side / coarseRes.
+  const double outermost = 2.0 * radius * s.coarseRes / std::max(1, s.coarseRes - 1 - shape.moveCells);
   shape.levelZeroExtent = std::ldexp(outermost, 1 - s.cascades);
   return shape;
 }
@@ -54,9 +63,11 @@ CascadeLayout CascadeLayout::around(const glm::dvec3& camera, const CascadeShape
     const glm::dvec3 centre = i + 1 < shape.levels ? camera + std::ldexp(1.0, i) * lookAhead : camera;
     CascadeLevel level;
     level.index = i;
-    // The lattice point nearest the centre: the level moves only when the centre crosses half a coarse voxel, and
-    // then by whole coarse voxels (a multiple of c in double: the same voxel centres before and after).
-    for (int a = 0; a < 3; ++a) level.centreCell[a] = std::int64_t(std::floor(centre[a] / c + 0.5));
+    // The lattice point nearest the centre: the level moves only when the centre crosses half a move, and then by
+    // whole moves of moveCells coarse voxels (a multiple of c in double: the same voxel centres before and after).
+    const double move = c * std::max(1, shape.moveCells);
+    for (int a = 0; a < 3; ++a)
+      level.centreCell[a] = std::int64_t(std::floor(centre[a] / move + 0.5)) * std::max(1, shape.moveCells);
     const glm::dvec3 corner = glm::dvec3(level.centreCell - glm::i64vec3(shape.coarseRes / 2));
     level.coarse.origin = corner * c;
     level.coarse.voxelSize = c;

@@ -20,21 +20,30 @@ struct CascadeShape {
   int coarseRes = 128;       ///< coarse voxels along each axis of every level
   int fineRes = 256;         ///< fine voxels along each axis of every level
   double levelZeroExtent = 1.0; ///< level 0's side in scene units (level i's: 2^i times it)
+  /// Coarse voxels a level moves by at a time: its centre snaps to multiples of this many coarse voxels. Whole bricks
+  /// of the fine grid (levelMoveCells), so that a moved level scrolls its buffers (SdfPipeline::scroll).
+  int moveCells = 1;
   /// @brief Level @a i's coarse voxel: levelZeroExtent / coarseRes * 2^i.
   double coarseVoxel(int i) const;
   /// @brief Level @a i's fine voxel: levelZeroExtent / fineRes * 2^i.
   double fineVoxel(int i) const;
 };
 
+/// @brief The fewest coarse voxels that are whole bricks (RTSDF_BRICK fine voxels) of a level of @a coarseRes and
+///        @a fineRes voxels a side: 8 / gcd(fineRes / coarseRes, 8), or 1 when fine voxels straddle coarse ones (a
+///        level that moves is then rebuilt).
+int levelMoveCells(int coarseRes, int fineRes);
+
 /// @brief The shape @a s asks for over a scene of @a sceneBounds: s.cascades levels of s.coarseRes and s.fineRes
 ///        voxels; level 0's side s.cascadeExtent, or by default the scene's longest side / 2^(K - 1), so that the
-///        outermost level spans the scene.
+///        outermost level spans the scene; levels move by levelMoveCells coarse voxels.
 /// @throw SettingError as PipelineSettings::validate; Error when @a sceneBounds is empty and no extent is given.
 CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const PipelineSettings& s);
 
 /// @brief The same for levels centred on @a centre (the camera): by default level 0's side is such that the
 ///        outermost level, snapped around @a centre, holds all of @a sceneBounds (twice the farthest distance from
-///        @a centre to a face of the bounds, along an axis, plus a coarse voxel each side for the snapping).
+///        @a centre to a face of the bounds, along an axis, plus half a move and half a coarse voxel each side for
+///        the snapping).
 /// @throw as the overload above.
 CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const glm::dvec3& centre, const PipelineSettings& s);
 
@@ -42,7 +51,8 @@ CascadeShape cascadeShapeFor(const Bounds& sceneBounds, const glm::dvec3& centre
 struct CascadeLevel {
   int index = 0;
   GridSpec coarse, fine;
-  glm::i64vec3 centreCell{0}; ///< the camera's nearest coarse lattice point, in level coarse voxels from the origin
+  glm::i64vec3 centreCell{0}; ///< the camera's nearest lattice point, in level coarse voxels from the origin (a
+                              ///< multiple of CascadeShape::moveCells)
   /// @brief The level's box in world units.
   Bounds box() const;
   /// @brief The grids as SdfPipeline takes them (coarse, fine).
@@ -55,8 +65,9 @@ struct CascadeLayout {
   glm::dvec3 camera{0.0};
   glm::dvec3 lookAhead{0.0}; ///< level i < K - 1 is centred on camera + lookAhead 2^i, the outermost on the camera
   std::vector<CascadeLevel> levels; ///< finest first
-  /// @brief The layout for @a camera: level i's coarse voxel c_i, its centre the coarse lattice point nearest the
-  ///        camera (round(camera / c_i) c_i), its corner coarseRes / 2 coarse voxels below that.
+  /// @brief The layout for @a camera: level i's coarse voxel c_i, its centre the point nearest the camera of the
+  ///        lattice of moveCells coarse voxels (m c_i round(camera / (m c_i))), its corner coarseRes / 2 coarse voxels
+  ///        below that.
   /// @param lookAhead where given, level i below the outermost is centred on camera + lookAhead 2^i instead (levels
   ///        that reach further along the view than behind it; they still nest while each component of lookAhead is
   ///        at most a quarter of level 0's side); the outermost level stays on the camera.

@@ -1,6 +1,7 @@
 #include "sdf/cascade/CascadeMemory.h"
 
 #include "sdf/cascade/CascadeScene.h"
+#include "sdf/mask/MaskParams.h"
 
 #include <fmt/format.h>
 
@@ -43,18 +44,28 @@ std::string CascadeMemory::describe() const {
   return t;
 }
 
+std::uint64_t cascadeScrollScratchBytes(const CascadeLayout& layout, const PipelineSettings& s) {
+  if (layout.levels.empty() || layout.shape.fineRes % layout.shape.coarseRes != 0) return 0;
+  const GridSpec& coarse = layout.levels[0].coarse;
+  const GridSpec& fine = layout.levels[0].fine;
+  const glm::i64vec3 bricks = (glm::i64vec3(fine.dims) + std::int64_t(RTSDF_BRICK - 1)) / std::int64_t(RTSDF_BRICK);
+  const std::uint64_t dense = s.fineStorage == FineStorage::Dense ? fine.voxelCount() * 4 : 0;
+  return std::max<std::uint64_t>({dense, coarse.voxelCount() * 8, std::uint64_t(bricks.x * bricks.y * bricks.z) * 4});
+}
+
 CascadeMemory estimateCascadeMemory(const Scene& scene, const CascadeLayout& layout, const PipelineSettings& s) {
   CascadeMemory m;
   for (const CascadeLevel& level : layout.levels) {
     const PipelineSettings ls = levelSettings(s, level.index);
-    const double margin =
-        levelSceneMargin(ls.band.sceneUnits(level.fine.voxelSize), level.coarse.voxelSize, level.fine.voxelSize);
+    const double margin = levelCutMargin(layout.shape, level, ls.band.sceneUnits(level.fine.voxelSize));
     const std::uint64_t triangles = instanceTriangles(levelScene(scene, level.box(), margin));
     m.levels.push_back(estimatePipelineMemory(level.grids(), withLengthsResolved(ls, level.fine.voxelSize), triangles));
     m.triangles.push_back(triangles);
     m.deviceBytes += m.levels.back().deviceBytes;
     m.hostBytes = std::max(m.hostBytes, m.levels.back().hostBytes);
   }
+  m.scrollScratchBytes = cascadeScrollScratchBytes(layout, s);
+  m.deviceBytes += m.scrollScratchBytes;
   return m;
 }
 

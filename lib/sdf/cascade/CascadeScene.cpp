@@ -1,5 +1,6 @@
 #include "sdf/cascade/CascadeScene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <vector>
@@ -56,6 +57,15 @@ Scene levelScene(const Scene& scene, const Bounds& box, double margin) {
 
 double levelSceneMargin(double band, double coarseVoxel, double fineVoxel) {
   return std::max(band, 0.0) + 2.0 * std::sqrt(3.0) * coarseVoxel + fineVoxel;
+}
+
+double levelSceneSlack(const CascadeShape& shape, int level) {
+  const int moves = std::max(1, shape.coarseRes / 4 / std::max(1, shape.moveCells));
+  return shape.coarseVoxel(level) * std::max(1, shape.moveCells) * moves;
+}
+
+double levelCutMargin(const CascadeShape& shape, const CascadeLevel& level, double band) {
+  return levelSceneMargin(band, level.coarse.voxelSize, level.fine.voxelSize) + levelSceneSlack(shape, level.index);
 }
 
 std::uint64_t instanceTriangles(const Scene& scene) {

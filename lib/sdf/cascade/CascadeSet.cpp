@@ -1,6 +1,7 @@
 #include "sdf/cascade/CascadeSet.h"
 
 #include "sdf/cascade/CascadeScene.h"
+#include "sdf/pipeline/GridShift.h"
 
 #include <spdlog/spdlog.h>
 
@@ -15,6 +16,9 @@ CascadeSet::CascadeSet(const gpu::VulkanContext& ctx, const Scene& scene, const 
   mMemory = estimateCascadeMemory(scene, layout, s);
   checkPipelineMemory(mMemory.total(), memoryLimits(ctx.info()));
   for (int i = 0; i < int(layout.levels.size()); ++i) mLevels.push_back(buildLevel(i));
+  if (mMemory.scrollScratchBytes > 0)
+    mScrollScratch = gpu::Buffer(ctx, mMemory.scrollScratchBytes, gpu::kStorage, gpu::Buffer::Memory::Device,
+                                 "cascade scroll scratch");
 }
 
 CascadeSet::~CascadeSet() = default;
@@ -23,9 +27,9 @@ CascadeSet::Level CascadeSet::buildLevel(int i) const {
   const CascadeLevel& level = mLayout.levels.at(std::size_t(i));
   Level out;
   const PipelineSettings settings = levelSettings(mSettings, i);
-  const double margin =
-      levelSceneMargin(settings.band.sceneUnits(level.fine.voxelSize), level.coarse.voxelSize, level.fine.voxelSize);
-  out.scene = std::make_unique<Scene>(rtsdf::levelScene(mScene, level.box(), margin));
+  const double margin = levelCutMargin(mLayout.shape, level, settings.band.sceneUnits(level.fine.voxelSize));
+  out.sceneBox = level.box();
+  out.scene = std::make_unique<Scene>(rtsdf::levelScene(mScene, out.sceneBox, margin));
   if (out.scene->instances.empty()) {
     // Nothing near this level: one instance far outside keeps the pipeline's buffers non-empty; it lies beyond the
     // margin, so every voxel stays out of the band, as with no geometry at all.
@@ -46,18 +50,35 @@ std::vector<FrameStats> CascadeSet::runFrame(double time) {
   return stats;
 }
 
-std::vector<int> CascadeSet::moveTo(const glm::dvec3& camera, const glm::dvec3& lookAhead) {
+bool CascadeSet::canScroll(int i) const {
+  const Level& level = mLevels.at(std::size_t(i));
+  const CascadeLevel& to = mLayout.levels.at(std::size_t(i));
+  if (!mScrollScratch || !scrollShift({level.pipeline->coarseSpec(), level.pipeline->fineSpec()}, to.grids()))
+    return false;
+  const glm::dvec3 drift = glm::abs(to.box().min - level.sceneBox.min);
+  // A whisker under the slack: the drift is a sum of whole moves, the slack a product of the same lengths.
+  const double slack = levelSceneSlack(mLayout.shape, i) * (1.0 + 1e-9);
+  return drift.x <= slack && drift.y <= slack && drift.z <= slack;
+}
+
+CascadeMove CascadeSet::moveTo(const glm::dvec3& camera, const glm::dvec3& lookAhead) {
   const CascadeLayout next = CascadeLayout::around(camera, mLayout.shape, lookAhead);
   const std::vector<glm::i64vec3> shift = next.shiftSince(mLayout);
   mLayout = next;
-  std::vector<int> rebuilt;
-  for (int i = 0; i < levels(); ++i)
-    if (shift[std::size_t(i)] != glm::i64vec3(0)) {
-      mLevels[std::size_t(i)] = Level{}; // the old level's buffers go before the new one's are made
-      mLevels[std::size_t(i)] = buildLevel(i);
-      rebuilt.push_back(i);
+  CascadeMove move;
+  for (int i = 0; i < levels(); ++i) {
+    if (shift[std::size_t(i)] == glm::i64vec3(0)) continue;
+    move.moved.push_back(i);
+    Level& level = mLevels[std::size_t(i)];
+    if (canScroll(i)) {
+      level.pipeline->scroll(mLayout.levels[std::size_t(i)].grids(), mScrollScratch);
+      continue;
     }
-  return rebuilt;
+    level = Level{}; // the old level's buffers go before the new one's are made
+    level = buildLevel(i);
+    move.rebuilt.push_back(i);
+  }
+  return move;
 }
 
 FrameStats sumFrameStats(const std::vector<FrameStats>& levels) {

@@ -14,9 +14,16 @@
 
 namespace rtsdf {
 
+/// @brief What moveTo() did: the levels whose box moved, and of those the ones rebuilt from scratch (the others
+///        scrolled, keeping what they knew).
+struct CascadeMove {
+  std::vector<int> moved, rebuilt;
+};
+
 /// @brief K levels around a camera position (CascadeLayout), each an SdfPipeline of its own. A camera move that
-///        changes a level's snapped box rebuilds that level from scratch (moveTo); the toroidal update that would
-///        rebuild only the slabs that entered it is not built yet.
+///        changes a level's snapped box scrolls that level (SdfPipeline::scroll: its buffers shift by whole bricks,
+///        and the next frame refines only what entered) while its part of the scene still holds every instance it
+///        needs (levelSceneSlack); past that, or when its grids cannot scroll, the level is rebuilt from scratch.
 class CascadeSet {
 public:
   /// @throw SettingError as SdfPipeline, and naming the fine resolution when all levels together do not fit the
@@ -30,9 +37,8 @@ public:
   /// @brief One frame of every level at @a time seconds, finest first; their statistics.
   std::vector<FrameStats> runFrame(double time);
   /// @brief Centre the levels on @a camera (level i on camera + lookAhead 2^i, CascadeLayout::around); a level
-  ///        whose snapped box changed is rebuilt (its history lost).
-  /// @return the indices of the levels rebuilt.
-  std::vector<int> moveTo(const glm::dvec3& camera, const glm::dvec3& lookAhead = glm::dvec3(0.0));
+  ///        whose snapped box changed scrolls, or is rebuilt (its history lost) where it cannot (see the class).
+  CascadeMove moveTo(const glm::dvec3& camera, const glm::dvec3& lookAhead = glm::dvec3(0.0));
   int levels() const { return int(mLevels.size()); }
   const SdfPipeline& level(int i) const { return *mLevels.at(std::size_t(i)).pipeline; }
   /// @brief The instances level @a i places (levelScene).
@@ -45,15 +51,19 @@ private:
   struct Level {
     std::unique_ptr<Scene> scene; ///< outlives its pipeline, which keeps a reference
     std::unique_ptr<SdfPipeline> pipeline;
+    Bounds sceneBox; ///< the box the scene was cut around (the level's box when it was built)
   };
   /// Level @a i of the layout: its part of the scene and its pipeline.
   Level buildLevel(int i) const;
+  /// Whether level @a i can scroll to the layout's box: its grids allow it and its scene still holds what it needs.
+  bool canScroll(int i) const;
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   PipelineSettings mSettings;
   CascadeLayout mLayout;
   CascadeMemory mMemory;
   std::vector<Level> mLevels;
+  gpu::Buffer mScrollScratch; ///< shared by the levels' scrolls (SdfPipeline::scroll), one at a time
 };
 
 /// @brief One frame's statistics over every level: counts, bytes and times summed, passes listed level after level

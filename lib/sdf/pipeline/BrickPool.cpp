@@ -1,5 +1,6 @@
 #include "sdf/pipeline/BrickPool.h"
 
+#include "sdf/pipeline/GridShift.h"
 #include "sdf/refine/RefineParams.h"
 #include "util/Error.h"
 
@@ -91,6 +92,39 @@ void BrickPool::recordAlloc(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std
   bp.bricks = std::uint32_t(gridBricks());
   bp.frame = frame;
   mAlloc.execute(cmd, profiler, {mNeeded}, {mCounts, mSlots, mFree}, bp);
+}
+
+void BrickPool::recordScroll(VkCommandBuffer cmd, const glm::ivec3& brickShift, const gpu::Buffer& scratch) {
+  if (mPoolBricks > 0) {
+    // The slots of the bricks that leave the grid (brick b goes to b - brickShift) return to the free stack.
+    const std::vector<std::uint32_t> slots = readSlots();
+    std::uint32_t counts[gpu::shared::kBrickCountWords] = {};
+    download(mCtx, mCounts, counts, sizeof(counts));
+    std::vector<std::uint32_t> freed;
+    const glm::ivec3& d = mBrickDims;
+    for (int z = 0; z < d.z; ++z)
+      for (int y = 0; y < d.y; ++y)
+        for (int x = 0; x < d.x; ++x) {
+          const glm::ivec3 to = glm::ivec3(x, y, z) - brickShift;
+          const std::uint32_t slot = slots[std::size_t((z * d.y + y) * d.x + x)];
+          const bool stays = glm::all(glm::greaterThanEqual(to, glm::ivec3(0))) && glm::all(glm::lessThan(to, d));
+          if (!stays && slot != gpu::shared::kNoBrick) freed.push_back(slot);
+        }
+    const std::uint32_t top = counts[gpu::shared::kBrickCountFreeTop];
+    if (std::uint64_t(top) + freed.size() > mPoolBricks)
+      throw Error(fmt::format("BrickPool: {} free slots and {} freed exceed the pool's {} (a bug)", top, freed.size(),
+                              mPoolBricks));
+    // The stack's entries above its top are free to overwrite: push the freed slots there (in pieces of at most
+    // 64 KiB, vkCmdUpdateBuffer's limit), then raise the top.
+    for (std::size_t at = 0; at < freed.size(); at += 16384) {
+      const std::size_t n = std::min<std::size_t>(16384, freed.size() - at);
+      vkCmdUpdateBuffer(cmd, mFree.handle(), VkDeviceSize(top + at) * 4, VkDeviceSize(n) * 4, freed.data() + at);
+    }
+    const std::uint32_t newTop = top + std::uint32_t(freed.size());
+    vkCmdUpdateBuffer(cmd, mCounts.handle(), gpu::shared::kBrickCountFreeTop * 4, 4, &newTop);
+  }
+  recordGridShift(cmd, mNeeded, scratch, gridShiftPlan(mBrickDims, 4, brickShift), 0u);
+  recordGridShift(cmd, mSlots, scratch, gridShiftPlan(mBrickDims, 4, brickShift), gpu::shared::kNoBrick);
 }
 
 void BrickPool::noteFrame(std::uint64_t activeBricks, std::uint64_t overflowBricks) {

@@ -1,5 +1,7 @@
 #include "sdf/pipeline/FieldPasses.h"
 
+#include "sdf/pipeline/GridShift.h"
+
 #include <algorithm>
 
 namespace rtsdf {
@@ -38,6 +40,13 @@ void FieldPasses::recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
   cs.beta = mSettings.beta;
   // Every GPU pass measures from the fine grid's corner (SdfPipeline::frameOrigin()).
   mCoarse.record(cmd, profiler, bvh.instancedTriangles(), mCoarseSpec.inFrame(mFineSpec.origin), cs);
+}
+
+void FieldPasses::recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine,
+                               const glm::ivec3& fineShift, const gpu::Buffer& scratch) {
+  mCoarseSpec = coarse;
+  mFineSpec = fine;
+  if (mFine) recordGridShift(cmd, mFine, scratch, gridShiftPlan(fine.dims, 4, fineShift), 0u);
 }
 
 RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& pool) const {

@@ -14,6 +14,7 @@ struct FrameChanges {
   bool first = true;        ///< no frame has run: every buffer is to be written
   bool moved = false;       ///< an instance's transform differs from the previous frame's (movedInstanceBoxes)
   bool poolReset = false;   ///< the brick pool was (re)allocated for this frame: every coarse voxel is new to the band
+  bool scrolled = false;    ///< the grids moved (SdfPipeline::scroll): the cells that entered are new to every buffer
   bool lastListed = true;   ///< the mask's last run listed voxels to refine (some may still be settling)
 };
 
@@ -27,7 +28,7 @@ struct FramePlan {
 /// @brief The passes a frame with @a changes runs under the settings in effect @a s. Every pass runs with
 ///        fullRebuild or fullRecompute and on the first frame. Otherwise the coarse SDF is rebuilt only when an
 ///        instance moved (its inputs are the instances' triangles and transforms); the mask runs when the coarse SDF
-///        changed, the pool was reset, or a band voxel may be due a refinement: while the last run listed any (the
+///        changed (an instance moved or the grids scrolled), the pool was reset, or a band voxel may be due a refinement: while the last run listed any (the
 ///        voxels still settling), and every frame where settled voxels are refreshed (refreshPeriod > 0: staggered
 ///        over the frames) or never settle (settleFrames 0). A run that lists nothing leaves the band, the bricks
 ///        and the fine SDF as they are, so skipping it changes nothing. The upsampling writes the coarse SDF

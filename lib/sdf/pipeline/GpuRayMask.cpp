@@ -1,5 +1,7 @@
 #include "sdf/pipeline/GpuRayMask.h"
 
+#include "sdf/pipeline/GridShift.h"
+
 #include "util/Error.h"
 
 #include <fmt/format.h>
@@ -52,6 +54,14 @@ GpuRayMask::GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, co
 void GpuRayMask::recordClear(VkCommandBuffer cmd) const {
   // No voxel has been in the band: last frame + 1 must differ from the first frame number (1).
   vkCmdFillBuffer(cmd, mCoarseState.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+}
+
+void GpuRayMask::recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine,
+                              const glm::ivec3& coarseShift, const gpu::Buffer& scratch) {
+  mCoarseSpec = coarse;
+  mFineSpec = fine;
+  // 0xFFFFFFFF: no frame in the band (as BrickPool::allocate resets it), so an entered voxel in the band is fresh.
+  recordGridShift(cmd, mCoarseState, scratch, gridShiftPlan(coarse.dims, 8, coarseShift), 0xFFFFFFFFu);
 }
 
 gpu::shared::MaskParams GpuRayMask::params(std::uint32_t frame, std::uint32_t movedBoxes) const {

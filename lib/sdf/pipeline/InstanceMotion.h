@@ -42,6 +42,8 @@ public:
   const std::vector<gpu::shared::MovedBox>& advance(std::uint32_t frame, double time, const glm::dvec3& origin);
   /// @brief Record the last boxes' upload into the buffer (vkCmdUpdateBuffer; the reader's barrier orders it).
   void recordUpload(VkCommandBuffer cmd) const;
+  /// @brief From the next frame on, count motion that meets @a reach (world space; a pipeline whose grids scrolled).
+  void setReach(const Bounds& reach) { mReach = reach; }
   /// @brief The last frame's boxes (advance()).
   const std::vector<gpu::shared::MovedBox>& lastBoxes() const { return mLast; }
   const gpu::Buffer& buffer() const { return mBuffer; }

@@ -64,6 +64,12 @@ public:
   const InstanceBvh& top() const { return mTop; }
   /// @brief The world point of the BVH's (0, 0, 0).
   const glm::dvec3& frameOrigin() const { return mFrameOrigin; }
+  /// @brief Measure from @a origin from the next update on (a pipeline whose grids scrolled): the bottom levels are
+  ///        in their meshes' own space and stay; the top level is rebuilt by the next update, whatever its time.
+  void setFrameOrigin(const glm::dvec3& origin) {
+    mFrameOrigin = origin;
+    mHaveTop = false;
+  }
 
 private:
   const gpu::VulkanContext& mCtx;

@@ -1,0 +1,112 @@
+#include "sdf/pipeline/GridShift.h"
+
+#include "sdf/mask/MaskParams.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace rtsdf {
+
+namespace {
+
+/// Append [offset, offset + size) to @a fills, merged with the last one when they touch.
+void addFill(std::vector<GridShiftPlan::Fill>& fills, VkDeviceSize offset, VkDeviceSize size) {
+  if (size == 0) return;
+  if (!fills.empty() && fills.back().offset + fills.back().size == offset) {
+    fills.back().size += size;
+    return;
+  }
+  fills.push_back({offset, size});
+}
+
+/// Append a copy, merged with the last one when both its source and destination continue it.
+void addCopy(std::vector<VkBufferCopy>& copies, VkDeviceSize src, VkDeviceSize dst, VkDeviceSize size) {
+  if (size == 0) return;
+  if (!copies.empty()) {
+    VkBufferCopy& last = copies.back();
+    if (last.srcOffset + last.size == src && last.dstOffset + last.size == dst) {
+      last.size += size;
+      return;
+    }
+  }
+  copies.push_back({src, dst, size});
+}
+
+} // namespace
+
+GridShiftPlan gridShiftPlan(const glm::ivec3& dims, std::uint32_t elementBytes, const glm::ivec3& shift) {
+  if (elementBytes == 0 || elementBytes % 4 != 0)
+    throw Error(fmt::format("gridShiftPlan: element of {} bytes (a positive multiple of 4 expected)", elementBytes));
+  if (glm::any(glm::lessThanEqual(dims, glm::ivec3(0))))
+    throw Error(fmt::format("gridShiftPlan: grid of {}x{}x{} cells", dims.x, dims.y, dims.z));
+  GridShiftPlan plan;
+  const VkDeviceSize e = elementBytes;
+  const VkDeviceSize row = VkDeviceSize(dims.x) * e;
+  plan.bytes = row * VkDeviceSize(dims.y) * VkDeviceSize(dims.z);
+  // Along x, the destination cells [x0, x1) read source cells [x0 + shift.x, x1 + shift.x).
+  const int x0 = std::clamp(-shift.x, 0, dims.x), x1 = std::clamp(dims.x - shift.x, 0, dims.x);
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y) {
+      const VkDeviceSize dst = (VkDeviceSize(z) * dims.y + y) * row;
+      const int sy = y + shift.y, sz = z + shift.z;
+      if (sy < 0 || sy >= dims.y || sz < 0 || sz >= dims.z || x1 <= x0) {
+        addFill(plan.fills, dst, row);
+        continue;
+      }
+      const VkDeviceSize src = (VkDeviceSize(sz) * dims.y + sy) * row;
+      addFill(plan.fills, dst, VkDeviceSize(x0) * e);
+      addCopy(plan.copies, src + VkDeviceSize(x0 + shift.x) * e, dst + VkDeviceSize(x0) * e,
+              VkDeviceSize(x1 - x0) * e);
+      addFill(plan.fills, dst + VkDeviceSize(x1) * e, VkDeviceSize(dims.x - x1) * e);
+    }
+  return plan;
+}
+
+std::optional<glm::ivec3> scrollShift(const std::pair<GridSpec, GridSpec>& from, const std::pair<GridSpec, GridSpec>& to) {
+  const GridSpec &c0 = from.first, &f0 = from.second, &c1 = to.first, &f1 = to.second;
+  if (c0.dims != c1.dims || f0.dims != f1.dims || c0.voxelSize != c1.voxelSize || f0.voxelSize != f1.voxelSize ||
+      c0.origin != f0.origin || c1.origin != f1.origin)
+    return std::nullopt;
+  glm::ivec3 shift(0);
+  for (int a = 0; a < 3; ++a) {
+    if (f0.dims[a] % c0.dims[a] != 0) return std::nullopt; // fine voxels straddle coarse ones
+    const double cells = (c1.origin[a] - c0.origin[a]) / c0.voxelSize;
+    const double whole = std::round(cells);
+    // Layouts place corners at whole multiples of the coarse voxel: anything else is another lattice.
+    if (std::fabs(cells - whole) > 1e-6 || std::fabs(whole) >= c0.dims[a]) return std::nullopt;
+    shift[a] = int(whole);
+    if ((shift[a] * (f0.dims[a] / c0.dims[a])) % RTSDF_BRICK != 0) return std::nullopt; // bricks would straddle
+  }
+  return shift;
+}
+
+void applyGridShift(const GridShiftPlan& plan, std::vector<std::uint32_t>& words, std::uint32_t fillWord) {
+  if (VkDeviceSize(words.size()) * 4 != plan.bytes)
+    throw Error(fmt::format("applyGridShift: {} bytes for a plan of {}", words.size() * 4, plan.bytes));
+  const std::vector<std::uint32_t> scratch = words;
+  for (const VkBufferCopy& c : plan.copies)
+    std::memcpy(words.data() + c.dstOffset / 4, scratch.data() + c.srcOffset / 4, c.size);
+  for (const GridShiftPlan::Fill& f : plan.fills)
+    std::fill_n(words.begin() + std::ptrdiff_t(f.offset / 4), f.size / 4, fillWord);
+}
+
+void recordGridShift(VkCommandBuffer cmd, const gpu::Buffer& buffer, const gpu::Buffer& scratch,
+                     const GridShiftPlan& plan, std::uint32_t fillWord) {
+  if (scratch.size() < plan.bytes || buffer.size() < plan.bytes)
+    throw Error(fmt::format("recordGridShift: a shift of {} bytes with a scratch of {} over a buffer of {}",
+                            plan.bytes, scratch.size(), buffer.size()));
+  gpu::computeBarrier(cmd); // the scratch may still be read by the previous shift's copies
+  const VkBufferCopy whole{0, 0, plan.bytes};
+  vkCmdCopyBuffer(cmd, buffer.handle(), scratch.handle(), 1, &whole);
+  gpu::computeBarrier(cmd);
+  if (!plan.copies.empty())
+    vkCmdCopyBuffer(cmd, scratch.handle(), buffer.handle(), std::uint32_t(plan.copies.size()), plan.copies.data());
+  for (const GridShiftPlan::Fill& f : plan.fills) vkCmdFillBuffer(cmd, buffer.handle(), f.offset, f.size, fillWord);
+  gpu::computeBarrier(cmd);
+}
+
+} // namespace rtsdf

@@ -1,0 +1,51 @@
+#pragma once
+/// @file GridShift.h
+/// @brief Moving a grid's buffer by whole cells on the GPU (a cascade level that scrolled keeps what it knows): the
+///        copies and fills that do it (gridShiftPlan, pure) and their recording through a scratch buffer
+///        (recordGridShift).
+#include "gpu/Resources.h"
+#include "grid/GridSpec.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace rtsdf {
+
+/// @brief The transfers that shift a dense grid buffer (x fastest) of @a dims cells of @a elementBytes bytes by
+///        @a shift cells: cell v afterwards holds what cell v + shift held before where that lies in the grid (a
+///        copy from the scratch holding the old buffer), else the fill value (the cells that entered). Adjacent
+///        copies and fills are merged, so a shift along z alone is one copy and one fill.
+struct GridShiftPlan {
+  struct Fill {
+    VkDeviceSize offset = 0, size = 0;
+  };
+  std::vector<VkBufferCopy> copies; ///< from the scratch (the old buffer) into the buffer
+  std::vector<Fill> fills;          ///< the entered cells
+  VkDeviceSize bytes = 0;           ///< the whole buffer
+};
+
+/// @brief The plan for @a dims, @a elementBytes (a multiple of 4) and @a shift.
+/// @throw Error when @a elementBytes is not a positive multiple of 4 or @a dims is not positive.
+GridShiftPlan gridShiftPlan(const glm::ivec3& dims, std::uint32_t elementBytes, const glm::ivec3& shift);
+
+/// @brief The coarse voxels by which the (coarse, fine) grids @a to lie from @a from, when a pipeline can scroll from
+///        one to the other keeping its buffers: the same counts and voxel sizes, a whole number of fine voxels per
+///        coarse voxel (the same corner), the corner moved by whole coarse voxels that are whole bricks of the fine
+///        grid, and by less than the grid along every axis. None otherwise (the pipeline is built anew).
+std::optional<glm::ivec3> scrollShift(const std::pair<GridSpec, GridSpec>& from, const std::pair<GridSpec, GridSpec>& to);
+
+/// @brief The plan applied to host memory: what recordGridShift leaves in the buffer (the tests' reference).
+void applyGridShift(const GridShiftPlan& plan, std::vector<std::uint32_t>& words, std::uint32_t fillWord);
+
+/// @brief Record @a plan on @a buffer: the buffer copied into @a scratch, then the plan's copies back and its fills
+///        with @a fillWord, each step after a barrier (the scratch may have served another shift just before), and a
+///        barrier after (computeBarrier: later passes and transfers see the shifted buffer).
+/// @throw Error when @a scratch is smaller than the buffer.
+void recordGridShift(VkCommandBuffer cmd, const gpu::Buffer& buffer, const gpu::Buffer& scratch,
+                     const GridShiftPlan& plan, std::uint32_t fillWord);
+
+} // namespace rtsdf

@@ -2,6 +2,7 @@
 
 #include "grid/VdbIO.h"
 
+#include "sdf/cascade/CascadeScene.h"
 #include "sdf/cascade/SingleBoxCheck.h"
 #include "sdf/refine/RefineCpu.h"
 #include "sdf/pipeline/BrickPool.h"
@@ -46,9 +47,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
     mSettings.closestSearch = cpuShaders ? ClosestSearch::Cell : ClosestSearch::Voxel;
   const bool cellSearch = s.mode == RefineMode::Closest && mSettings.closestSearch == ClosestSearch::Cell;
   // Everything is checked before anything is allocated (the brick pool, sized by the first frame's band, then).
-  std::uint64_t triangles = 0;
-  for (const Instance& inst : scene.instances) triangles += scene.meshes.at(inst.mesh).triangles.size();
-  mMemory = estimatePipelineMemory(grids, s, triangles);
+  mMemory = estimatePipelineMemory(grids, s, instanceTriangles(scene));
   checkPipelineMemory(mMemory, memoryLimits(ctx.info()));
   mCoarseSpec = mMemory.coarse;
   mFineSpec = mMemory.fine;
@@ -89,7 +88,7 @@ std::uint64_t SdfPipeline::scrollScratchBytes() const {
   return std::max<std::uint64_t>({dense, mCoarseSpec.voxelCount() * 8, mPool->gridBricks() * 4});
 }
 
-void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::Buffer& scratch) {
+void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::Buffer& scratch, const Scene* recut) {
   const std::optional<glm::ivec3> shift = scrollShift({mCoarseSpec, mFineSpec}, grids);
   if (!shift)
     throw Error(fmt::format("SdfPipeline: cannot scroll from coarse {} / fine {} to coarse {} / fine {} (not the same "
@@ -98,6 +97,13 @@ void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::
   if (scratch.size() < scrollScratchBytes())
     throw Error(fmt::format("SdfPipeline: a scroll scratch of {} bytes, {} needed", scratch.size(),
                             scrollScratchBytes()));
+  PipelineMemory memory = mMemory;
+  if (recut) { // checked before anything moves
+    memory = estimatePipelineMemory(grids, mSettings, instanceTriangles(*recut));
+    PipelineMemory withPool = memory;
+    withPool.deviceBytes += BrickPool::deviceBytesFor(mPool->capacity());
+    checkPipelineMemory(withPool, memoryLimits(mCtx.info()));
+  }
   waitForFrame(); // the frame's buffers are about to move, and the pool's slots are read back
   const glm::ivec3 fineShift = *shift * (mFineSpec.dims / mCoarseSpec.dims);
   gpu::CommandBuffer cmd(mCtx);
@@ -105,9 +111,15 @@ void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::
   mFields->recordScroll(cmd.handle(), grids.first, grids.second, fineShift, scratch);
   mPool->recordScroll(cmd.handle(), fineShift / RTSDF_BRICK, scratch);
   cmd.submitAndWait();
+  mMemory = memory;
   mCoarseSpec = mMemory.coarse = grids.first;
   mFineSpec = mMemory.fine = grids.second;
-  mBvh->setFrameOrigin(frameOrigin());
+  if (recut) {
+    mBvh = std::make_unique<GpuSceneBvh>(mCtx, *recut, frameOrigin());
+    mMotion->setScene(*recut);
+  } else {
+    mBvh->setFrameOrigin(frameOrigin());
+  }
   mMotion->setReach(motionReach());
   mScrolled = true;
 }

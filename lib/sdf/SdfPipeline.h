@@ -89,8 +89,13 @@ public:
   ///        it (those that entered, or that a surface entering made part of it), with those moving instances reach:
   ///        what a pipeline built on @a grids would have, up to the float rounding of its frame (frameOrigin moves).
   ///        Waits for a frame in flight.
-  /// @throw Error when @a grids are not a scroll of the grids (scrollShift) or @a scratch is too small.
-  void scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::Buffer& scratch);
+  /// @param recut where given, the pipeline's scene from now on (it must outlive the pipeline): the same world cut
+  ///        again around @a grids (a cascade level, levelScene). Both scenes must hold every instance within
+  ///        levelSceneMargin of their boxes: the voxels kept lie in the old box, so no instance in one scene and not
+  ///        the other comes within the band of them, and they keep their values.
+  /// @throw Error when @a grids are not a scroll of the grids (scrollShift) or @a scratch is too small; as the
+  ///        constructor when @a recut's triangles do not fit.
+  void scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::Buffer& scratch, const Scene* recut = nullptr);
   /// @brief The bytes scroll() needs of its scratch buffer.
   std::uint64_t scrollScratchBytes() const;
   /// @brief The dense fine SDF of the last frame (x fastest), scene units: read back from the GPU

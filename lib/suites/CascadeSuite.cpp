@@ -41,13 +41,30 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }
 
 /// The median of @a get over frames 2..N of @a rows (all of them when there is one).
-template <class Get> double medianAfterFirst(const std::vector<const CascadeRow*>& rows, Get get) {
+/// The values of frames 2..N (all of them when there is one).
+template <class Get> std::vector<double> afterFirst(const std::vector<const CascadeRow*>& rows, Get get) {
   std::vector<double> v;
   for (std::size_t i = rows.size() > 1 ? 1 : 0; i < rows.size(); ++i) v.push_back(get(*rows[i]));
+  return v;
+}
+
+template <class Get> double medianAfterFirst(const std::vector<const CascadeRow*>& rows, Get get) {
+  std::vector<double> v = afterFirst(rows, get);
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// The mean of frames 2..N: a level moves in some frames only, so the median can miss what moving costs.
+template <class Get> double meanAfterFirst(const std::vector<const CascadeRow*>& rows, Get get) {
+  const std::vector<double> v = afterFirst(rows, get);
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
+
+template <class Get> double maxAfterFirst(const std::vector<const CascadeRow*>& rows, Get get) {
+  const std::vector<double> v = afterFirst(rows, get);
+  return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
 }
 
 struct RunSpec {
@@ -78,6 +95,7 @@ void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bou
     const Camera at = scene.cameraAt(r.time);
     const CascadeMove move = set.moveTo(at.position, cascadeLookAhead(at, shape.levelZeroExtent));
     r.levelsMoved = int(move.moved.size());
+    r.levelsRecut = int(move.recut.size());
     r.levelsRebuilt = int(move.rebuilt.size());
     r.moveMs = msSince(t0);
     const FrameStats stats = sumFrameStats(set.runFrame(r.time));
@@ -144,10 +162,10 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
 }
 
 std::string cascadeCsv(const CascadeRun& run) {
-  std::string csv = "scene,camera,build,frame,time,speed,levels_moved,levels_rebuilt,move_ms,gpu_ms,wall_ms,refined_voxels,device_mib\n";
+  std::string csv = "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,wall_ms,refined_voxels,device_mib\n";
   for (const CascadeRow& r : run.rows)
-    csv += fmt::format("{},{},{},{},{:.4f},{:.3f},{},{},{:.3f},{:.3f},{:.3f},{},{:.1f}\n", r.scene, r.camera, r.build,
-                       r.frame, r.time, r.speed, r.levelsMoved, r.levelsRebuilt, r.moveMs, r.gpuMs, r.wallMs, r.refinedVoxels,
+    csv += fmt::format("{},{},{},{},{:.4f},{:.3f},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.1f}\n", r.scene, r.camera,
+                       r.build, r.frame, r.time, r.speed, r.levelsMoved, r.levelsRecut, r.levelsRebuilt, r.moveMs, r.gpuMs, r.wallMs, r.refinedVoxels,
                        r.deviceMiB);
   return csv;
 }
@@ -171,34 +189,41 @@ std::string sceneReport(const CascadeRun& run, const std::string& scene) {
     for (const auto& entry : r.passMs)
       if (std::find(passes.begin(), passes.end(), entry.first) == passes.end()) passes.push_back(entry.first);
   }
-  std::string md = fmt::format("### {}\n\n| camera | build | wall (ms) | GPU (ms) | moveTo (ms) | levels moved / rebuilt "
-                               "per frame | refined voxels | device MiB |\n|---|---|---|---|---|---|---|---|\n",
+  std::string md = fmt::format("### {}\n\n| camera | build | wall (ms) | GPU (ms) | GPU mean (ms) | GPU max (ms) | "
+                               "moveTo (ms) | levels moved / recut / rebuilt per frame | refined voxels | device MiB "
+                               "|\n|---|---|---|---|---|---|---|---|---|---|\n",
                                scene);
   for (const std::string& camera : cameras) {
-    double wall[2], gpu[2];
+    double wall[2], gpu[2], gpuMean[2];
+    const auto gpuOf = [](const CascadeRow& r) { return r.gpuMs; };
     for (int b = 0; b < 2; ++b) {
       const char* build = b ? "full rebuild" : "incremental";
       const std::vector<const CascadeRow*> rows = select(run, scene, camera, build);
-      double moved = 0.0, rebuilt = 0.0;
+      double moved = 0.0, recut = 0.0, rebuilt = 0.0;
       for (std::size_t i = rows.size() > 1 ? 1 : 0; i < rows.size(); ++i) {
         moved += rows[i]->levelsMoved;
+        recut += rows[i]->levelsRecut;
         rebuilt += rows[i]->levelsRebuilt;
       }
       const double counted = double(std::max<std::size_t>(rows.size() > 1 ? rows.size() - 1 : rows.size(), 1));
       moved /= counted;
+      recut /= counted;
       rebuilt /= counted;
       wall[b] = medianAfterFirst(rows, [](const CascadeRow& r) { return r.wallMs; });
-      gpu[b] = medianAfterFirst(rows, [](const CascadeRow& r) { return r.gpuMs; });
-      md += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} / {:.2f} | {:.0f} | {:.1f} |\n", camera, build,
-                        wall[b], gpu[b], medianAfterFirst(rows, [](const CascadeRow& r) { return r.moveMs; }), moved,
-                        rebuilt,
+      gpu[b] = medianAfterFirst(rows, gpuOf);
+      gpuMean[b] = meanAfterFirst(rows, gpuOf);
+      md += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} / {:.2f} / {:.2f} | {:.0f} | {:.1f} "
+                        "|\n", camera, build, wall[b], gpu[b], gpuMean[b], maxAfterFirst(rows, gpuOf),
+                        medianAfterFirst(rows, [](const CascadeRow& r) { return r.moveMs; }),
+                        moved, recut, rebuilt,
                         medianAfterFirst(rows, [](const CascadeRow& r) { return double(r.refinedVoxels); }),
                         rows.empty() ? 0.0 : rows.back()->deviceMiB);
     }
-    md += fmt::format("| {} | incremental / full rebuild | {:.3f} | {:.3f} | | | | |\n", camera,
-                      wall[1] > 0.0 ? wall[0] / wall[1] : 0.0, gpu[1] > 0.0 ? gpu[0] / gpu[1] : 0.0);
+    md += fmt::format("| {} | incremental / full rebuild | {:.3f} | {:.3f} | {:.3f} | | | | | |\n", camera,
+                      wall[1] > 0.0 ? wall[0] / wall[1] : 0.0, gpu[1] > 0.0 ? gpu[0] / gpu[1] : 0.0,
+                      gpuMean[1] > 0.0 ? gpuMean[0] / gpuMean[1] : 0.0);
   }
-  md += "\nGPU time by pass, every level, medians of frames 2..N (0 where a frame skipped the pass):\n\n| pass |";
+  md += "\nGPU time by pass, every level, means of frames 2..N (0 where a frame skipped the pass):\n\n| pass |";
   std::string rule = "|---|";
   for (const std::string& camera : cameras) {
     md += fmt::format(" {} incremental | {} full rebuild |", camera, camera);
@@ -209,7 +234,7 @@ std::string sceneReport(const CascadeRun& run, const std::string& scene) {
     md += "| " + pass + " |";
     for (const std::string& camera : cameras)
       for (const char* build : {"incremental", "full rebuild"})
-        md += fmt::format(" {:.2f} |", medianAfterFirst(select(run, scene, camera, build), [&](const CascadeRow& r) {
+        md += fmt::format(" {:.2f} |", meanAfterFirst(select(run, scene, camera, build), [&](const CascadeRow& r) {
                             return passTotal(r.passMs, pass);
                           }));
     md += "\n";
@@ -230,9 +255,9 @@ std::string cascadeReport(const BenchOptions& o, const CascadeRun& run) {
   std::string md = fmt::format(
       "## Cascades: {} levels of coarse {} / fine {}, level 0 {} wide, {} refinement, x = {}\n\n"
       "Each scene's camera path at 30 fps, {} frames from t = 0 (walking) and from the moment it first moves faster "
-      "than {} units/s (driving). Incremental: the levels follow the camera (a level whose box moved scrolls, or is "
-      "rebuilt once it drifts past its part of the scene) and each frame runs what changed; full rebuild (the anchor): the same frames with every pass of every level over "
-      "its whole grid and every masked voxel refined. Medians of frames 2..N (the first builds every level).\n\n",
+      "than {} units/s (driving). Incremental: the levels follow the camera (a level whose box moved scrolls, its part of "
+      "the scene cut again once it drifts past the slack) and each frame runs what changed; full rebuild (the anchor): the same frames with every pass of every level over "
+      "its whole grid and every masked voxel refined. Medians of frames 2..N (the first builds every level), and the GPU time's mean and largest (a level moves in some frames only).\n\n",
       o.cascades, coarse, fine, o.cascadeExtent > 0.0 ? fmt::format("{:g} units", o.cascadeExtent) : "(default)",
       toString(o.refine), o.rays, o.frames, kDrivingSpeed);
   for (const std::string& note : run.notes) md += "- " + note + "\n";

@@ -22,6 +22,7 @@ struct CascadeRow {
   double time = 0.0;               ///< scene time (s)
   double speed = 0.0;              ///< the camera's speed (scene units per second)
   int levelsMoved = 0;             ///< levels whose snapped box moved this frame (scrolled or rebuilt)
+  int levelsRecut = 0;             ///< of those, the levels that scrolled with their scene cut again
   int levelsRebuilt = 0;           ///< of those, the levels rebuilt from scratch (CascadeMove::rebuilt)
   double moveMs = 0.0;             ///< CascadeSet::moveTo: the scrolls' shifts, the rebuilt levels' host work
   double gpuMs = 0.0;              ///< the sum of the frame's pass timestamps over every level

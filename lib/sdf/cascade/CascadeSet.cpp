@@ -23,21 +23,28 @@ CascadeSet::CascadeSet(const gpu::VulkanContext& ctx, const Scene& scene, const 
 
 CascadeSet::~CascadeSet() = default;
 
+std::unique_ptr<Scene> CascadeSet::cutScene(int i) const {
+  const CascadeLevel& level = mLayout.levels.at(std::size_t(i));
+  const PipelineSettings settings = levelSettings(mSettings, i);
+  const double margin = levelCutMargin(mLayout.shape, level, settings.band.sceneUnits(level.fine.voxelSize));
+  auto scene = std::make_unique<Scene>(rtsdf::levelScene(mScene, level.box(), margin));
+  if (scene->instances.empty()) {
+    // Nothing near this level: one instance far outside keeps the pipeline's buffers non-empty; it lies beyond the
+    // margin, so every voxel stays out of the band, as with no geometry at all.
+    const Instance& first = mScene.instances.at(0);
+    scene->meshes.push_back(mScene.meshes.at(first.mesh));
+    scene->instances.push_back(first);
+    scene->instances.back().mesh = 0;
+  }
+  return scene;
+}
+
 CascadeSet::Level CascadeSet::buildLevel(int i) const {
   const CascadeLevel& level = mLayout.levels.at(std::size_t(i));
   Level out;
   const PipelineSettings settings = levelSettings(mSettings, i);
-  const double margin = levelCutMargin(mLayout.shape, level, settings.band.sceneUnits(level.fine.voxelSize));
   out.sceneBox = level.box();
-  out.scene = std::make_unique<Scene>(rtsdf::levelScene(mScene, out.sceneBox, margin));
-  if (out.scene->instances.empty()) {
-    // Nothing near this level: one instance far outside keeps the pipeline's buffers non-empty; it lies beyond the
-    // margin, so every voxel stays out of the band, as with no geometry at all.
-    const Instance& first = mScene.instances.at(0);
-    out.scene->meshes.push_back(mScene.meshes.at(first.mesh));
-    out.scene->instances.push_back(first);
-    out.scene->instances.back().mesh = 0;
-  }
+  out.scene = cutScene(i);
   out.pipeline = std::make_unique<SdfPipeline>(mCtx, *out.scene, level.grids(), settings);
   spdlog::info("cascade level {}: coarse {}, fine {}, {} of {} instances", i, level.coarse.describe(),
                level.fine.describe(), out.scene->instances.size(), mScene.instances.size());
@@ -50,15 +57,26 @@ std::vector<FrameStats> CascadeSet::runFrame(double time) {
   return stats;
 }
 
-bool CascadeSet::canScroll(int i) const {
-  const Level& level = mLevels.at(std::size_t(i));
+bool CascadeSet::scrollLevel(int i, bool& recut) {
+  Level& level = mLevels.at(std::size_t(i));
   const CascadeLevel& to = mLayout.levels.at(std::size_t(i));
+  recut = false;
   if (!mScrollScratch || !scrollShift({level.pipeline->coarseSpec(), level.pipeline->fineSpec()}, to.grids()))
     return false;
   const glm::dvec3 drift = glm::abs(to.box().min - level.sceneBox.min);
-  // A whisker under the slack: the drift is a sum of whole moves, the slack a product of the same lengths.
+  // A whisker over the slack: the drift is a sum of whole moves, the slack a product of the same lengths.
   const double slack = levelSceneSlack(mLayout.shape, i) * (1.0 + 1e-9);
-  return drift.x <= slack && drift.y <= slack && drift.z <= slack;
+  if (drift.x <= slack && drift.y <= slack && drift.z <= slack) {
+    level.pipeline->scroll(to.grids(), mScrollScratch);
+    return true;
+  }
+  // Past the slack: the scene cut again around the new box; the old one goes once the pipeline has let it go.
+  std::unique_ptr<Scene> scene = cutScene(i);
+  level.pipeline->scroll(to.grids(), mScrollScratch, scene.get());
+  level.scene = std::move(scene);
+  level.sceneBox = to.box();
+  recut = true;
+  return true;
 }
 
 CascadeMove CascadeSet::moveTo(const glm::dvec3& camera, const glm::dvec3& lookAhead) {
@@ -69,11 +87,12 @@ CascadeMove CascadeSet::moveTo(const glm::dvec3& camera, const glm::dvec3& lookA
   for (int i = 0; i < levels(); ++i) {
     if (shift[std::size_t(i)] == glm::i64vec3(0)) continue;
     move.moved.push_back(i);
-    Level& level = mLevels[std::size_t(i)];
-    if (canScroll(i)) {
-      level.pipeline->scroll(mLayout.levels[std::size_t(i)].grids(), mScrollScratch);
+    bool recut = false;
+    if (scrollLevel(i, recut)) {
+      if (recut) move.recut.push_back(i);
       continue;
     }
+    Level& level = mLevels[std::size_t(i)];
     level = Level{}; // the old level's buffers go before the new one's are made
     level = buildLevel(i);
     move.rebuilt.push_back(i);

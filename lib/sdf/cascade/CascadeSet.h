@@ -14,16 +14,18 @@
 
 namespace rtsdf {
 
-/// @brief What moveTo() did: the levels whose box moved, and of those the ones rebuilt from scratch (the others
-///        scrolled, keeping what they knew).
+/// @brief What moveTo() did: the levels whose box moved; of those, the ones whose scene was cut again as they
+///        scrolled, and the ones rebuilt from scratch (the others scrolled, keeping what they knew).
 struct CascadeMove {
-  std::vector<int> moved, rebuilt;
+  std::vector<int> moved, recut, rebuilt;
 };
 
 /// @brief K levels around a camera position (CascadeLayout), each an SdfPipeline of its own. A camera move that
 ///        changes a level's snapped box scrolls that level (SdfPipeline::scroll: its buffers shift by whole bricks,
-///        and the next frame refines only what entered) while its part of the scene still holds every instance it
-///        needs (levelSceneSlack); past that, or when its grids cannot scroll, the level is rebuilt from scratch.
+///        and the next frame refines only what entered). Its part of the scene is cut with some slack
+///        (levelSceneSlack); a level that drifts past it gets its scene cut again around its new box as it scrolls.
+///        A level whose grids cannot scroll (a jump of a grid's width or more, fine voxels straddling coarse ones)
+///        is rebuilt from scratch.
 class CascadeSet {
 public:
   /// @throw SettingError as SdfPipeline, and naming the fine resolution when all levels together do not fit the
@@ -55,8 +57,11 @@ private:
   };
   /// Level @a i of the layout: its part of the scene and its pipeline.
   Level buildLevel(int i) const;
-  /// Whether level @a i can scroll to the layout's box: its grids allow it and its scene still holds what it needs.
-  bool canScroll(int i) const;
+  /// Level @a i's part of the scene around its box in the layout (levelScene with levelCutMargin).
+  std::unique_ptr<Scene> cutScene(int i) const;
+  /// Scroll level @a i to the layout's box, its scene cut again when it drifted past the slack; false when its grids
+  /// cannot scroll there. @a recut: set when the scene was cut again.
+  bool scrollLevel(int i, bool& recut);
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   PipelineSettings mSettings;

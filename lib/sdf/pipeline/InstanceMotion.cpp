@@ -41,10 +41,16 @@ std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const 
 }
 
 InstanceMotion::InstanceMotion(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& reach)
-    : mScene(scene), mReach(reach),
+    : mScene(&scene), mReach(reach),
       mBuffer(ctx, RTSDF_MAX_MOVED_BOXES * sizeof(gpu::shared::MovedBox),
               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::Buffer::Memory::Device,
               "moved instance boxes") {
+  setScene(scene);
+}
+
+void InstanceMotion::setScene(const Scene& scene) {
+  mScene = &scene;
+  mMeshBounds.clear();
   for (const Mesh& mesh : scene.meshes) mMeshBounds.push_back(positionBounds(mesh));
 }
 
@@ -52,11 +58,11 @@ void InstanceMotion::recordClear(VkCommandBuffer cmd) const {
   vkCmdFillBuffer(cmd, mBuffer.handle(), 0, VK_WHOLE_SIZE, 0u);
 }
 
-void InstanceMotion::checkPlacement(double time) const { checkInstancePlacement(mScene, mMeshBounds, time); }
+void InstanceMotion::checkPlacement(double time) const { checkInstancePlacement(*mScene, mMeshBounds, time); }
 
 const std::vector<gpu::shared::MovedBox>& InstanceMotion::advance(std::uint32_t frame, double time,
                                                                   const glm::dvec3& origin) {
-  mLast = frame > 1 ? movedInstanceBoxes(mScene, mMeshBounds, mPreviousTime, time, origin, mReach)
+  mLast = frame > 1 ? movedInstanceBoxes(*mScene, mMeshBounds, mPreviousTime, time, origin, mReach)
                     : std::vector<gpu::shared::MovedBox>{};
   mPreviousTime = time;
   return mLast;

@@ -44,12 +44,16 @@ public:
   void recordUpload(VkCommandBuffer cmd) const;
   /// @brief From the next frame on, count motion that meets @a reach (world space; a pipeline whose grids scrolled).
   void setReach(const Bounds& reach) { mReach = reach; }
+  /// @brief From the next frame on, follow the instances of @a scene (a cascade level's scene cut again around its
+  ///        scrolled box; it must outlive this object). The previous frame's time stays: the next boxes are those
+  ///        @a scene's instances swept since it.
+  void setScene(const Scene& scene);
   /// @brief The last frame's boxes (advance()).
   const std::vector<gpu::shared::MovedBox>& lastBoxes() const { return mLast; }
   const gpu::Buffer& buffer() const { return mBuffer; }
 
 private:
-  const Scene& mScene;
+  const Scene* mScene;
   std::vector<Bounds> mMeshBounds; ///< per mesh, in its own space
   Bounds mReach;                   ///< world space (empty: every motion counts)
   double mPreviousTime = 0.0;

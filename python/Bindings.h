@@ -4,6 +4,7 @@
 #include "grid/GridSpec.h"
 #include "grid/VdbIO.h"
 #include "scene/Scene.h"
+#include "sdf/pipeline/FrameStats.h"
 #include "util/JobControl.h"
 #include "util/Knobs.h"
 #include "util/Length.h"
@@ -20,6 +21,10 @@
 #include <optional>
 #include <string>
 #include <thread>
+
+namespace rtsdf {
+class SdfPipeline;
+}
 
 namespace rtsdf::python {
 
@@ -121,9 +126,18 @@ private:
   JobControl mControl;
 };
 
+/// The last frame's fine SDF of @a pipe as a Field: its refined voxels within the band (a voxel where d = 0), made by
+/// @a method.
+Field pipelineField(const SdfPipeline& pipe, const char* method);
+
+/// One pipeline frame's statistics as Pipeline.frame() returns them: time, mask_voxels, refined_voxels, cut_voxels,
+/// near_half_voxels, near_half_kept, host_ms, wall_ms, pass_ms (per pass).
+py::dict frameStatsDict(const FrameStats& stats);
+
 void bindScenes(py::module_& m);
 void bindFields(py::module_& m);
 void bindJobs(py::module_& m);
+void bindCascades(py::module_& m);
 
 // ---------------------------------------------------------------------------------------------------------------
 

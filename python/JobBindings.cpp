@@ -124,6 +124,32 @@ py::dict compareLevelSets(const std::filesystem::path& a, const std::optional<st
   return comparisonDict(job.run([&] { return compare(o, job.control()); }));
 }
 
+} // namespace
+
+Field pipelineField(const SdfPipeline& pipe, const char* method) {
+  const GridSpec& spec = pipe.fineSpec();
+  const float band = float(pipe.settings().band > 0.0 ? double(pipe.settings().band) : spec.voxelSize);
+  return {pipe.levelSet(band), spec, band, method};
+}
+
+py::dict frameStatsDict(const FrameStats& st) {
+  py::dict d;
+  d["time"] = st.time;
+  d["mask_voxels"] = st.maskFineVoxels;
+  d["refined_voxels"] = st.refinedFineVoxels;
+  d["cut_voxels"] = st.cutVoxels; // refinements a CPU device's loop budget ended (FrameStats::cutVoxels)
+  d["near_half_voxels"] = st.nearHalfVoxels; // signed by the exact winding number (FrameStats::nearHalfVoxels)
+  d["near_half_kept"] = st.nearHalfKept;
+  d["host_ms"] = st.hostMs;
+  d["wall_ms"] = st.wallMs;
+  py::dict passes;
+  for (const auto& [name, ms] : st.passMs) passes[py::str(name)] = ms;
+  d["pass_ms"] = passes;
+  return d;
+}
+
+namespace {
+
 /// Frames of the GPU pipeline on one scene, its grids covering `frames` frames at `fps` from time 0.
 class Pipeline {
 public:
@@ -146,25 +172,9 @@ public:
     }
     if (mCtx->validationErrors()) throw Error(std::to_string(mCtx->validationErrors()) + " Vulkan validation errors");
     mFrames += 1;
-    py::dict d;
-    d["time"] = st.time;
-    d["mask_voxels"] = st.maskFineVoxels;
-    d["refined_voxels"] = st.refinedFineVoxels;
-    d["cut_voxels"] = st.cutVoxels; // refinements a CPU device's loop budget ended (FrameStats::cutVoxels)
-    d["near_half_voxels"] = st.nearHalfVoxels; // signed by the exact winding number (FrameStats::nearHalfVoxels)
-    d["near_half_kept"] = st.nearHalfKept;
-    d["host_ms"] = st.hostMs;
-    d["wall_ms"] = st.wallMs;
-    py::dict passes;
-    for (const auto& [name, ms] : st.passMs) passes[py::str(name)] = ms;
-    d["pass_ms"] = passes;
-    return d;
+    return frameStatsDict(st);
   }
-  Field fine() const {
-    const GridSpec& spec = mPipe->fineSpec();
-    const float band = float(mPipe->settings().band > 0.0 ? double(mPipe->settings().band) : spec.voxelSize);
-    return {mPipe->levelSet(band), spec, band, "pipeline"};
-  }
+  Field fine() const { return pipelineField(*mPipe, "pipeline"); }
   std::string repr() const {
     const GridSpec& c = mPipe->coarseSpec();
     const GridSpec& f = mPipe->fineSpec();

@@ -38,5 +38,6 @@ PYBIND11_MODULE(_rtsdf, m) {
   python::bindScenes(m);
   python::bindFields(m);
   python::bindJobs(m);
+  python::bindCascades(m);
   bindBatch(m);
 }

@@ -111,6 +111,34 @@ def test_a_cascade_bake_returns_every_level(tmp_path):
         assert np.max(np.abs(theirs.values[level.active] - level.values[level.active])) < 1e-5
 
 
+def test_cascades_follow_a_camera_by_scrolling():
+    scene = rtsdf.load_scene(os.path.join(DATA, "scenes", "default.json"))
+    kw = dict(cascades=2, cascade_extent=0.6, coarse=16, fine=32, refine="closest", rays=0, band=0.05)
+    camera = [-0.3, 0.45, 0.1]
+    levels = rtsdf.Cascades(scene, camera=camera, **kw)
+    assert levels.levels == 2 and "2 levels of coarse 16 / fine 32" in repr(levels)
+    first = levels.frame(0.0)
+    assert len(first) == 2 and all(level["refined_voxels"] > 0 for level in first)
+    # Level 0's move is 4 coarse voxels of 0.0375 (a brick of 8 fine voxels): 0.1 along -x moves it once, over
+    # surfaces that enter it.
+    camera[0] -= 0.1
+    move = levels.move_to(camera)
+    assert move["moved"] == [0] and move["rebuilt"] == []
+    after = levels.frame(0.0)
+    fresh = rtsdf.Cascades(scene, camera=camera, **kw)
+    refreshed = fresh.frame(0.0)
+    assert 0 < after[0]["refined_voxels"] < refreshed[0]["refined_voxels"]  # only what entered level 0
+    for i in range(2):
+        ours, theirs = levels.level(i), fresh.level(i)
+        assert ours.shape == theirs.shape
+        assert np.array_equal(ours.active, theirs.active)
+        assert np.max(np.abs(ours.values[ours.active] - theirs.values[ours.active])) < 1e-3 * ours.voxel_size
+    with pytest.raises(IndexError):
+        levels.level(2)
+    with pytest.raises(rtsdf.SettingError, match="cascades"):
+        rtsdf.Cascades(scene, cascades=1)
+
+
 def test_log_is_quiet_unless_asked(capfd):
     bunny = os.path.join(DATA, "scenes", "bunny.json")
     rtsdf.bake(bunny, res=16)

@@ -133,7 +133,7 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
                                    "(walking, then driving) against every level rebuilt each frame (--csv writes a "
                                    "row per frame)");
   addEnum(cmd, "--size", s.frameSize, "Frame and cascade suites: S (coarse 64 / fine 128), M (128/256) or L (256/512); per level for cascades");
-  noted(cmd->add_option("--frames", s.frames, "Frame and cascade suites: frames run (per camera speed and build for cascades; medians over frames 2..N)"), "frames", flags)
+  noted(cmd->add_option("--frames", s.frames, "Frame and cascade suites: frames run (per camera speed and build for cascades; medians over frames 2..N, and for cascades the GPU time's mean and largest)"), "frames", flags)
       ->check(inRange(1, 100000))->capture_default_str();
   addEnum(cmd, "--refine", s.refine, "Frame and cascade suites: refinement mode");
   noted(cmd->add_option("--rays", s.rays, "Frame and cascade suites: rays per masked voxel per frame [x]"), "rays", flags)

@@ -342,9 +342,9 @@ TEST(Cli, BenchCascadeSuiteFollowsTheCameraPathAgainstAFullRebuild) {
     std::vector<std::string> c;
     std::stringstream cells(line);
     for (std::string cell; std::getline(cells, cell, ',');) c.push_back(cell);
-    ASSERT_EQ(c.size(), 12u) << line;
-    rows.push_back({c[1], c[2], std::stoi(c[3]), std::stoi(c[6]), std::stod(c[4]), std::stod(c[5]), std::stod(c[8]),
-                    std::stol(c[10])});
+    ASSERT_EQ(c.size(), 14u) << line;
+    rows.push_back({c[1], c[2], std::stoi(c[3]), std::stoi(c[6]), std::stod(c[4]), std::stod(c[5]), std::stod(c[10]),
+                    std::stol(c[12])});
   }
   ASSERT_EQ(rows.size(), 12u); // walking and driving, incremental and full rebuild, 3 frames each
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -356,7 +356,9 @@ TEST(Cli, BenchCascadeSuiteFollowsTheCameraPathAgainstAFullRebuild) {
     EXPECT_LT(row.speed, 100.0);
     if (row.camera == "walking") EXPECT_LT(row.speed, 4.0);
     else EXPECT_GT(row.speed, 4.0);
-    EXPECT_GT(row.gpu, 0.0);
+    // An incremental frame where no level moved and nothing moved near one runs no pass at all.
+    if (row.build == "full rebuild") EXPECT_GT(row.gpu, 0.0);
+    else EXPECT_GE(row.gpu, 0.0);
     if (i % 6 >= 3) { // the full rebuild beside the incremental run of the same frame
       const Row& incremental = rows[i - 3];
       EXPECT_EQ(row.time, incremental.time);

@@ -108,7 +108,9 @@ TEST(ViewerWindow, TheLevelViewTintsEachPointByItsLevelAndListsTheLevelsTimes) {
   ViewOptions o = smallView("scenes/default.json", shot);
   o.render.pipeline.cascades = 2;
   o.render.pipeline.fineRes = 64;
-  o.render.pipeline.cascadeExtent = 2.4;
+  // Level 0 3 units wide moves by 0.375 (a brick): snapped there it holds the floor and the room's near half
+  // ([-0.375, 2.625] along each axis), level 1 the rest.
+  o.render.pipeline.cascadeExtent = 3.0;
   o.view = ViewMode::Levels;
   o.frames = 2;
   const ViewResult v = runViewer(o);

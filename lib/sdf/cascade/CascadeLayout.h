@@ -75,8 +75,8 @@ struct CascadeLayout {
                               const glm::dvec3& lookAhead = glm::dvec3(0.0));
   /// @brief The finest level whose box holds @a p at least @a margin (scene units) inside its faces, or -1.
   int finestHolding(const glm::dvec3& p, double margin = 0.0) const;
-  /// @brief Per level, the whole coarse voxels the level moved from @a before to this layout (the slabs a
-  ///        toroidal update would rebuild).
+  /// @brief Per level, the whole coarse voxels the level moved from @a before to this layout (a multiple of
+  ///        moveCells: what the level scrolls by).
   std::vector<glm::i64vec3> shiftSince(const CascadeLayout& before) const;
 };
 

@@ -173,6 +173,38 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
               double(scrolledRefined) / double(freshRefined));
 }
 
+// Kept sparse (only the bricks on the GPU, no dense fine SDF), a scrolled level keeps its bricks' values in their
+// slots and frees the slots of the bricks that left: after moves along every axis both ways, the field resolved from
+// the bricks equals a fresh level's, and the pool never regrows.
+TEST_F(CascadeSetGpu, ScrolledSparseLevelsKeepTheirBricks) {
+  const Scene scene = room();
+  PipelineSettings s = threeLevels();
+  s.fineStorage = FineStorage::Sparse;
+  s.cascades = 2;
+  const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene).bounds, s);
+  const double move = shape.coarseVoxel(0) * shape.moveCells;
+  glm::dvec3 camera(-0.3, 0.45, 0.1);
+  CascadeSet set(*sCtx, scene, CascadeLayout::around(camera, shape), s);
+  set.runFrame(0.0);
+  const std::uint64_t pool = set.level(0).poolBricks();
+  // Back and forth over the room's corner: slots that leaked would run the pool out (it holds half as many again).
+  std::vector<glm::dvec3> steps = {glm::dvec3(0, -1, 1), glm::dvec3(0, 1, -1)};
+  for (int k = 0; k < 6; ++k) steps.push_back(glm::dvec3(k % 2 ? 2 : -2, 0, 0));
+  for (const glm::dvec3& step : steps) {
+    camera += step * move;
+    const CascadeMove moved = set.moveTo(camera);
+    EXPECT_TRUE(std::count(moved.moved.begin(), moved.moved.end(), 0)) << "level 0 moves";
+    EXPECT_TRUE(moved.rebuilt.empty());
+    set.runFrame(0.0);
+    CascadeSet fresh(*sCtx, scene, CascadeLayout::around(camera, shape), s);
+    fresh.runFrame(0.0);
+    for (int i = 0; i < 2; ++i)
+      EXPECT_LT(largestDifference(set.level(i).fineField(), fresh.level(i).fineField()) / set.level(i).fineSpec().voxelSize,
+                1e-3) << i;
+  }
+  EXPECT_EQ(set.level(0).poolBricks(), pool) << "the slots of the bricks that left were freed";
+}
+
 // The orbiting teapot moves every frame; a level whose box and reach it never meets skips its coarse passes and
 // its refinement (the teapot's motion counts only near a grid: InstanceMotion's reach), the level holding the
 // teapot runs them, and after the frames every level equals levels built fresh at the last frame's time.

@@ -169,6 +169,14 @@ TEST(GridShift, ThePlanEqualsAShiftCellByCell) {
               for (std::uint32_t w = 0; w < elementWords; ++w)
                 expected[to * elementWords + w] = kept ? words[src * elementWords + w] : 0xABCDu;
             }
+        // Loose: one copy at most, every kept cell right (the entered ones hold anything).
+        std::vector<std::uint32_t> loose = words;
+        const GridShiftPlan loosePlan = gridShiftPlanLoose(dims, 4 * elementWords, shift);
+        EXPECT_LE(loosePlan.copies.size(), 1u);
+        EXPECT_TRUE(loosePlan.fills.empty());
+        applyGridShift(loosePlan, loose, 0xABCDu);
+        for (std::size_t k = 0; k < loose.size(); ++k)
+          if (expected[k] != 0xABCDu) EXPECT_EQ(loose[k], expected[k]) << "word " << k;
         const GridShiftPlan plan = gridShiftPlan(dims, 4 * elementWords, shift);
         applyGridShift(plan, words, 0xABCDu);
         EXPECT_EQ(words, expected);

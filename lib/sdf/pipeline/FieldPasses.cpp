@@ -46,7 +46,8 @@ void FieldPasses::recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, cons
                                const glm::ivec3& fineShift, const gpu::Buffer& scratch) {
   mCoarseSpec = coarse;
   mFineSpec = fine;
-  if (mFine) recordGridShift(cmd, mFine, scratch, gridShiftPlan(fine.dims, 4, fineShift), 0u);
+  // Loose: the voxels that entered are refined (new to the band) or upsampled by the next frame, whatever they hold.
+  if (mFine) recordGridShift(cmd, mFine, scratch, gridShiftPlanLoose(fine.dims, 4, fineShift), 0u);
 }
 
 RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& pool) const {

@@ -47,8 +47,9 @@ public:
                   bool upsample = true) const;
 
   /// @brief The grids moved to @a coarse and @a fine, @a fineShift fine voxels from where they were
-  ///        (SdfPipeline::scroll): record the dense fine SDF's shift through @a scratch (recordGridShift; the voxels
-  ///        that entered are zeroed, and the next frame refines or upsamples them).
+  ///        (SdfPipeline::scroll): record the dense fine SDF's shift through @a scratch (recordGridShift of
+  ///        gridShiftPlanLoose: the voxels that entered hold their neighbours' values until the next frame refines or
+  ///        upsamples them).
   void recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine, const glm::ivec3& fineShift,
                     const gpu::Buffer& scratch);
   /// @brief Whether the fine SDF is kept dense (FineStorage::Dense).

@@ -66,6 +66,19 @@ GridShiftPlan gridShiftPlan(const glm::ivec3& dims, std::uint32_t elementBytes, 
   return plan;
 }
 
+GridShiftPlan gridShiftPlanLoose(const glm::ivec3& dims, std::uint32_t elementBytes, const glm::ivec3& shift) {
+  GridShiftPlan plan = gridShiftPlan(dims, elementBytes, glm::ivec3(0)); // checks the arguments, sizes the buffer
+  plan.copies.clear();
+  const long long offset =
+      (static_cast<long long>(shift.z) * dims.y + shift.y) * static_cast<long long>(dims.x) + shift.x;
+  const VkDeviceSize moved = VkDeviceSize(offset < 0 ? -offset : offset) * elementBytes;
+  if (moved >= plan.bytes) return plan;
+  // Cell v reads cell v + offset: the destination starts where the source does not and both run to the end.
+  const VkDeviceSize src = offset > 0 ? moved : 0, dst = offset < 0 ? moved : 0;
+  plan.copies.push_back({src, dst, plan.bytes - moved});
+  return plan;
+}
+
 std::optional<glm::ivec3> scrollShift(const std::pair<GridSpec, GridSpec>& from, const std::pair<GridSpec, GridSpec>& to) {
   const GridSpec &c0 = from.first, &f0 = from.second, &c1 = to.first, &f1 = to.second;
   if (c0.dims != c1.dims || f0.dims != f1.dims || c0.voxelSize != c1.voxelSize || f0.voxelSize != f1.voxelSize ||

@@ -32,6 +32,13 @@ struct GridShiftPlan {
 /// @throw Error when @a elementBytes is not a positive multiple of 4 or @a dims is not positive.
 GridShiftPlan gridShiftPlan(const glm::ivec3& dims, std::uint32_t elementBytes, const glm::ivec3& shift);
 
+/// @brief The same for a buffer whose entered cells may hold anything afterwards (the next frame writes them all):
+///        one copy, of every byte a kept cell reads, moved by the shift's offset in cells (x fastest), and no fills.
+///        A kept cell lies as many cells from its source as any other, so one range moves them all; the entered
+///        cells receive their neighbours' rows. One region instead of a row each: a shift along x of a fine grid
+///        would take 128^2 to 256^2 of them.
+GridShiftPlan gridShiftPlanLoose(const glm::ivec3& dims, std::uint32_t elementBytes, const glm::ivec3& shift);
+
 /// @brief The coarse voxels by which the (coarse, fine) grids @a to lie from @a from, when a pipeline can scroll from
 ///        one to the other keeping its buffers: the same counts and voxel sizes, a whole number of fine voxels per
 ///        coarse voxel (the same corner), the corner moved by whole coarse voxels that are whole bricks of the fine

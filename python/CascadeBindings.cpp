@@ -71,6 +71,7 @@ public:
                        l.camera.x, l.camera.y, l.camera.z, mCtx->info().name);
   }
   int levels() const { return mSet->levels(); }
+  std::uint64_t deviceBytes() const { return mCtx->deviceBytesInUse(); }
 
 private:
   ScenePtr mScene;
@@ -97,6 +98,8 @@ void bindCascades(py::module_& m) {
            "Pipeline.frame)")
       .def("level", &Cascades::level, py::arg("index"), "Level `index`'s fine SDF as a Field (the refined voxels)")
       .def_property_readonly("levels", &Cascades::levels, "The number of levels")
+      .def_property_readonly("device_bytes", &Cascades::deviceBytes,
+                             "The device memory the levels hold, as allocated (buffers and textures, all levels)")
       .def("__repr__", &Cascades::repr);
 }
 

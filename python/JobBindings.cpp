@@ -140,6 +140,12 @@ py::dict frameStatsDict(const FrameStats& st) {
   d["cut_voxels"] = st.cutVoxels; // refinements a CPU device's loop budget ended (FrameStats::cutVoxels)
   d["near_half_voxels"] = st.nearHalfVoxels; // signed by the exact winding number (FrameStats::nearHalfVoxels)
   d["near_half_kept"] = st.nearHalfKept;
+  d["active_bricks"] = st.activeBricks;     // bricks under the band, each with a pool slot...
+  d["overflow_bricks"] = st.overflowBricks; // ...but these (the pool was full)
+  d["pool_bricks"] = st.poolBricks;
+  d["device_bytes"] = st.deviceBytes;
+  d["moved_instances"] = st.movedInstances;
+  d["skipped_passes"] = st.skippedPasses;
   d["host_ms"] = st.hostMs;
   d["wall_ms"] = st.wallMs;
   py::dict passes;

@@ -19,13 +19,15 @@ constexpr bool kMoveOnly = !std::is_copy_constructible_v<W> && !std::is_copy_ass
                            std::is_nothrow_move_constructible_v<W> && std::is_nothrow_move_assignable_v<W>;
 static_assert(kMoveOnly<Buffer> && kMoveOnly<SampledVolume> && kMoveOnly<CommandBuffer> && kMoveOnly<ComputePipeline>);
 
-/// Allocate @a memory of a type with @a props for an object with requirements @a req (@a what names it in errors).
-void allocate(const VulkanContext& ctx, UniqueHandle<vkFreeMemory>& memory, const VkMemoryRequirements& req,
-              VkMemoryPropertyFlags props, const std::string& what) {
+/// Allocate @a memory of a type with @a props for an object with requirements @a req (@a what names it in errors),
+/// charging its bytes to the context in @a charge where it is device-local.
+void allocate(const VulkanContext& ctx, UniqueHandle<vkFreeMemory>& memory, DeviceMemoryCharge& charge,
+              const VkMemoryRequirements& req, VkMemoryPropertyFlags props, const std::string& what) {
   VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   ai.allocationSize = req.size;
   ai.memoryTypeIndex = ctx.memoryType(req.memoryTypeBits, props);
   memory.create(ctx, vkAllocateMemory, ai, fmt::format("allocating {} MiB for {}", req.size >> 20, what));
+  if (props & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) charge = DeviceMemoryCharge(ctx, req.size);
 }
 } // namespace
 
@@ -48,7 +50,7 @@ Buffer::Buffer(const VulkanContext& ctx, VkDeviceSize bytes, VkBufferUsageFlags 
   const VkMemoryPropertyFlags props = memory == Memory::Host
                                           ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                           : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-  allocate(ctx, mMemory, req, props, fmt::format("buffer '{}'", mName));
+  allocate(ctx, mMemory, mCharge, req, props, fmt::format("buffer '{}'", mName));
   check(vkBindBufferMemory(ctx.device(), mBuffer.get(), mMemory.get(), 0),
         fmt::format("binding buffer '{}'", mName).c_str());
   if (memory == Memory::Host)
@@ -282,7 +284,7 @@ SampledVolume::SampledVolume(const VulkanContext& ctx, glm::uvec3 dims, std::str
   mImage.create(ctx, vkCreateImage, ci, fmt::format("creating volume '{}'", mName));
   VkMemoryRequirements req;
   vkGetImageMemoryRequirements(ctx.device(), mImage.get(), &req);
-  allocate(ctx, mMemory, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, fmt::format("volume '{}'", mName));
+  allocate(ctx, mMemory, mCharge, req, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, fmt::format("volume '{}'", mName));
   check(vkBindImageMemory(ctx.device(), mImage.get(), mMemory.get(), 0),
         fmt::format("binding volume '{}'", mName).c_str());
   VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};

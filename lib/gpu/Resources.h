@@ -50,6 +50,7 @@ public:
 
 private:
   UniqueHandle<vkFreeMemory> mMemory; // freed after the buffer (and implicitly unmapped)
+  DeviceMemoryCharge mCharge;         // its bytes, where device-local
   UniqueHandle<vkDestroyBuffer> mBuffer;
   VkDeviceSize mSize = 0;
   void* mMapped = nullptr;
@@ -100,6 +101,7 @@ public:
 private:
   // Destroyed in reverse order: sampler, view, image, memory.
   UniqueHandle<vkFreeMemory> mMemory;
+  DeviceMemoryCharge mCharge;
   UniqueHandle<vkDestroyImage> mImage;
   UniqueHandle<vkDestroyImageView> mView;
   UniqueHandle<vkDestroySampler> mSampler;

@@ -5,6 +5,7 @@
 #include "gpu/VulkanContext.h"
 #include "gpu/VulkanError.h"
 
+#include <cstdint>
 #include <string>
 #include <utility>
 
@@ -81,6 +82,37 @@ public:
 private:
   const VulkanContext* mCtx = nullptr;
   Handle mHandle = VK_NULL_HANDLE;
+};
+
+/// @brief Device-local bytes charged to a context while held (VulkanContext::deviceBytesInUse): a Buffer or
+///        SampledVolume holds one beside its memory, so the context knows what its objects hold. Move-only.
+class DeviceMemoryCharge {
+public:
+  DeviceMemoryCharge() = default;
+  DeviceMemoryCharge(const VulkanContext& ctx, std::uint64_t bytes) : mCtx(&ctx), mBytes(bytes) {
+    ctx.trackDeviceBytes(std::int64_t(bytes));
+  }
+  ~DeviceMemoryCharge() { release(); }
+  DeviceMemoryCharge(DeviceMemoryCharge&& other) noexcept
+      : mCtx(std::exchange(other.mCtx, nullptr)), mBytes(std::exchange(other.mBytes, 0)) {}
+  DeviceMemoryCharge& operator=(DeviceMemoryCharge&& other) noexcept {
+    if (this != &other) {
+      release();
+      mCtx = std::exchange(other.mCtx, nullptr);
+      mBytes = std::exchange(other.mBytes, 0);
+    }
+    return *this;
+  }
+  DeviceMemoryCharge(const DeviceMemoryCharge&) = delete;
+  DeviceMemoryCharge& operator=(const DeviceMemoryCharge&) = delete;
+
+private:
+  void release() noexcept {
+    if (mCtx) mCtx->trackDeviceBytes(-std::int64_t(mBytes));
+    mCtx = nullptr;
+  }
+  const VulkanContext* mCtx = nullptr;
+  std::uint64_t mBytes = 0;
 };
 
 } // namespace rtsdf::gpu

@@ -190,6 +190,7 @@ void provokeValidationErrorForTests([[maybe_unused]] VkDevice device) {
 
 struct VulkanContext::Messages {
   std::atomic<std::int64_t> live{0};
+  std::atomic<std::int64_t> deviceBytes{0};
   std::atomic<std::uint32_t> errors{0};
   std::mutex mutex;
   std::string last;
@@ -377,6 +378,14 @@ std::int64_t VulkanContext::liveObjects() const { return mMessages ? mMessages->
 
 void VulkanContext::trackObject(int delta) const {
   if (mMessages) mMessages->live += delta;
+}
+
+std::uint64_t VulkanContext::deviceBytesInUse() const {
+  return mMessages ? std::uint64_t(std::max<std::int64_t>(0, mMessages->deviceBytes.load())) : 0;
+}
+
+void VulkanContext::trackDeviceBytes(std::int64_t delta) const {
+  if (mMessages) mMessages->deviceBytes += delta;
 }
 
 std::uint32_t VulkanContext::memoryType(std::uint32_t typeBits, VkMemoryPropertyFlags properties) const {

@@ -107,6 +107,11 @@ public:
   std::int64_t liveObjects() const;
   /// @brief Called by the wrappers: +1 on creation, -1 on destruction.
   void trackObject(int delta) const;
+  /// @brief Bytes of device-local memory allocated through the RAII wrappers (Buffer, SampledVolume) and not yet
+  ///        freed: what the objects on this context hold, as the driver sized them (alignment included).
+  std::uint64_t deviceBytesInUse() const;
+  /// @brief Called by the wrappers: + the bytes of a device-local allocation, - the same when it is freed.
+  void trackDeviceBytes(std::int64_t delta) const;
 
 private:
   void release();

@@ -47,7 +47,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
     mSettings.closestSearch = cpuShaders ? ClosestSearch::Cell : ClosestSearch::Voxel;
   const bool cellSearch = s.mode == RefineMode::Closest && mSettings.closestSearch == ClosestSearch::Cell;
   // Everything is checked before anything is allocated (the brick pool, sized by the first frame's band, then).
-  mMemory = estimatePipelineMemory(grids, s, instanceTriangles(scene));
+  mMemory = estimatePipelineMemory(grids, s, sceneGpuSize(scene));
   checkPipelineMemory(mMemory, memoryLimits(ctx.info()));
   mCoarseSpec = mMemory.coarse;
   mFineSpec = mMemory.fine;
@@ -99,7 +99,7 @@ void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::
                             scrollScratchBytes()));
   PipelineMemory memory = mMemory;
   if (recut) { // checked before anything moves
-    memory = estimatePipelineMemory(grids, mSettings, instanceTriangles(*recut));
+    memory = estimatePipelineMemory(grids, mSettings, sceneGpuSize(*recut));
     PipelineMemory withPool = memory;
     withPool.deviceBytes += BrickPool::deviceBytesFor(mPool->capacity());
     checkPipelineMemory(withPool, memoryLimits(mCtx.info()));

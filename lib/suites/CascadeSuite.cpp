@@ -102,7 +102,7 @@ void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bou
     r.wallMs = msSince(t0);
     r.gpuMs = passSum(stats.passMs);
     r.refinedVoxels = stats.refinedFineVoxels;
-    r.deviceMiB = double(stats.deviceBytes) / (1024.0 * 1024.0);
+    r.deviceMiB = double(ctx.deviceBytesInUse()) / (1024.0 * 1024.0); // what the levels hold: the set alone is on ctx
     r.passMs = stats.passMs;
     spdlog::info("{} {} {}: frame {}, {} level(s) moved ({} rebuilt), wall {:.1f} ms, GPU {:.1f} ms", r.scene,
                  r.camera, r.build, r.frame, r.levelsMoved, r.levelsRebuilt, r.wallMs, r.gpuMs);

@@ -28,7 +28,7 @@ struct CascadeRow {
   double gpuMs = 0.0;              ///< the sum of the frame's pass timestamps over every level
   double wallMs = 0.0;             ///< moveTo and runFrame, call to return
   std::uint64_t refinedVoxels = 0; ///< fine voxels refined this frame, every level
-  double deviceMiB = 0.0;          ///< every level's device buffers
+  double deviceMiB = 0.0;          ///< the device memory every level holds, as allocated (VulkanContext::deviceBytesInUse)
   PassTimes passMs;                ///< GPU time per pass, every level's
 };
 

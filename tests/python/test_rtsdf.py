@@ -119,14 +119,22 @@ def test_cascades_follow_a_camera_by_scrolling():
     assert levels.levels == 2 and "2 levels of coarse 16 / fine 32" in repr(levels)
     first = levels.frame(0.0)
     assert len(first) == 2 and all(level["refined_voxels"] > 0 for level in first)
+    assert all(level["pool_bricks"] >= level["active_bricks"] > 0 for level in first)
+    # What the levels hold as allocated, against the estimates with the pools (no more than 10% apart here).
+    estimated = sum(level["device_bytes"] for level in first)
+    assert 0.9 * estimated < levels.device_bytes < 1.1 * estimated
+    # The orbiting teapot is far from level 0 (0.6 wide): its coarse passes are skipped, level 1 sees it move.
+    moving = levels.frame(0.1)
+    assert moving[0]["moved_instances"] == 0 and "ExactEdtPass" in moving[0]["skipped_passes"]
+    assert moving[1]["moved_instances"] == 1 and moving[1]["skipped_passes"] == []
     # Level 0's move is 4 coarse voxels of 0.0375 (a brick of 8 fine voxels): 0.1 along -x moves it once, over
     # surfaces that enter it.
     camera[0] -= 0.1
     move = levels.move_to(camera)
     assert move["moved"] == [0] and move["rebuilt"] == []
-    after = levels.frame(0.0)
-    fresh = rtsdf.Cascades(scene, camera=camera, **kw)
-    refreshed = fresh.frame(0.0)
+    after = levels.frame(0.1)
+    fresh = rtsdf.Cascades(scene, camera=camera, time=0.1, **kw)
+    refreshed = fresh.frame(0.1)
     assert 0 < after[0]["refined_voxels"] < refreshed[0]["refined_voxels"]  # only what entered level 0
     for i in range(2):
         ours, theirs = levels.level(i), fresh.level(i)

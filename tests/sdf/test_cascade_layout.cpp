@@ -260,7 +260,7 @@ TEST(CascadeMemory, DeviceMemoryStaysNearlyConstantFrom50To1000Metres) {
     // One box fitted to the town at the same counts: the same grid memory, but its voxel grows with the town.
     PipelineSettings one = s;
     one.cascades = 1;
-    const PipelineMemory single = estimatePipelineMemory(bounds, one, instanceTriangles(town));
+    const PipelineMemory single = estimatePipelineMemory(bounds, one, sceneGpuSize(town));
     singleBoxVoxel.push_back(single.fine.voxelSize);
     std::printf("%d m: one box %s, %llu triangles\n", size, single.describe().c_str(),
                 (unsigned long long)instanceTriangles(town));

@@ -256,7 +256,7 @@ TEST_F(Stability, ResolutionLargestThatFitsAndAClearErrorBeyond) {
   };
   auto fits = [&](int fine, std::string* why = nullptr) {
     try {
-      checkPipelineMemory(estimatePipelineMemory(bounds, settingsFor(fine), 320), limits);
+      checkPipelineMemory(estimatePipelineMemory(bounds, settingsFor(fine), {320, 320, 1}), limits);
       return true;
     } catch (const Error& e) {
       if (why) *why = e.what();
@@ -269,7 +269,7 @@ TEST_F(Stability, ResolutionLargestThatFitsAndAClearErrorBeyond) {
     const int mid = (lo + hi) / 2;
     (fits(mid) ? lo : hi) = mid;
   }
-  const PipelineMemory atMax = estimatePipelineMemory(bounds, settingsFor(lo), 320);
+  const PipelineMemory atMax = estimatePipelineMemory(bounds, settingsFor(lo), {320, 320, 1});
   std::string why;
   EXPECT_FALSE(fits(lo + 1, &why));
   std::printf("largest fine resolution on %s: %d (%s)\n  beyond: %s\n", sCtx->info().name.c_str(), lo,
@@ -291,7 +291,7 @@ TEST_F(Stability, ResolutionLargestThatFitsAndAClearErrorBeyond) {
     EXPECT_EQ(sCtx->liveObjects(), live);
   }
   // Each limit names itself.
-  const PipelineMemory need = estimatePipelineMemory(bounds, settingsFor(64), 320);
+  const PipelineMemory need = estimatePipelineMemory(bounds, settingsFor(64), {320, 320, 1});
   MemoryLimits tiny = limits;
   tiny.maxStorageBufferRange = need.largestBuffer - 1;
   EXPECT_THROW(checkPipelineMemory(need, tiny), Error);

@@ -58,9 +58,9 @@ CascadeMemory estimateCascadeMemory(const Scene& scene, const CascadeLayout& lay
   for (const CascadeLevel& level : layout.levels) {
     const PipelineSettings ls = levelSettings(s, level.index);
     const double margin = levelCutMargin(layout.shape, level, ls.band.sceneUnits(level.fine.voxelSize));
-    const std::uint64_t triangles = instanceTriangles(levelScene(scene, level.box(), margin));
-    m.levels.push_back(estimatePipelineMemory(level.grids(), withLengthsResolved(ls, level.fine.voxelSize), triangles));
-    m.triangles.push_back(triangles);
+    const SceneGpuSize geometry = sceneGpuSize(levelScene(scene, level.box(), margin));
+    m.levels.push_back(estimatePipelineMemory(level.grids(), withLengthsResolved(ls, level.fine.voxelSize), geometry));
+    m.triangles.push_back(geometry.instanceTriangles);
     m.deviceBytes += m.levels.back().deviceBytes;
     m.hostBytes = std::max(m.hostBytes, m.levels.back().hostBytes);
   }

@@ -18,12 +18,25 @@ std::string PipelineMemory::describe() const {
                      formatMiB(largestBuffer), formatMiB(deviceBytes), formatMiB(hostBytes));
 }
 
-PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettings& s, std::uint64_t triangles) {
-  return estimatePipelineMemory(pipelineGrids(bounds, s), s, triangles);
+SceneGpuSize sceneGpuSize(const Scene& scene) {
+  SceneGpuSize n;
+  std::vector<bool> placed(scene.meshes.size(), false);
+  for (const Instance& inst : scene.instances) {
+    const std::uint64_t triangles = scene.meshes.at(inst.mesh).triangles.size();
+    n.instanceTriangles += triangles;
+    ++n.instances;
+    if (!placed[inst.mesh]) n.meshTriangles += triangles;
+    placed[inst.mesh] = true;
+  }
+  return n;
+}
+
+PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettings& s, const SceneGpuSize& scene) {
+  return estimatePipelineMemory(pipelineGrids(bounds, s), s, scene);
 }
 
 PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids, const PipelineSettings& s,
-                                      std::uint64_t triangles) {
+                                      const SceneGpuSize& scene) {
   PipelineMemory m;
   std::tie(m.coarse, m.fine) = grids;
   const std::uint64_t nc = m.coarse.voxelCount(), nf = m.fine.voxelCount();
@@ -33,13 +46,17 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   else { m.largestBuffer = 2 * coarseBuf; m.largestBufferName = "coarse band list"; }
   const glm::uvec3 bricks = (glm::uvec3(m.fine.dims) + glm::uvec3(RTSDF_BRICK - 1)) / glm::uvec3(RTSDF_BRICK);
   // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel), the refinement state (8 bytes per voxel) and
-  // the refine list; the dense fine SDF; per brick its stamp and slot; the BVH (nodes of 32 bytes, at most two per
-  // triangle, corners 48 bytes and ids 4 bytes per triangle), whose mesh-space corners VoxelizePass places in
-  // voxel space (48 bytes per triangle). Closest mode: the list of voxels for the exact winding number (1 MiB).
+  // the refine list; the dense fine SDF; per brick its stamp and slot. The scene: per mesh triangle its bottom level
+  // (nodes of 32 bytes and as many winding dipoles, at most two of each per triangle; corners 48 bytes; id, closed
+  // piece and open-mesh flags 4 bytes each); per instance triangle its corners placed by VoxelizePass (48 bytes); per
+  // instance two top-level nodes (64), its slot (4), its transforms for the BVH (112) and for VoxelizePass (64), its
+  // triangle range (8) and a closed piece in the overlap list (32). Closest mode: the list of voxels for the exact
+  // winding number (1 MiB).
   const std::uint64_t nearHalfList =
       s.mode == RefineMode::Closest ? (1 + std::uint64_t(gpu::shared::kWindingExactCapacity)) * 16 : 0;
   m.deviceBytes = 8 * coarseBuf + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
-                  triangles * (64 + 48 + 4 + 48) + nearHalfList + 4096;
+                  scene.meshTriangles * (64 + 64 + 48 + 3 * 4) + scene.instanceTriangles * 48 +
+                  scene.instances * (64 + 4 + 112 + 64 + 8 + 32) + nearHalfList + 4096;
   // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
   // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
   m.hostBytes = nc * 29 + nf * 16;

@@ -5,6 +5,7 @@
 ///        that refuses an estimate beyond them (checkPipelineMemory). Owns no state.
 #include "gpu/VulkanContext.h"
 #include "grid/GridSpec.h"
+#include "scene/Scene.h"
 #include "sdf/PipelineSettings.h"
 #include "util/Bounds.h"
 
@@ -19,7 +20,8 @@ namespace rtsdf {
 /// Device buffers: per coarse voxel 32 bytes (seeds, jump-flood scratch, coarse SDF, the compacted coarse band,
 /// the refinement state, the list of voxels to refine: the GPU appends to them, so they are sized for every
 /// voxel); per brick 8 bytes (stamp, slot); per fine voxel 4 bytes with FineStorage::Dense (the dense fine SDF);
-/// the BVH (about 160 bytes per triangle). Not counted: the brick pool (8 bytes per fine voxel of a brick under
+/// the scene (SceneGpuSize): 188 bytes per mesh triangle (the bottom levels), 48 per instance triangle (placed
+/// corners), 284 per instance (the top level, its transforms, its closed pieces). Not counted: the brick pool (8 bytes per fine voxel of a brick under
 /// the band: values and sign votes), which the first frame sizes from the band and checks against the same
 /// limits (SdfPipeline::poolBricks()). Host memory at its peak, when the results are read back (a frame itself
 /// reads back a few words): per coarse voxel 29 bytes (coarseField() and its staging copy; rayMask()'s coarse
@@ -34,13 +36,23 @@ struct PipelineMemory {
   std::string describe() const;
 };
 
-/// @brief Estimate the memory of a pipeline (see PipelineMemory) for @a triangles triangles.
+/// @brief What of a scene a pipeline holds on the device: each mesh's triangles once (the BVH's bottom levels, shared by
+///        its instances), every instance's triangles placed in the grid's frame (VoxelizePass), and per instance
+///        its top-level entries.
+struct SceneGpuSize {
+  std::uint64_t meshTriangles = 0, instanceTriangles = 0, instances = 0;
+};
+
+/// @brief The counts of @a scene's meshes that some instance places (SceneGpuSize).
+SceneGpuSize sceneGpuSize(const Scene& scene);
+
+/// @brief Estimate the memory of a pipeline (see PipelineMemory) on @a scene's geometry.
 /// @throw Error as pipelineGrids does.
-PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettings& s, std::uint64_t triangles = 0);
+PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettings& s, const SceneGpuSize& scene = {});
 
 /// @brief Estimate the memory of a pipeline on the given (coarse, fine) @a grids (a cascade level's).
 PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids, const PipelineSettings& s,
-                                      std::uint64_t triangles = 0);
+                                      const SceneGpuSize& scene = {});
 
 /// @brief Limits an estimate is checked against.
 struct MemoryLimits {

@@ -21,6 +21,7 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   # (sign from rays or the closest side, search per voxel or per cell, the BVH walk for GPUs or CPU devices).
   "refine_upsample.comp           sdf/refine/refine_upsample_main.glsl  RTSDF_UPSAMPLE_RUN=RTSDF_UPSAMPLE_RUN_LENGTH"
   "refine_upsample_voxel.comp     sdf/refine/refine_upsample_main.glsl  RTSDF_UPSAMPLE_RUN=1"
+  "upsample_region.comp           sdf/refine/upsample_region.comp"
   "refine_rays.comp               sdf/refine/refine_main.glsl  RTSDF_REFINE_MODE=RTSDF_REFINE_RAYS"
   "refine_closest.comp            sdf/refine/refine_main.glsl  ${closest}
                                   RTSDF_CELL_SEARCH=0 RTSDF_SIGN_RAYS=1 RTSDF_POINT_WALK_WHILE_WHILE=0"

@@ -211,7 +211,7 @@ void SdfPipeline::submitFrame(double time) {
   if (mPlan.mask)
     mMask->recordMask(cmd, profiler, ++mMaskFrame, moved, mFields->coarseBuffer(), mMotion->buffer(), *mPool);
   mFields->recordFine(cmd, profiler, mFields->refineParams(mFrame, *mPool), *mBvh, *mMask, *mPool, mPlan.refine,
-                      mPlan.upsample);
+                      mPlan.upsample, mPlan.upsampleChanged);
   gpu::computeBarrier(cmd);
   if (mPlan.mask) mMask->recordCountsReadback(cmd, *mPool);
   mRecorder->submit(stats, t0);
@@ -229,6 +229,9 @@ FrameStats SdfPipeline::finishFrame() {
     stats.activeBricks = counts.activeBricks;
     stats.overflowBricks = counts.overflowBricks;
     stats.poolBricks = mPool->capacity();
+    stats.upsampledFineVoxels = !mPlan.upsample ? 0
+                                : mPlan.upsampleChanged ? mFields->lastRegionVoxels()
+                                                        : mFineSpec.voxelCount();
     stats.deviceBytes = mMemory.deviceBytes + BrickPool::deviceBytesFor(mPool->capacity());
     if (mPlan.mask) mPool->noteFrame(counts.activeBricks, counts.overflowBricks);
   });
@@ -241,6 +244,8 @@ const gpu::Buffer& SdfPipeline::fineBuffer() const {
     throw Error("SdfPipeline: the fine SDF is kept sparse (fine storage 'sparse'): there is no dense fine buffer");
   return mFields->fineBuffer();
 }
+
+gpu::shared::ChangedBox SdfPipeline::changedCoarseBox() const { return mFields->readChangedBox(); }
 
 const gpu::Buffer& SdfPipeline::coarseBuffer() const { return mFields->coarseBuffer(); }
 

@@ -113,6 +113,9 @@ public:
   std::uint64_t poolBricks() const;
   /// @brief The last frame's coarse SDF (x fastest; read back from the GPU; empty before the first frame).
   std::vector<float> coarseField() const;
+  /// @brief The box of the coarse voxels whose value the last coarse rebuild changed (gpu::shared::ChangedBox; the
+  ///        upsampling after an instance moved covers the fine voxels near it). After a frame.
+  gpu::shared::ChangedBox changedCoarseBox() const;
   /// @brief The last frame's ray mask as the GPU compacted it, with its OpenVDB mirror built on demand from the
   ///        compacted band (no dense read-back): the same voxels as buildRayMask(coarseField(), ...), the fine
   ///        voxels sorted. Empty before the first frame or when d = 0.

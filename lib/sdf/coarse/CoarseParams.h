@@ -25,8 +25,17 @@ const uint kExactEdtBindingSrc = 0u;            // nearest seeds of the previous
 const uint kExactEdtBindingDst = 1u;            // nearest seeds after this axis; also the line's scratch stack
 const uint kExactEdtBindingCount = 2u;
 const uint kCoarseDistanceBindingNearest = 0u;  // nearest seed per voxel
-const uint kCoarseDistanceBindingDistance = 1u; // c per voxel
-const uint kCoarseDistanceBindingCount = 2u;
+const uint kCoarseDistanceBindingDistance = 1u; // c per voxel (read: the last build's, then written)
+const uint kCoarseDistanceBindingChanged = 2u;  // ChangedBox: grown to hold every voxel whose c changed
+const uint kCoarseDistanceBindingCount = 3u;
+
+/// The box of the coarse voxels whose value a build changed (coarse_distance.comp compares each voxel's new c with
+/// the last build's, bit for bit): lo.xyz and hi.xyz inclusive; empty while lo.x > hi.x (reset to kChangedBoxEmpty).
+struct ChangedBox {
+  uvec4 lo;
+  uvec4 hi;
+};
+const uint kChangedBoxEmptyLo = 0xFFFFFFFFu; // the reset value of lo (hi is reset to 0)
 
 /// No seed (empty voxel) in a seed or nearest-seed buffer.
 const uint kNoSeed = 0xFFFFFFFFu;

@@ -88,6 +88,7 @@ void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
   std::array<gpu::Binding, kCoarseDistanceBindingCount> b;
   b[kCoarseDistanceBindingNearest] = &in.nearest;
   b[kCoarseDistanceBindingDistance] = &out.distance;
+  b[kCoarseDistanceBindingChanged] = &out.changed;
   mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(params.dims.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(params.dims.y, RTSDF_JFA_GROUP_Y),
                       gpu::groupsFor(params.dims.z, RTSDF_JFA_GROUP_Z)});
@@ -164,6 +165,7 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& t
   gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / transform A");
   gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "transform B");
   gpu::reserve(mCtx, mDistanceBuf, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
+  gpu::reserve(mCtx, mChangedBox, sizeof(ChangedBox), storage, Buffer::Memory::Device, "coarse SDF changed box");
 
   p.beta = float(settings.beta >= 0.0 ? settings.beta : 0.5 * spec.voxelSize);
   p.distance.dims = glm::ivec4(dims, 0);
@@ -195,7 +197,11 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
     mExactEdt.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, {p.flood.dims});
   else
     mJumpFlood.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, p.flood);
-  mDistance.execute(cmd, profiler, {nearest}, {mDistanceBuf}, p.distance);
+  // The box starts empty; the pass grows it over the voxels whose value changed.
+  static const ChangedBox kEmpty{glm::uvec4(kChangedBoxEmptyLo), glm::uvec4(0u)};
+  gpu::recordUpload(cmd, mChangedBox, &kEmpty, sizeof(kEmpty));
+  gpu::computeBarrier(cmd);
+  mDistance.execute(cmd, profiler, {nearest}, {mDistanceBuf, mChangedBox}, p.distance);
   return nearest;
 }
 

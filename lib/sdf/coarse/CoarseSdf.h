@@ -87,12 +87,13 @@ public:
                const Params& params) const;
 };
 
-/// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel.
+/// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel, and the box of the voxels whose c differs
+///        from what @a distance held (gpu::shared::ChangedBox, grown: the caller resets it).
 class CoarseDistancePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "CoarseDistancePass";
   struct Inputs { const gpu::Buffer& nearest; };
-  struct Outputs { const gpu::Buffer& distance; };
+  struct Outputs { const gpu::Buffer& distance, & changed; };
   using Params = gpu::shared::CoarseDistanceParams;
   explicit CoarseDistancePass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "coarse_distance.comp", gpu::shared::kCoarseDistanceBindingCount, sizeof(Params)) {}
@@ -151,6 +152,9 @@ public:
   /// @brief The last build's coarse SDF on the GPU (x fastest), valid until the next build: later passes
   ///        read it in place instead of uploading the read-back copy again.
   const gpu::Buffer& distanceBuffer() const { return mDistanceBuf; }
+  /// @brief The box of the coarse voxels whose value the last build changed from the build before
+  ///        (gpu::shared::ChangedBox; undefined after the buffer was (re)allocated: its old values were).
+  const gpu::Buffer& changedBoxBuffer() const { return mChangedBox; }
 
 private:
   struct Prepared {
@@ -167,7 +171,7 @@ private:
   const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                                   const Prepared& p) const;
   const gpu::VulkanContext& mCtx;
-  gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mSeedsA, mSeedsB, mDistanceBuf;
+  gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mSeedsA, mSeedsB, mDistanceBuf, mChangedBox;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;
   ExactEdtPass mExactEdt;

@@ -3,6 +3,7 @@
 #include "sdf/pipeline/GridShift.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace rtsdf {
 using gpu::Buffer;
@@ -12,7 +13,7 @@ FieldPasses::FieldPasses(const gpu::VulkanContext& ctx, const GridSpec& coarse, 
                          const PipelineSettings& settings, const RefineParts& parts,
                          const ClosestRefinePass::Variant& closest)
     : mCtx(ctx), mCoarseSpec(coarse), mFineSpec(fine), mSettings(settings), mParts(parts), mCoarse(ctx),
-      mUpsample(ctx),
+      mUpsample(ctx), mUpsampleRegion(ctx),
       mRefine(settings.mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
                                                 : std::make_unique<ClosestRefinePass>(ctx, closest)) {
   if (settings.mode == RefineMode::Closest) {
@@ -25,6 +26,10 @@ FieldPasses::FieldPasses(const gpu::VulkanContext& ctx, const GridSpec& coarse, 
   if (settings.fineStorage == FineStorage::Dense)
     mFine = Buffer(ctx, fine.voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, Buffer::Memory::Device,
                    "fine SDF");
+  if (mFine)
+    mRegion = Buffer(ctx, sizeof(gpu::shared::UpsampleRegion),
+                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Host,
+                     "upsample region");
   mSamplingParams = Buffer(ctx, sizeof(RefineParams),
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                            Buffer::Memory::Device, "brick sampling parameters");
@@ -73,7 +78,7 @@ RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& poo
 
 void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const RefineParams& p,
                              const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool, bool refine,
-                             bool upsample) const {
+                             bool upsample, bool upsampleChanged) const {
   const BrickPages pages = pool.pages();
   const Buffer& coarse = mCoarse.distanceBuffer();
   const Buffer& dense = mFine ? mFine : pool.placeholder();
@@ -90,9 +95,31 @@ void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
     if (mWindingExact && bvh.openPieces().any())
       mWindingExact->execute(cmd, profiler, {bvh, mWindingDoubts}, {pages, dense, mask.refineStats()}, p);
   }
-  if (upsample && mFine) mUpsample.execute(cmd, profiler, {coarse, mask.fineToCoarse(), pool.slots()}, {mFine}, p);
+  if (upsample && mFine) {
+    const UpsamplePass::Inputs in{coarse, mask.fineToCoarse(), pool.slots()};
+    if (upsampleChanged) {
+      mUpsampleRegion.execute(cmd, nullptr, {mCoarse.changedBoxBuffer()}, {mRegion}, p);
+      mUpsample.executeIn(cmd, profiler, in, {mFine}, p, mRegion);
+    } else {
+      mUpsample.execute(cmd, profiler, in, {mFine}, p);
+    }
+  }
   // Shading that samples the bricks finds the grids here.
   gpu::recordUpload(cmd, mSamplingParams, &p, sizeof(p));
+}
+
+std::uint64_t FieldPasses::lastRegionVoxels() const {
+  if (!mRegion) return 0;
+  gpu::shared::UpsampleRegion r;
+  std::memcpy(&r, mRegion.mapped(), sizeof(r));
+  const glm::i64vec3 n = glm::max(glm::i64vec3(glm::ivec3(r.end) - glm::ivec3(r.begin)), glm::i64vec3(0));
+  return std::uint64_t(n.x * n.y * n.z);
+}
+
+gpu::shared::ChangedBox FieldPasses::readChangedBox() const {
+  gpu::shared::ChangedBox box;
+  download(mCtx, mCoarse.changedBoxBuffer(), &box, sizeof(box));
+  return box;
 }
 
 std::vector<float> FieldPasses::readCoarse() const {

@@ -41,10 +41,18 @@ public:
   /// @brief The refinement's and upsampling's parameters for frame number @a frame with the brick pool @a pool.
   gpu::shared::RefineParams refineParams(std::uint32_t frame, const BrickPool& pool) const;
   /// @brief Record after the mask: where @a refine, the refinement of @a mask's refine list (band > 0); where
-  ///        @a upsample, the upsampling into the dense fine SDF (Dense only); and @a p uploaded for shading.
+  ///        @a upsample, the upsampling into the dense fine SDF (Dense only), of every voxel or, where
+  ///        @a upsampleChanged, of those near the coarse voxels the last recordCoarse changed (UpsampleRegionPass);
+  ///        and @a p uploaded for shading.
   void recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const gpu::shared::RefineParams& p,
                   const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool, bool refine = true,
-                  bool upsample = true) const;
+                  bool upsample = true, bool upsampleChanged = false) const;
+  /// @brief The fine voxels the last upsampling of changed voxels covered (its region's volume). The frame must be
+  ///        finished.
+  std::uint64_t lastRegionVoxels() const;
+  /// @brief Read back the box of the coarse voxels the last recordCoarse changed (gpu::shared::ChangedBox). The
+  ///        frame must be finished.
+  gpu::shared::ChangedBox readChangedBox() const;
 
   /// @brief The grids moved to @a coarse and @a fine, @a fineShift fine voxels from where they were
   ///        (SdfPipeline::scroll): record the dense fine SDF's shift through @a scratch (recordGridShift of
@@ -70,6 +78,8 @@ private:
   RefineParts mParts;
   CoarseSdfBuilder mCoarse;
   UpsamplePass mUpsample;
+  UpsampleRegionPass mUpsampleRegion;
+  gpu::Buffer mRegion; ///< UpsampleRegionPass's UpsampleRegion (host-visible: lastRegionVoxels reads it)
   std::unique_ptr<RefinePass> mRefine; ///< RayRefinePass or ClosestRefinePass, by the mode
   std::unique_ptr<WindingExactPass> mWindingExact; ///< closest mode: the winding numbers near 1/2
   gpu::Buffer mFine, mSamplingParams;

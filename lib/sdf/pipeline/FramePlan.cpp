@@ -15,6 +15,7 @@ FramePlan planFrame(const FrameChanges& c, const PipelineSettings& s) {
   plan.mask = refining && (plan.coarse || c.poolReset || c.lastListed || dueEveryFrame);
   plan.refine = plan.mask;
   plan.upsample = s.fineStorage == FineStorage::Dense && (plan.coarse || c.poolReset);
+  plan.upsampleChanged = plan.upsample && c.moved && !c.scrolled && !c.poolReset;
   return plan;
 }
 

@@ -23,6 +23,9 @@ struct FrameChanges {
 ///        UpsamplePass (dense fine storage only).
 struct FramePlan {
   bool coarse = true, mask = true, refine = true, upsample = true;
+  /// The upsampling rewrites only the fine voxels near the coarse voxels whose value the rebuild changed
+  /// (UpsampleRegionPass): an instance moved, and the grids, the pool and the last build's coarse SDF are as they were.
+  bool upsampleChanged = false;
 };
 
 /// @brief The passes a frame with @a changes runs under the settings in effect @a s. Every pass runs with
@@ -32,7 +35,8 @@ struct FramePlan {
 ///        voxels still settling), and every frame where settled voxels are refreshed (refreshPeriod > 0: staggered
 ///        over the frames) or never settle (settleFrames 0). A run that lists nothing leaves the band, the bricks
 ///        and the fine SDF as they are, so skipping it changes nothing. The upsampling writes the coarse SDF
-///        outside the slotted band: it runs when the coarse SDF or the slots changed.
+///        outside the slotted band: it runs when the coarse SDF or the slots changed, over the whole grid unless only
+///        an instance moved (then where the coarse SDF changed: the slots change only where the band does).
 FramePlan planFrame(const FrameChanges& changes, const PipelineSettings& s);
 
 /// @brief The profiler names of the passes @a plan leaves out under @a s (in recording order), for FrameStats.

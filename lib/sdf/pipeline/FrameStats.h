@@ -26,6 +26,9 @@ struct FrameStats {
   std::uint64_t overflowBricks = 0;    ///< ...but these: the pool was full; the next frame grows it and starts over
   std::uint64_t poolBricks = 0;        ///< the pool's capacity this frame
   std::uint64_t deviceBytes = 0;       ///< the pipeline's device buffers this frame (estimate and pool)
+  /// Dense fine voxels the upsampling wrote this frame: the whole grid, or after an instance moved those near the
+  /// coarse voxels whose value changed (UpsampleRegionPass); 0 where it did not run.
+  std::uint64_t upsampledFineVoxels = 0;
   std::uint64_t movedInstances = 0;    ///< instances whose transform changed since the previous frame near the grid
   /// CPU time of the frame outside its wait for the GPU: the BVH's top level and the instance transforms,
   /// recording, submitting, and reading the counts after the GPU finished. It grows with the instances, not with

@@ -49,7 +49,12 @@ const uint kUpsampleBindingFine = 1u;         // the dense fine SDF: c_t upsampl
 const uint kUpsampleBindingFineToCoarse = 2u; // int per fine index per axis (x entries, then y, then z): the coarse
                                               // voxel whose slab holds it (maskCoarseOfFine), -1: none
 const uint kUpsampleBindingBrickSlots = 3u;   // uint per brick: its slot in the pool, kNoBrick: none
-const uint kUpsampleBindingCount = 4u;
+const uint kUpsampleBindingRegion = 4u;       // UpsampleRegion: the fine voxels written (read)
+const uint kUpsampleBindingCount = 5u;
+/// Bindings of upsample_region.comp (UpsampleRegionPass).
+const uint kUpsampleRegionBindingChanged = 0u; // the coarse SDF's ChangedBox (sdf/coarse/CoarseParams.h; read)
+const uint kUpsampleRegionBindingRegion = 1u;  // UpsampleRegion (written)
+const uint kUpsampleRegionBindingCount = 2u;
 
 /// Bindings of refine_rays.comp and refine_closest*.comp: the scene BVH (GpuBvhLayout.h's kBvhBinding*), then these,
 /// then the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page),
@@ -111,6 +116,48 @@ struct RefineParams {
   ivec4 brickDims;       // xyz: bricks per axis; w: boxes along x per coarse voxel
   ivec4 partBox;         // xyz: the most fine voxels per axis of one invocation's box; w: boxes along y
 };
+
+/// The fine voxels UpsamplePass writes, [begin, end) per axis, and the work groups that cover them (groups.xyz: a
+/// VkDispatchIndirectCommand at offset 0, refine_upsample.comp's groups).
+struct UpsampleRegion {
+  uvec4 groups;
+  ivec4 begin;
+  ivec4 end;
+};
+
+/// The fine voxels whose upsampled value may differ once the coarse voxels in @a lo..@a hi (inclusive; empty where
+/// lo.x > hi.x) changed, with the work groups of refine_upsample.comp (runs of @a run voxels along z). A fine voxel
+/// reads its cell's eight corners and its own coarse voxel (the band test): both lie within one coarse voxel of it,
+/// so the region is the fine voxels of the box grown by one coarse voxel, and one fine voxel more each side for
+/// rounding; where the grown box reaches a face of the coarse grid, the region reaches the fine grid's face (the
+/// cells clamp there). The slots of the bricks change only where the band does, so inside the box as well.
+RTSDF_FN UpsampleRegion upsampleRegionOf(uvec4 lo, uvec4 hi, RefineParams p, int run) {
+  UpsampleRegion r;
+  r.groups = uvec4(0u, 1u, 1u, 0u);
+  r.begin = ivec4(0);
+  r.end = ivec4(0);
+  if (lo.x > hi.x) return r;
+  ivec3 cd = ivec3(p.coarseDims), fd = ivec3(p.fineDims);
+  ivec3 clo = max(ivec3(uvec3(lo)) - ivec3(1), ivec3(0));
+  ivec3 chi = min(ivec3(uvec3(hi)) + ivec3(1), cd - ivec3(1));
+  // Corners of the grown box relative to the fine grid's corner, in fine voxels.
+  vec3 toFine = vec3(p.coarseOriginInvH) - vec3(p.fineOriginH);
+  vec3 a = (toFine + vec3(clo) / p.coarseOriginInvH.w) / p.fineOriginH.w;
+  vec3 b = (toFine + vec3(chi + ivec3(1)) / p.coarseOriginInvH.w) / p.fineOriginH.w;
+  ivec3 begin = ivec3(floor(a)) - ivec3(1), end = -ivec3(floor(-b)) + ivec3(1);
+  for (int i = 0; i < 3; ++i) {
+    if (clo[i] == 0) begin[i] = 0;
+    if (chi[i] == cd[i] - 1) end[i] = fd[i];
+  }
+  begin = clamp(begin, ivec3(0), fd);
+  end = clamp(end, begin, fd);
+  ivec3 n = end - begin;
+  r.begin = ivec4(begin, 0);
+  r.end = ivec4(end, 0);
+  r.groups = uvec4(uint((n.x + RTSDF_UPSAMPLE_GROUP_X - 1) / RTSDF_UPSAMPLE_GROUP_X),
+                   uint((n.y + RTSDF_UPSAMPLE_GROUP_Y - 1) / RTSDF_UPSAMPLE_GROUP_Y), uint((n.z + run - 1) / run), 0u);
+  return r;
+}
 
 /// The two uniform numbers in [0, 1) of ray @a ray of voxel @a voxel in frame @a frame.
 RTSDF_FN uint rayHash(uint voxel, uint frame, uint ray, uint seed) {

@@ -1,6 +1,7 @@
 #include "sdf/refine/RefinePasses.h"
 
 #include <array>
+#include <limits>
 
 namespace rtsdf {
 using namespace gpu::shared;
@@ -44,6 +45,14 @@ template <std::size_t N> void bindPages(std::array<gpu::Binding, N>& b, std::uin
 }
 } // namespace
 
+UpsamplePass::UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel)
+    : ComputePass(ctx, kernel == Kernel::Runs ? "refine_upsample.comp" : "refine_upsample_voxel.comp",
+                  gpu::shared::kUpsampleBindingCount, sizeof(Params)),
+      mRun(kernel == Kernel::Runs ? RTSDF_UPSAMPLE_RUN_LENGTH : 1) {
+  const UpsampleRegion whole{glm::uvec4(0u), glm::ivec4(0), glm::ivec4(std::numeric_limits<int>::max())};
+  gpu::reserveAndUpload(ctx, mWholeGrid, &whole, sizeof(whole), gpu::kStorage, "upsample whole grid");
+}
+
 void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
@@ -52,10 +61,35 @@ void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   b[kUpsampleBindingFine] = &out.fine;
   b[kUpsampleBindingFineToCoarse] = &in.fineToCoarse;
   b[kUpsampleBindingBrickSlots] = &in.brickSlots;
+  b[kUpsampleBindingRegion] = &mWholeGrid;
   const glm::ivec3 d = params.fineDims;
   mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(d.x, RTSDF_UPSAMPLE_GROUP_X), gpu::groupsFor(d.y, RTSDF_UPSAMPLE_GROUP_Y),
                       gpu::groupsFor(d.z, std::uint32_t(mRun))});
+  gpu::computeBarrier(cmd);
+}
+
+void UpsamplePass::executeIn(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                             const Params& params, const gpu::Buffer& region) const {
+  if (mRun != RTSDF_UPSAMPLE_RUN_LENGTH) throw Error("UpsamplePass: a region needs the runs kernel");
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kUpsampleBindingCount> b;
+  b[kUpsampleBindingCoarse] = &in.coarse;
+  b[kUpsampleBindingFine] = &out.fine;
+  b[kUpsampleBindingFineToCoarse] = &in.fineToCoarse;
+  b[kUpsampleBindingBrickSlots] = &in.brickSlots;
+  b[kUpsampleBindingRegion] = &region;
+  mPipeline.dispatchIndirect(cmd, b, &params, region);
+  gpu::computeBarrier(cmd);
+}
+
+void UpsampleRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in,
+                                 const Outputs& out, const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kUpsampleRegionBindingCount> b;
+  b[kUpsampleRegionBindingChanged] = &in.changed;
+  b[kUpsampleRegionBindingRegion] = &out.region;
+  mPipeline.dispatch(cmd, b, &params, {1u, 1u, 1u});
   gpu::computeBarrier(cmd);
 }
 

@@ -55,15 +55,35 @@ public:
   };
   struct Outputs { const gpu::Buffer& fine; };  ///< every fine voxel but the slotted ones under the band written
   using Params = gpu::shared::RefineParams;     ///< grids of both levels
-  explicit UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel = Kernel::Runs)
-      : ComputePass(ctx, kernel == Kernel::Runs ? "refine_upsample.comp" : "refine_upsample_voxel.comp",
-                    gpu::shared::kUpsampleBindingCount, sizeof(Params)),
-        mRun(kernel == Kernel::Runs ? RTSDF_UPSAMPLE_RUN_LENGTH : 1) {}
+  /// @throw VulkanError when the shader is missing or its whole-grid region cannot be uploaded.
+  explicit UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel = Kernel::Runs);
+  /// @brief Record the upsampling of every fine voxel.
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
+  /// @brief Record the upsampling of the fine voxels in @a region (an UpsampleRegion written by UpsampleRegionPass
+  ///        earlier in @a cmd; its groups are the dispatch's). Kernel::Runs only.
+  /// @throw Error with Kernel::PerVoxel.
+  void executeIn(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                 const Params& params, const gpu::Buffer& region) const;
 
 private:
   int mRun;
+  gpu::Buffer mWholeGrid; ///< the UpsampleRegion of every fine voxel (begin 0, end unbounded: the grid's dims)
+};
+
+/// @brief UpsampleRegionPass: the fine voxels UpsamplePass::executeIn rewrites after the coarse SDF changed in the box
+///        CoarseDistancePass grew (gpu::shared::upsampleRegionOf), and the work groups that cover them. One
+///        invocation; the fine field it leads to equals a whole-grid upsampling bit for bit.
+class UpsampleRegionPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "UpsampleRegionPass";
+  struct Inputs { const gpu::Buffer& changed; };  ///< the coarse SDF's ChangedBox (CoarseSdfBuilder::changedBoxBuffer)
+  struct Outputs { const gpu::Buffer& region; };  ///< an UpsampleRegion (storage and indirect usage)
+  using Params = gpu::shared::RefineParams;       ///< grids of both levels
+  explicit UpsampleRegionPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "upsample_region.comp", gpu::shared::kUpsampleRegionBindingCount, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
 };
 
 /// @brief The refinement of the masked fine voxels (refine_main.glsl): the shared shape of RayRefinePass and

@@ -9,7 +9,8 @@
 // upsampled too. One invocation per run of RTSDF_UPSAMPLE_RUN fine
 // voxels along z (neighbouring invocations: neighbouring x, so a group's writes are contiguous): the run keeps
 // the 2 x 2 x 2 coarse values of its cell and loads only the new z plane of 4 when it crosses into the next
-// coarse cell.
+// coarse cell. The voxels written are those of the region bound (UpsampleRegion: the whole grid, or where the coarse
+// SDF changed, UpsampleRegionPass), offset by its begin.
 #include "sdf/refine/RefineParams.h"
 #ifndef RTSDF_UPSAMPLE_RUN
 #error "compile with RTSDF_UPSAMPLE_RUN defined (fine voxels along z per invocation)"
@@ -21,16 +22,18 @@ layout(std430, binding = kUpsampleBindingCoarse) readonly buffer Coarse { float 
 layout(std430, binding = kUpsampleBindingFine) writeonly buffer Fine { float fine[]; };
 layout(std430, binding = kUpsampleBindingFineToCoarse) readonly buffer FineToCoarse { int fineToCoarse[]; };
 layout(std430, binding = kUpsampleBindingBrickSlots) readonly buffer BrickSlots { uint brickSlots[]; };
+layout(std430, binding = kUpsampleBindingRegion) readonly buffer Region { UpsampleRegion region; };
 
 #include "coarse_upsample.glsl"
 
 void main() {
   ivec3 fd = params.fineDims.xyz;
   ivec3 cd = params.coarseDims.xyz;
-  int x = int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y);
-  int zBegin = int(gl_GlobalInvocationID.z) * RTSDF_UPSAMPLE_RUN;
-  if (x >= fd.x || y >= fd.y || zBegin >= fd.z) return;
-  int zEnd = min(zBegin + RTSDF_UPSAMPLE_RUN, fd.z);
+  ivec3 end = min(region.end.xyz, fd);
+  int x = region.begin.x + int(gl_GlobalInvocationID.x), y = region.begin.y + int(gl_GlobalInvocationID.y);
+  int zBegin = region.begin.z + int(gl_GlobalInvocationID.z) * RTSDF_UPSAMPLE_RUN;
+  if (x >= end.x || y >= end.y || zBegin >= end.z) return;
+  int zEnd = min(zBegin + RTSDF_UPSAMPLE_RUN, end.z);
   // The coarse row holding this column of fine voxels (the ray mask's slabs), when the band masks anything.
   ivec2 slab = ivec2(fineToCoarse[x], fineToCoarse[fd.x + y]);
   bool maskable = params.band > 0.0 && slab.x >= 0 && slab.y >= 0;

@@ -135,6 +135,10 @@ DeviceInfo describe(VkPhysicalDevice pd, std::uint32_t index) {
                                       p.limits.maxComputeWorkGroupCount[2]);
   info.maxImageDimension3D = p.limits.maxImageDimension3D;
   info.subgroupSize = subgroup.subgroupSize;
+  const VkSubgroupFeatureFlags ballot = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT |
+                                        VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+  info.computeSubgroupBallot = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                               (subgroup.supportedOperations & ballot) == ballot;
   info.timestampPeriodNs = p.limits.timestampPeriod;
   std::uint32_t nq = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(pd, &nq, nullptr);
@@ -284,6 +288,10 @@ VulkanContext::VulkanContext(const ContextOptions& options) : mMessages(new Mess
     for (std::uint32_t i = 0; i < nq && !found; ++i)
       if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) { mQueueFamily = i; found = true; }
     if (!found) throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, fmt::format("finding a compute queue on {}", mInfo.name));
+    if (!mInfo.computeSubgroupBallot)
+      throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT,
+                        fmt::format("{} lacks subgroup ballots and arithmetic in compute shaders (rtsdf's ray mask "
+                                    "reserves its list slots by subgroup)", mInfo.name));
 
     std::uint32_t next = 0;
     vkEnumerateDeviceExtensionProperties(mPhysical, nullptr, &next, nullptr);

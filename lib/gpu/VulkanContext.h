@@ -30,6 +30,8 @@ struct DeviceInfo {
   glm::uvec3 maxWorkGroupCount{0};
   std::uint32_t maxImageDimension3D = 0;
   std::uint32_t subgroupSize = 0;
+  /// Compute shaders may use subgroup ballots and arithmetic (MaskCompactPass reserves its list slots by subgroup).
+  bool computeSubgroupBallot = false;
   float timestampPeriodNs = 0.0f;
   bool computeTimestamps = false;
   std::uint64_t deviceLocalBytes = 0;

@@ -1,12 +1,16 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 // MaskCompactPass: the ray mask appended on the GPU. One invocation per coarse voxel: a voxel in the band
 // (|c| <= d, the float comparison of the CPU mirror) appends itself to the coarse list, counts the fine voxels
 // whose centres lie in it (the per-axis range tables, computed on the CPU as the mirror does), marks the bricks
 // that hold them as needed this frame (the sparse fine state) and, when they are to be refined this frame
 // (refinesThisFrame: new to the band, reached by a moving instance, not settled), appends itself to the refine
 // list, which the refinement expands into those fine voxels. The refinement hashes by voxel, not by slot, so the
-// lists' order does not matter.
+// lists' order does not matter. Slots are reserved per subgroup (a ballot's prefix count, one global atomic per
+// counter and subgroup): one global atomic per band voxel serialised the whole band on a single address, and a
+// work group's reservation through shared memory needs two barriers, which cost lavapipe as much as the pass's work.
 #include "sdf/mask/MaskParams.h"
 
 layout(local_size_x = RTSDF_MASK_GROUP, local_size_y = RTSDF_MASK_GROUP, local_size_z = RTSDF_MASK_GROUP) in;
@@ -19,8 +23,6 @@ layout(std430, binding = kMaskBindingCoarseList) writeonly buffer CoarseList { u
 layout(std430, binding = kMaskBindingCoarseState) buffer CoarseState { uvec2 coarseState[]; };
 layout(std430, binding = kMaskBindingMovedBoxes) readonly buffer MovedBoxes { MovedBox movedBoxes[]; };
 layout(std430, binding = kMaskBindingBrickNeeded) writeonly buffer BrickNeeded { uint brickNeeded[]; };
-
-shared uint groupFine, groupMasked, groupCoarse, groupRefine, baseRefine, baseCoarse;
 
 // Mark the bricks holding fine voxels [lo, hi] as needed this frame (every writer writes the same value).
 void markBricks(ivec3 lo, ivec3 hi) {
@@ -43,16 +45,22 @@ bool refineDecision(ivec3 p, uint i, float c, out bool fresh) {
   return refined;
 }
 
+/// This subgroup's first slot of @a counter for its invocations where @a take, and this invocation's offset from it.
+uint reserve(uint counter, bool take, out uint offset) {
+  uvec4 ballot = subgroupBallot(take);
+  offset = subgroupBallotExclusiveBitCount(ballot);
+  uint n = subgroupBallotBitCount(ballot), base = 0u;
+  if (subgroupElect() && n > 0u) base = atomicAdd(counts[counter], n);
+  return subgroupBroadcastFirst(base);
+}
+
+/// Add @a value of every invocation of the subgroup to @a counter (one atomic).
+void addSubgroup(uint counter, uint value) {
+  uint sum = subgroupAdd(value);
+  if (subgroupElect() && sum > 0u) atomicAdd(counts[counter], sum);
+}
+
 void main() {
-  // Slots are reserved per work group (shared-memory atomics, then one global atomic per counter and group):
-  // one global atomic per band voxel serialised the whole band on a single address.
-  if (gl_LocalInvocationIndex == 0u) {
-    groupFine = 0u;
-    groupMasked = 0u;
-    groupCoarse = 0u;
-    groupRefine = 0u;
-  }
-  barrier();
   ivec3 p = ivec3(gl_GlobalInvocationID);
   ivec3 dims = params.coarseDims.xyz;
   bool inGrid = all(lessThan(p, dims));
@@ -61,30 +69,22 @@ void main() {
   bool inBand = inGrid && abs(c) <= params.band;
   bool refined = false, fresh = false;
   ivec2 rx = ivec2(0, -1), ry = ivec2(0, -1), rz = ivec2(0, -1);
-  uint refineOffset = 0u, coarseOffset = 0u;
+  uint count = 0u;
   if (inBand) {
     rx = fineRanges[p.x];
     ry = fineRanges[dims.x + p.y];
     rz = fineRanges[dims.x + dims.y + p.z];
     ivec3 n = max(ivec3(rx.y, ry.y, rz.y) - ivec3(rx.x, ry.x, rz.x) + 1, ivec3(0));
-    uint count = uint(n.x * n.y * n.z);
-    coarseOffset = atomicAdd(groupCoarse, 1u);
-    atomicAdd(groupMasked, count);
+    count = uint(n.x * n.y * n.z);
     if (count > 0u) markBricks(ivec3(rx.x, ry.x, rz.x), ivec3(rx.y, ry.y, rz.y));
     refined = refineDecision(p, i, c, fresh);
-    if (refined) {
-      refineOffset = atomicAdd(groupRefine, 1u);
-      atomicAdd(groupFine, count);
-    }
   }
-  barrier();
-  if (gl_LocalInvocationIndex == 0u) {
-    baseCoarse = groupCoarse > 0u ? atomicAdd(counts[kMaskCountCoarse], groupCoarse) : 0u;
-    baseRefine = groupRefine > 0u ? atomicAdd(counts[kMaskCountRefineList], groupRefine) : 0u;
-    if (groupFine > 0u) atomicAdd(counts[kMaskCountFine], groupFine);
-    if (groupMasked > 0u) atomicAdd(counts[kMaskCountMaskedFine], groupMasked);
-  }
-  barrier();
+  // Every invocation of the subgroup takes part (none returned early).
+  uint coarseOffset, refineOffset;
+  uint baseCoarse = reserve(kMaskCountCoarse, inBand, coarseOffset);
+  uint baseRefine = reserve(kMaskCountRefineList, refined, refineOffset);
+  addSubgroup(kMaskCountFine, refined ? count : 0u);
+  addSubgroup(kMaskCountMaskedFine, count);
   if (!inBand) return;
   uint slot = baseCoarse + coarseOffset;
   if (slot < params.coarseCapacity) coarseList[slot] = uvec2(i, floatBitsToUint(c));

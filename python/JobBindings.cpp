@@ -145,6 +145,7 @@ py::dict frameStatsDict(const FrameStats& st) {
   d["pool_bricks"] = st.poolBricks;
   d["device_bytes"] = st.deviceBytes;
   d["moved_instances"] = st.movedInstances;
+  d["upsampled_voxels"] = st.upsampledFineVoxels; // the dense fine voxels the upsampling wrote (0: it did not run)
   d["skipped_passes"] = st.skippedPasses;
   d["host_ms"] = st.hostMs;
   d["wall_ms"] = st.wallMs;

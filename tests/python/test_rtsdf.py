@@ -127,6 +127,8 @@ def test_cascades_follow_a_camera_by_scrolling():
     moving = levels.frame(0.1)
     assert moving[0]["moved_instances"] == 0 and "ExactEdtPass" in moving[0]["skipped_passes"]
     assert moving[1]["moved_instances"] == 1 and moving[1]["skipped_passes"] == []
+    # The teapot is outside both grids here: its motion leaves their coarse SDFs, so nothing is upsampled again.
+    assert first[1]["upsampled_voxels"] == 32 ** 3 and moving[1]["upsampled_voxels"] == 0
     # Level 0's move is 4 coarse voxels of 0.0375 (a brick of 8 fine voxels): 0.1 along -x moves it once, over
     # surfaces that enter it.
     camera[0] -= 0.1
@@ -145,6 +147,17 @@ def test_cascades_follow_a_camera_by_scrolling():
         levels.level(2)
     with pytest.raises(rtsdf.SettingError, match="cascades"):
         rtsdf.Cascades(scene, cascades=1)
+
+
+def test_a_moving_instance_upsamples_only_near_what_it_changed():
+    scene = rtsdf.load_scene(os.path.join(DATA, "scenes", "default.json"))
+    kw = dict(cascades=2, cascade_extent=0.6, coarse=16, fine=32, refine="closest", rays=0, band=0.05)
+    levels = rtsdf.Cascades(scene, camera=[0.4, 0.3, 0.25], **kw)  # around the teapot's orbit
+    first = levels.frame(0.0)
+    assert [level["upsampled_voxels"] for level in first] == [32 ** 3, 32 ** 3]
+    moving = levels.frame(0.1)
+    # Level 1 (1.2 wide) rewrites the fine voxels near the coarse voxels the teapot changed, not its whole grid.
+    assert moving[1]["moved_instances"] == 1 and 0 < moving[1]["upsampled_voxels"] < 32 ** 3 / 2
 
 
 def test_log_is_quiet_unless_asked(capfd):

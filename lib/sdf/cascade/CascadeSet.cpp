@@ -109,6 +109,9 @@ FrameStats sumFrameStats(const std::vector<FrameStats>& levels) {
     sum.maskFineVoxels += f.maskFineVoxels;
     sum.refinedFineVoxels += f.refinedFineVoxels;
     sum.cutVoxels += f.cutVoxels;
+    sum.nearHalfVoxels += f.nearHalfVoxels;
+    sum.nearHalfKept += f.nearHalfKept;
+    sum.upsampledFineVoxels += f.upsampledFineVoxels;
     sum.activeBricks += f.activeBricks;
     sum.overflowBricks += f.overflowBricks;
     sum.poolBricks += f.poolBricks;

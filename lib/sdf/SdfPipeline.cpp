@@ -84,8 +84,7 @@ Bounds SdfPipeline::motionReach() const {
 }
 
 std::uint64_t SdfPipeline::scrollScratchBytes() const {
-  const std::uint64_t dense = mFields->dense() ? mFineSpec.voxelCount() * 4 : 0;
-  return std::max<std::uint64_t>({dense, mCoarseSpec.voxelCount() * 8, mPool->gridBricks() * 4});
+  return scrollScratchBytesFor(mCoarseSpec, mFineSpec, mSettings.fineStorage);
 }
 
 void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::Buffer& scratch, const Scene* recut) {

@@ -46,11 +46,7 @@ std::string CascadeMemory::describe() const {
 
 std::uint64_t cascadeScrollScratchBytes(const CascadeLayout& layout, const PipelineSettings& s) {
   if (layout.levels.empty() || layout.shape.fineRes % layout.shape.coarseRes != 0) return 0;
-  const GridSpec& coarse = layout.levels[0].coarse;
-  const GridSpec& fine = layout.levels[0].fine;
-  const glm::i64vec3 bricks = (glm::i64vec3(fine.dims) + std::int64_t(RTSDF_BRICK - 1)) / std::int64_t(RTSDF_BRICK);
-  const std::uint64_t dense = s.fineStorage == FineStorage::Dense ? fine.voxelCount() * 4 : 0;
-  return std::max<std::uint64_t>({dense, coarse.voxelCount() * 8, std::uint64_t(bricks.x * bricks.y * bricks.z) * 4});
+  return scrollScratchBytesFor(layout.levels[0].coarse, layout.levels[0].fine, s.fineStorage);
 }
 
 CascadeMemory estimateCascadeMemory(const Scene& scene, const CascadeLayout& layout, const PipelineSettings& s) {

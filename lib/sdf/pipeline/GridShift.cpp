@@ -36,17 +36,24 @@ void addCopy(std::vector<VkBufferCopy>& copies, VkDeviceSize src, VkDeviceSize d
   copies.push_back({src, dst, size});
 }
 
-} // namespace
-
-GridShiftPlan gridShiftPlan(const glm::ivec3& dims, std::uint32_t elementBytes, const glm::ivec3& shift) {
+/// An empty plan over a grid of @a dims cells of @a elementBytes each (its bytes set).
+/// @throw Error when the element is not a positive multiple of 4 bytes or the grid is empty.
+GridShiftPlan emptyPlan(const glm::ivec3& dims, std::uint32_t elementBytes) {
   if (elementBytes == 0 || elementBytes % 4 != 0)
     throw Error(fmt::format("gridShiftPlan: element of {} bytes (a positive multiple of 4 expected)", elementBytes));
   if (glm::any(glm::lessThanEqual(dims, glm::ivec3(0))))
     throw Error(fmt::format("gridShiftPlan: grid of {}x{}x{} cells", dims.x, dims.y, dims.z));
   GridShiftPlan plan;
+  plan.bytes = VkDeviceSize(dims.x) * elementBytes * VkDeviceSize(dims.y) * VkDeviceSize(dims.z);
+  return plan;
+}
+
+} // namespace
+
+GridShiftPlan gridShiftPlan(const glm::ivec3& dims, std::uint32_t elementBytes, const glm::ivec3& shift) {
+  GridShiftPlan plan = emptyPlan(dims, elementBytes);
   const VkDeviceSize e = elementBytes;
   const VkDeviceSize row = VkDeviceSize(dims.x) * e;
-  plan.bytes = row * VkDeviceSize(dims.y) * VkDeviceSize(dims.z);
   // Along x, the destination cells [x0, x1) read source cells [x0 + shift.x, x1 + shift.x).
   const int x0 = std::clamp(-shift.x, 0, dims.x), x1 = std::clamp(dims.x - shift.x, 0, dims.x);
   for (int z = 0; z < dims.z; ++z)
@@ -67,8 +74,7 @@ GridShiftPlan gridShiftPlan(const glm::ivec3& dims, std::uint32_t elementBytes, 
 }
 
 GridShiftPlan gridShiftPlanLoose(const glm::ivec3& dims, std::uint32_t elementBytes, const glm::ivec3& shift) {
-  GridShiftPlan plan = gridShiftPlan(dims, elementBytes, glm::ivec3(0)); // checks the arguments, sizes the buffer
-  plan.copies.clear();
+  GridShiftPlan plan = emptyPlan(dims, elementBytes);
   const long long offset =
       (static_cast<long long>(shift.z) * dims.y + shift.y) * static_cast<long long>(dims.x) + shift.x;
   const VkDeviceSize moved = VkDeviceSize(offset < 0 ? -offset : offset) * elementBytes;

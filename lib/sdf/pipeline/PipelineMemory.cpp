@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <tuple>
 
 namespace rtsdf {
@@ -61,6 +62,12 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
   m.hostBytes = nc * 29 + nf * 16;
   return m;
+}
+
+std::uint64_t scrollScratchBytesFor(const GridSpec& coarse, const GridSpec& fine, FineStorage storage) {
+  const glm::i64vec3 bricks = (glm::i64vec3(fine.dims) + std::int64_t(RTSDF_BRICK - 1)) / std::int64_t(RTSDF_BRICK);
+  const std::uint64_t dense = storage == FineStorage::Dense ? fine.voxelCount() * 4 : 0;
+  return std::max<std::uint64_t>({dense, coarse.voxelCount() * 8, std::uint64_t(bricks.x * bricks.y * bricks.z) * 4});
 }
 
 MemoryLimits memoryLimits(const gpu::DeviceInfo& device) {

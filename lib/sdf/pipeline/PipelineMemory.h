@@ -54,6 +54,11 @@ PipelineMemory estimatePipelineMemory(const Bounds& bounds, const PipelineSettin
 PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids, const PipelineSettings& s,
                                       const SceneGpuSize& scene = {});
 
+/// @brief The scratch buffer a scroll of a pipeline on the grids @a coarse and @a fine needs (SdfPipeline::scroll): the
+///        largest buffer it shifts through it, of the dense fine SDF (with FineStorage::Dense), the coarse refinement
+///        state (8 bytes per coarse voxel) and the bricks' stamps or slots (4 bytes per brick).
+std::uint64_t scrollScratchBytesFor(const GridSpec& coarse, const GridSpec& fine, FineStorage storage);
+
 /// @brief Limits an estimate is checked against.
 struct MemoryLimits {
   std::uint64_t maxStorageBufferRange = 0; ///< largest storage buffer (VkPhysicalDeviceLimits)

@@ -20,9 +20,10 @@ std::string describeDevice(const gpu::DeviceInfo& d, bool chosen) {
                               chosen ? " *default*" : "", d.typeName, VK_VERSION_MAJOR(d.apiVersion),
                               VK_VERSION_MINOR(d.apiVersion), VK_VERSION_PATCH(d.apiVersion), d.driver);
   t += fmt::format("      maxStorageBufferRange {} MiB, shared memory {} KiB, workgroup invocations {}, "
-                   "3D image {}, subgroup {}, timestamps {} ({} ns/tick), device-local {} MiB\n",
+                   "3D image {}, subgroup {} (ballots {}), timestamps {} ({} ns/tick), device-local {} MiB\n",
                    d.maxStorageBufferRange >> 20, d.maxComputeSharedMemory >> 10, d.maxComputeInvocations,
-                   d.maxImageDimension3D, d.subgroupSize, d.computeTimestamps ? "yes" : "no", d.timestampPeriodNs,
+                   d.maxImageDimension3D, d.subgroupSize, d.computeSubgroupBallot ? "yes" : "no (rtsdf needs them)",
+                   d.computeTimestamps ? "yes" : "no", d.timestampPeriodNs,
                    d.deviceLocalBytes >> 20);
   return t;
 }

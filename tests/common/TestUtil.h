@@ -64,6 +64,16 @@ inline std::string runCommand(const std::string& cmd, int& status) {
   return out;
 }
 
+/// Generate the town level of scripts/make_level.py @a size metres wide into folder @a out (seed 1); the path of its
+/// level.json, or empty with the script's output in @a log when it failed.
+inline std::string makeLevel(const std::string& out, int size, std::string& log) {
+  int status = 0;
+  log = runCommand("/usr/bin/python3 " + dataPath("../scripts/make_level.py") + " --out " + out + " --size " +
+                       std::to_string(size) + " 2>&1",
+                   status);
+  return status == 0 ? out + "/level.json" : std::string();
+}
+
 /// A sphere's signed distance (centre @a c, radius @a r) at every voxel of @a g, GridSpec::linear order.
 inline std::vector<float> sphereField(const GridSpec& g, const glm::dvec3& c, double r) {
   std::vector<float> v(g.voxelCount());

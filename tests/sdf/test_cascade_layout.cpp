@@ -245,13 +245,10 @@ TEST(CascadeMemory, DeviceMemoryStaysNearlyConstantFrom50To1000Metres) {
   std::vector<std::uint64_t> device;
   std::vector<double> singleBoxVoxel;
   for (const int size : {50, 200, 1000}) {
-    int status = 0;
-    const std::string out = (dir / std::to_string(size)).string();
-    const std::string log = test::runCommand("/usr/bin/python3 " + test::dataPath("../scripts/make_level.py") +
-                                                 " --out " + out + " --size " + std::to_string(size) + " 2>&1",
-                                             status);
-    ASSERT_EQ(status, 0) << log;
-    const Scene town = loadScene(out + "/level.json");
+    std::string log;
+    const std::string level = test::makeLevel((dir / std::to_string(size)).string(), size, log);
+    ASSERT_FALSE(level.empty()) << log;
+    const Scene town = loadScene(level);
     const Bounds bounds = buildSceneGeometry(town, 0.0).bounds;
     const CascadeLayout layout = CascadeLayout::around({0.3, 1.7, 0.4}, cascadeShapeFor(bounds, s));
     const CascadeMemory m = estimateCascadeMemory(town, layout, s);

@@ -326,13 +326,10 @@ TEST_F(CascadeSetGpu, AllocatedMemoryStaysWithin5PercentFrom50To1000MetresAndIsT
   };
   std::vector<double> allocated;
   for (const int size : {50, 200, 1000}) {
-    int status = 0;
-    const std::string out = (dir / std::to_string(size)).string();
-    const std::string log = test::runCommand("/usr/bin/python3 " + test::dataPath("../scripts/make_level.py") +
-                                                 " --out " + out + " --size " + std::to_string(size) + " 2>&1",
-                                             status);
-    ASSERT_EQ(status, 0) << log;
-    const Scene town = loadScene(out + "/level.json");
+    std::string log;
+    const std::string level = test::makeLevel((dir / std::to_string(size)).string(), size, log);
+    ASSERT_FALSE(level.empty()) << log;
+    const Scene town = loadScene(level);
     std::printf("%d m\n", size);
     allocatedBy(town, 128);
     allocated.push_back(allocatedBy(town, 256));

@@ -53,17 +53,22 @@ UpsamplePass::UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel)
   gpu::reserveAndUpload(ctx, mWholeGrid, &whole, sizeof(whole), gpu::kStorage, "upsample whole grid");
 }
 
-void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
-                           const Params& params) const {
-  gpu::ProfileScope scope(profiler, cmd, kName);
+std::array<gpu::Binding, kUpsampleBindingCount> UpsamplePass::bindings(const Inputs& in, const Outputs& out,
+                                                                      const gpu::Buffer& region) const {
   std::array<gpu::Binding, kUpsampleBindingCount> b;
   b[kUpsampleBindingCoarse] = &in.coarse;
   b[kUpsampleBindingFine] = &out.fine;
   b[kUpsampleBindingFineToCoarse] = &in.fineToCoarse;
   b[kUpsampleBindingBrickSlots] = &in.brickSlots;
-  b[kUpsampleBindingRegion] = &mWholeGrid;
+  b[kUpsampleBindingRegion] = &region;
+  return b;
+}
+
+void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                           const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
   const glm::ivec3 d = params.fineDims;
-  mPipeline.dispatch(cmd, b, &params,
+  mPipeline.dispatch(cmd, bindings(in, out, mWholeGrid), &params,
                      {gpu::groupsFor(d.x, RTSDF_UPSAMPLE_GROUP_X), gpu::groupsFor(d.y, RTSDF_UPSAMPLE_GROUP_Y),
                       gpu::groupsFor(d.z, std::uint32_t(mRun))});
   gpu::computeBarrier(cmd);
@@ -73,13 +78,7 @@ void UpsamplePass::executeIn(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
                              const Params& params, const gpu::Buffer& region) const {
   if (mRun != RTSDF_UPSAMPLE_RUN_LENGTH) throw Error("UpsamplePass: a region needs the runs kernel");
   gpu::ProfileScope scope(profiler, cmd, kName);
-  std::array<gpu::Binding, kUpsampleBindingCount> b;
-  b[kUpsampleBindingCoarse] = &in.coarse;
-  b[kUpsampleBindingFine] = &out.fine;
-  b[kUpsampleBindingFineToCoarse] = &in.fineToCoarse;
-  b[kUpsampleBindingBrickSlots] = &in.brickSlots;
-  b[kUpsampleBindingRegion] = &region;
-  mPipeline.dispatchIndirect(cmd, b, &params, region);
+  mPipeline.dispatchIndirect(cmd, bindings(in, out, region), &params, region);
   gpu::computeBarrier(cmd);
 }
 

@@ -13,6 +13,7 @@
 #include "sdf/refine/RefineParams.h"
 #include "sdf/scenebvh/GpuSceneBvh.h"
 
+#include <array>
 #include <vector>
 
 namespace rtsdf {
@@ -67,6 +68,8 @@ public:
                  const Params& params, const gpu::Buffer& region) const;
 
 private:
+  std::array<gpu::Binding, gpu::shared::kUpsampleBindingCount> bindings(const Inputs& in, const Outputs& out,
+                                                                        const gpu::Buffer& region) const;
   int mRun;
   gpu::Buffer mWholeGrid; ///< the UpsampleRegion of every fine voxel (begin 0, end unbounded: the grid's dims)
 };

@@ -100,6 +100,12 @@ void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
     if (upsampleChanged) {
       mUpsampleRegion.execute(cmd, nullptr, {mCoarse.changedBoxBuffer()}, {mRegion}, p);
       mUpsample.executeIn(cmd, profiler, in, {mFine}, p, mRegion);
+      // The region's size is read on the host after the frame (lastRegionVoxels).
+      VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+      toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+      toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+      vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0,
+                           nullptr, 0, nullptr);
     } else {
       mUpsample.execute(cmd, profiler, in, {mFine}, p);
     }

@@ -1,5 +1,6 @@
 #include "sdf/pipeline/PipelineMemory.h"
 
+#include "sdf/pipeline/BrickPool.h"
 #include "sdf/refine/RefineParams.h"
 #include "util/Error.h"
 #include "util/Memory.h"
@@ -45,7 +46,7 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   const std::uint64_t coarseBuf = nc * 4, fineBuf = dense ? nf * 4 : 0;
   if (fineBuf >= 2 * coarseBuf) { m.largestBuffer = fineBuf; m.largestBufferName = "fine SDF"; }
   else { m.largestBuffer = 2 * coarseBuf; m.largestBufferName = "coarse band list"; }
-  const glm::uvec3 bricks = (glm::uvec3(m.fine.dims) + glm::uvec3(RTSDF_BRICK - 1)) / glm::uvec3(RTSDF_BRICK);
+  const glm::uvec3 bricks(brickDimsOf(m.fine));
   // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel), the refinement state (8 bytes per voxel) and
   // the refine list; the dense fine SDF; per brick its stamp and slot. The scene: per mesh triangle its bottom level
   // (nodes of 32 bytes and as many winding dipoles, at most two of each per triangle; corners 48 bytes; id, closed
@@ -65,9 +66,9 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
 }
 
 std::uint64_t scrollScratchBytesFor(const GridSpec& coarse, const GridSpec& fine, FineStorage storage) {
-  const glm::i64vec3 bricks = (glm::i64vec3(fine.dims) + std::int64_t(RTSDF_BRICK - 1)) / std::int64_t(RTSDF_BRICK);
+  const glm::u64vec3 bricks(brickDimsOf(fine));
   const std::uint64_t dense = storage == FineStorage::Dense ? fine.voxelCount() * 4 : 0;
-  return std::max<std::uint64_t>({dense, coarse.voxelCount() * 8, std::uint64_t(bricks.x * bricks.y * bricks.z) * 4});
+  return std::max<std::uint64_t>({dense, coarse.voxelCount() * 8, bricks.x * bricks.y * bricks.z * 4});
 }
 
 MemoryLimits memoryLimits(const gpu::DeviceInfo& device) {

@@ -90,7 +90,8 @@ void bindCascades(py::module_& m) {
       .def(py::init<const py::handle&, const std::optional<std::array<double, 3>>&, double, const py::kwargs&>(),
            py::arg("scene"), py::arg("camera") = py::none(), py::arg("time") = 0.0)
       .def("move_to", &Cascades::moveTo, py::arg("camera"), py::arg("look_ahead") = std::array<double, 3>{0, 0, 0},
-           "Centre the levels on a camera position (levels below the outermost on camera + look_ahead 2^i). A level "
+           "Centre the levels on a camera position (levels below the outermost on camera + look_ahead 2^i, each "
+           "component of look_ahead clamped so that the levels nest). A level "
            "whose box moved scrolls: it keeps what it knows and the next frame refines what entered. Returns a dict "
            "of level indices: moved, recut (scrolled with their part of the scene cut again), rebuilt (from scratch)")
       .def("frame", &Cascades::frame, py::arg("time"),

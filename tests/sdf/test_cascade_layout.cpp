@@ -16,8 +16,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 
 using namespace rtsdf;
 
@@ -69,13 +71,13 @@ TEST(CascadeLayout, LevelsDoubleTheirVoxelsAndSnapToTheirCoarseVoxel) {
   EXPECT_EQ(layout.finestHolding(camera + glm::dvec3(1000, 0, 0)), -1);
 }
 
-// Levels centred ahead of the camera (lookAhead: a quarter of level 0's side along a diagonal view, as the renderer
-// places them) reach three times as far into the view as behind it, still nest, and each still holds the camera;
-// the outermost stays centred on the camera.
+// Levels centred ahead of the camera (lookAhead: 0.4 of level 0's side along a diagonal view, as the renderer places
+// them) reach far further into the view than behind it, still nest, and each still holds the camera; the outermost
+// stays centred on the camera.
 TEST(CascadeLayout, LevelsAheadOfTheCameraStillNestAndHoldTheCamera) {
   const CascadeShape shape = shape4();
   const glm::dvec3 camera(12.3456, 1.7, -98.765), forward = glm::normalize(glm::dvec3(-1.0, -0.6, -1.1));
-  const glm::dvec3 ahead = forward * (0.25 * shape.levelZeroExtent);
+  const glm::dvec3 ahead = forward * (0.4 * shape.levelZeroExtent);
   const CascadeLayout layout = CascadeLayout::around(camera, shape, ahead);
   for (const CascadeLevel& l : layout.levels) {
     const double side = shape.levelZeroExtent * std::ldexp(1.0, l.index), c = shape.coarseVoxel(l.index);
@@ -88,12 +90,58 @@ TEST(CascadeLayout, LevelsAheadOfTheCameraStillNestAndHoldTheCamera) {
     EXPECT_TRUE(holds(l.box(), camera)) << l.index;
     if (l.index > 0) EXPECT_TRUE(inside(layout.levels[std::size_t(l.index) - 1].box(), l.box())) << l.index;
     if (outermost) continue;
-    // Along the view the level reaches 3/4 of its side ahead and 1/4 behind (to the snapping).
-    const glm::dvec3 far = camera + forward * (0.7 * side), near = camera - forward * (0.2 * side);
+    // Along the view the level reaches 0.9 of its side ahead and 0.1 behind (to the snapping).
+    const glm::dvec3 far = camera + forward * (0.8 * side), near = camera - forward * (0.05 * side);
     EXPECT_TRUE(holds(l.box(), far) && holds(l.box(), near)) << l.index;
-    EXPECT_FALSE(holds(l.box(), camera - forward * (0.6 * side))) << l.index;
+    EXPECT_FALSE(holds(l.box(), camera - forward * (0.5 * side))) << l.index;
   }
   EXPECT_EQ(layout.lookAhead, ahead);
+}
+
+// Any look-ahead is clamped to CascadeShape::maxLookAhead(), and up to it the levels nest with a fine voxel of the
+// coarser level to spare (where the march blends into it) for every camera, however the levels snap, and each level
+// holds the camera: random cameras and look-aheads over shapes with even, odd and mixed voxel counts. The levels lie on
+// lattices of whole moves, so the spare room comes in steps of a move: some cameras leave less than one move (the bound
+// is not loose); without the snapping in it, the nesting fails for some.
+TEST(CascadeLayout, AnyLookAheadIsClampedSoThatTheLevelsNestWithAFineVoxelToSpare) {
+  struct Counts {
+    int coarse, fine;
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const Counts counts : {Counts{64, 256}, Counts{64, 128}, Counts{32, 64}, Counts{63, 126}, Counts{48, 80}}) {
+    CascadeShape shape = shape4();
+    shape.coarseRes = counts.coarse;
+    shape.fineRes = counts.fine;
+    shape.moveCells = levelMoveCells(shape.coarseRes, shape.fineRes);
+    const double reach = shape.maxLookAhead();
+    EXPECT_GT(reach, 0.25 * shape.levelZeroExtent) << counts.coarse << "/" << counts.fine;
+    int tight = 0;
+    for (int k = 0; k < 3000; ++k) {
+      const glm::dvec3 camera(100.0 * u(rng), 10.0 * u(rng), 100.0 * u(rng));
+      // Half the look-aheads asked for twice level 0's side along a random view (clamped), half along an axis,
+      // within two moves of the reach (where the snapping decides the gap).
+      glm::dvec3 ahead = glm::dvec3(u(rng), u(rng), u(rng)) * (2.0 * shape.levelZeroExtent);
+      if (k % 2 == 0) {
+        ahead = glm::dvec3(0.0);
+        ahead[k / 2 % 3] = (u(rng) < 0.0 ? -1.0 : 1.0) * (reach - 2.0 * std::fabs(u(rng)) * shape.moveCells *
+                                                                     shape.coarseVoxel(0));
+      }
+      const CascadeLayout layout = CascadeLayout::around(camera, shape, ahead);
+      ASSERT_TRUE(glm::all(glm::lessThanEqual(glm::abs(layout.lookAhead), glm::dvec3(reach))));
+      for (const CascadeLevel& l : layout.levels) {
+        ASSERT_TRUE(holds(l.box(), camera)) << "level " << l.index;
+        if (l.index == 0) continue;
+        const Bounds inner = layout.levels[std::size_t(l.index) - 1].box(), outer = l.box();
+        const Bounds spare{outer.min + l.fine.voxelSize, outer.max - l.fine.voxelSize};
+        ASSERT_TRUE(inside(inner, spare)) << counts.coarse << "/" << counts.fine << " level " << l.index << " camera "
+                                          << camera.x << " " << camera.y << " " << camera.z;
+        const glm::dvec3 gap = glm::min(inner.min - spare.min, spare.max - inner.max);
+        tight += std::min({gap.x, gap.y, gap.z}) < shape.coarseVoxel(l.index - 1) * shape.moveCells;
+      }
+    }
+    EXPECT_GT(tight, 0) << "some cameras come within a move of the bound: it is not loose";
+  }
 }
 
 TEST(CascadeLayout, ACameraPathMovesLevelsByWholeMovesOnly) {

@@ -15,6 +15,17 @@ double CascadeShape::coarseVoxel(int i) const { return std::ldexp(levelZeroExten
 
 double CascadeShape::fineVoxel(int i) const { return std::ldexp(levelZeroExtent / fineRes, i); }
 
+double CascadeShape::maxLookAhead() const {
+  // Level i + 1's centre lies 2^i |lookAhead| from level i's (the outermost's too, on the camera), and each snaps by
+  // up to half a move (moveCells of its coarse voxels; an odd count of coarse voxels puts the box's centre half a
+  // voxel off its lattice point): level i's half side plus all that, plus level i + 1's fine voxel, must stay within
+  // level i + 1's half side. Dividing by 2^i leaves level 0's lengths.
+  const double offLattice = coarseRes % 2 ? 1.5 : 0.0;
+  const double bound = 0.5 * levelZeroExtent - (1.5 * std::max(1, moveCells) + offLattice) * coarseVoxel(0) -
+                       2.0 * fineVoxel(0);
+  return std::max(0.0, bound);
+}
+
 int levelMoveCells(int coarseRes, int fineRes) {
   if (coarseRes <= 0 || fineRes % coarseRes != 0) return 1;
   return RTSDF_BRICK / std::gcd(fineRes / coarseRes, RTSDF_BRICK);
@@ -55,12 +66,13 @@ CascadeLayout CascadeLayout::around(const glm::dvec3& camera, const CascadeShape
   CascadeLayout layout;
   layout.shape = shape;
   layout.camera = camera;
-  layout.lookAhead = lookAhead;
+  const double reach = shape.maxLookAhead();
+  layout.lookAhead = glm::clamp(lookAhead, glm::dvec3(-reach), glm::dvec3(reach));
   for (int i = 0; i < shape.levels; ++i) {
     const double c = shape.coarseVoxel(i);
     // The outermost level stays on the camera, so that it holds what the default extent sized it for (the whole
     // scene around the camera, behind it too); the finer ones reach ahead and still nest in it.
-    const glm::dvec3 centre = i + 1 < shape.levels ? camera + std::ldexp(1.0, i) * lookAhead : camera;
+    const glm::dvec3 centre = i + 1 < shape.levels ? camera + std::ldexp(1.0, i) * layout.lookAhead : camera;
     CascadeLevel level;
     level.index = i;
     // The lattice point nearest the centre: the level moves only when the centre crosses half a move, and then by

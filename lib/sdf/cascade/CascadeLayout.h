@@ -27,6 +27,10 @@ struct CascadeShape {
   double coarseVoxel(int i) const;
   /// @brief Level @a i's fine voxel: levelZeroExtent / fineRes * 2^i.
   double fineVoxel(int i) const;
+  /// @brief The largest look-ahead along each axis (CascadeLayout::around) for which every level, snapped, still lies
+  ///        a fine voxel of the next coarser level inside that level's faces (the march blends into it there):
+  ///        E / 2 - 3/2 moveCells c_0 - 2 f_0 (E: level 0's side, c_0 and f_0 its voxels), or 0 where that is negative.
+  double maxLookAhead() const;
 };
 
 /// @brief The fewest coarse voxels that are whole bricks (RTSDF_BRICK fine voxels) of a level of @a coarseRes and
@@ -64,13 +68,14 @@ struct CascadeLayout {
   CascadeShape shape;
   glm::dvec3 camera{0.0};
   glm::dvec3 lookAhead{0.0}; ///< level i < K - 1 is centred on camera + lookAhead 2^i, the outermost on the camera
+                             ///< (as clamped by around())
   std::vector<CascadeLevel> levels; ///< finest first
   /// @brief The layout for @a camera: level i's coarse voxel c_i, its centre the point nearest the camera of the
   ///        lattice of moveCells coarse voxels (m c_i round(camera / (m c_i))), its corner coarseRes / 2 coarse voxels
   ///        below that.
   /// @param lookAhead where given, level i below the outermost is centred on camera + lookAhead 2^i instead (levels
-  ///        that reach further along the view than behind it; they still nest while each component of lookAhead is
-  ///        at most a quarter of level 0's side); the outermost level stays on the camera.
+  ///        that reach further along the view than behind it), each component clamped to
+  ///        CascadeShape::maxLookAhead() so that the levels nest; the outermost level stays on the camera.
   static CascadeLayout around(const glm::dvec3& camera, const CascadeShape& shape,
                               const glm::dvec3& lookAhead = glm::dvec3(0.0));
   /// @brief The finest level whose box holds @a p at least @a margin (scene units) inside its faces, or -1.

@@ -197,3 +197,27 @@ def test_bad_input_raises_the_documented_errors(tmp_path):
     with pytest.raises(ValueError, match="not finite"):
         rtsdf.distance(bunny, np.array([[0.0, np.nan, 0.0]]))
     assert issubclass(rtsdf.SettingError, rtsdf.Error) and issubclass(rtsdf.Error, RuntimeError)
+
+
+def test_any_look_ahead_keeps_the_levels_nested():
+    # move_to clamps each component of look_ahead (CascadeShape::maxLookAhead) so that level 0 stays a fine voxel of
+    # level 1 inside it, where the march blends into level 1; unclamped, 5 units would put level 0 (0.6 wide) far
+    # outside level 1 (1.2 wide, on the camera).
+    scene = rtsdf.load_scene(os.path.join(DATA, "scenes", "default.json"))
+    kw = dict(cascades=2, cascade_extent=0.6, coarse=16, fine=64, refine="closest", rays=0, band=0.05)
+    camera = [-0.3, 0.45, 0.1]
+    levels = rtsdf.Cascades(scene, camera=camera, **kw)
+    for ahead in ([5.0, 0.0, 0.0], [-5.0, 0.0, 0.0], [0.0, 0.0, 5.0], [3.0, -3.0, 3.0]):
+        levels.move_to(camera, look_ahead=ahead)
+        levels.frame(0.0)
+        lo, hi, spare = [], [], levels.level(1).voxel_size
+        for i in range(2):
+            level = levels.level(i)
+            lo.append(np.array(level.origin))
+            hi.append(lo[-1] + np.array(level.shape) * level.voxel_size)
+        assert np.all(lo[0] >= lo[1] + spare - 1e-9) and np.all(hi[0] <= hi[1] - spare + 1e-9), ahead
+        centre = 0.5 * (lo[0] + hi[0])
+        # Level 0 reaches ahead along every axis asked for (by whole moves of 2 coarse voxels, 0.075).
+        for axis in range(3):
+            if ahead[axis] != 0.0:
+                assert (centre[axis] - camera[axis]) * ahead[axis] > 0.07, (ahead, centre)

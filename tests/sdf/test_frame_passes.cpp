@@ -3,6 +3,7 @@
 // neither recorded nor timed.
 #include "GpuFixture.h"
 #include "TestUtil.h"
+#include "reference/ExactSdf.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "sdf/SdfPipeline.h"
@@ -15,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -192,5 +194,51 @@ TEST_F(FramePasses, AMovingInstanceUpsamplesOnlyWhereTheCoarseSdfChanged) {
     EXPECT_LT(st.upsampledFineVoxels, all / 2) << "the teapot changes a corner of the room";
     std::printf("frame %d: coarse box (%u %u %u)-(%u %u %u) of %dx%dx%d, upsampled %.1f%% of the fine voxels\n", f + 1,
                 lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, dims.x, dims.y, dims.z, 100.0 * double(st.upsampledFineVoxels) / double(all));
+  }
+}
+
+// Closest mode stays the exact field behind an instance that moves off faster than a coarse diagonal a frame (a box
+// crossing a floor at 1 m a frame, coarse voxels of 0.125): the voxels it leaves are refined again, and their search
+// radius must come from the coarse SDF of this frame. Bounded by their last value (the box's old pose, nearer than
+// anything now) plus the radius's slack, the search found nothing and stored the radius, a ghost of the old pose up to
+// several voxels too near (the town's cars left such ghosts in cascade level 0). Every band voxel against the exact
+// bake, every frame.
+TEST_F(FramePasses, AnInstanceMovingOffFasterThanTheSearchSlackLeavesNoGhost) {
+  const test::TempDir dir;
+  test::writeText(dir / "fast.json", R"({"rtsdf_scene": 1,
+    "meshes": {"floor": {"box": [8, 0.2, 3]}, "block": {"box": [1, 0.6, 0.6]}},
+    "instances": [{"name": "floor", "mesh": "floor", "translate": [0, -0.1, 0]},
+      {"name": "block", "mesh": "block", "animation": {"keyframes": [
+        {"time": 0, "translate": [-3, 0.35, 0]}, {"time": 0.2, "translate": [3, 0.35, 0]}]}}]})");
+  const Scene scene = loadScene(dir / "fast.json");
+  std::vector<double> times;
+  for (int f = 0; f < 6; ++f) times.push_back(f / kFps);
+  Bounds bounds;
+  for (const double t : times) bounds.add(buildSceneGeometry(scene, t).bounds);
+  PipelineSettings s = closestAt(64, 128, 0);
+  s.band = 0.5; // four coarse voxels of 0.125: wider than the slack, as in the town (6 fine voxels, 1.7 coarse diagonals)
+  SdfPipeline pipe(*sCtx, scene, bounds, s);
+  const GridSpec& ws = pipe.fineSpec();
+  ASSERT_LT(std::sqrt(3.0) * pipe.coarseSpec().voxelSize, 1.0) << "the block moves farther than the slack a frame";
+  ExactSdfOptions opt;
+  opt.band = pipe.settings().band;
+  opt.progress = false;
+  for (const double t : times) {
+    pipe.runFrame(t);
+    const openvdb::FloatGrid::Ptr bake = exactSignedDistance(buildSceneGeometry(scene, t), ws, opt);
+    const auto acc = bake->getConstAccessor();
+    const std::vector<float> fine = pipe.fineField();
+    const RayMask mask = pipe.rayMask();
+    std::uint64_t compared = 0;
+    double largest = 0.0;
+    for (const std::uint32_t packed : mask.fineVoxels) {
+      const glm::ivec3 v(packed & 1023u, (packed >> 10) & 1023u, (packed >> 20) & 1023u);
+      float e = 0.0f;
+      if (!acc.probeValue(openvdb::Coord(v.x, v.y, v.z), e)) continue;
+      ++compared;
+      largest = std::max(largest, std::fabs(double(fine[ws.linear(v.x, v.y, v.z)]) - e) / ws.voxelSize);
+    }
+    EXPECT_GT(compared, 1000u) << "t = " << t;
+    EXPECT_LT(largest, 0.01) << "voxels off the exact field at t = " << t;
   }
 }

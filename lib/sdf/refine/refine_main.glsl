@@ -211,11 +211,18 @@ float closestRadius(float bound) { return bound + 1.7320508 / params.coarseOrigi
 vec3 voxelCentre(ivec3 v) { return params.fineOriginH.xyz + (vec3(v) + 0.5) * params.fineOriginH.w; }
 
 // The coarse SDF as an upper bound of the distance at fine voxel v (fresh: new to the mask; slot, local: its place in
-// the brick pool), blended with its last value: the nearest seed voxel touches the surface within half its diagonal,
-// and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays, which can only
-// over-estimate, could never lower f.)
+// the brick pool), blended with its last value in rays mode: the nearest seed voxel touches the surface within half
+// its diagonal, and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays, which can
+// only over-estimate, could never lower f.) Closest mode bounds its search by c^_t alone: the last value bounds the
+// distance only while the surfaces near the voxel stay put, and a voxel refined again because an instance moved off
+// it may now lie farther from everything than its last value plus the radius's slack (a coarse diagonal); nothing
+// would lie within the radius, and the radius, a ghost of the instance's old pose, would be stored.
 float voxelBound(ivec3 v, bool fresh, uint slot, uint local) {
+#if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST
+  return coarseBoundAt(v);
+#else
   return refineBound(coarseBoundAt(v), fresh, slot, local);
+#endif
 }
 
 // The sign votes at fine voxel v: its decayed history plus this frame's x rays (front-face hits, back-face hits), and

@@ -216,7 +216,7 @@ TEST_F(FramePasses, AnInstanceMovingOffFasterThanTheSearchSlackLeavesNoGhost) {
   Bounds bounds;
   for (const double t : times) bounds.add(buildSceneGeometry(scene, t).bounds);
   PipelineSettings s = closestAt(64, 128, 0);
-  s.band = 0.5; // four coarse voxels of 0.125: wider than the slack, as in the town (6 fine voxels, 1.7 coarse diagonals)
+  s.band = 0.5; // four coarse voxels: wider than the slack, as in the town (6 fine voxels, 1.7 coarse diagonals)
   SdfPipeline pipe(*sCtx, scene, bounds, s);
   const GridSpec& ws = pipe.fineSpec();
   ASSERT_LT(std::sqrt(3.0) * pipe.coarseSpec().voxelSize, 1.0) << "the block moves farther than the slack a frame";

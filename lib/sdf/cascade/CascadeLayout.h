@@ -29,7 +29,8 @@ struct CascadeShape {
   double fineVoxel(int i) const;
   /// @brief The largest look-ahead along each axis (CascadeLayout::around) for which every level, snapped, still lies
   ///        a fine voxel of the next coarser level inside that level's faces (the march blends into it there):
-  ///        E / 2 - 3/2 moveCells c_0 - 2 f_0 (E: level 0's side, c_0 and f_0 its voxels), or 0 where that is negative.
+  ///        E / 2 - 3/2 moveCells c_0 - 2 f_0 (E: level 0's side, c_0 and f_0 its voxels; 3/2 c_0 less for an odd
+  ///        coarseRes), or 0 where that is negative.
   double maxLookAhead() const;
 };
 

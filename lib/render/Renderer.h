@@ -213,10 +213,10 @@ struct RenderedFrame {
 ///        level's fine voxels (CascadeSamplerCpu's blendVoxels).
 constexpr double kCascadeBlendVoxels = 4.0;
 /// @brief How far ahead of the camera along the view the cascade levels below the outermost are centred, in each
-///        level's side (CascadeLayout::around clamps it to CascadeShape::maxLookAhead so that the levels nest): they
-///        reach 0.9 of their side into the view and 0.1 behind the camera, so that level 0's voxel holds what the
-///        view shows near the camera, not the air behind it; the outermost stays on the camera and holds the scene
-///        around it.
+///        level's side (CascadeLayout::around clamps it to CascadeShape::maxLookAhead so that the levels nest): along
+///        a view down an axis they reach 0.9 of their side ahead of the camera and 0.1 behind it, so that level 0's
+///        voxel holds what the view shows near the camera, not the air behind it; the outermost stays on the camera
+///        and holds the scene around it.
 constexpr double kCascadeLookAhead = 0.4;
 /// @brief Level 0's offset from @a eye's position along its view: kCascadeLookAhead of its side @a levelZeroExtent
 ///        (zero when the eye has no view direction). The renderer's, and the cascade suite's.

@@ -115,6 +115,7 @@ AnimateResult animate(const AnimateOptions& a, const JobControl& control,
       fr.frame = f;
       fr.time = a.still ? 0.0 : f / a.fps;
       fr.stats = pipe.runFrame(fr.time);
+      fr.deviceBytesAllocated = ctx.deviceBytesInUse(); // the pipeline alone: the warm-up's is released
       if (a.measureError) fr.error = fieldErrorAgainstExact(scene, pipe, fr.time, a.focus.empty() ? nullptr : &box);
       if (!a.vdbDir.empty()) {
         const fs::path file = a.vdbDir / fmt::format("frame{:04d}.vdb", f);

@@ -62,6 +62,8 @@ struct AnimateFrame {
   double time = 0.0;
   FrameStats stats;
   FieldError error;           ///< zero when not measured
+  std::uint64_t deviceBytesAllocated = 0; ///< the device memory the pipeline holds after the frame, as allocated
+                                          ///< (VulkanContext::deviceBytesInUse; stats.deviceBytes is the estimate)
   double gpuMs() const { return passSum(stats.passMs); }
 };
 

@@ -106,7 +106,7 @@ std::vector<FrameRow> runFrames(const BenchOptions& s, const JobControl& control
     r.activeBricks = f.stats.activeBricks;
     r.poolBricks = f.stats.poolBricks;
     r.overflowBricks = f.stats.overflowBricks;
-    r.deviceMiB = mib(f.stats.deviceBytes);
+    r.deviceMiB = mib(f.deviceBytesAllocated);
     r.passMs = f.stats.passMs;
     r.meanAbsErrorVoxels = f.error.meanAbs;
     r.wrongSignPct = 100.0 * f.error.signErrorRate();

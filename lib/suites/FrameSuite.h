@@ -28,7 +28,8 @@ struct FrameRow {
   std::uint64_t activeBricks = 0;    ///< bricks of the sparse fine state under the band
   std::uint64_t poolBricks = 0;      ///< the brick pool's capacity
   std::uint64_t overflowBricks = 0;  ///< bricks under the band that found no slot (the next frame regrows the pool)
-  double deviceMiB = 0.0;            ///< the pipeline's device buffers (FrameStats::deviceBytes)
+  double deviceMiB = 0.0;            ///< the device memory the pipeline holds, as allocated
+                                     ///< (AnimateFrame::deviceBytesAllocated)
   PassTimes passMs;                  ///< GPU time per pass (the passes a frame skipped are absent)
 };
 

@@ -2,10 +2,10 @@
 # quality at scale (a town, a size M grid, a target of docs/results.md) through passes that shorter tests also run
 # and check against their references. The Release run (the README's test command) runs them all; CI's sanitizer
 # run leaves them out (`-LE long`, .ci/run): under ASan with synchronization validation they took 1300 of its
-# 3100 test-seconds, two of them 275 s each, and checked no code the rest of the suite does not run.
+# 3100 test-seconds, two of them 275 s each (near the 300 s a test may take), and the run without them took 835 s
+# instead of 1556 (2 cores of a CPU machine, 2026-11-27; the seconds below are from that run).
 # ctest reads this file after the tests are listed (tests/CMakeLists.txt); it passes over a name no test has, so
-# Docs.LongTestsAreTestsWithTheLabel (scripts/check_long_tests.py) keeps the list current. Seconds: the sanitizer
-# run on 2 cores of a CPU machine, 2026-11-27.
+# Docs.LongTestsAreTestsWithTheLabel (scripts/check_long_tests.py) keeps the list current.
 set(long_timeout 900)
 # gpu (279, 274, 106, 104, 58, 60, 53, 49, 44, 41, 35, 25 s)
 set_tests_properties(

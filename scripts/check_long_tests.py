@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Check that every test tests/long_tests.cmake labels `long` is a test ctest lists, and carries the label: ctest's
-set_tests_properties passes over a name no test has without a word, so a renamed test would silently leave the
-list and run under the sanitizers again, or a misspelt one never leave them.
+set_tests_properties passes over a name no test has without a word, so a renamed or misspelt test would silently
+lose the label and run under CI's sanitizers again.
 Usage: scripts/check_long_tests.py BUILD_DIR
        scripts/check_long_tests.py --self-test   (a made-up list with a missing name must be reported)"""
 import json

@@ -151,6 +151,10 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
   noted(cmd->add_option("--cascade-extent", s.cascadeExtent, "Cascade suite: level 0's side in scene units (default: "
                                                             "the outermost level holds the scene)"),
         "cascade extent", flags);
+  noted(cmd->add_option("--shade", s.shade, "Cascade suite: also render each camera's incremental frames at WIDTH "
+                                            "HEIGHT pixels (SDF shadows at render's defaults) and time the levels and "
+                                            "the shading together, e.g. --shade 1280 720"),
+        "shade size", flags)->check(inRange(1, 16384));
   noted(cmd->add_option("--warm-up", s.warmUpSeconds, "Seconds of untimed GPU work before each timed run (GPU suites, "
                                                       "not --sweep), so that a GPU's clocks have risen; 0: none"),
         "warm-up seconds", flags)->check(inRange(0.0, 60.0))->capture_default_str();
@@ -181,7 +185,7 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
       {"--refine", "refinement mode"},  {"--rays", "rays"},                       {"--still", "still"},
       {"--full-recompute", "full recompute"}, {"--full-rebuild", "full rebuild"}, {"--fine-storage", "fine storage"},
       {"--csv", "frame csv"},           {"--warm-up", "warm-up seconds"},         {"--device", "device"},
-      {"--cascades", "cascades"},       {"--cascade-extent", "cascade extent"},
+      {"--cascades", "cascades"},       {"--cascade-extent", "cascade extent"},   {"--shade", "shade size"},
       {"--out", "output folder"},       {"--error-band", "error band"},           {"--no-shadows", "shadows"},
       {"--truth-samples", "truth samples"}};
   for (const auto& [flag, setting] : kBenchSettings) c.flags.add(setting, flag);

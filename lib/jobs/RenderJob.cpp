@@ -46,7 +46,7 @@ RenderedFrame renderOnGpu(const RenderJobOptions& o, const Scene& scene, RenderJ
   Bounds bounds;
   for (int f = 0; f < o.frames; ++f) bounds.add(buildSceneGeometry(scene, t0 + f / o.fps).bounds);
   return runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
-    Renderer renderer(ctx, scene, bounds, o.render);
+    Renderer renderer(ctx, scene, bounds, o.render, t0);
     if (const SdfPipeline* sdf = renderer.sdfPipeline())
       result.sdfGrids = fmt::format("coarse {}, fine {}", sdf->coarseSpec().describe(), sdf->fineSpec().describe());
     else if (const CascadeSet* levels = renderer.cascades())

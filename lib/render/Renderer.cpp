@@ -102,7 +102,7 @@ struct Renderer::Gpu {
 };
 
 Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& sdfBounds,
-                   const RenderSettings& settings)
+                   const RenderSettings& settings, double firstFrameTime)
     : mCtx(ctx), mScene(scene), mSettings(settings), mBounds(sdfBounds) {
   if (settings.technique == ShadowTechnique::RayTraced)
     throw Error("the GPU renderer draws sdf or shadowmap shadows; ray tracing runs on the CPU (renderRayTraced)");
@@ -117,7 +117,7 @@ Renderer::Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Boun
   else
     mFrameOrigin = sdfBounds.empty() ? glm::dvec3(0.0) : sdfBounds.min;
   mCamera = makeCameraParams(scene.camera, settings.width, settings.height, mFrameOrigin);
-  mEye = scene.cameraAt(0.0);
+  mEye = scene.cameraAt(firstFrameTime);
   mLights = makeGpuLights(scene.lights, mFrameOrigin);
   if (settings.technique == ShadowTechnique::Sdf) {
     // Sampling the bricks needs no dense fine SDF; the other ways sample one.
@@ -220,7 +220,8 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
     bvh = &mSdf->bvh();
   } else if (mCascades) {
     const double extent = mCascades->layout().shape.levelZeroExtent;
-    const bool moved = !mCascades->moveTo(mEye.position, cascadeLookAhead(mEye, extent)).moved.empty();
+    out.cascadeMove = mCascades->moveTo(mEye.position, cascadeLookAhead(mEye, extent));
+    const bool moved = !out.cascadeMove.moved.empty();
     out.levels = mCascades->runFrame(time);
     out.sdf = sumFrameStats(out.levels);
     out.passMs = out.sdf.passMs;

@@ -206,6 +206,7 @@ struct RenderedFrame {
   PassTimes passMs;           ///< GPU (or CPU, for ray tracing) time per pass
   FrameStats sdf;             ///< the SDF generation's statistics (Sdf technique; with cascades summed over levels)
   std::vector<FrameStats> levels; ///< with cascades: each level's, finest first
+  CascadeMove cascadeMove;        ///< with cascades: the levels that moved with the camera this frame
   double passTotal(const std::string& pass) const { return rtsdf::passTotal(passMs, pass); }
 };
 
@@ -228,8 +229,11 @@ glm::dvec3 cascadeLookAhead(const Camera& eye, double levelZeroExtent);
 class Renderer {
 public:
   /// @param sdfBounds the SDF grids' bounds (the union over the animation, so the grids stay fixed).
+  /// @param firstFrameTime the scene time of the first frame: cascade levels are built around the camera of that
+  ///        moment (built around another, the first frame would move and rebuild them at once).
   /// @throw Error when the scene has no camera or no light, or on bad settings.
-  Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& sdfBounds, const RenderSettings& settings);
+  Renderer(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& sdfBounds, const RenderSettings& settings,
+           double firstFrameTime = 0.0);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

@@ -80,8 +80,14 @@ void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bou
   ps.fullRebuild = ps.fullRecompute = spec.fullRebuild;
   const Camera eye = scene.cameraAt(spec.start);
   const CascadeShape shape = cascadeShapeFor(bounds, eye.position, ps);
-  CascadeSet set(ctx, scene, CascadeLayout::around(eye.position, shape, cascadeLookAhead(eye, shape.levelZeroExtent)),
-                 ps);
+  const CascadeLayout layout = CascadeLayout::around(eye.position, shape, cascadeLookAhead(eye, shape.levelZeroExtent));
+  if (o.warmUpSeconds > 0.0) { // the GPU's clocks, on levels of their own: the measured ones start as they always do
+    PipelineSettings full = ps;
+    full.fullRebuild = full.fullRecompute = true;
+    CascadeSet warm(ctx, scene, layout, full);
+    warmUpGpu(o.warmUpSeconds, [&] { warm.runFrame(spec.start); });
+  }
+  CascadeSet set(ctx, scene, layout, ps);
   for (int f = 0; f < o.frames; ++f) {
     control.checkStop();
     CascadeRow r;
@@ -119,6 +125,48 @@ void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bou
   }
 }
 
+std::string shadedBuild(const BenchOptions& o) { return fmt::format("shaded {}x{}", o.shade.first, o.shade.second); }
+
+/// The incremental frames of @a spec through the Renderer at o.shade (SDF shadows, the render command's defaults, no
+/// read-back): the levels' passes and the shading's, one GPU frame as a game would run it.
+void runShaded(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds, const PipelineSettings& ps,
+               const BenchOptions& o, const RunSpec& spec, const JobControl& control, JobPoll& progress,
+               CascadeRun& out) {
+  RenderSettings rs;
+  rs.width = o.shade.first;
+  rs.height = o.shade.second;
+  rs.pipeline = ps;
+  if (o.warmUpSeconds > 0.0) { // on a renderer of its own: the measured one's levels and TAA history start fresh
+    Renderer warm(ctx, scene, bounds, rs, spec.start);
+    warmUpGpu(o.warmUpSeconds, [&] { warm.renderFrame(spec.start, false); });
+  }
+  Renderer renderer(ctx, scene, bounds, rs, spec.start);
+  for (int f = 0; f < o.frames; ++f) {
+    control.checkStop();
+    CascadeRow r;
+    r.scene = spec.sceneName;
+    r.camera = spec.camera;
+    r.build = spec.build;
+    r.frame = f + 1;
+    r.time = spec.start + f / kFps;
+    r.speed = speedAt(scene, r.time);
+    const auto t0 = std::chrono::steady_clock::now();
+    const RenderedFrame frame = renderer.renderFrame(r.time, false);
+    r.wallMs = msSince(t0);
+    r.levelsMoved = int(frame.cascadeMove.moved.size());
+    r.levelsRecut = int(frame.cascadeMove.recut.size());
+    r.levelsRebuilt = int(frame.cascadeMove.rebuilt.size());
+    r.gpuMs = passSum(frame.passMs);
+    r.refinedVoxels = frame.sdf.refinedFineVoxels;
+    r.deviceMiB = double(ctx.deviceBytesInUse()) / (1024.0 * 1024.0);
+    r.passMs = frame.passMs;
+    spdlog::info("{} {} {}: frame {}, {} level(s) moved, wall {:.1f} ms, GPU {:.2f} ms", r.scene, r.camera, r.build,
+                 r.frame, r.levelsMoved, r.wallMs, r.gpuMs);
+    out.rows.push_back(std::move(r));
+    progress.done();
+  }
+}
+
 } // namespace
 
 CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
@@ -132,8 +180,11 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
   ps.cascadeExtent = o.cascadeExtent;
   ps.fineStorage = FineStorage::Dense; // as the renderer's levels, and the error's read-back
   CascadeRun run;
-  // Frames of every run: two camera speeds and two builds per scene (a path that never drives skips two).
-  JobPoll progress(&control, "cascade suite", std::uint64_t(o.scenes.size()) * 4 * std::uint64_t(o.frames));
+  // Frames of every run: two camera speeds and two builds (three when shaded) per scene; a path that never drives
+  // skips a speed.
+  const bool shaded = o.shade != std::pair<int, int>{0, 0};
+  const std::uint64_t builds = shaded ? 3 : 2;
+  JobPoll progress(&control, "cascade suite", std::uint64_t(o.scenes.size()) * 2 * builds * std::uint64_t(o.frames));
   for (const std::string& path : o.scenes) {
     const Scene scene = loadScene(path);
     const std::string& name = path; // as given: towns from make_level.py share the file name level.json
@@ -148,13 +199,15 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
     else {
       run.notes.push_back(fmt::format("{}: the camera path never moves faster than {} units/s: no driving run", name,
                                       kDrivingSpeed));
-      progress.done(2 * std::uint64_t(o.frames));
+      progress.done(builds * std::uint64_t(o.frames));
     }
     runOnDevice(deviceContextOptions(o.device), [&](const gpu::VulkanContext& ctx) {
-      for (const auto& [camera, start] : cameras)
+      for (const auto& [camera, start] : cameras) {
         for (const bool full : {false, true})
           runOne(ctx, scene, bounds, ps, o, {name, camera, full ? "full rebuild" : "incremental", start, full}, control,
                  progress, run);
+        if (shaded) runShaded(ctx, scene, bounds, ps, o, {name, camera, shadedBuild(o), start, false}, control, progress, run);
+      }
       return 0;
     });
   }
@@ -181,59 +234,77 @@ std::vector<const CascadeRow*> select(const CascadeRun& run, const std::string& 
   return rows;
 }
 
+/// One build's row of the scene table: medians of frames 2..N (and the GPU time's mean and largest).
+struct BuildSummary {
+  double wall = 0.0, gpu = 0.0, gpuMean = 0.0;
+  std::string row;
+};
+
+BuildSummary summarize(const CascadeRun& run, const std::string& scene, const std::string& camera,
+                       const std::string& build) {
+  const std::vector<const CascadeRow*> rows = select(run, scene, camera, build);
+  const auto gpuOf = [](const CascadeRow& r) { return r.gpuMs; };
+  double moved = 0.0, recut = 0.0, rebuilt = 0.0;
+  for (std::size_t i = rows.size() > 1 ? 1 : 0; i < rows.size(); ++i) {
+    moved += rows[i]->levelsMoved;
+    recut += rows[i]->levelsRecut;
+    rebuilt += rows[i]->levelsRebuilt;
+  }
+  const double counted = double(std::max<std::size_t>(rows.size() > 1 ? rows.size() - 1 : rows.size(), 1));
+  BuildSummary b;
+  b.wall = medianAfterFirst(rows, [](const CascadeRow& r) { return r.wallMs; });
+  b.gpu = medianAfterFirst(rows, gpuOf);
+  b.gpuMean = meanAfterFirst(rows, gpuOf);
+  // The renderer moves its levels inside its frame: a shaded frame's moveTo is part of its wall time.
+  const bool shaded = build != "incremental" && build != "full rebuild";
+  const std::string moveMs =
+      shaded ? "(in wall)" : fmt::format("{:.1f}", medianAfterFirst(rows, [](const CascadeRow& r) { return r.moveMs; }));
+  b.row = fmt::format("| {} | {} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {} | {:.2f} / {:.2f} / {:.2f} | {:.0f} | "
+                      "{:.1f} |\n",
+                      camera, build, b.wall, b.gpu, b.gpuMean, maxAfterFirst(rows, gpuOf), moveMs, moved / counted,
+                      recut / counted, rebuilt / counted,
+                      medianAfterFirst(rows, [](const CascadeRow& r) { return double(r.refinedVoxels); }),
+                      rows.empty() ? 0.0 : rows.back()->deviceMiB);
+  return b;
+}
+
 std::string sceneReport(const CascadeRun& run, const std::string& scene) {
-  std::vector<std::string> cameras, passes;
+  std::vector<std::string> cameras, builds, passes;
+  const auto addOnce = [](std::vector<std::string>& v, const std::string& s) {
+    if (std::find(v.begin(), v.end(), s) == v.end()) v.push_back(s);
+  };
   for (const CascadeRow& r : run.rows) {
     if (r.scene != scene) continue;
-    if (std::find(cameras.begin(), cameras.end(), r.camera) == cameras.end()) cameras.push_back(r.camera);
-    for (const auto& entry : r.passMs)
-      if (std::find(passes.begin(), passes.end(), entry.first) == passes.end()) passes.push_back(entry.first);
+    addOnce(cameras, r.camera);
+    addOnce(builds, r.build);
+    for (const auto& entry : r.passMs) addOnce(passes, entry.first);
   }
   std::string md = fmt::format("### {}\n\n| camera | build | wall (ms) | GPU (ms) | GPU mean (ms) | GPU max (ms) | "
                                "moveTo (ms) | levels moved / recut / rebuilt per frame | refined voxels | device MiB "
                                "|\n|---|---|---|---|---|---|---|---|---|---|\n",
                                scene);
   for (const std::string& camera : cameras) {
-    double wall[2], gpu[2], gpuMean[2];
-    const auto gpuOf = [](const CascadeRow& r) { return r.gpuMs; };
-    for (int b = 0; b < 2; ++b) {
-      const char* build = b ? "full rebuild" : "incremental";
-      const std::vector<const CascadeRow*> rows = select(run, scene, camera, build);
-      double moved = 0.0, recut = 0.0, rebuilt = 0.0;
-      for (std::size_t i = rows.size() > 1 ? 1 : 0; i < rows.size(); ++i) {
-        moved += rows[i]->levelsMoved;
-        recut += rows[i]->levelsRecut;
-        rebuilt += rows[i]->levelsRebuilt;
-      }
-      const double counted = double(std::max<std::size_t>(rows.size() > 1 ? rows.size() - 1 : rows.size(), 1));
-      moved /= counted;
-      recut /= counted;
-      rebuilt /= counted;
-      wall[b] = medianAfterFirst(rows, [](const CascadeRow& r) { return r.wallMs; });
-      gpu[b] = medianAfterFirst(rows, gpuOf);
-      gpuMean[b] = meanAfterFirst(rows, gpuOf);
-      md += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} / {:.2f} / {:.2f} | {:.0f} | {:.1f} "
-                        "|\n", camera, build, wall[b], gpu[b], gpuMean[b], maxAfterFirst(rows, gpuOf),
-                        medianAfterFirst(rows, [](const CascadeRow& r) { return r.moveMs; }),
-                        moved, recut, rebuilt,
-                        medianAfterFirst(rows, [](const CascadeRow& r) { return double(r.refinedVoxels); }),
-                        rows.empty() ? 0.0 : rows.back()->deviceMiB);
-    }
+    const BuildSummary inc = summarize(run, scene, camera, "incremental");
+    const BuildSummary full = summarize(run, scene, camera, "full rebuild");
+    md += inc.row + full.row;
     md += fmt::format("| {} | incremental / full rebuild | {:.3f} | {:.3f} | {:.3f} | | | | | |\n", camera,
-                      wall[1] > 0.0 ? wall[0] / wall[1] : 0.0, gpu[1] > 0.0 ? gpu[0] / gpu[1] : 0.0,
-                      gpuMean[1] > 0.0 ? gpuMean[0] / gpuMean[1] : 0.0);
+                      full.wall > 0.0 ? inc.wall / full.wall : 0.0, full.gpu > 0.0 ? inc.gpu / full.gpu : 0.0,
+                      full.gpuMean > 0.0 ? inc.gpuMean / full.gpuMean : 0.0);
+    for (const std::string& build : builds) // the shaded frames: the levels and the shading, one GPU frame
+      if (build != "incremental" && build != "full rebuild") md += summarize(run, scene, camera, build).row;
   }
   md += "\nGPU time by pass, every level, means of frames 2..N (0 where a frame skipped the pass):\n\n| pass |";
   std::string rule = "|---|";
-  for (const std::string& camera : cameras) {
-    md += fmt::format(" {} incremental | {} full rebuild |", camera, camera);
-    rule += "---|---|";
-  }
+  for (const std::string& camera : cameras)
+    for (const std::string& build : builds) {
+      md += fmt::format(" {} {} |", camera, build);
+      rule += "---|";
+    }
   md += "\n" + rule + "\n";
   for (const std::string& pass : passes) {
     md += "| " + pass + " |";
     for (const std::string& camera : cameras)
-      for (const char* build : {"incremental", "full rebuild"})
+      for (const std::string& build : builds)
         md += fmt::format(" {:.2f} |", meanAfterFirst(select(run, scene, camera, build), [&](const CascadeRow& r) {
                             return passTotal(r.passMs, pass);
                           }));
@@ -260,6 +331,15 @@ std::string cascadeReport(const BenchOptions& o, const CascadeRun& run) {
       "its whole grid and every masked voxel refined. Medians of frames 2..N (the first builds every level), and the GPU time's mean and largest (a level moves in some frames only).\n\n",
       o.cascades, coarse, fine, o.cascadeExtent > 0.0 ? fmt::format("{:g} units", o.cascadeExtent) : "(default)",
       toString(o.refine), o.rays, o.frames, kDrivingSpeed);
+  if (o.shade != std::pair<int, int>{0, 0})
+    md += fmt::format("{}: the incremental frames again through the renderer, SDF shadows at {}x{} with the render "
+                      "command's defaults and no read-back; its GPU time is the levels' passes and the shading's, the "
+                      "whole GPU frame.\n\n",
+                      shadedBuild(o), o.shade.first, o.shade.second);
+  if (o.warmUpSeconds > 0.0)
+    md += fmt::format("Each run starts after {:g} s of untimed full frames on levels of its own (--warm-up), so that a "
+                    "GPU's clocks have risen.\n\n",
+                    o.warmUpSeconds);
   for (const std::string& note : run.notes) md += "- " + note + "\n";
   if (!run.notes.empty()) md += "\n";
   std::vector<std::string> scenes;

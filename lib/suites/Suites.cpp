@@ -47,7 +47,7 @@ std::string benchIgnores(const BenchOptions& o, bool sweep, const std::string& s
     if (setting == f) return readBy({S::Frame, S::Cascade}, false, "the frame and cascade suites read it");
   for (const char* f : {"still", "full recompute", "full rebuild", "fine storage"})
     if (setting == f) return readBy({S::Frame}, false, "the frame suite reads it");
-  if (setting == "cascades" || setting == "cascade extent")
+  if (setting == "cascades" || setting == "cascade extent" || setting == "shade size")
     return readBy({S::Cascade}, false, "the cascade suite reads it");
   if (setting == "resolution")
     return readBy({S::Reference, S::Coarse, S::Sign}, false, "the reference, coarse and sign suites read it");
@@ -56,8 +56,8 @@ std::string benchIgnores(const BenchOptions& o, bool sweep, const std::string& s
     return readBy({S::Reference, S::Coarse, S::Refine}, true,
                   "the reference, coarse and refine suites and the sweep read it");
   if (setting == "warm-up seconds")
-    return readBy({S::Coarse, S::Refine, S::Render, S::Frame}, false,
-                  "the coarse, refine, render and frame suites read it");
+    return readBy({S::Coarse, S::Refine, S::Render, S::Frame, S::Cascade}, false,
+                  "the coarse, refine, render, frame and cascade suites read it");
   if (setting == "device")
     return readBy({S::Coarse, S::Refine, S::Render, S::Frame, S::Sign, S::Cascade}, true,
                   "the GPU suites and the sweep read it");
@@ -95,6 +95,10 @@ void BenchOptions::validate() const {
   requireInRange("warm-up seconds", warmUpSeconds, 0.0, 60.0);
   requireInRange("cascades", cascades, 1, kMaxCascades);
   if (cascadeExtent >= 0.0) requireInRange("cascade extent", cascadeExtent, 1e-9, 1e9);
+  if (shade != std::pair<int, int>{0, 0}) {
+    requireInRange("shade size", shade.first, 1, 16384);
+    requireInRange("shade size", shade.second, 1, 16384);
+  }
   for (int r : resolutions) requireInRange("resolution", r, 1, GridSpec::kMaxResolution);
 }
 

@@ -58,6 +58,9 @@ struct BenchOptions {
   // The cascade suite (scenes with a camera path; also frameSize, frames, refine and rays).
   int cascades = 1;            ///< the levels (PipelineSettings::cascades); the suite needs 2 or more
   double cascadeExtent = -1.0; ///< level 0's side (PipelineSettings::cascadeExtent; < 0: the default rule)
+  /// Also render each camera's incremental frames through the Renderer at this width and height (SDF shadows, the
+  /// render command's defaults), timing the levels and the shading together: what a game's frame costs. {0, 0}: not.
+  std::pair<int, int> shade{0, 0};
   /// Seconds of untimed GPU work before each timed run (GPU suites), on a pipeline or renderer of its own so
   /// that the measured one starts as it always does: a GPU's clocks rise only under sustained load (see
   /// warmUpGpu). 0: none, for tests and CPU devices.
@@ -70,10 +73,11 @@ struct BenchOptions {
 ///        @a setting, as a clause after the flag ("does not apply to ..."), or "" when it reads it. The settings:
 ///        the frame suite's ("frame size", "frames", "refinement mode", "rays", "still", "full recompute",
 ///        "full rebuild", "fine storage", "frame csv"; of these the cascade suite reads "frame size", "frames",
-///        "refinement mode", "rays" and "frame csv"), "cascades" and "cascade extent" (the cascade suite),
+///        "refinement mode", "rays" and "frame csv"), "cascades", "cascade extent" and "shade size" (the cascade
+///        suite),
 ///        "resolution" (reference, coarse and sign suites), "band
 ///        fraction" (reference), "repeats" (reference, coarse, refine, the sweep), "warm-up seconds" (the GPU suites
-///        that time frames: coarse, refine, render, frame), "device" (every GPU suite and the sweep), "benchmark
+///        that time frames: coarse, refine, render, frame, cascade), "device" (every GPU suite and the sweep), "benchmark
 ///        suite" (not the sweep), and the sweep's ("output folder", "error band", "shadows", "truth samples").
 ///        Others: "".
 std::string benchIgnores(const BenchOptions& options, bool sweep, const std::string& setting);

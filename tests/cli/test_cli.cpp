@@ -311,10 +311,11 @@ TEST(Cli, BenchFrameSuiteWritesOneCsvRowPerFrame) {
   }
 }
 
-// The cascade suite on a generated 50 m town (2 levels of coarse 64 / fine 128, 3 frames per run): each camera speed
-// runs incrementally and with every pass of every level rebuilt, on the same camera path, so both builds move the
-// same levels each frame and the full rebuild refines at least as many voxels; every level's error at the last
-// frame is reported.
+// The cascade suite on a generated 50 m town (2 levels of coarse 64 / fine 128, 3 frames per run, shaded at 32x18):
+// each camera speed runs incrementally, with every pass of every level rebuilt, and through the renderer, on the same
+// camera path, so every build moves the same levels each frame, the full rebuild refines at least as many voxels and
+// the renderer's levels refine the same voxels as the incremental run's; every level's error at the last frame is
+// reported.
 TEST(Cli, BenchCascadeSuiteFollowsTheCameraPathAgainstAFullRebuild) {
   TempDir dir;
   int status = 0;
@@ -323,14 +324,15 @@ TEST(Cli, BenchCascadeSuiteFollowsTheCameraPathAgainstAFullRebuild) {
                                            status);
   ASSERT_EQ(status, 0) << log;
   const Result r = rtsdfCmd("bench " + q(dir / "town" / "level.json") + " --suite cascade --cascades 2 " +
-                            "--cascade-extent 12.5 --size S --frames 3 --rays 0 --csv " + q(dir / "c.csv") + " -o " +
-                            q(dir / "c.md"));
+                            "--cascade-extent 12.5 --size S --frames 3 --rays 0 --shade 32 18 --warm-up 0 --csv " +
+                            q(dir / "c.csv") + " -o " + q(dir / "c.md"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_NE(r.output.find("cascade suite 12/12 done in"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("cascade suite 18/18 done in"), std::string::npos) << r.output;
   std::ifstream md(dir / "c.md");
   const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
   for (const char* part : {"| walking | incremental / full rebuild |", "| driving | incremental / full rebuild |",
-                           "| ClosestRefinePass |", "| walking | 1 |", "| driving | 1 |"})
+                           "| walking | shaded 32x18 |", "| driving | shaded 32x18 |", "| ClosestRefinePass |",
+                           "| SdfShadowPass |", "| walking | 1 |", "| driving | 1 |"})
     EXPECT_NE(report.find(part), std::string::npos) << part << "\n" << report;
   std::ifstream csv(dir / "c.csv");
   std::string header, line;
@@ -346,25 +348,30 @@ TEST(Cli, BenchCascadeSuiteFollowsTheCameraPathAgainstAFullRebuild) {
     rows.push_back({c[1], c[2], std::stoi(c[3]), std::stoi(c[6]), std::stod(c[4]), std::stod(c[5]), std::stod(c[10]),
                     std::stol(c[12])});
   }
-  ASSERT_EQ(rows.size(), 12u); // walking and driving, incremental and full rebuild, 3 frames each
+  ASSERT_EQ(rows.size(), 18u); // walking and driving; incremental, full rebuild and shaded; 3 frames each
+  const char* builds[] = {"incremental", "full rebuild", "shaded 32x18"};
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& row = rows[i];
     SCOPED_TRACE(row.camera + " " + row.build + " frame " + std::to_string(row.frame));
     EXPECT_EQ(row.frame, int(i % 3) + 1);
-    EXPECT_EQ(row.camera, i < 6 ? "walking" : "driving");
-    EXPECT_EQ(row.build, i % 6 < 3 ? "incremental" : "full rebuild");
+    EXPECT_EQ(row.camera, i < 9 ? "walking" : "driving");
+    EXPECT_EQ(row.build, builds[i % 9 / 3]);
     EXPECT_LT(row.speed, 100.0);
     if (row.camera == "walking") EXPECT_LT(row.speed, 4.0);
     else EXPECT_GT(row.speed, 4.0);
-    // An incremental frame where no level moved and nothing moved near one runs no pass at all.
-    if (row.build == "full rebuild") EXPECT_GT(row.gpu, 0.0);
-    else EXPECT_GE(row.gpu, 0.0);
-    if (i % 6 >= 3) { // the full rebuild beside the incremental run of the same frame
-      const Row& incremental = rows[i - 3];
-      EXPECT_EQ(row.time, incremental.time);
-      EXPECT_EQ(row.moved, incremental.moved);
+    // An incremental frame where no level moved and nothing moved near one runs no pass at all; a full rebuild runs
+    // every pass, and a shaded frame at least the shading.
+    if (row.build == "incremental") EXPECT_GE(row.gpu, 0.0);
+    else EXPECT_GT(row.gpu, 0.0);
+    if (i % 9 < 3) continue;
+    const Row& incremental = rows[i - i % 9 + i % 3]; // the incremental run's frame of the same moment
+    EXPECT_EQ(row.time, incremental.time);
+    EXPECT_EQ(row.moved, incremental.moved);
+    if (i % 9 < 6) { // the full rebuild
       EXPECT_GE(row.refined, incremental.refined);
       EXPECT_GT(row.refined, 0);
+    } else { // the renderer's levels: the same frames of the same levels
+      EXPECT_EQ(row.refined, incremental.refined);
     }
   }
 }

@@ -1,6 +1,6 @@
 // The coarse SDF trilinearly upsampled at a fine voxel's centre: upsampleCoarse() (sdf/refine/RefineCpu.cpp), the
-// same weights and order of lerps. The includer declares the buffer coarse[] and a RefineParams named params (or
-// RTSDF_UPSAMPLE_PARAMS) first.
+// same weights and order of lerps, bit for bit (nothing fused on either side). The includer declares the buffer
+// coarse[] and a RefineParams named params (or RTSDF_UPSAMPLE_PARAMS) first.
 #ifndef RTSDF_UPSAMPLE_PARAMS
 #define RTSDF_UPSAMPLE_PARAMS params
 #endif
@@ -15,20 +15,28 @@ vec4 coarsePlane(ivec2 x01, ivec2 y01, int z) {
 // The cell of fine voxel v: its lower and upper coarse corners (clamped at the borders) and the weights.
 void upsampleCell(ivec3 v, out ivec3 i0, out ivec3 i1, out vec3 t) {
   ivec3 cd = RTSDF_UPSAMPLE_PARAMS.coarseDims.xyz;
-  vec3 p = RTSDF_UPSAMPLE_PARAMS.fineOriginH.xyz + (vec3(v) + 0.5) * RTSDF_UPSAMPLE_PARAMS.fineOriginH.w;
-  vec3 g = (p - RTSDF_UPSAMPLE_PARAMS.coarseOriginInvH.xyz) * RTSDF_UPSAMPLE_PARAMS.coarseOriginInvH.w - 0.5;
+  precise vec3 p = RTSDF_UPSAMPLE_PARAMS.fineOriginH.xyz + (vec3(v) + 0.5) * RTSDF_UPSAMPLE_PARAMS.fineOriginH.w;
+  precise vec3 g = (p - RTSDF_UPSAMPLE_PARAMS.coarseOriginInvH.xyz) * RTSDF_UPSAMPLE_PARAMS.coarseOriginInvH.w - 0.5;
   i0 = clamp(ivec3(floor(g)), ivec3(0), cd - 1);
   i1 = min(i0 + 1, cd - 1);
   t = clamp(g - vec3(i0), 0.0, 1.0);
 }
 
+// glm::mix's formula, x (1 - a) + y a, with nothing fused (precise): the host's resolve of the bricks and the CPU
+// references get the same bits on any device. mix() and unqualified arithmetic leave a driver free to fuse
+// multiply-adds, and NVIDIA's does: the last bit then differs from the host's in about a tenth of the voxels.
+float lerpUnfused(float x, float y, float a) {
+  precise float r = x * (1.0 - a) + y * a;
+  return r;
+}
+
 // Trilinear interpolation between plane c0 (the cell's lower z) and c1 (its upper z).
 float trilinear(vec4 c0, vec4 c1, vec3 t) {
-  float c00 = mix(c0.x, c0.y, t.x);
-  float c10 = mix(c0.z, c0.w, t.x);
-  float c01 = mix(c1.x, c1.y, t.x);
-  float c11 = mix(c1.z, c1.w, t.x);
-  return mix(mix(c00, c10, t.y), mix(c01, c11, t.y), t.z);
+  float c00 = lerpUnfused(c0.x, c0.y, t.x);
+  float c10 = lerpUnfused(c0.z, c0.w, t.x);
+  float c01 = lerpUnfused(c1.x, c1.y, t.x);
+  float c11 = lerpUnfused(c1.z, c1.w, t.x);
+  return lerpUnfused(lerpUnfused(c00, c10, t.y), lerpUnfused(c01, c11, t.y), t.z);
 }
 
 // The upsampled coarse SDF at fine voxel v (eight coarse loads).

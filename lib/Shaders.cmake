@@ -49,6 +49,8 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   "mask_compact.comp              sdf/mask/mask_compact.comp"
   "mask_dispatch.comp             sdf/mask/mask_dispatch.comp"
   "brick_alloc.comp               sdf/mask/brick_alloc.comp"
+  # A scrolled level's grids moved by whole cells.
+  "grid_shift.comp                sdf/pipeline/grid_shift.comp"
   # The renderer.
   "gbuffer.comp                   render/gbuffer/gbuffer.comp"
   "contact_shadow.comp            render/contactshadow/contact_shadow.comp"

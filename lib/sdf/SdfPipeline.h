@@ -34,6 +34,7 @@ class BrickPool;
 class FieldPasses;
 class FrameRecorder;
 class GpuRayMask;
+class GridShiftPass;
 class InstanceMotion;
 
 /// @brief The fine SDF as FineStorage::Sparse keeps it on the GPU, for shading passes that sample it without a dense
@@ -171,6 +172,7 @@ private:
   std::unique_ptr<FieldPasses> mFields;
   std::unique_ptr<GpuRayMask> mMask;
   std::unique_ptr<BrickPool> mPool;
+  std::unique_ptr<GridShiftPass> mGridShift; ///< made by the first scroll on a GPU (a CPU device: transfers)
   std::unique_ptr<FrameRecorder> mRecorder;
 };
 

@@ -11,6 +11,7 @@
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "sdf/cascade/CascadeSet.h"
+#include "sdf/pipeline/GridShift.h"
 #include "util/Error.h"
 
 #include <gtest/gtest.h>
@@ -89,6 +90,37 @@ TEST_F(CascadeSetGpu, EachLevelEqualsTheWholeSceneOnItsVoxelsAndIsExactUnderItsB
     EXPECT_GT(voxels, 500u);
     EXPECT_LT(worst, 1e-3) << "fine voxels";
   }
+}
+
+// GridShiftPass (one dispatch) leaves every word what gridShiftPlan's copies and fills give on the host (written
+// apart from the shader's rule, and checked cell by cell in test_cascade_layout), on grids that are not multiples of
+// the work-group shape, cells of one and two words, shifts along each axis, both ways, beyond the grid and none.
+TEST_F(CascadeSetGpu, GridShiftPassEqualsThePlansCopiesAndFills) {
+  const GridShiftPass pass(*sCtx);
+  for (const glm::ivec3 dims : {glm::ivec3(13, 9, 5), glm::ivec3(40, 3, 7)})
+    for (const std::uint32_t elementWords : {1u, 2u})
+      for (const glm::ivec3 shift : {glm::ivec3(0), glm::ivec3(4, 0, 0), glm::ivec3(-3, 2, 0), glm::ivec3(0, 0, -2),
+                                     glm::ivec3(1, -1, 1), glm::ivec3(0, 9, 0), glm::ivec3(-40, 0, 0)}) {
+        SCOPED_TRACE(testing::Message() << dims.x << "x" << dims.y << "x" << dims.z << " shift " << shift.x << ","
+                                        << shift.y << "," << shift.z << " words " << elementWords);
+        std::vector<std::uint32_t> words(std::size_t(dims.x) * dims.y * dims.z * elementWords);
+        for (std::size_t i = 0; i < words.size(); ++i) words[i] = gpu::shared::pcgHash(std::uint32_t(i)) | 1u;
+        const std::size_t bytes = words.size() * 4;
+        const gpu::Buffer buffer(*sCtx, bytes, gpu::kStorage, gpu::Buffer::Memory::Device, "grid");
+        const gpu::Buffer scratch(*sCtx, bytes + 64, gpu::kStorage, gpu::Buffer::Memory::Device, "scratch");
+        gpu::upload(*sCtx, buffer, words.data(), bytes);
+        gpu::CommandBuffer cmd(*sCtx);
+        recordGridShift(cmd.handle(), pass, buffer, scratch, gridShiftParams(dims, 4 * elementWords, shift, 0u));
+        cmd.submitAndWait();
+        std::vector<std::uint32_t> shifted(words.size());
+        gpu::download(*sCtx, buffer, shifted.data(), bytes);
+        applyGridShift(gridShiftPlan(dims, 4 * elementWords, shift), words, 0u);
+        EXPECT_EQ(shifted, words);
+      }
+  const gpu::Buffer small(*sCtx, 64, gpu::kStorage, gpu::Buffer::Memory::Device, "small");
+  gpu::CommandBuffer cmd(*sCtx);
+  EXPECT_THROW(recordGridShift(cmd.handle(), pass, small, small, gridShiftParams({4, 4, 4}, 4, {1, 0, 0}, 0u)), Error);
+  EXPECT_THROW(gridShiftParams({4, 4, 4}, 6, {0, 0, 0}, 0u), Error);
 }
 
 TEST_F(CascadeSetGpu, ACameraMoveScrollsOnlyTheLevelsWhoseBoxMoved) {

@@ -94,7 +94,8 @@ void BrickPool::recordAlloc(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std
   mAlloc.execute(cmd, profiler, {mNeeded}, {mCounts, mSlots, mFree}, bp);
 }
 
-void BrickPool::recordScroll(VkCommandBuffer cmd, const glm::ivec3& brickShift, const gpu::Buffer& scratch) {
+void BrickPool::recordScroll(VkCommandBuffer cmd, const glm::ivec3& brickShift, const gpu::Buffer& scratch,
+                             const GridShiftPass* shiftPass) {
   if (mPoolBricks > 0) {
     // The slots of the bricks that leave the grid (brick b goes to b - brickShift) return to the free stack.
     const std::vector<std::uint32_t> slots = readSlots();
@@ -123,8 +124,8 @@ void BrickPool::recordScroll(VkCommandBuffer cmd, const glm::ivec3& brickShift, 
     const std::uint32_t newTop = top + std::uint32_t(freed.size());
     vkCmdUpdateBuffer(cmd, mCounts.handle(), gpu::shared::kBrickCountFreeTop * 4, 4, &newTop);
   }
-  recordGridShift(cmd, mNeeded, scratch, gridShiftPlan(mBrickDims, 4, brickShift), 0u);
-  recordGridShift(cmd, mSlots, scratch, gridShiftPlan(mBrickDims, 4, brickShift), gpu::shared::kNoBrick);
+  recordGridShift(cmd, shiftPass, mNeeded, scratch, mBrickDims, 4, brickShift, 0u);
+  recordGridShift(cmd, shiftPass, mSlots, scratch, mBrickDims, 4, brickShift, gpu::shared::kNoBrick);
 }
 
 void BrickPool::noteFrame(std::uint64_t activeBricks, std::uint64_t overflowBricks) {

@@ -7,6 +7,7 @@
 #include "gpu/Resources.h"
 #include "grid/GridSpec.h"
 #include "sdf/refine/RefinePasses.h"
+#include "sdf/pipeline/GridShift.h"
 #include "sdf/pipeline/PipelineMemory.h"
 
 #include <cstdint>
@@ -47,10 +48,11 @@ public:
   /// @brief Record BrickAllocPass for frame number @a frame, after MaskCompactPass stamped the bricks.
   void recordAlloc(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame) const;
   /// @brief The grid moved by @a brickShift whole bricks (SdfPipeline::scroll): record the stamps and slots shifted
-  ///        through @a scratch (recordGridShift; the bricks that entered hold no slot), and the slots of the bricks
-  ///        that left pushed back on the free stack (read back now: no frame may be in flight). The values stay in
-  ///        their slots, so a brick that stays keeps its refinement.
-  void recordScroll(VkCommandBuffer cmd, const glm::ivec3& brickShift, const gpu::Buffer& scratch);
+  ///        through @a scratch (by @a shiftPass where given: recordGridShift; the bricks that entered hold no slot),
+  ///        and the slots of the bricks that left pushed back on the free stack (read back now: no frame may be in
+  ///        flight). The values stay in their slots, so a brick that stays keeps its refinement.
+  void recordScroll(VkCommandBuffer cmd, const glm::ivec3& brickShift, const gpu::Buffer& scratch,
+                    const GridShiftPass* shiftPass);
   /// @brief After a frame that counted @a activeBricks bricks under the band, @a overflowBricks of them without a
   ///        slot: remember to regrow the pool (poolBricksFor) before the next.
   void noteFrame(std::uint64_t activeBricks, std::uint64_t overflowBricks);

@@ -57,11 +57,12 @@ void GpuRayMask::recordClear(VkCommandBuffer cmd) const {
 }
 
 void GpuRayMask::recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine,
-                              const glm::ivec3& coarseShift, const gpu::Buffer& scratch) {
+                              const glm::ivec3& coarseShift, const gpu::Buffer& scratch,
+                              const GridShiftPass* shiftPass) {
   mCoarseSpec = coarse;
   mFineSpec = fine;
   // 0xFFFFFFFF: no frame in the band (as BrickPool::allocate resets it), so an entered voxel in the band is fresh.
-  recordGridShift(cmd, mCoarseState, scratch, gridShiftPlan(coarse.dims, 8, coarseShift), 0xFFFFFFFFu);
+  recordGridShift(cmd, shiftPass, mCoarseState, scratch, coarse.dims, 8, coarseShift, 0xFFFFFFFFu);
 }
 
 gpu::shared::MaskParams GpuRayMask::params(std::uint32_t frame, std::uint32_t movedBoxes) const {

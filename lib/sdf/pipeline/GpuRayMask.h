@@ -9,6 +9,7 @@
 #include "sdf/PipelineSettings.h"
 #include "sdf/refine/RefinePasses.h"
 #include "sdf/pipeline/BrickPool.h"
+#include "sdf/pipeline/GridShift.h"
 #include "sdf/pipeline/RayMask.h"
 
 #include <cstdint>
@@ -41,10 +42,11 @@ public:
   /// @brief Record: no coarse voxel has been in the band (construction only; BrickPool::allocate resets it too).
   void recordClear(VkCommandBuffer cmd) const;
   /// @brief The grids moved to @a coarse and @a fine, @a coarseShift coarse voxels from where they were
-  ///        (SdfPipeline::scroll): record the refinement's history shifted through @a scratch (recordGridShift), the
-  ///        voxels that entered new to the band. The grids' tables are relative to the corner and stay.
+  ///        (SdfPipeline::scroll): record the refinement's history shifted through @a scratch (by @a shiftPass
+  ///        where given: recordGridShift), the voxels that entered new to the band. The grids' tables are relative
+  ///        to the corner and stay.
   void recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine, const glm::ivec3& coarseShift,
-                    const gpu::Buffer& scratch);
+                    const gpu::Buffer& scratch, const GridShiftPass* shiftPass);
   /// @brief MaskCompactPass's parameters for frame number @a frame with @a movedBoxes moving instances.
   gpu::shared::MaskParams params(std::uint32_t frame, std::uint32_t movedBoxes) const;
   /// @brief Record frame number @a frame's mask: the counters reset (with @a pool's), then, where band > 0,

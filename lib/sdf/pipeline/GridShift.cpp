@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -38,11 +39,15 @@ void addCopy(std::vector<VkBufferCopy>& copies, VkDeviceSize src, VkDeviceSize d
 
 /// An empty plan over a grid of @a dims cells of @a elementBytes each (its bytes set).
 /// @throw Error when the element is not a positive multiple of 4 bytes or the grid is empty.
-GridShiftPlan emptyPlan(const glm::ivec3& dims, std::uint32_t elementBytes) {
+void checkGrid(const char* who, const glm::ivec3& dims, std::uint32_t elementBytes) {
   if (elementBytes == 0 || elementBytes % 4 != 0)
-    throw Error(fmt::format("gridShiftPlan: element of {} bytes (a positive multiple of 4 expected)", elementBytes));
+    throw Error(fmt::format("{}: element of {} bytes (a positive multiple of 4 expected)", who, elementBytes));
   if (glm::any(glm::lessThanEqual(dims, glm::ivec3(0))))
-    throw Error(fmt::format("gridShiftPlan: grid of {}x{}x{} cells", dims.x, dims.y, dims.z));
+    throw Error(fmt::format("{}: grid of {}x{}x{} cells", who, dims.x, dims.y, dims.z));
+}
+
+GridShiftPlan emptyPlan(const glm::ivec3& dims, std::uint32_t elementBytes) {
+  checkGrid("gridShiftPlan", dims, elementBytes);
   GridShiftPlan plan;
   plan.bytes = VkDeviceSize(dims.x) * elementBytes * VkDeviceSize(dims.y) * VkDeviceSize(dims.z);
   return plan;
@@ -111,6 +116,61 @@ void applyGridShift(const GridShiftPlan& plan, std::vector<std::uint32_t>& words
     std::memcpy(words.data() + c.dstOffset / 4, scratch.data() + c.srcOffset / 4, c.size);
   for (const GridShiftPlan::Fill& f : plan.fills)
     std::fill_n(words.begin() + std::ptrdiff_t(f.offset / 4), f.size / 4, fillWord);
+}
+
+gpu::shared::GridShiftParams gridShiftParams(const glm::ivec3& dims, std::uint32_t elementBytes,
+                                              const glm::ivec3& shift, std::uint32_t fillWord) {
+  checkGrid("gridShiftParams", dims, elementBytes);
+  gpu::shared::GridShiftParams p{};
+  p.dims = glm::ivec4(dims, int(elementBytes / 4));
+  p.shift = glm::ivec4(shift, 0);
+  p.fillWord = fillWord;
+  return p;
+}
+
+namespace {
+
+VkDeviceSize gridBytes(const gpu::shared::GridShiftParams& p) {
+  return VkDeviceSize(p.dims.x) * VkDeviceSize(p.dims.y) * VkDeviceSize(p.dims.z) * VkDeviceSize(p.dims.w) * 4;
+}
+
+} // namespace
+
+void GridShiftPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                            const Params& params) const {
+  const VkDeviceSize bytes = gridBytes(params);
+  if (in.source.size() < bytes || out.target.size() < bytes)
+    throw Error(fmt::format("GridShiftPass: a grid of {} bytes from a buffer of {} into one of {}", bytes,
+                            in.source.size(), out.target.size()));
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, gpu::shared::kGridShiftBindingCount> b;
+  b[gpu::shared::kGridShiftBindingSource] = &in.source;
+  b[gpu::shared::kGridShiftBindingTarget] = &out.target;
+  mPipeline.dispatch(cmd, b, &params,
+                     {gpu::groupsFor(std::uint64_t(params.dims.x), RTSDF_GRID_SHIFT_GROUP_X),
+                      gpu::groupsFor(std::uint64_t(params.dims.y), RTSDF_GRID_SHIFT_GROUP_Y),
+                      gpu::groupsFor(std::uint64_t(params.dims.z), RTSDF_GRID_SHIFT_GROUP_Z)});
+}
+
+void recordGridShift(VkCommandBuffer cmd, const GridShiftPass& pass, const gpu::Buffer& buffer,
+                     const gpu::Buffer& scratch, const gpu::shared::GridShiftParams& params) {
+  const VkDeviceSize bytes = gridBytes(params);
+  if (scratch.size() < bytes || buffer.size() < bytes)
+    throw Error(fmt::format("recordGridShift: a shift of {} bytes with a scratch of {} over a buffer of {}", bytes,
+                            scratch.size(), buffer.size()));
+  gpu::computeBarrier(cmd); // the scratch may still be read by the previous shift
+  const VkBufferCopy whole{0, 0, bytes};
+  vkCmdCopyBuffer(cmd, buffer.handle(), scratch.handle(), 1, &whole);
+  gpu::computeBarrier(cmd);
+  pass.execute(cmd, nullptr, {scratch}, {buffer}, params);
+  gpu::computeBarrier(cmd);
+}
+
+void recordGridShift(VkCommandBuffer cmd, const GridShiftPass* pass, const gpu::Buffer& buffer,
+                     const gpu::Buffer& scratch, const glm::ivec3& dims, std::uint32_t elementBytes,
+                     const glm::ivec3& shift, std::uint32_t fillWord) {
+  if (pass) recordGridShift(cmd, *pass, buffer, scratch, gridShiftParams(dims, elementBytes, shift, fillWord));
+  else recordGridShift(cmd, buffer, scratch, gridShiftPlan(dims, elementBytes, shift), fillWord);
 }
 
 void recordGridShift(VkCommandBuffer cmd, const gpu::Buffer& buffer, const gpu::Buffer& scratch,

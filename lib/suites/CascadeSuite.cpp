@@ -73,6 +73,24 @@ struct RunSpec {
   bool fullRebuild = false;
 };
 
+/// Frame @a f (from 0) of @a spec's run, its moment and the camera's speed filled in.
+CascadeRow frameRow(const Scene& scene, const RunSpec& spec, int f) {
+  CascadeRow r;
+  r.scene = spec.sceneName;
+  r.camera = spec.camera;
+  r.build = spec.build;
+  r.frame = f + 1;
+  r.time = spec.start + f / kFps;
+  r.speed = speedAt(scene, r.time);
+  return r;
+}
+
+void countMoves(const CascadeMove& move, CascadeRow& r) {
+  r.levelsMoved = int(move.moved.size());
+  r.levelsRecut = int(move.recut.size());
+  r.levelsRebuilt = int(move.rebuilt.size());
+}
+
 /// One run: the levels built around the camera at spec.start, then options.frames frames at 30 fps.
 void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds, PipelineSettings ps,
             const BenchOptions& o, const RunSpec& spec, const JobControl& control, JobPoll& progress,
@@ -90,19 +108,10 @@ void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bou
   CascadeSet set(ctx, scene, layout, ps);
   for (int f = 0; f < o.frames; ++f) {
     control.checkStop();
-    CascadeRow r;
-    r.scene = spec.sceneName;
-    r.camera = spec.camera;
-    r.build = spec.build;
-    r.frame = f + 1;
-    r.time = spec.start + f / kFps;
-    r.speed = speedAt(scene, r.time);
+    CascadeRow r = frameRow(scene, spec, f);
     const auto t0 = std::chrono::steady_clock::now();
     const Camera at = scene.cameraAt(r.time);
-    const CascadeMove move = set.moveTo(at.position, cascadeLookAhead(at, shape.levelZeroExtent));
-    r.levelsMoved = int(move.moved.size());
-    r.levelsRecut = int(move.recut.size());
-    r.levelsRebuilt = int(move.rebuilt.size());
+    countMoves(set.moveTo(at.position, cascadeLookAhead(at, shape.levelZeroExtent)), r);
     r.moveMs = msSince(t0);
     const FrameStats stats = sumFrameStats(set.runFrame(r.time));
     r.wallMs = msSince(t0);
@@ -143,19 +152,11 @@ void runShaded(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& 
   Renderer renderer(ctx, scene, bounds, rs, spec.start);
   for (int f = 0; f < o.frames; ++f) {
     control.checkStop();
-    CascadeRow r;
-    r.scene = spec.sceneName;
-    r.camera = spec.camera;
-    r.build = spec.build;
-    r.frame = f + 1;
-    r.time = spec.start + f / kFps;
-    r.speed = speedAt(scene, r.time);
+    CascadeRow r = frameRow(scene, spec, f);
     const auto t0 = std::chrono::steady_clock::now();
     const RenderedFrame frame = renderer.renderFrame(r.time, false);
     r.wallMs = msSince(t0);
-    r.levelsMoved = int(frame.cascadeMove.moved.size());
-    r.levelsRecut = int(frame.cascadeMove.recut.size());
-    r.levelsRebuilt = int(frame.cascadeMove.rebuilt.size());
+    countMoves(frame.cascadeMove, r);
     r.gpuMs = passSum(frame.passMs);
     r.refinedVoxels = frame.sdf.refinedFineVoxels;
     r.deviceMiB = double(ctx.deviceBytesInUse()) / (1024.0 * 1024.0);

@@ -19,13 +19,16 @@ protected:
   }
   static void TearDownTestSuite() {
     Tag::releaseSuiteObjects();
+    if (!sCtx) return; // SetUpTestSuite failed (no device, no validation layer): gtest reported it, the tests skipped
     EXPECT_EQ(sCtx->liveObjects(), 0);
     EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage();
     sCtx->close(); // errors reported at vkDestroyDevice (objects left alive) count too
     EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage();
     sCtx.reset();
   }
-  void TearDown() override { EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage(); }
+  void TearDown() override {
+    if (sCtx) EXPECT_EQ(sCtx->validationErrors(), 0u) << sCtx->lastValidationMessage();
+  }
   static inline std::unique_ptr<gpu::VulkanContext> sCtx;
 };
 

@@ -106,7 +106,8 @@ void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::
   waitForFrame(); // the frame's buffers are about to move, and the pool's slots are read back
   const glm::ivec3 fineShift = *shift * (mFineSpec.dims / mCoarseSpec.dims);
   // A GPU moves the grids by a dispatch each, a CPU device by transfers (recordGridShift).
-  if (!mGridShift && mCtx.info().type != VK_PHYSICAL_DEVICE_TYPE_CPU) mGridShift = std::make_unique<GridShiftPass>(mCtx);
+  if (!mGridShift && mCtx.info().type != VK_PHYSICAL_DEVICE_TYPE_CPU)
+    mGridShift = std::make_unique<GridShiftPass>(mCtx);
   gpu::CommandBuffer cmd(mCtx);
   mMask->recordScroll(cmd.handle(), grids.first, grids.second, *shift, scratch, mGridShift.get());
   mFields->recordScroll(cmd.handle(), grids.first, grids.second, fineShift, scratch);

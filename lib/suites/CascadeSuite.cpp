@@ -207,7 +207,8 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
         for (const bool full : {false, true})
           runOne(ctx, scene, bounds, ps, o, {name, camera, full ? "full rebuild" : "incremental", start, full}, control,
                  progress, run);
-        if (shaded) runShaded(ctx, scene, bounds, ps, o, {name, camera, shadedBuild(o), start, false}, control, progress, run);
+        if (shaded)
+          runShaded(ctx, scene, bounds, ps, o, {name, camera, shadedBuild(o), start, false}, control, progress, run);
       }
       return 0;
     });
@@ -258,8 +259,8 @@ BuildSummary summarize(const CascadeRun& run, const std::string& scene, const st
   b.gpuMean = meanAfterFirst(rows, gpuOf);
   // The renderer moves its levels inside its frame: a shaded frame's moveTo is part of its wall time.
   const bool shaded = build != "incremental" && build != "full rebuild";
-  const std::string moveMs =
-      shaded ? "(in wall)" : fmt::format("{:.1f}", medianAfterFirst(rows, [](const CascadeRow& r) { return r.moveMs; }));
+  const double moveMedian = medianAfterFirst(rows, [](const CascadeRow& r) { return r.moveMs; });
+  const std::string moveMs = shaded ? "(in wall)" : fmt::format("{:.1f}", moveMedian);
   b.row = fmt::format("| {} | {} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {} | {:.2f} / {:.2f} / {:.2f} | {:.0f} | "
                       "{:.1f} |\n",
                       camera, build, b.wall, b.gpu, b.gpuMean, maxAfterFirst(rows, gpuOf), moveMs, moved / counted,

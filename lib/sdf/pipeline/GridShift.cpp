@@ -37,8 +37,7 @@ void addCopy(std::vector<VkBufferCopy>& copies, VkDeviceSize src, VkDeviceSize d
   copies.push_back({src, dst, size});
 }
 
-/// An empty plan over a grid of @a dims cells of @a elementBytes each (its bytes set).
-/// @throw Error when the element is not a positive multiple of 4 bytes or the grid is empty.
+/// @throw Error naming @a who when the element is not a positive multiple of 4 bytes or the grid is empty.
 void checkGrid(const char* who, const glm::ivec3& dims, std::uint32_t elementBytes) {
   if (elementBytes == 0 || elementBytes % 4 != 0)
     throw Error(fmt::format("{}: element of {} bytes (a positive multiple of 4 expected)", who, elementBytes));
@@ -46,6 +45,7 @@ void checkGrid(const char* who, const glm::ivec3& dims, std::uint32_t elementByt
     throw Error(fmt::format("{}: grid of {}x{}x{} cells", who, dims.x, dims.y, dims.z));
 }
 
+/// An empty plan over a grid of @a dims cells of @a elementBytes each (its bytes set).
 GridShiftPlan emptyPlan(const glm::ivec3& dims, std::uint32_t elementBytes) {
   checkGrid("gridShiftPlan", dims, elementBytes);
   GridShiftPlan plan;

@@ -82,9 +82,9 @@ void recordGridShift(VkCommandBuffer cmd, const GridShiftPass& pass, const gpu::
                      const gpu::Buffer& scratch, const gpu::shared::GridShiftParams& params);
 
 /// @brief Record the shift of @a buffer, a grid of @a dims cells of @a elementBytes bytes, by @a shift through
-///        @a scratch, the entered cells set to @a fillWord: by @a pass where given (a GPU), else by gridShiftPlan's copies
-///        and fills (a CPU device, where they are memcpy calls: lavapipe scrolled the 1000 m town's levels at M in
-///        61-124 ms a frame so against 122-220 ms with the dispatch; an H200 spent 35 ms a level on the transfers).
+///        @a scratch, the entered cells set to @a fillWord: by @a pass where given (a GPU), else by gridShiftPlan's
+///        copies and fills (a CPU device, where they are memcpy calls: lavapipe scrolled the 1000 m town's levels at M
+///        in 61-124 ms a frame so against 122-220 ms with the dispatch; an H200 spent 35 ms a level on the transfers).
 /// @throw Error as gridShiftParams and when @a scratch or @a buffer is smaller than the grid.
 void recordGridShift(VkCommandBuffer cmd, const GridShiftPass* pass, const gpu::Buffer& buffer,
                      const gpu::Buffer& scratch, const glm::ivec3& dims, std::uint32_t elementBytes,

@@ -246,13 +246,6 @@ BuildSummary summarize(const CascadeRun& run, const std::string& scene, const st
                        const std::string& build) {
   const std::vector<const CascadeRow*> rows = select(run, scene, camera, build);
   const auto gpuOf = [](const CascadeRow& r) { return r.gpuMs; };
-  double moved = 0.0, recut = 0.0, rebuilt = 0.0;
-  for (std::size_t i = rows.size() > 1 ? 1 : 0; i < rows.size(); ++i) {
-    moved += rows[i]->levelsMoved;
-    recut += rows[i]->levelsRecut;
-    rebuilt += rows[i]->levelsRebuilt;
-  }
-  const double counted = double(std::max<std::size_t>(rows.size() > 1 ? rows.size() - 1 : rows.size(), 1));
   BuildSummary b;
   b.wall = medianAfterFirst(rows, [](const CascadeRow& r) { return r.wallMs; });
   b.gpu = medianAfterFirst(rows, gpuOf);
@@ -263,8 +256,10 @@ BuildSummary summarize(const CascadeRun& run, const std::string& scene, const st
   const std::string moveMs = shaded ? "(in wall)" : fmt::format("{:.1f}", moveMedian);
   b.row = fmt::format("| {} | {} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {} | {:.2f} / {:.2f} / {:.2f} | {:.0f} | "
                       "{:.1f} |\n",
-                      camera, build, b.wall, b.gpu, b.gpuMean, maxAfterFirst(rows, gpuOf), moveMs, moved / counted,
-                      recut / counted, rebuilt / counted,
+                      camera, build, b.wall, b.gpu, b.gpuMean, maxAfterFirst(rows, gpuOf), moveMs,
+                      meanAfterFirst(rows, [](const CascadeRow& r) { return double(r.levelsMoved); }),
+                      meanAfterFirst(rows, [](const CascadeRow& r) { return double(r.levelsRecut); }),
+                      meanAfterFirst(rows, [](const CascadeRow& r) { return double(r.levelsRebuilt); }),
                       medianAfterFirst(rows, [](const CascadeRow& r) { return double(r.refinedVoxels); }),
                       rows.empty() ? 0.0 : rows.back()->deviceMiB);
   return b;

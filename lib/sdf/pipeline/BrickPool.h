@@ -7,13 +7,14 @@
 #include "gpu/Resources.h"
 #include "grid/GridSpec.h"
 #include "sdf/refine/RefinePasses.h"
-#include "sdf/pipeline/GridShift.h"
 #include "sdf/pipeline/PipelineMemory.h"
 
 #include <cstdint>
 #include <vector>
 
 namespace rtsdf {
+
+class GridShiftPass;
 
 /// @brief Bricks (RTSDF_BRICK voxels per axis) per axis of the fine grid @a fine.
 glm::ivec3 brickDimsOf(const GridSpec& fine);

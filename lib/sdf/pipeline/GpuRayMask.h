@@ -9,13 +9,14 @@
 #include "sdf/PipelineSettings.h"
 #include "sdf/refine/RefinePasses.h"
 #include "sdf/pipeline/BrickPool.h"
-#include "sdf/pipeline/GridShift.h"
 #include "sdf/pipeline/RayMask.h"
 
 #include <cstdint>
 #include <vector>
 
 namespace rtsdf {
+
+class GridShiftPass;
 
 /// @brief The ray mask compacted on the GPU, for one pair of grids.
 ///

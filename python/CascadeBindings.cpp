@@ -36,11 +36,20 @@ public:
     mCtx = std::make_unique<gpu::VulkanContext>(deviceContextOptions(device));
     mSet = std::make_unique<CascadeSet>(*mCtx, *mScene, CascadeLayout::around(centre, shape), s);
   }
-  py::dict moveTo(const std::array<double, 3>& camera, const std::array<double, 3>& lookAhead) {
+  py::dict moveTo(const std::array<double, 3>& camera, const std::array<double, 3>& lookAhead,
+                  const std::optional<std::array<double, 3>>& target, double fov, double aspect) {
     CascadeMove move;
+    Camera eye;
+    eye.position = toVec(camera);
+    if (target) {
+      eye.target = toVec(*target);
+      eye.verticalFov = fov;
+      viewReachOf(eye, aspect, 0.0); // refused before the levels move
+    }
     {
       py::gil_scoped_release release;
-      move = mSet->moveTo(toVec(camera), toVec(lookAhead));
+      move = mSet->moveTo(eye.position, toVec(lookAhead));
+      if (target) mSet->setView(eye, aspect);
     }
     py::dict d;
     d["moved"] = move.moved;
@@ -90,9 +99,13 @@ void bindCascades(py::module_& m) {
       .def(py::init<const py::handle&, const std::optional<std::array<double, 3>>&, double, const py::kwargs&>(),
            py::arg("scene"), py::arg("camera") = py::none(), py::arg("time") = 0.0)
       .def("move_to", &Cascades::moveTo, py::arg("camera"), py::arg("look_ahead") = std::array<double, 3>{0, 0, 0},
+           py::arg("target") = py::none(), py::arg("fov") = Camera{}.verticalFov, py::arg("aspect") = 16.0 / 9.0,
            "Centre the levels on a camera position (levels below the outermost on camera + look_ahead 2^i, each "
            "component of look_ahead clamped so that the levels nest). A level "
-           "whose box moved scrolls: it keeps what it knows and the next frame refines what entered. Returns a dict "
+           "whose box moved scrolls: it keeps what it knows and the next frame refines what entered. With `target` "
+           "(the point the camera looks at; `fov`: vertical field of view in radians, `aspect`: the image's width "
+           "over height), levels above 0 refine only near that view (cascade_view_margin) from the next frame on. "
+           "Returns a dict "
            "of level indices: moved, recut (scrolled with their part of the scene cut again), rebuilt (from scratch)")
       .def("frame", &Cascades::frame, py::arg("time"),
            "Run every level's frame at a time (seconds); returns each level's statistics, finest first (as "

@@ -151,6 +151,10 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
   noted(cmd->add_option("--cascade-extent", s.cascadeExtent, "Cascade suite: level 0's side in scene units (default: "
                                                             "the outermost level holds the scene)"),
         "cascade extent", flags);
+  noted(cmd->add_option("--cascade-view-margin", s.cascadeViewMargin, "Cascade suite: levels above 0 refine within "
+                                                                     "this many of their coarse voxels of the "
+                                                                     "camera's view (-1: their whole band)"),
+        "cascade view margin", flags)->capture_default_str();
   noted(cmd->add_option("--shade", s.shade, "Cascade suite: also render each camera's incremental frames at WIDTH "
                                             "HEIGHT pixels (SDF shadows at render's defaults) and time the levels and "
                                             "the shading together, e.g. --shade 1280 720"),
@@ -186,6 +190,7 @@ void bindBench(CLI::App& app, BenchCommand& c, SettingFlags& flags) {
       {"--full-recompute", "full recompute"}, {"--full-rebuild", "full rebuild"}, {"--fine-storage", "fine storage"},
       {"--csv", "frame csv"},           {"--warm-up", "warm-up seconds"},         {"--device", "device"},
       {"--cascades", "cascades"},       {"--cascade-extent", "cascade extent"},   {"--shade", "shade size"},
+      {"--cascade-view-margin", "cascade view margin"},
       {"--out", "output folder"},       {"--error-band", "error band"},           {"--no-shadows", "shadows"},
       {"--truth-samples", "truth samples"}};
   for (const auto& [flag, setting] : kBenchSettings) c.flags.add(setting, flag);

@@ -75,7 +75,7 @@ bool bakeMethodUses(BakeMethod method, const std::string& setting) {
     return method == BakeMethod::Jfa || method == BakeMethod::Rtsdf;
   if (among({"fine resolution", "rays", "alpha", "refinement mode", "closest search", "seed", "full recompute",
              "settle frames", "refresh period", "fine storage", "pool bricks", "frames", "cascades",
-             "cascade extent"}))
+             "cascade extent", "cascade view margin"}))
     return method == BakeMethod::Rtsdf;
   return true;
 }

@@ -1,6 +1,7 @@
 #include "jobs/CascadeBake.h"
 
 #include "jobs/JobSupport.h"
+#include "render/Renderer.h"
 #include "scene/SceneGeometry.h"
 #include "sdf/cascade/CascadeMemory.h"
 #include "sdf/cascade/CascadeSet.h"
@@ -26,6 +27,8 @@ BakeResult bakeCascades(const BakeOptions& o, const Scene& scene, const JobContr
     const glm::dvec3 centre = cascadeCentre(scene, o.time);
     const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene, o.time).bounds, centre, o.pipeline);
     CascadeSet set(ctx, scene, CascadeLayout::around(centre, shape), o.pipeline);
+    const RenderSettings image; // the levels above 0 refine near the camera's view of render's default image
+    if (scene.hasCamera) set.setView(scene.cameraAt(o.time), double(image.width) / image.height);
     spdlog::info("cascades: {} levels around ({:.6g}, {:.6g}, {:.6g}), level 0 {:.6g} wide; {}", shape.levels,
                  centre.x, centre.y, centre.z, shape.levelZeroExtent, set.memory().describe());
     BakeResult r;

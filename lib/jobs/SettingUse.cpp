@@ -59,6 +59,9 @@ std::string pipelineIgnores(const PipelineSettings& s, const std::string& settin
   if (setting == "cascade extent" && s.cascades <= 1)
     return "does not apply to one box (it sizes cascade level 0 when there are 2 cascades or more): leave it out "
            "or give the cascades";
+  if (setting == "cascade view margin" && s.cascades <= 1)
+    return "does not apply to one box (it limits cascade levels above 0 to the view when there are 2 cascades or "
+           "more): leave it out or give the cascades";
   return {};
 }
 

@@ -221,6 +221,7 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
   } else if (mCascades) {
     const double extent = mCascades->layout().shape.levelZeroExtent;
     out.cascadeMove = mCascades->moveTo(mEye.position, cascadeLookAhead(mEye, extent));
+    mCascades->setView(mEye, double(mSettings.width) / mSettings.height);
     const bool moved = !out.cascadeMove.moved.empty();
     out.levels = mCascades->runFrame(time);
     out.sdf = sumFrameStats(out.levels);

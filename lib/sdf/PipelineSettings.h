@@ -110,6 +110,10 @@ struct PipelineSettings {
   /// The side of cascade level 0 in scene units (cascades > 1); < 0: the outermost level, centred on the camera,
   /// holds the whole scene (cascadeShapeFor), level 0 being 2^(cascades - 1) times smaller.
   double cascadeExtent = -1.0;
+  /// Cascade levels above 0 refine only the band near the camera's view (the paper's future work: outside the view a
+  /// lower resolution): within this many of the level's coarse voxels of the cone that holds the image, the rest
+  /// keeps the coarse SDF (ViewReach). < 0: every level refines its whole band.
+  double cascadeViewMargin = 4.0;
   /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
   void validate() const;
 };
@@ -169,7 +173,11 @@ template <> struct KnobTable<PipelineSettings> {
            "0's; shading samples the finest level holding a point (1: one box fitted to the scene)"),
       knob("cascade extent", &S::cascadeExtent, "--cascade-extent",
            KnobRange::above(0).orNegative("the outermost level, around the camera, holds the scene"),
-           "Side of cascade level 0 in scene units (cascades > 1)"));
+           "Side of cascade level 0 in scene units (cascades > 1)"),
+      knob("cascade view margin", &S::cascadeViewMargin, "--cascade-view-margin",
+           KnobRange::closed(0, 1e6).orNegative("every level refines its whole band"),
+           "Cascade levels above 0 refine the band only within this many of their coarse voxels of the camera's "
+           "view (the cone holding the image); elsewhere they keep the coarse SDF"));
 };
 
 /// @brief Named sets of settings.

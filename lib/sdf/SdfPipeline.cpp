@@ -203,10 +203,16 @@ void SdfPipeline::submitFrame(double time) {
   changes.moved = moved > 0;
   changes.poolReset = mPoolReset;
   changes.scrolled = mScrolled;
-  changes.lastListed = changes.first || mMask->counts().refineList > 0;
+  changes.viewChanged = mViewChanged;
+  // Listed for a walk: the band voxels out of the view's reach are listed every run, and skipping a run keeps them.
+  if (!changes.first) { // before the first frame nothing has been read back
+    const GpuRayMask::Counts last = mMask->counts();
+    changes.lastListed = last.refineList > last.outOfView;
+  }
   mPlan = planFrame(changes, mSettings);
   mPoolReset = false;
   mScrolled = false;
+  mViewChanged = false;
   stats.skippedPasses = skippedPasses(mPlan, mSettings);
   stats.fieldChanged = mPlan.coarse || mPlan.refine || mPlan.upsample;
   if (mPlan.coarse) mFields->recordCoarse(cmd, profiler, *mBvh);
@@ -268,11 +274,29 @@ RayMask SdfPipeline::rayMask() const {
   return mMask->readRayMask(mMaskFrame);
 }
 
+void SdfPipeline::setViewReach(const ViewReach* reach) {
+  const std::optional<ViewReach> next = reach ? std::optional<ViewReach>(*reach) : std::nullopt;
+  if (next == mView) return;
+  mView = next;
+  mViewChanged = true;
+  mMask->setViewReach(reach);
+}
+
+std::vector<std::uint32_t> SdfPipeline::outOfViewVoxels() const {
+  if (mFrame == 0 || mSettings.band <= 0.0) return {};
+  waitForFrame();
+  std::vector<std::uint32_t> list = mMask->readOutOfViewVoxels(mMaskFrame);
+  for (std::uint32_t& packed : list) packed &= gpu::shared::kMaskFineCoords;
+  return list;
+}
+
 openvdb::FloatGrid::Ptr SdfPipeline::levelSet(float band) const {
   const std::vector<float> fine = fineField();
   if (mSettings.band <= 0.0) return denseToLevelSet(fine, mFineSpec, band);
+  const std::vector<std::uint32_t> outOfView = outOfViewVoxels();
   std::vector<std::pair<std::uint64_t, float>> refined;
   for (const std::uint32_t packed : rayMask().fineVoxels) {
+    if (std::binary_search(outOfView.begin(), outOfView.end(), packed)) continue; // the coarse SDF's value
     const std::uint64_t i = mFineSpec.linear(int(packed & 1023u), int((packed >> 10) & 1023u), int(packed >> 20 & 1023u));
     if (std::fabs(fine[i]) <= band) refined.emplace_back(i, fine[i]);
   }

@@ -18,12 +18,14 @@
 #include "sdf/pipeline/FrameStats.h"
 #include "sdf/pipeline/PipelineMemory.h"
 #include "sdf/pipeline/RayMask.h"
+#include "sdf/pipeline/ViewReach.h"
 #include "util/EnumNames.h"
 #include "util/PassTimes.h"
 
 #include <openvdb/openvdb.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -97,6 +99,14 @@ public:
   /// @throw Error when @a grids are not a scroll of the grids (scrollShift) or @a scratch is too small; as the
   ///        constructor when @a recut's triangles do not fit.
   void scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::Buffer& scratch, const Scene* recut = nullptr);
+  /// @brief From the next frame on, refine only the band within @a reach (world units; null: the whole band, as
+  ///        built): the band voxels out of it keep the coarse SDF upsampled (no walk, no brick of their own) until
+  ///        they come within it, new to the refinement then. A cascade level above 0 (CascadeSet::setView). A
+  ///        change of reach runs the mask in the next frame.
+  void setViewReach(const ViewReach* reach);
+  /// @brief The fine voxels of the band the last frame left out of the view's reach (setViewReach), packed as
+  ///        refinedVoxels' (x | y << 10 | z << 20), sorted; empty without a view limit. The frame must be finished.
+  std::vector<std::uint32_t> outOfViewVoxels() const;
   /// @brief The bytes scroll() needs of its scratch buffer.
   std::uint64_t scrollScratchBytes() const;
   /// @brief The dense fine SDF of the last frame (x fastest), scene units: read back from the GPU
@@ -104,7 +114,7 @@ public:
   ///        resolveFineCpu, the same values bit for bit).
   std::vector<float> fineField() const;
   /// @brief The last frame's fine SDF as a sparse level set of half-width @a band: the refined voxels (those under
-  ///        the ray mask) with |f| <= @a band. Outside the mask the fine SDF is the coarse one upsampled, an unsigned
+  ///        the ray mask, less those out of the view's reach) with |f| <= @a band. Outside the mask the fine SDF is the coarse one upsampled, an unsigned
   ///        distance minus beta that can lie within the band deep inside a solid: it is left out. With d = 0 (nothing
   ///        refined) every voxel with |f| <= @a band. What a bake writes.
   openvdb::FloatGrid::Ptr levelSet(float band) const;
@@ -166,6 +176,8 @@ private:
   std::uint32_t mMaskFrame = 0;
   bool mPoolReset = false; ///< the pool was (re)allocated since the last frame was recorded
   bool mScrolled = false;  ///< the grids scrolled since the last frame was recorded
+  bool mViewChanged = false; ///< the view's reach changed since the last frame was recorded
+  std::optional<ViewReach> mView; ///< setViewReach's
   FramePlan mPlan;         ///< the passes the last frame ran
   std::unique_ptr<GpuSceneBvh> mBvh;
   std::unique_ptr<InstanceMotion> mMotion;

@@ -92,6 +92,12 @@ void countMoves(const CascadeMove& move, CascadeRow& r) {
 }
 
 /// One run: the levels built around the camera at spec.start, then options.frames frames at 30 fps.
+/// The image's width over height the levels' view reach assumes: the shaded size, else the render command's default.
+double viewAspect(const BenchOptions& o) {
+  const RenderSettings r;
+  return o.shade.first > 0 ? double(o.shade.first) / o.shade.second : double(r.width) / r.height;
+}
+
 void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bounds, PipelineSettings ps,
             const BenchOptions& o, const RunSpec& spec, const JobControl& control, JobPoll& progress,
             CascadeRun& out) {
@@ -106,12 +112,14 @@ void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bou
     warmUpGpu(o.warmUpSeconds, [&] { warm.runFrame(spec.start); });
   }
   CascadeSet set(ctx, scene, layout, ps);
+  const double aspect = viewAspect(o);
   for (int f = 0; f < o.frames; ++f) {
     control.checkStop();
     CascadeRow r = frameRow(scene, spec, f);
     const auto t0 = std::chrono::steady_clock::now();
     const Camera at = scene.cameraAt(r.time);
     countMoves(set.moveTo(at.position, cascadeLookAhead(at, shape.levelZeroExtent)), r);
+    set.setView(at, aspect); // as the renderer does before each frame
     r.moveMs = msSince(t0);
     const FrameStats stats = sumFrameStats(set.runFrame(r.time));
     r.wallMs = msSince(t0);
@@ -179,6 +187,7 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
   ps.rays = o.rays;
   ps.cascades = o.cascades;
   ps.cascadeExtent = o.cascadeExtent;
+  ps.cascadeViewMargin = o.cascadeViewMargin;
   ps.fineStorage = FineStorage::Dense; // as the renderer's levels, and the error's read-back
   CascadeRun run;
   // Frames of every run: two camera speeds and two builds (three when shaded) per scene; a path that never drives

@@ -47,7 +47,8 @@ std::string benchIgnores(const BenchOptions& o, bool sweep, const std::string& s
     if (setting == f) return readBy({S::Frame, S::Cascade}, false, "the frame and cascade suites read it");
   for (const char* f : {"still", "full recompute", "full rebuild", "fine storage"})
     if (setting == f) return readBy({S::Frame}, false, "the frame suite reads it");
-  if (setting == "cascades" || setting == "cascade extent" || setting == "shade size")
+  if (setting == "cascades" || setting == "cascade extent" || setting == "cascade view margin" ||
+      setting == "shade size")
     return readBy({S::Cascade}, false, "the cascade suite reads it");
   if (setting == "resolution")
     return readBy({S::Reference, S::Coarse, S::Sign}, false, "the reference, coarse and sign suites read it");
@@ -95,6 +96,7 @@ void BenchOptions::validate() const {
   requireInRange("warm-up seconds", warmUpSeconds, 0.0, 60.0);
   requireInRange("cascades", cascades, 1, kMaxCascades);
   if (cascadeExtent >= 0.0) requireInRange("cascade extent", cascadeExtent, 1e-9, 1e9);
+  if (cascadeViewMargin >= 0.0) requireInRange("cascade view margin", cascadeViewMargin, 0.0, 1e6);
   if (shade != std::pair<int, int>{0, 0}) {
     requireInRange("shade size", shade.first, 1, 16384);
     requireInRange("shade size", shade.second, 1, 16384);

@@ -58,6 +58,9 @@ struct BenchOptions {
   // The cascade suite (scenes with a camera path; also frameSize, frames, refine and rays).
   int cascades = 1;            ///< the levels (PipelineSettings::cascades); the suite needs 2 or more
   double cascadeExtent = -1.0; ///< level 0's side (PipelineSettings::cascadeExtent; < 0: the default rule)
+  /// Levels above 0 refine within this many of their coarse voxels of the camera's view (the image at the --shade
+  /// size, or render's default size; PipelineSettings::cascadeViewMargin; < 0: their whole band).
+  double cascadeViewMargin = PipelineSettings{}.cascadeViewMargin;
   /// Also render each camera's incremental frames through the Renderer at this width and height (SDF shadows, the
   /// render command's defaults), timing the levels and the shading together: what a game's frame costs. {0, 0}: not.
   std::pair<int, int> shade{0, 0};
@@ -73,8 +76,8 @@ struct BenchOptions {
 ///        @a setting, as a clause after the flag ("does not apply to ..."), or "" when it reads it. The settings:
 ///        the frame suite's ("frame size", "frames", "refinement mode", "rays", "still", "full recompute",
 ///        "full rebuild", "fine storage", "frame csv"; of these the cascade suite reads "frame size", "frames",
-///        "refinement mode", "rays" and "frame csv"), "cascades", "cascade extent" and "shade size" (the cascade
-///        suite),
+///        "refinement mode", "rays" and "frame csv"), "cascades", "cascade extent", "cascade view margin" and
+///        "shade size" (the cascade suite),
 ///        "resolution" (reference, coarse and sign suites), "band
 ///        fraction" (reference), "repeats" (reference, coarse, refine, the sweep), "warm-up seconds" (the GPU suites
 ///        that time frames: coarse, refine, render, frame, cascade), "device" (every GPU suite and the sweep), "benchmark

@@ -160,6 +160,25 @@ def test_a_moving_instance_upsamples_only_near_what_it_changed():
     assert moving[1]["moved_instances"] == 1 and 0 < moving[1]["upsampled_voxels"] < 32 ** 3 / 2
 
 
+def test_cascades_above_level_0_refine_near_the_view_given():
+    scene = rtsdf.load_scene(os.path.join(DATA, "scenes", "default.json"))
+    kw = dict(cascades=2, cascade_extent=0.6, coarse=16, fine=32, refine="closest", rays=0, band=0.05)
+    camera = [-0.3, 0.45, 0.1]
+    limited = rtsdf.Cascades(scene, camera=camera, cascade_view_margin=1, **kw)
+    limited.move_to(camera, target=[0.4, 0.2, -0.3], fov=0.5, aspect=16 / 9)
+    whole = rtsdf.Cascades(scene, camera=camera, **kw)  # no view given: every level refines its whole band
+    ours, theirs = limited.frame(0.0), whole.frame(0.0)
+    assert ours[0]["refined_voxels"] == theirs[0]["refined_voxels"]
+    assert 0 < ours[1]["refined_voxels"] < theirs[1]["refined_voxels"]
+    # Level 1's field holds the voxels in view only, each the value the whole level has there.
+    mine, full = limited.level(1), whole.level(1)
+    assert 0 < mine.active.sum() < full.active.sum()
+    assert np.all(full.active[mine.active])
+    assert np.array_equal(mine.values[mine.active], full.values[mine.active])
+    with pytest.raises(rtsdf.Error, match="looks at its own position"):
+        limited.move_to(camera, target=camera)
+
+
 def test_log_is_quiet_unless_asked(capfd):
     bunny = os.path.join(DATA, "scenes", "bunny.json")
     rtsdf.bake(bunny, res=16)

@@ -46,9 +46,23 @@ CascadeSet::Level CascadeSet::buildLevel(int i) const {
   out.sceneBox = level.box();
   out.scene = cutScene(i);
   out.pipeline = std::make_unique<SdfPipeline>(mCtx, *out.scene, level.grids(), settings);
+  applyView(i, *out.pipeline);
   spdlog::info("cascade level {}: coarse {}, fine {}, {} of {} instances", i, level.coarse.describe(),
                level.fine.describe(), out.scene->instances.size(), mScene.instances.size());
   return out;
+}
+
+void CascadeSet::applyView(int i, SdfPipeline& level) const {
+  if (i == 0 || !mView || mSettings.cascadeViewMargin < 0.0) return;
+  const double margin = mSettings.cascadeViewMargin * level.coarseSpec().voxelSize;
+  const ViewReach reach = viewReachOf(mView->first, mView->second, margin);
+  level.setViewReach(&reach);
+}
+
+void CascadeSet::setView(const Camera& camera, double aspect) {
+  viewReachOf(camera, aspect, 0.0); // throws on a camera without a view direction
+  mView = std::make_pair(camera, aspect);
+  for (int i = 1; i < levels(); ++i) applyView(i, *mLevels[std::size_t(i)].pipeline);
 }
 
 std::vector<FrameStats> CascadeSet::runFrame(double time) {

@@ -10,6 +10,8 @@
 #include "sdf/cascade/CascadeMemory.h"
 
 #include <memory>
+#include <optional>
+#include <utility>
 #include <vector>
 
 namespace rtsdf {
@@ -41,6 +43,12 @@ public:
   /// @brief Centre the levels on @a camera (level i on camera + lookAhead 2^i, CascadeLayout::around); a level
   ///        whose snapped box changed scrolls, or is rebuilt (its history lost) where it cannot (see the class).
   CascadeMove moveTo(const glm::dvec3& camera, const glm::dvec3& lookAhead = glm::dvec3(0.0));
+  /// @brief From the next frame on, levels above 0 refine only the band near @a camera's view: within
+  ///        PipelineSettings::cascadeViewMargin of their coarse voxels of the cone holding the image at @a aspect
+  ///        (width over height; SdfPipeline::setViewReach). A negative margin leaves every level refining its whole
+  ///        band. Levels rebuilt later take the same view.
+  /// @throw Error as viewReachOf.
+  void setView(const Camera& camera, double aspect);
   int levels() const { return int(mLevels.size()); }
   const SdfPipeline& level(int i) const { return *mLevels.at(std::size_t(i)).pipeline; }
   /// @brief The instances level @a i places (levelScene).
@@ -55,8 +63,10 @@ private:
     std::unique_ptr<SdfPipeline> pipeline;
     Bounds sceneBox; ///< the box the scene was cut around (the level's box when it was built)
   };
-  /// Level @a i of the layout: its part of the scene and its pipeline.
+  /// Level @a i of the layout: its part of the scene and its pipeline (limited to the view where one is set).
   Level buildLevel(int i) const;
+  /// Limit level @a i's refinement to the view set (setView), if any, for i > 0.
+  void applyView(int i, SdfPipeline& level) const;
   /// Level @a i's part of the scene around its box in the layout (levelScene with levelCutMargin).
   std::unique_ptr<Scene> cutScene(int i) const;
   /// Scroll level @a i to the layout's box, its scene cut again when it drifted past the slack; false when its grids
@@ -69,6 +79,7 @@ private:
   CascadeMemory mMemory;
   std::vector<Level> mLevels;
   gpu::Buffer mScrollScratch; ///< shared by the levels' scrolls (SdfPipeline::scroll), one at a time
+  std::optional<std::pair<Camera, double>> mView; ///< setView's camera and aspect
 };
 
 /// @brief One frame's statistics over every level: counts, bytes and times summed, passes listed level after level

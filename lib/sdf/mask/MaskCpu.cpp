@@ -19,7 +19,12 @@ MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec&
         const auto i = std::uint32_t(cs.linear(x, y, z));
         const float c = coarse[i];
         if (!(std::fabs(c) <= p.band)) continue;
-        const bool fresh = state[i].x + 1u != p.frame;
+        const bool fresh = startsFresh(p, state[i]);
+        if (!withinViewReach(p, {x, y, z})) {
+          state[i] = {p.frame, 0u};
+          appendFineVoxelsUnder(ranges, cs.dims, {x, y, z}, kMaskOutOfView, out.outOfView);
+          continue;
+        }
         bool nearMoved = false;
         for (std::size_t b = 0; b < moved.size() && !fresh && !nearMoved; ++b)
           nearMoved = movedWithinReach(p, {x, y, z}, c, moved[b]);
@@ -28,6 +33,7 @@ MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec&
         if (refined) appendFineVoxelsUnder(ranges, cs.dims, {x, y, z}, fresh ? kMaskFineFresh : 0u, out.refined);
       }
   tbb::parallel_sort(out.refined.begin(), out.refined.end());
+  tbb::parallel_sort(out.outOfView.begin(), out.outOfView.end());
   out.state = std::move(state);
   return out;
 }

@@ -14,11 +14,14 @@ namespace rtsdf {
 struct MaskDecisions {
   std::vector<std::uint32_t> refined; ///< fine voxels to refine, packed with kMaskFineFresh, sorted
   std::vector<glm::uvec2> state;      ///< per coarse voxel: (last frame in the band, refinements in a row) after
+  std::vector<std::uint32_t> outOfView; ///< fine voxels kept coarse (out of the view's reach), packed with
+                                        ///< kMaskOutOfView, sorted
 };
 
 /// @brief CPU copy of MaskCompactPass's incremental decisions: for every coarse voxel of @a coarse (dense,
 ///        x fastest) in the band (|c| <= p.band), gpu::shared::refinesThisFrame with its state from @a state and
-///        the boxes @a moved; the fine voxels of those refined (maskFineRanges), and the state advanced.
+///        the boxes @a moved, or out of the view's reach (withinViewReach) none; the fine voxels of those refined
+///        and of those out of view (maskFineRanges), and the state advanced.
 /// @param coarseSpec, fineSpec the grids; @a p as the pass ran (coarse corner in the GPU's frame, p.movedBoxes
 ///        ignored: all of @a moved are read).
 MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec& coarseSpec, const GridSpec& fineSpec,

@@ -77,6 +77,9 @@ const uint kMaskBindingCount = 8u;
 /// Either or-ed with kMaskFineFresh when the voxel is new to the mask (no history).
 const uint kMaskFineCoords = 0x3FFFFFFFu;
 const uint kMaskFineFresh = 0x40000000u;
+/// Or-ed into a refine-list entry (and a fine-list entry) of a band voxel out of the view's reach (withinViewReach):
+/// its fine voxels take the coarse SDF upsampled instead of a walk.
+const uint kMaskOutOfView = 0x80000000u;
 
 /// Word indices of the counts buffer: a VkDispatchIndirectCommand for the refinement at offset 0, then the
 /// counters mask_compact.comp appends with (reset to 0 before it runs).
@@ -86,7 +89,8 @@ const uint kMaskCountGroupsZ = 2u;
 const uint kMaskCountFine = 3u;       // fine voxels under the coarse voxels of the refine list: those refined
 const uint kMaskCountCoarse = 4u;     // coarse band voxels appended
 const uint kMaskCountMaskedFine = 5u; // fine voxels under the band, refined or kept
-const uint kMaskCountRefineList = 6u; // coarse voxels appended to the refine list
+const uint kMaskCountRefineList = 6u; // coarse voxels appended to the refine list, those out of view included
+const uint kMaskCountOutOfView = 7u;  // of those, the band voxels out of the view's reach (kMaskOutOfView)
 const uint kMaskCountWords = 8u;
 
 /// Moving instances' boxes MaskCompactPass reads (more are merged into the last one).
@@ -112,7 +116,30 @@ struct MaskParams {
   uint refreshPeriod;  // a settled voxel is refined again once every this many frames; 0: never
   uint movedBoxes;     // MovedBox entries this frame
   ivec4 brickDims;     // xyz: bricks per axis; w: the refinement's invocations per coarse voxel (refineParts)
+  vec4 viewApex;       // xyz: the camera in the GPU's frame; w: the reach over the cone's cosine (withinViewReach),
+                       // < 0: no view limit (every band voxel is refined)
+  vec4 viewAxis;       // xyz: the unit view direction; w: the tangent of the view cone's half-angle
 };
+
+/// Whether a band voxel whose state is @a state starts afresh (no history to blend with or keep): new to the band, or
+/// holding the coarse SDF (out of the view's reach in the last frame: no refinements).
+RTSDF_FN bool startsFresh(MaskParams p, uvec2 state) { return state.x + 1u != p.frame || state.y == 0u; }
+
+/// Whether coarse voxel @a v lies within the view's reach: its bounding sphere (half the cell's diagonal, widened by
+/// the view margin: R) meets the cone around the camera's view direction holding the image (apex at the camera,
+/// half-angle a). A point at distance t along the axis and r across it is within R of the cone's side when
+/// r cos a - t sin a <= R, i.e. r <= R / cos a + t tan a (the host puts R / cos a in viewApex.w, tan a in viewAxis.w);
+/// behind the apex that side's distance is below the true one, so the test errs on the side of refining. Squares
+/// only, no square root: the GPU and its CPU copy decide alike.
+RTSDF_FN bool withinViewReach(MaskParams p, ivec3 v) {
+  if (p.viewApex.w < 0.0) return true;
+  RTSDF_PRECISE vec3 centre = vec3(p.coarseOriginH) + (vec3(v) + vec3(0.5)) * p.coarseOriginH.w;
+  RTSDF_PRECISE vec3 d = centre - vec3(p.viewApex);
+  RTSDF_PRECISE float along = dot(d, vec3(p.viewAxis));
+  RTSDF_PRECISE float acrossSq = dot(d, d) - along * along;
+  RTSDF_PRECISE float reach = p.viewApex.w + along * p.viewAxis.w;
+  return reach >= 0.0 && acrossSq <= reach * reach;
+}
 
 /// Incremental refinement, decided per coarse band voxel for all the fine voxels under it: whether they are
 /// refined this frame (else they keep their values). They are when every band voxel is (settleFrames == 0), when

@@ -7,7 +7,11 @@
 // whose centres lie in it (the per-axis range tables, computed on the CPU as the mirror does), marks the bricks
 // that hold them as needed this frame (the sparse fine state) and, when they are to be refined this frame
 // (refinesThisFrame: new to the band, reached by a moving instance, not settled), appends itself to the refine
-// list, which the refinement expands into those fine voxels. The refinement hashes by voxel, not by slot, so the
+// list, which the refinement expands into those fine voxels. A band voxel out of the view's reach (withinViewReach: a
+// cascade level above 0) is listed every frame flagged kMaskOutOfView, and its fine voxels take the coarse SDF
+// upsampled (no walk); it marks no brick, so a brick wholly out of view gives its slot back, and the fine voxels of
+// one that straddles the reach's edge hold what the samplers read where there is no slot. The refinement hashes by
+// voxel, not by slot, so the
 // lists' order does not matter. Slots are reserved per subgroup (a ballot's prefix count, one global atomic per
 // counter and subgroup): one global atomic per band voxel serialised the whole band on a single address, and a
 // work group's reservation through shared memory needs two barriers, which cost lavapipe as much as the pass's work.
@@ -33,10 +37,15 @@ void markBricks(ivec3 lo, ivec3 hi) {
       for (int x = b0.x; x <= b1.x; ++x) brickNeeded[(z * bd.y + y) * bd.x + x] = params.frame;
 }
 
-// Decide whether band voxel p (index i, value c) is refined this frame and advance its state; sets fresh.
-bool refineDecision(ivec3 p, uint i, float c, out bool fresh) {
+// Decide whether band voxel p (index i, value c) is refined this frame and advance its state; sets fresh. Out of the
+// view's reach it is not, and its state says it holds the coarse SDF (no refinements).
+bool refineDecision(ivec3 p, uint i, float c, bool inView, out bool fresh) {
   uvec2 state = coarseState[i];
-  fresh = state.x + 1u != params.frame;
+  fresh = startsFresh(params, state);
+  if (!inView) {
+    coarseState[i] = uvec2(params.frame, 0u);
+    return false;
+  }
   bool nearMoved = false;
   for (uint b = 0u; b < params.movedBoxes && !fresh && !nearMoved; ++b)
     nearMoved = movedWithinReach(params, p, c, movedBoxes[b]);
@@ -67,7 +76,7 @@ void main() {
   uint i = inGrid ? uint((p.z * dims.y + p.y) * dims.x + p.x) : 0u;
   float c = inGrid ? coarse[i] : 0.0;
   bool inBand = inGrid && abs(c) <= params.band;
-  bool refined = false, fresh = false;
+  bool refined = false, fresh = false, outOfView = false;
   ivec2 rx = ivec2(0, -1), ry = ivec2(0, -1), rz = ivec2(0, -1);
   uint count = 0u;
   if (inBand) {
@@ -76,18 +85,22 @@ void main() {
     rz = fineRanges[dims.x + dims.y + p.z];
     ivec3 n = max(ivec3(rx.y, ry.y, rz.y) - ivec3(rx.x, ry.x, rz.x) + 1, ivec3(0));
     count = uint(n.x * n.y * n.z);
-    if (count > 0u) markBricks(ivec3(rx.x, ry.x, rz.x), ivec3(rx.y, ry.y, rz.y));
-    refined = refineDecision(p, i, c, fresh);
+    outOfView = !withinViewReach(params, p);
+    if (count > 0u && !outOfView) markBricks(ivec3(rx.x, ry.x, rz.x), ivec3(rx.y, ry.y, rz.y));
+    refined = refineDecision(p, i, c, !outOfView, fresh);
   }
   // Every invocation of the subgroup takes part (none returned early).
   uint coarseOffset, refineOffset;
+  bool listed = refined || outOfView;
   uint baseCoarse = reserve(kMaskCountCoarse, inBand, coarseOffset);
-  uint baseRefine = reserve(kMaskCountRefineList, refined, refineOffset);
+  uint baseRefine = reserve(kMaskCountRefineList, listed, refineOffset);
   addSubgroup(kMaskCountFine, refined ? count : 0u);
   addSubgroup(kMaskCountMaskedFine, count);
+  addSubgroup(kMaskCountOutOfView, outOfView ? 1u : 0u);
   if (!inBand) return;
   uint slot = baseCoarse + coarseOffset;
   if (slot < params.coarseCapacity) coarseList[slot] = uvec2(i, floatBitsToUint(c));
   slot = baseRefine + refineOffset;
-  if (refined && slot < params.refineCapacity) refineList[slot] = i | (fresh ? kMaskFineFresh : 0u);
+  if (listed && slot < params.refineCapacity)
+    refineList[slot] = i | (refined && fresh ? kMaskFineFresh : 0u) | (outOfView ? kMaskOutOfView : 0u);
 }

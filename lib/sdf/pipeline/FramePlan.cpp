@@ -12,7 +12,7 @@ FramePlan planFrame(const FrameChanges& c, const PipelineSettings& s) {
   const bool refining = s.band > 0.0;
   const bool dueEveryFrame = settleFramesFor(s) == 0 || refreshPeriodFor(s) > 0;
   plan.coarse = c.moved || c.scrolled;
-  plan.mask = refining && (plan.coarse || c.poolReset || c.lastListed || dueEveryFrame);
+  plan.mask = refining && (plan.coarse || c.poolReset || c.viewChanged || c.lastListed || dueEveryFrame);
   plan.refine = plan.mask;
   plan.upsample = s.fineStorage == FineStorage::Dense && (plan.coarse || c.poolReset);
   plan.upsampleChanged = plan.upsample && c.moved && !c.scrolled && !c.poolReset;

@@ -16,6 +16,7 @@ struct FrameChanges {
   bool poolReset = false;   ///< the brick pool was (re)allocated for this frame: every coarse voxel is new to the band
   bool scrolled = false;    ///< the grids moved (SdfPipeline::scroll): the cells that entered are new to every buffer
   bool lastListed = true;   ///< the mask's last run listed voxels to refine (some may still be settling)
+  bool viewChanged = false; ///< the view's reach changed (SdfPipeline::setViewReach): voxels enter or leave it
 };
 
 /// @brief The passes one frame runs. Coarse: VoxelizePass, the nearest-seed transform and CoarseDistancePass; mask:
@@ -31,7 +32,8 @@ struct FramePlan {
 /// @brief The passes a frame with @a changes runs under the settings in effect @a s. Every pass runs with
 ///        fullRebuild or fullRecompute and on the first frame. Otherwise the coarse SDF is rebuilt only when an
 ///        instance moved (its inputs are the instances' triangles and transforms); the mask runs when the coarse SDF
-///        changed (an instance moved or the grids scrolled), the pool was reset, or a band voxel may be due a refinement: while the last run listed any (the
+///        changed (an instance moved or the grids scrolled), the pool was reset, the view's reach changed, or a band
+///        voxel may be due a refinement: while the last run listed any (the
 ///        voxels still settling), and every frame where settled voxels are refreshed (refreshPeriod > 0: staggered
 ///        over the frames) or never settle (settleFrames 0). A run that lists nothing leaves the band, the bricks
 ///        and the fine SDF as they are, so skipping it changes nothing. The upsampling writes the coarse SDF

@@ -82,7 +82,20 @@ gpu::shared::MaskParams GpuRayMask::params(std::uint32_t frame, std::uint32_t mo
   p.refreshPeriod = mRefreshPeriod;
   p.movedBoxes = movedBoxes;
   p.brickDims = glm::ivec4(mBrickDims, mRefineParts);
+  p.viewApex = glm::vec4(0.0f, 0.0f, 0.0f, -1.0f);
+  p.viewAxis = glm::vec4(0.0f);
+  if (mViewLimited) {
+    // withinViewReach: R / cos a with R half a coarse diagonal (the cell's sphere) and the margin, and tan a.
+    const double reach = 0.5 * std::sqrt(3.0) * mCoarseSpec.voxelSize + mView.margin;
+    p.viewApex = glm::vec4(glm::vec3(mView.apex - mFineSpec.origin), float(reach / std::cos(mView.halfAngle)));
+    p.viewAxis = glm::vec4(glm::vec3(mView.axis), float(std::tan(mView.halfAngle)));
+  }
   return p;
+}
+
+void GpuRayMask::setViewReach(const ViewReach* reach) {
+  mViewLimited = reach != nullptr;
+  if (reach) mView = *reach;
 }
 
 void GpuRayMask::recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame,
@@ -129,6 +142,7 @@ GpuRayMask::Counts GpuRayMask::counts() const {
   n.maskedFine = words[kMaskCountMaskedFine];
   n.coarse = words[kMaskCountCoarse];
   n.refineList = words[kMaskCountRefineList];
+  n.outOfView = words[kMaskCountOutOfView];
   n.activeBricks = words[kMaskCountWords + kBrickCountActive];
   n.overflowBricks = words[kMaskCountWords + kBrickCountOverflow];
   n.cutVoxels = words[kStatsAt + kRefineStatCutVoxels];
@@ -137,7 +151,7 @@ GpuRayMask::Counts GpuRayMask::counts() const {
   // Each fine voxel lies under one coarse voxel and each coarse voxel is appended once: more would be a bug.
   const glm::ivec3 bd = mBrickDims;
   if (n.refinedFine > n.maskedFine || n.maskedFine > mFineSpec.voxelCount() || n.coarse > mCoarseSpec.voxelCount() ||
-      n.refineList > n.coarse || n.activeBricks > std::uint64_t(bd.x) * bd.y * bd.z ||
+      n.refineList > n.coarse || n.outOfView > n.refineList || n.activeBricks > std::uint64_t(bd.x) * bd.y * bd.z ||
       n.overflowBricks > n.activeBricks || n.cutVoxels > n.refinedFine || n.nearHalf > n.refinedFine ||
       n.nearHalfKept > n.nearHalf)
     throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine ({} of them cut) of {} under {} coarse "
@@ -150,15 +164,25 @@ GpuRayMask::Counts GpuRayMask::counts() const {
 }
 
 std::vector<std::uint32_t> GpuRayMask::readRefinedVoxels(std::uint32_t frame) const {
+  return readListedVoxels(frame, false);
+}
+
+std::vector<std::uint32_t> GpuRayMask::readOutOfViewVoxels(std::uint32_t frame) const {
+  return readListedVoxels(frame, true);
+}
+
+std::vector<std::uint32_t> GpuRayMask::readListedVoxels(std::uint32_t frame, bool outOfView) const {
+  using gpu::shared::kMaskOutOfView;
   std::vector<std::uint32_t> coarse(frame && mBand > 0.0 ? counts().refineList : 0);
   download(mCtx, mRefineList, coarse.data(), coarse.size() * 4);
   const std::vector<glm::ivec2> ranges = maskFineRanges(mCoarseSpec, mFineSpec);
   const glm::ivec3 cd = mCoarseSpec.dims;
   std::vector<std::uint32_t> list;
   for (std::uint32_t entry : coarse) {
+    if (((entry & kMaskOutOfView) != 0u) != outOfView) continue;
     const std::uint32_t i = entry & gpu::shared::kMaskFineCoords;
     const glm::ivec3 c(int(i % cd.x), int(i / cd.x % cd.y), int(i / cd.x / cd.y));
-    appendFineVoxelsUnder(ranges, cd, c, entry & gpu::shared::kMaskFineFresh, list);
+    appendFineVoxelsUnder(ranges, cd, c, entry & (gpu::shared::kMaskFineFresh | kMaskOutOfView), list);
   }
   tbb::parallel_sort(list.begin(), list.end());
   return list;

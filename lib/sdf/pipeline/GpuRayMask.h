@@ -10,6 +10,7 @@
 #include "sdf/refine/RefinePasses.h"
 #include "sdf/pipeline/BrickPool.h"
 #include "sdf/pipeline/RayMask.h"
+#include "sdf/pipeline/ViewReach.h"
 
 #include <cstdint>
 #include <vector>
@@ -31,6 +32,7 @@ public:
   /// What a frame's mask counted (read back after the frame).
   struct Counts {
     std::uint32_t refinedFine = 0, maskedFine = 0, coarse = 0, refineList = 0;
+    std::uint32_t outOfView = 0; ///< listed band voxels out of the view's reach (kMaskCountOutOfView)
     std::uint32_t activeBricks = 0, overflowBricks = 0;
     std::uint32_t cutVoxels = 0; ///< refined fine voxels whose walks the loop budget ended (kRefineStatCutVoxels)
     std::uint32_t nearHalf = 0, nearHalfKept = 0; ///< kRefineStatNearHalf, kRefineStatNearHalfKept
@@ -48,6 +50,8 @@ public:
   ///        to the corner and stay.
   void recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine, const glm::ivec3& coarseShift,
                     const gpu::Buffer& scratch, const GridShiftPass* shiftPass);
+  /// @brief From the next mask on, refine only the band within @a reach (world units; null: the whole band).
+  void setViewReach(const ViewReach* reach);
   /// @brief MaskCompactPass's parameters for frame number @a frame with @a movedBoxes moving instances.
   gpu::shared::MaskParams params(std::uint32_t frame, std::uint32_t movedBoxes) const;
   /// @brief Record frame number @a frame's mask: the counters reset (with @a pool's), then, where band > 0,
@@ -65,6 +69,9 @@ public:
   /// @brief The coarse voxels the last frame (number @a frame; 0: none yet) listed for refinement, expanded into the
   ///        fine voxels under each and sorted, kMaskFineFresh on those new to the band. The frame must be finished.
   std::vector<std::uint32_t> readRefinedVoxels(std::uint32_t frame) const;
+  /// @brief As readRefinedVoxels, the band voxels the last frame listed out of the view's reach (their fine voxels
+  ///        took the coarse SDF), kMaskOutOfView on each.
+  std::vector<std::uint32_t> readOutOfViewVoxels(std::uint32_t frame) const;
   /// @brief The refinement's history per coarse voxel (read back). The frame must be finished.
   std::vector<glm::uvec2> readCoarseState() const;
   /// @brief The last frame's compacted mask with its OpenVDB mirror (rayMaskOfBand); empty before the first frame
@@ -84,8 +91,12 @@ public:
   const gpu::Buffer& coarseState() const { return mCoarseState; }
 
 private:
+  /// The refine list's entries of the last frame with (@a outOfView) or without kMaskOutOfView, expanded.
+  std::vector<std::uint32_t> readListedVoxels(std::uint32_t frame, bool outOfView) const;
   const gpu::VulkanContext& mCtx;
   GridSpec mCoarseSpec, mFineSpec;
+  bool mViewLimited = false;
+  ViewReach mView;
   double mBand, mBeta;
   std::uint32_t mSettleFrames, mRefreshPeriod, mRefineParts;
   glm::ivec3 mBrickDims;

@@ -464,8 +464,29 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
 }
 #endif
 
-// Refine the fine voxels of box 'part' of coarse voxel ci (parts x fastest, params.partBox.xyz voxels each).
-void refineBox(uint ci, uint part, bool fresh) {
+// A band voxel out of the view's reach (kMaskOutOfView): fine voxels lo..hi take the coarse SDF upsampled, in their
+// brick where it has a slot (a brick the reach's edge cuts) and in the dense fine SDF, no votes: what the samplers
+// and UpsamplePass give where no brick holds them.
+void keepCoarse(ivec3 lo, ivec3 hi) {
+  ivec3 size = hi - lo + 1, fd = params.fineDims.xyz;
+  int voxels = size.x * size.y * size.z;
+  for (int j = 0; j < voxels; ++j) {
+    ivec3 v = lo + ivec3(j % size.x, j / size.x % size.y, j / (size.x * size.y));
+    float f = upsampleCoarseAt(v);
+    uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    if (slot != kNoBrick) {
+      storeValue(slot, brickLocalOf(v), f);
+#if RTSDF_SIGN_RAYS
+      storeVotes(slot, brickLocalOf(v), 0u);
+#endif
+    }
+    if ((params.coarseDims.w & kRefineWriteDense) != 0) dense[uint((v.z * fd.y + v.y) * fd.x + v.x)] = f;
+  }
+}
+
+// Refine the fine voxels of box 'part' of coarse voxel ci (parts x fastest, params.partBox.xyz voxels each); out of
+// the view's reach, keep the coarse SDF there.
+void refineBox(uint ci, uint part, bool fresh, bool outOfView) {
   ivec3 cd = params.coarseDims.xyz;
   ivec3 c = ivec3(int(ci % uint(cd.x)), int(ci / uint(cd.x) % uint(cd.y)), int(ci / uint(cd.x * cd.y)));
   ivec2 rx = fineRanges[c.x], ry = fineRanges[cd.x + c.y], rz = fineRanges[cd.x + cd.y + c.z];
@@ -474,6 +495,10 @@ void refineBox(uint ci, uint part, bool fresh) {
   ivec3 lo = ivec3(rx.x, ry.x, rz.x) + box * ivec3(part % partsX, part / partsX % partsY, part / (partsX * partsY));
   ivec3 hi = min(lo + box - 1, ivec3(rx.y, ry.y, rz.y));
   if (any(greaterThan(lo, hi))) return;
+  if (outOfView) {
+    keepCoarse(lo, hi);
+    return;
+  }
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
   if ((params.coarseDims.w & kRefineCellSearch) != 0) {
     refineCellBox(ci, c, lo, hi, fresh);
@@ -489,5 +514,5 @@ void main() {
   uint e = k / parts;
   if (e >= maskCounts[kMaskCountRefineList]) return;
   uint entry = refineList[e];
-  refineBox(entry & kMaskFineCoords, k % parts, (entry & kMaskFineFresh) != 0u);
+  refineBox(entry & kMaskFineCoords, k % parts, (entry & kMaskFineFresh) != 0u, (entry & kMaskOutOfView) != 0u);
 }

@@ -1,0 +1,216 @@
+// Cascade levels above 0 refined only near the camera's view (CascadeSet::setView, SdfPipeline::setViewReach): the
+// band out of the view's reach keeps the coarse SDF, the rest is what a level without the limit holds, a camera that
+// turns gives the levels a level built for its new view would have, the mask's decisions are its CPU copy's, and the
+// cone test agrees with the distance to the cone in closed form.
+#include "GpuFixture.h"
+#include "TestUtil.h"
+#include "scene/SceneGeometry.h"
+#include "scene/SceneLoader.h"
+#include "sdf/cascade/CascadeSet.h"
+#include "sdf/mask/MaskCpu.h"
+#include "sdf/pipeline/PipelineProbe.h"
+#include "sdf/refine/RefineCpu.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace rtsdf;
+
+namespace {
+
+struct CascadeViewTag : test::NoSuiteObjects {};
+using CascadeViewGpu = test::VulkanSuite<CascadeViewTag>;
+
+/// Three levels of coarse 24 / fine 48 in closest mode without sign rays, level 0 0.6 wide; the view's margin one
+/// coarse voxel of each level.
+PipelineSettings threeLevels() {
+  PipelineSettings s;
+  s.coarseRes = 24;
+  s.fineRes = 48;
+  s.mode = RefineMode::Closest;
+  s.rays = 0;
+  s.band = 0.05;
+  s.cascades = 3;
+  s.cascadeExtent = 0.6;
+  s.cascadeViewMargin = 1.0;
+  return s;
+}
+
+constexpr double kAspect = 16.0 / 9.0;
+
+/// The default room's camera looking from @a position towards @a target with a narrow view.
+Camera eye(const glm::dvec3& position, const glm::dvec3& target) {
+  Camera c;
+  c.position = position;
+  c.target = target;
+  c.verticalFov = 0.5;
+  return c;
+}
+
+/// The distance from @a p to the cone of @a r (apex, axis, half-angle; its margin not added), 0 inside: in closed
+/// form, apart from the mask's test.
+double distanceToCone(const ViewReach& r, const glm::dvec3& p) {
+  const glm::dvec3 d = p - r.apex;
+  const double t = glm::dot(d, r.axis);
+  const double across = glm::length(d - t * r.axis);
+  if (t * std::cos(r.halfAngle) + across * std::sin(r.halfAngle) < 0.0) return glm::length(d); // nearest: the apex
+  return std::max(0.0, across * std::cos(r.halfAngle) - t * std::sin(r.halfAngle));
+}
+
+glm::ivec3 unpack(std::uint32_t packed) {
+  return {int(packed & 1023u), int((packed >> 10) & 1023u), int((packed >> 20) & 1023u)};
+}
+
+double largestDifference(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size()) return HUGE_VAL;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double(std::fabs(a[i] - b[i])));
+  return worst;
+}
+
+} // namespace
+
+// Against a set without the limit on the same grids: level 0 is the same field; above it, every fine voxel the mask
+// left out of view holds the coarse SDF upsampled (RefineCpu's upsampleCoarse), every other voxel the value the
+// unlimited level holds (the band in view refined exactly alike), and fewer voxels were refined. The cone test against
+// the cone's distance in closed form: a voxel left out lies beyond the margin of the cone; one refined lies within
+// its cell's reach of it (behind the camera the test errs on the side of refining: within that reach over the smaller
+// of the half-angle's sine and cosine).
+TEST_F(CascadeViewGpu, LevelsAboveZeroRefineNearTheViewAndKeepTheCoarseSdfElsewhere) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  const PipelineSettings s = threeLevels();
+  const Camera camera = eye({-0.3, 0.45, 0.1}, {0.4, 0.2, -0.3});
+  const CascadeLayout layout =
+      CascadeLayout::around(camera.position, cascadeShapeFor(buildSceneGeometry(scene).bounds, s));
+  CascadeSet limited(*sCtx, scene, layout, s);
+  limited.setView(camera, kAspect);
+  const std::vector<FrameStats> stats = limited.runFrame(0.0);
+  CascadeSet whole(*sCtx, scene, layout, s);
+  const std::vector<FrameStats> wholeStats = whole.runFrame(0.0);
+  for (int i = 0; i < limited.levels(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    const SdfPipeline& level = limited.level(i);
+    const std::vector<float> fine = level.fineField(), unlimited = whole.level(i).fineField();
+    const std::vector<std::uint32_t> out = level.outOfViewVoxels();
+    if (i == 0) {
+      EXPECT_TRUE(out.empty()) << "level 0 refines its whole band";
+      EXPECT_EQ(largestDifference(fine, unlimited), 0.0);
+      continue;
+    }
+    const GridSpec& fs = level.fineSpec();
+    ASSERT_GT(out.size(), 100u);
+    EXPECT_LT(stats[std::size_t(i)].refinedFineVoxels, wholeStats[std::size_t(i)].refinedFineVoxels);
+    const std::vector<float> coarse = level.coarseField();
+    const GridSpec cs = level.coarseSpec().inFrame(level.frameOrigin()), fsFrame = fs.inFrame(level.frameOrigin());
+    std::vector<char> isOut(fine.size(), 0);
+    for (std::uint32_t packed : out) isOut[fs.linear(unpack(packed).x, unpack(packed).y, unpack(packed).z)] = 1;
+    std::uint64_t outDiffer = 0, inDiffer = 0;
+    for (int z = 0; z < fs.dims.z; ++z)
+      for (int y = 0; y < fs.dims.y; ++y)
+        for (int x = 0; x < fs.dims.x; ++x) {
+          const std::size_t k = fs.linear(x, y, z);
+          if (isOut[k]) outDiffer += fine[k] != upsampleCoarse(coarse, cs, fsFrame, {x, y, z});
+          else inDiffer += fine[k] != unlimited[k];
+        }
+    EXPECT_EQ(outDiffer, 0u) << "out of view: the coarse SDF upsampled";
+    EXPECT_EQ(inDiffer, 0u) << "elsewhere: the level without the limit";
+    // The cone, in closed form.
+    const double h = level.coarseSpec().voxelSize, margin = s.cascadeViewMargin * h;
+    const ViewReach reach = viewReachOf(camera, kAspect, margin);
+    const double cellReach = std::sqrt(3.0) * h + margin;
+    const double slack = 1e-4 * h; // the mask tests in floats
+    double nearestOut = HUGE_VAL, farthestIn = 0.0;
+    for (std::uint32_t packed : out) {
+      const glm::ivec3 v = unpack(packed);
+      nearestOut = std::min(nearestOut, distanceToCone(reach, fs.indexToWorld(glm::dvec3(v))));
+    }
+    for (std::uint32_t packed : level.rayMask().fineVoxels) {
+      const glm::ivec3 v = unpack(packed);
+      if (!isOut[fs.linear(v.x, v.y, v.z)])
+        farthestIn = std::max(farthestIn, distanceToCone(reach, fs.indexToWorld(glm::dvec3(v))));
+    }
+    EXPECT_GT(nearestOut, margin - slack);
+    EXPECT_LT(farthestIn, cellReach / std::min(std::cos(reach.halfAngle), std::sin(reach.halfAngle)) + slack);
+    std::printf("level %d: %zu of %zu band voxels out of view, refined %llu of %llu; out of view at least %.4f from "
+                "the cone (margin %.4f), refined at most %.4f\n",
+                i, out.size(), level.rayMask().fineVoxels.size(),
+                (unsigned long long)stats[std::size_t(i)].refinedFineVoxels,
+                (unsigned long long)wholeStats[std::size_t(i)].refinedFineVoxels, nearestOut, margin, farthestIn);
+  }
+}
+
+// A camera that turns (and the teapot orbiting): after each turn every level equals a level built fresh for that
+// view at that time, kept dense and kept sparse (the field resolved from the bricks: a brick the reach's edge cuts
+// holds the coarse SDF under its voxels out of view), while the turn refines fewer voxels than the fresh build.
+TEST_F(CascadeViewGpu, ATurningCameraGivesTheLevelsAFreshBuildForItsViewWouldHave) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  const glm::dvec3 position(-0.3, 0.45, 0.1);
+  // Turns of about 16 degrees, against a view cone of about 28 degrees around its axis.
+  const glm::dvec3 targets[] = {{0.4, 0.2, -0.3}, {0.4, 0.2, -0.1}, {0.4, 0.2, 0.1}, {0.35, 0.2, 0.3}};
+  for (const FineStorage storage : {FineStorage::Dense, FineStorage::Sparse}) {
+    SCOPED_TRACE(toString(storage));
+    PipelineSettings s = threeLevels();
+    s.fineStorage = storage;
+    const CascadeLayout layout =
+        CascadeLayout::around(position, cascadeShapeFor(buildSceneGeometry(scene).bounds, s));
+    CascadeSet set(*sCtx, scene, layout, s);
+    std::uint64_t turned = 0, fresh = 0;
+    for (int f = 0; f < 4; ++f) {
+      const Camera camera = eye(position, targets[f]);
+      const double t = f / 30.0;
+      set.setView(camera, kAspect);
+      const std::vector<FrameStats> stats = set.runFrame(t);
+      CascadeSet built(*sCtx, scene, layout, s);
+      built.setView(camera, kAspect);
+      const std::vector<FrameStats> builtStats = built.runFrame(t);
+      for (int i = 0; i < set.levels(); ++i) {
+        SCOPED_TRACE("frame " + std::to_string(f) + ", level " + std::to_string(i));
+        EXPECT_EQ(largestDifference(set.level(i).fineField(), built.level(i).fineField()), 0.0);
+        EXPECT_TRUE(set.level(i).outOfViewVoxels() == built.level(i).outOfViewVoxels());
+        if (f > 0 && i > 0) {
+          turned += stats[std::size_t(i)].refinedFineVoxels;
+          fresh += builtStats[std::size_t(i)].refinedFineVoxels;
+        }
+      }
+    }
+    EXPECT_GT(turned, 0u) << "the voxels that came into view";
+    EXPECT_LT(double(turned), 0.7 * double(fresh));
+    std::printf("%s: turning, levels 1-2 refined %.3f of the voxels fresh builds did\n", toString(storage),
+                double(turned) / double(fresh));
+  }
+}
+
+// MaskCompactPass's view decisions against maskDecisionsCpu, frame by frame on level 1 while the camera turns: the same
+// voxels refined (fresh flags included: a voxel that comes into view starts afresh), the same voxels out of view, the
+// same state after.
+TEST_F(CascadeViewGpu, TheMasksViewDecisionsEqualTheCpuCopy) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  const PipelineSettings s = threeLevels();
+  const glm::dvec3 position(-0.3, 0.45, 0.1);
+  const CascadeLayout layout = CascadeLayout::around(position, cascadeShapeFor(buildSceneGeometry(scene).bounds, s));
+  CascadeSet set(*sCtx, scene, layout, s);
+  const glm::dvec3 targets[] = {{0.4, 0.2, -0.3}, {0.4, 0.2, -0.1}, {0.4, 0.2, 0.1}};
+  bool sawFreshInView = false;
+  for (int f = 0; f < 3; ++f) {
+    SCOPED_TRACE("frame " + std::to_string(f));
+    set.setView(eye(position, targets[f]), kAspect);
+    const SdfPipeline& level = set.level(1);
+    const PipelineProbe probe(level);
+    const std::vector<glm::uvec2> before = f == 0 ? std::vector<glm::uvec2>() : probe.coarseState();
+    set.runFrame(f / 30.0);
+    if (f == 0) continue; // the first frame's state starts from the pool's reset
+    const MaskDecisions cpu = maskDecisionsCpu(level.coarseField(), level.coarseSpec(), level.fineSpec(), before,
+                                               probe.lastMaskParams(), probe.lastMovedBoxes());
+    const std::vector<std::uint32_t> refined = probe.refinedVoxels();
+    EXPECT_TRUE(refined == cpu.refined) << refined.size() << " refined on the GPU, " << cpu.refined.size() << " on the CPU";
+    std::vector<std::uint32_t> out = level.outOfViewVoxels();
+    for (std::uint32_t& packed : out) packed |= gpu::shared::kMaskOutOfView;
+    EXPECT_TRUE(out == cpu.outOfView) << out.size() << " out of view on the GPU, " << cpu.outOfView.size() << " on the CPU";
+    EXPECT_TRUE(probe.coarseState() == cpu.state);
+    EXPECT_GT(cpu.outOfView.size(), 0u);
+    for (std::uint32_t packed : refined) sawFreshInView |= (packed & gpu::shared::kMaskFineFresh) != 0u;
+  }
+  EXPECT_TRUE(sawFreshInView) << "the turns brought voxels into view";
+}

@@ -83,6 +83,9 @@ FieldError fieldErrorAgainstExact(const Scene& scene, const SdfPipeline& pipe, d
   const auto exact = exactSignedDistance(geo, pipe.fineSpec(), eo);
   if (focus) exact->clip(*focus);
   const auto fine = denseToLevelSet(pipe.fineField(), pipe.fineSpec(), float(eo.band));
+  // A cascade level's band out of the view's reach holds the coarse SDF, not a refinement: not the level's voxels.
+  for (const std::uint32_t packed : pipe.outOfViewVoxels())
+    fine->tree().setValueOff(openvdb::Coord(int(packed & 1023u), int((packed >> 10) & 1023u), int(packed >> 20)));
   fine->setTransform(exact->transform().copy());
   return compareFields(*exact, *fine);
 }

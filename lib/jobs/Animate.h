@@ -76,7 +76,8 @@ struct AnimateResult {
 };
 
 /// @brief @a pipe's fine field against the exact field of @a scene at @a t seconds, over the fine voxels in the band
-///        (|exact| <= fineLevelSetBand), within @a focus (fine index space) when not null.
+///        (|exact| <= fineLevelSetBand), within @a focus (fine index space) when not null; a cascade level's voxels
+///        out of the view's reach (SdfPipeline::outOfViewVoxels: the coarse SDF) are left out.
 FieldError fieldErrorAgainstExact(const Scene& scene, const SdfPipeline& pipe, double t,
                                   const openvdb::CoordBBox* focus = nullptr);
 

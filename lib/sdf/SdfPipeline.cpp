@@ -216,8 +216,15 @@ void SdfPipeline::submitFrame(double time) {
   stats.skippedPasses = skippedPasses(mPlan, mSettings);
   stats.fieldChanged = mPlan.coarse || mPlan.refine || mPlan.upsample;
   if (mPlan.coarse) mFields->recordCoarse(cmd, profiler, *mBvh);
-  if (mPlan.mask)
-    mMask->recordMask(cmd, profiler, ++mMaskFrame, moved, mFields->coarseBuffer(), mMotion->buffer(), *mPool);
+  if (mPlan.mask) {
+    // The band out of the view's reach is written again everywhere where bricks may have taken new slots anywhere,
+    // else where the coarse SDF changed (outOfViewRewritten).
+    using namespace gpu::shared;
+    const bool anywhere = changes.first || changes.poolReset || changes.scrolled || changes.viewChanged;
+    const int flags = (anywhere ? kMaskRelistOutOfView : 0) | (mPlan.coarse ? kMaskCoarseRebuilt : 0);
+    mMask->recordMask(cmd, profiler, ++mMaskFrame, moved, mFields->coarseBuffer(), mMotion->buffer(),
+                      mFields->changedBoxBuffer(), flags, *mPool);
+  }
   mFields->recordFine(cmd, profiler, mFields->refineParams(mFrame, *mPool), *mBvh, *mMask, *mPool, mPlan.refine,
                       mPlan.upsample, mPlan.upsampleChanged);
   gpu::computeBarrier(cmd);

@@ -316,7 +316,8 @@ std::string sceneReport(const CascadeRun& run, const std::string& scene) {
                           }));
     md += "\n";
   }
-  md += "\nEach level at the incremental run's last frame against the exact field of that moment (its band):\n\n"
+  md += "\nEach level at the incremental run's last frame against the exact field of that moment (its band; above level "
+        "0, the voxels within the view's reach, --cascade-view-margin):\n\n"
         "| camera | level | fine voxel | mean abs error (voxels) | max (voxels) | wrong sign |\n|---|---|---|---|---|---|\n";
   for (const CascadeLevelError& e : run.errors)
     if (e.scene == scene)

@@ -10,7 +10,8 @@ namespace rtsdf {
 using namespace gpu::shared;
 
 MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec& cs, const GridSpec& fs,
-                               std::vector<glm::uvec2> state, const MaskParams& p, const std::vector<MovedBox>& moved) {
+                               std::vector<glm::uvec2> state, const MaskParams& p, const std::vector<MovedBox>& moved,
+                               const ChangedBox& changed) {
   MaskDecisions out;
   const std::vector<glm::ivec2> ranges = maskFineRanges(cs, fs);
   for (int z = 0; z < cs.dims.z; ++z)
@@ -21,8 +22,9 @@ MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec&
         if (!(std::fabs(c) <= p.band)) continue;
         const bool fresh = startsFresh(p, state[i]);
         if (!withinViewReach(p, {x, y, z})) {
+          if (outOfViewRewritten(p, state[i], {x, y, z}, changed.lo, changed.hi))
+            appendFineVoxelsUnder(ranges, cs.dims, {x, y, z}, kMaskOutOfView, out.rewritten);
           state[i] = {p.frame, 0u};
-          appendFineVoxelsUnder(ranges, cs.dims, {x, y, z}, kMaskOutOfView, out.outOfView);
           continue;
         }
         bool nearMoved = false;
@@ -33,7 +35,7 @@ MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec&
         if (refined) appendFineVoxelsUnder(ranges, cs.dims, {x, y, z}, fresh ? kMaskFineFresh : 0u, out.refined);
       }
   tbb::parallel_sort(out.refined.begin(), out.refined.end());
-  tbb::parallel_sort(out.outOfView.begin(), out.outOfView.end());
+  tbb::parallel_sort(out.rewritten.begin(), out.rewritten.end());
   out.state = std::move(state);
   return out;
 }

@@ -71,7 +71,8 @@ const uint kMaskBindingCoarseList = 4u;  // appended: (coarse linear index, floa
 const uint kMaskBindingCoarseState = 5u; // uvec2 per coarse voxel: (last frame in the band, refinements in a row)
 const uint kMaskBindingMovedBoxes = 6u;  // MovedBox per instance that moved since the previous frame
 const uint kMaskBindingBrickNeeded = 7u; // uint per brick: set to the frame number where a band voxel lies in it
-const uint kMaskBindingCount = 8u;
+const uint kMaskBindingChangedBox = 8u;  // the coarse SDF's ChangedBox (read where kMaskCoarseRebuilt)
+const uint kMaskBindingCount = 9u;
 
 /// A fine-list entry (SdfPipeline::refinedVoxels): x | y << 10 | z << 20; a refine-list entry: a coarse linear index.
 /// Either or-ed with kMaskFineFresh when the voxel is new to the mask (no history).
@@ -104,8 +105,13 @@ struct MovedBox {
 };
 
 /// Push constants of mask_compact.comp and mask_dispatch.comp.
+/// Flags in MaskParams::coarseDims.w (its bits from 8 on: the growth outOfViewRewritten gives the changed box).
+const int kMaskRelistOutOfView = 1; // every band voxel out of view is written again (first frame, pool reset, scroll,
+                                    // a new view: bricks may have new slots anywhere)
+const int kMaskCoarseRebuilt = 2;   // the coarse SDF was rebuilt this frame: its ChangedBox is this frame's
+
 struct MaskParams {
-  ivec4 coarseDims;    // xyz: coarse voxels per axis
+  ivec4 coarseDims;    // xyz: coarse voxels per axis; w: kMaskRelistOutOfView | kMaskCoarseRebuilt | growth << 8
   float band;          // d: a coarse voxel is in the band when |c| <= d (the CPU mirror's float comparison)
   uint refineCapacity; // entries the refine list holds (appends beyond it are counted, not written)
   uint coarseCapacity; // entries the coarse list holds
@@ -139,6 +145,22 @@ RTSDF_FN bool withinViewReach(MaskParams p, ivec3 v) {
   RTSDF_PRECISE float acrossSq = dot(d, d) - along * along;
   RTSDF_PRECISE float reach = p.viewApex.w + along * p.viewAxis.w;
   return reach >= 0.0 && acrossSq <= reach * reach;
+}
+
+/// Whether band voxel @a v, out of the view's reach with state @a state (before this frame), has its fine voxels
+/// written again this frame (listed with kMaskOutOfView): always with kMaskRelistOutOfView; when it was not kept
+/// coarse in the last run (it left the view or entered the band); and where the coarse SDF changed, @a changedLo ..
+/// @a changedHi (a ChangedBox, empty when lo.x > hi.x), grown by the growth in coarseDims.w's bits from 8: a cell
+/// and its neighbours (the upsampling's stencil), and a brick's width besides, since a brick that a voxel coming into
+/// the band takes anew holds no values yet for the cells beside it. Elsewhere its voxels keep what they hold.
+RTSDF_FN bool outOfViewRewritten(MaskParams p, uvec2 state, ivec3 v, uvec4 changedLo, uvec4 changedHi) {
+  if ((p.coarseDims.w & kMaskRelistOutOfView) != 0) return true;
+  if (state.x + 1u != p.frame || state.y != 0u) return true;
+  if ((p.coarseDims.w & kMaskCoarseRebuilt) == 0 || changedLo.x > changedHi.x) return false;
+  int grow = p.coarseDims.w >> 8;
+  ivec3 lo = ivec3(changedLo.x, changedLo.y, changedLo.z) - ivec3(grow);
+  ivec3 hi = ivec3(changedHi.x, changedHi.y, changedHi.z) + ivec3(grow);
+  return v.x >= lo.x && v.y >= lo.y && v.z >= lo.z && v.x <= hi.x && v.y <= hi.y && v.z <= hi.z;
 }
 
 /// Incremental refinement, decided per coarse band voxel for all the fine voxels under it: whether they are

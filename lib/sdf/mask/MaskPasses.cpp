@@ -64,6 +64,7 @@ void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, c
   b[kMaskBindingCoarseList] = &out.coarseList;
   b[kMaskBindingCoarseState] = &out.coarseState;
   b[kMaskBindingMovedBoxes] = &in.movedBoxes;
+  b[kMaskBindingChangedBox] = &in.changedBox;
   const glm::ivec3 d = params.coarseDims;
   mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(d.x, RTSDF_MASK_GROUP), gpu::groupsFor(d.y, RTSDF_MASK_GROUP),

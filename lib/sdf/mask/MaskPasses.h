@@ -47,6 +47,7 @@ public:
     const gpu::Buffer& coarse;     ///< c_t, dense, x fastest
     const gpu::Buffer& fineRanges; ///< maskFineRanges() of the two grids
     const gpu::Buffer& movedBoxes; ///< MovedBox per instance that moved (params.movedBoxes of them)
+    const gpu::Buffer& changedBox; ///< the coarse SDF's ChangedBox (read with kMaskCoarseRebuilt in params)
   };
   /// @a coarseState: (last frame in the band, refinements in a row) per coarse voxel, read and advanced;
   /// @a brickNeeded: per brick, the last frame a band voxel lay in it.

@@ -8,13 +8,13 @@
 // that hold them as needed this frame (the sparse fine state) and, when they are to be refined this frame
 // (refinesThisFrame: new to the band, reached by a moving instance, not settled), appends itself to the refine
 // list, which the refinement expands into those fine voxels. A band voxel out of the view's reach (withinViewReach: a
-// cascade level above 0) is listed every frame flagged kMaskOutOfView, and its fine voxels take the coarse SDF
-// upsampled (no walk); it marks no brick, so a brick wholly out of view gives its slot back, and the fine voxels of
+// cascade level above 0) is listed flagged kMaskOutOfView where its fine voxels must take the coarse SDF upsampled
+// again (outOfViewRewritten: no walk); it marks no brick, so a brick wholly out of view gives its slot back, and the fine voxels of
 // one that straddles the reach's edge hold what the samplers read where there is no slot. The refinement hashes by
-// voxel, not by slot, so the
-// lists' order does not matter. Slots are reserved per subgroup (a ballot's prefix count, one global atomic per
-// counter and subgroup): one global atomic per band voxel serialised the whole band on a single address, and a
-// work group's reservation through shared memory needs two barriers, which cost lavapipe as much as the pass's work.
+// voxel, not by slot, so the lists' order does not matter. Slots are reserved per subgroup (a ballot's prefix count,
+// one global atomic per counter and subgroup): one global atomic per band voxel serialised the whole band on a single
+// address, and a work group's reservation through shared memory needs two barriers, which cost lavapipe as much as the
+// pass's work.
 #include "sdf/mask/MaskParams.h"
 
 layout(local_size_x = RTSDF_MASK_GROUP, local_size_y = RTSDF_MASK_GROUP, local_size_z = RTSDF_MASK_GROUP) in;
@@ -27,6 +27,7 @@ layout(std430, binding = kMaskBindingCoarseList) writeonly buffer CoarseList { u
 layout(std430, binding = kMaskBindingCoarseState) buffer CoarseState { uvec2 coarseState[]; };
 layout(std430, binding = kMaskBindingMovedBoxes) readonly buffer MovedBoxes { MovedBox movedBoxes[]; };
 layout(std430, binding = kMaskBindingBrickNeeded) writeonly buffer BrickNeeded { uint brickNeeded[]; };
+layout(std430, binding = kMaskBindingChangedBox) readonly buffer Changed { uvec4 changedLo; uvec4 changedHi; };
 
 // Mark the bricks holding fine voxels [lo, hi] as needed this frame (every writer writes the same value).
 void markBricks(ivec3 lo, ivec3 hi) {
@@ -38,10 +39,12 @@ void markBricks(ivec3 lo, ivec3 hi) {
 }
 
 // Decide whether band voxel p (index i, value c) is refined this frame and advance its state; sets fresh. Out of the
-// view's reach it is not, and its state says it holds the coarse SDF (no refinements).
-bool refineDecision(ivec3 p, uint i, float c, bool inView, out bool fresh) {
+// view's reach it is not, and its state says it holds the coarse SDF (no refinements); rewrite: whether its fine
+// voxels take that SDF again this frame (outOfViewRewritten).
+bool refineDecision(ivec3 p, uint i, float c, bool inView, out bool fresh, out bool rewrite) {
   uvec2 state = coarseState[i];
   fresh = startsFresh(params, state);
+  rewrite = !inView && outOfViewRewritten(params, state, p, changedLo, changedHi);
   if (!inView) {
     coarseState[i] = uvec2(params.frame, 0u);
     return false;
@@ -76,7 +79,7 @@ void main() {
   uint i = inGrid ? uint((p.z * dims.y + p.y) * dims.x + p.x) : 0u;
   float c = inGrid ? coarse[i] : 0.0;
   bool inBand = inGrid && abs(c) <= params.band;
-  bool refined = false, fresh = false, outOfView = false;
+  bool refined = false, fresh = false, outOfView = false, rewrite = false;
   ivec2 rx = ivec2(0, -1), ry = ivec2(0, -1), rz = ivec2(0, -1);
   uint count = 0u;
   if (inBand) {
@@ -87,16 +90,16 @@ void main() {
     count = uint(n.x * n.y * n.z);
     outOfView = !withinViewReach(params, p);
     if (count > 0u && !outOfView) markBricks(ivec3(rx.x, ry.x, rz.x), ivec3(rx.y, ry.y, rz.y));
-    refined = refineDecision(p, i, c, !outOfView, fresh);
+    refined = refineDecision(p, i, c, !outOfView, fresh, rewrite);
   }
   // Every invocation of the subgroup takes part (none returned early).
   uint coarseOffset, refineOffset;
-  bool listed = refined || outOfView;
+  bool listed = refined || rewrite;
   uint baseCoarse = reserve(kMaskCountCoarse, inBand, coarseOffset);
   uint baseRefine = reserve(kMaskCountRefineList, listed, refineOffset);
   addSubgroup(kMaskCountFine, refined ? count : 0u);
   addSubgroup(kMaskCountMaskedFine, count);
-  addSubgroup(kMaskCountOutOfView, outOfView ? 1u : 0u);
+  addSubgroup(kMaskCountOutOfView, rewrite ? 1u : 0u);
   if (!inBand) return;
   uint slot = baseCoarse + coarseOffset;
   if (slot < params.coarseCapacity) coarseList[slot] = uvec2(i, floatBitsToUint(c));

@@ -122,6 +122,8 @@ std::uint64_t FieldPasses::lastRegionVoxels() const {
   return std::uint64_t(n.x * n.y * n.z);
 }
 
+const gpu::Buffer& FieldPasses::changedBoxBuffer() const { return mCoarse.changedBoxBuffer(); }
+
 gpu::shared::ChangedBox FieldPasses::readChangedBox() const {
   gpu::shared::ChangedBox box;
   download(mCtx, mCoarse.changedBoxBuffer(), &box, sizeof(box));

@@ -53,6 +53,8 @@ public:
   /// @brief Read back the box of the coarse voxels the last recordCoarse changed (gpu::shared::ChangedBox). The
   ///        frame must be finished.
   gpu::shared::ChangedBox readChangedBox() const;
+  /// @brief The coarse SDF's ChangedBox on the GPU, as the last recordCoarse left it.
+  const gpu::Buffer& changedBoxBuffer() const;
 
   /// @brief The grids moved to @a coarse and @a fine, @a fineShift fine voxels from where they were
   ///        (SdfPipeline::scroll): record the dense fine SDF's shift through @a scratch (recordGridShift of

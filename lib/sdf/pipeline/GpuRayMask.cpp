@@ -65,9 +65,11 @@ void GpuRayMask::recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const
   recordGridShift(cmd, shiftPass, mCoarseState, scratch, coarse.dims, 8, coarseShift, 0xFFFFFFFFu);
 }
 
-gpu::shared::MaskParams GpuRayMask::params(std::uint32_t frame, std::uint32_t movedBoxes) const {
+gpu::shared::MaskParams GpuRayMask::params(std::uint32_t frame, std::uint32_t movedBoxes, int flags) const {
   gpu::shared::MaskParams p{};
-  p.coarseDims = glm::ivec4(mCoarseSpec.dims, 0);
+  // outOfViewRewritten's growth of the changed box: a coarse voxel for the upsampling's stencil, and a brick's width.
+  const int brickCells = int(std::ceil(RTSDF_BRICK * mFineSpec.voxelSize / mCoarseSpec.voxelSize));
+  p.coarseDims = glm::ivec4(mCoarseSpec.dims, flags | ((1 + brickCells) << 8));
   p.band = float(mBand);
   p.refineCapacity = std::uint32_t(mRefineList.size() / 4);
   p.coarseCapacity = std::uint32_t(mCoarseList.size() / 8);
@@ -100,15 +102,15 @@ void GpuRayMask::setViewReach(const ViewReach* reach) {
 
 void GpuRayMask::recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame,
                             std::uint32_t movedCount, const gpu::Buffer& coarse, const gpu::Buffer& movedBoxes,
-                            const BrickPool& pool) {
-  mLastParams = params(frame, movedCount);
+                            const gpu::Buffer& changedBox, int flags, const BrickPool& pool) {
+  mLastParams = params(frame, movedCount, flags);
   vkCmdFillBuffer(cmd, mCounts.handle(), 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cmd, mRefineStats.handle(), 0, VK_WHOLE_SIZE, 0u);
   pool.recordResetCounts(cmd);
   gpu::computeBarrier(cmd);
   // d = 0 refines nothing (not even voxels with c = 0): the counts stay zero, and so does the dispatch.
   if (mBand > 0.0) {
-    mCompact.execute(cmd, profiler, {coarse, mFineRanges, movedBoxes},
+    mCompact.execute(cmd, profiler, {coarse, mFineRanges, movedBoxes, changedBox},
                      {mCounts, mRefineList, mCoarseList, mCoarseState, pool.stamps()}, mLastParams);
     pool.recordAlloc(cmd, profiler, frame);
   }
@@ -167,8 +169,22 @@ std::vector<std::uint32_t> GpuRayMask::readRefinedVoxels(std::uint32_t frame) co
   return readListedVoxels(frame, false);
 }
 
-std::vector<std::uint32_t> GpuRayMask::readOutOfViewVoxels(std::uint32_t frame) const {
+std::vector<std::uint32_t> GpuRayMask::readRewrittenVoxels(std::uint32_t frame) const {
   return readListedVoxels(frame, true);
+}
+
+std::vector<std::uint32_t> GpuRayMask::readOutOfViewVoxels(std::uint32_t frame) const {
+  std::vector<std::uint32_t> list;
+  if (!frame || mBand <= 0.0 || !mViewLimited) return list;
+  const std::vector<glm::uvec2> state = readCoarseState();
+  const std::vector<glm::ivec2> ranges = maskFineRanges(mCoarseSpec, mFineSpec);
+  const glm::ivec3 cd = mCoarseSpec.dims;
+  for (std::size_t i = 0; i < state.size(); ++i)
+    if (state[i] == glm::uvec2(frame, 0u))
+      appendFineVoxelsUnder(ranges, cd, glm::ivec3(int(i % cd.x), int(i / cd.x % cd.y), int(i / cd.x / cd.y)),
+                            gpu::shared::kMaskOutOfView, list);
+  tbb::parallel_sort(list.begin(), list.end());
+  return list;
 }
 
 std::vector<std::uint32_t> GpuRayMask::readListedVoxels(std::uint32_t frame, bool outOfView) const {

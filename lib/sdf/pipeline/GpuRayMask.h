@@ -52,13 +52,16 @@ public:
                     const gpu::Buffer& scratch, const GridShiftPass* shiftPass);
   /// @brief From the next mask on, refine only the band within @a reach (world units; null: the whole band).
   void setViewReach(const ViewReach* reach);
-  /// @brief MaskCompactPass's parameters for frame number @a frame with @a movedBoxes moving instances.
-  gpu::shared::MaskParams params(std::uint32_t frame, std::uint32_t movedBoxes) const;
+  /// @brief MaskCompactPass's parameters for frame number @a frame with @a movedBoxes moving instances and the
+  ///        flags @a flags (kMaskRelistOutOfView, kMaskCoarseRebuilt).
+  gpu::shared::MaskParams params(std::uint32_t frame, std::uint32_t movedBoxes, int flags = 0) const;
   /// @brief Record frame number @a frame's mask: the counters reset (with @a pool's), then, where band > 0,
-  ///        MaskCompactPass over the coarse SDF @a coarse and the moved boxes @a movedBoxes (@a movedCount of them)
-  ///        and @a pool's BrickAllocPass; then MaskDispatchPass. The parameters become lastParams().
+  ///        MaskCompactPass over the coarse SDF @a coarse, the moved boxes @a movedBoxes (@a movedCount of them) and
+  ///        the coarse SDF's ChangedBox @a changedBox, with @a flags (params), and @a pool's BrickAllocPass; then
+  ///        MaskDispatchPass. The parameters become lastParams().
   void recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame, std::uint32_t movedCount,
-                  const gpu::Buffer& coarse, const gpu::Buffer& movedBoxes, const BrickPool& pool);
+                  const gpu::Buffer& coarse, const gpu::Buffer& movedBoxes, const gpu::Buffer& changedBox, int flags,
+                  const BrickPool& pool);
   /// @brief Record: the mask's and @a pool's counts copied into the host-visible copy, visible to the host after
   ///        the frame.
   void recordCountsReadback(VkCommandBuffer cmd, const BrickPool& pool) const;
@@ -70,7 +73,10 @@ public:
   ///        fine voxels under each and sorted, kMaskFineFresh on those new to the band. The frame must be finished.
   std::vector<std::uint32_t> readRefinedVoxels(std::uint32_t frame) const;
   /// @brief As readRefinedVoxels, the band voxels the last frame listed out of the view's reach (their fine voxels
-  ///        took the coarse SDF), kMaskOutOfView on each.
+  ///        took the coarse SDF again: outOfViewRewritten), kMaskOutOfView on each.
+  std::vector<std::uint32_t> readRewrittenVoxels(std::uint32_t frame) const;
+  /// @brief The fine voxels of every band voxel the last frame (number @a frame) left out of the view's reach (the
+  ///        coarse state says so: in the band that frame, no refinements), sorted, kMaskOutOfView on each.
   std::vector<std::uint32_t> readOutOfViewVoxels(std::uint32_t frame) const;
   /// @brief The refinement's history per coarse voxel (read back). The frame must be finished.
   std::vector<glm::uvec2> readCoarseState() const;

@@ -112,8 +112,10 @@ struct PipelineSettings {
   double cascadeExtent = -1.0;
   /// Cascade levels above 0 refine only the band near the camera's view (the paper's future work: outside the view a
   /// lower resolution): within this many of the level's coarse voxels of the cone that holds the image, the rest
-  /// keeps the coarse SDF (ViewReach). < 0: every level refines its whole band.
-  double cascadeViewMargin = 4.0;
+  /// keeps the coarse SDF (ViewReach). < 0 (the default): every level refines its whole band. Off by default: a
+  /// camera on a path gives every level a new view every frame, and writing the band out of view again then cost
+  /// the towns' frames more than the walks it saved (docs/results.md, 2026-11-27).
+  double cascadeViewMargin = -1.0;
   /// @throw SettingError naming the setting ("band", "coarse resolution", ...) when one is out of range.
   void validate() const;
 };

@@ -1,6 +1,7 @@
 // Cascade levels on lavapipe: each level's part of the scene gives the field the whole scene gives on the level's
 // voxels, the refined voxels are the exact distance, a camera move rebuilds only the levels whose box moved, and a
 // bake writes one level set per level that compare checks on each level's own voxels.
+#include "CascadeTestLevels.h"
 #include "GpuFixture.h"
 #include "TestUtil.h"
 #include "grid/VdbIO.h"
@@ -23,18 +24,8 @@ namespace {
 struct CascadeTag : test::NoSuiteObjects {};
 using CascadeSetGpu = test::VulkanSuite<CascadeTag>;
 
-/// Three levels of coarse 16 / fine 32 in closest mode without sign rays; level 0 is 0.6 wide, level 2 spans the room.
-PipelineSettings threeLevels() {
-  PipelineSettings s;
-  s.coarseRes = 16;
-  s.fineRes = 32;
-  s.mode = RefineMode::Closest;
-  s.rays = 0;
-  s.band = 0.05;
-  s.cascades = 3;
-  s.cascadeExtent = 0.6;
-  return s;
-}
+using test::largestDifference;
+using test::threeLevels;
 
 Scene room() { return loadScene(test::dataPath("scenes/default.json")); }
 
@@ -45,13 +36,6 @@ std::uint64_t differing(const std::vector<float>& a, const std::vector<float>& b
   return n;
 }
 
-/// The largest |a - b| over the voxels (infinite when the fields differ in size).
-double largestDifference(const std::vector<float>& a, const std::vector<float>& b) {
-  if (a.size() != b.size()) return HUGE_VAL;
-  double worst = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double(std::fabs(a[i] - b[i])));
-  return worst;
-}
 
 } // namespace
 

@@ -2,6 +2,7 @@
 // band out of the view's reach keeps the coarse SDF, the rest is what a level without the limit holds, a camera that
 // turns gives the levels a level built for its new view would have, the mask's decisions are its CPU copy's, and the
 // cone test agrees with the distance to the cone in closed form.
+#include "CascadeTestLevels.h"
 #include "GpuFixture.h"
 #include "TestUtil.h"
 #include "jobs/Animate.h"
@@ -24,17 +25,11 @@ namespace {
 struct CascadeViewTag : test::NoSuiteObjects {};
 using CascadeViewGpu = test::VulkanSuite<CascadeViewTag>;
 
-/// Three levels of coarse 24 / fine 48 in closest mode without sign rays, level 0 0.6 wide; the view's margin one
-/// coarse voxel of each level.
+/// test::threeLevels at coarse 24 / fine 48, the view's margin one coarse voxel of each level.
 PipelineSettings threeLevels() {
-  PipelineSettings s;
+  PipelineSettings s = test::threeLevels();
   s.coarseRes = 24;
   s.fineRes = 48;
-  s.mode = RefineMode::Closest;
-  s.rays = 0;
-  s.band = 0.05;
-  s.cascades = 3;
-  s.cascadeExtent = 0.6;
   s.cascadeViewMargin = 1.0;
   return s;
 }
@@ -64,12 +59,7 @@ glm::ivec3 unpack(std::uint32_t packed) {
   return {int(packed & 1023u), int((packed >> 10) & 1023u), int((packed >> 20) & 1023u)};
 }
 
-double largestDifference(const std::vector<float>& a, const std::vector<float>& b) {
-  if (a.size() != b.size()) return HUGE_VAL;
-  double worst = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double(std::fabs(a[i] - b[i])));
-  return worst;
-}
+using test::largestDifference;
 
 } // namespace
 

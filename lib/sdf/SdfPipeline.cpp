@@ -204,7 +204,8 @@ void SdfPipeline::submitFrame(double time) {
   changes.poolReset = mPoolReset;
   changes.scrolled = mScrolled;
   changes.viewChanged = mViewChanged;
-  // Listed for a walk: the band voxels out of the view's reach are listed every run, and skipping a run keeps them.
+  // Listed for a walk: the band voxels out of the view's reach written again are listed too, and a run skipped keeps
+  // what they hold.
   if (!changes.first) { // before the first frame nothing has been read back
     const GpuRayMask::Counts last = mMask->counts();
     changes.lastListed = last.refineList > last.outOfView;
@@ -292,9 +293,7 @@ void SdfPipeline::setViewReach(const ViewReach* reach) {
 std::vector<std::uint32_t> SdfPipeline::outOfViewVoxels() const {
   if (mFrame == 0 || mSettings.band <= 0.0) return {};
   waitForFrame();
-  std::vector<std::uint32_t> list = mMask->readOutOfViewVoxels(mMaskFrame);
-  for (std::uint32_t& packed : list) packed &= gpu::shared::kMaskFineCoords;
-  return list;
+  return mMask->readOutOfViewVoxels(mMaskFrame);
 }
 
 openvdb::FloatGrid::Ptr SdfPipeline::levelSet(float band) const {

@@ -91,7 +91,7 @@ const uint kMaskCountFine = 3u;       // fine voxels under the coarse voxels of 
 const uint kMaskCountCoarse = 4u;     // coarse band voxels appended
 const uint kMaskCountMaskedFine = 5u; // fine voxels under the band, refined or kept
 const uint kMaskCountRefineList = 6u; // coarse voxels appended to the refine list, those out of view included
-const uint kMaskCountOutOfView = 7u;  // of those, the band voxels out of the view's reach (kMaskOutOfView)
+const uint kMaskCountOutOfView = 7u;  // of those, the band voxels out of view written again (kMaskOutOfView)
 const uint kMaskCountWords = 8u;
 
 /// Moving instances' boxes MaskCompactPass reads (more are merged into the last one).

@@ -182,7 +182,7 @@ std::vector<std::uint32_t> GpuRayMask::readOutOfViewVoxels(std::uint32_t frame) 
   for (std::size_t i = 0; i < state.size(); ++i)
     if (state[i] == glm::uvec2(frame, 0u))
       appendFineVoxelsUnder(ranges, cd, glm::ivec3(int(i % cd.x), int(i / cd.x % cd.y), int(i / cd.x / cd.y)),
-                            gpu::shared::kMaskOutOfView, list);
+                            0u, list);
   tbb::parallel_sort(list.begin(), list.end());
   return list;
 }

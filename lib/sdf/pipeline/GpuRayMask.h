@@ -76,7 +76,7 @@ public:
   ///        took the coarse SDF again: outOfViewRewritten), kMaskOutOfView on each.
   std::vector<std::uint32_t> readRewrittenVoxels(std::uint32_t frame) const;
   /// @brief The fine voxels of every band voxel the last frame (number @a frame) left out of the view's reach (the
-  ///        coarse state says so: in the band that frame, no refinements), sorted, kMaskOutOfView on each.
+  ///        coarse state says so: in the band that frame, no refinements), packed without flags, sorted.
   std::vector<std::uint32_t> readOutOfViewVoxels(std::uint32_t frame) const;
   /// @brief The refinement's history per coarse voxel (read back). The frame must be finished.
   std::vector<glm::uvec2> readCoarseState() const;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Build the libFuzzer targets (clang, ASan + UBSan) and run each on a seed corpus made from data/, after replaying
-# every saved crash input in fuzz/regressions/<target>/. Any crash, leak, sanitizer report, timeout or memory
-# blow-up fails the script and leaves the input under build-fuzz/artifacts/: add it to
+# Build the libFuzzer targets (the Sanitize build, clang: ASan + UBSan; after CI's sanitizer run they are built
+# already) and run each on a seed corpus made from data/, after replaying every saved crash input in
+# fuzz/regressions/<target>/. Any crash, leak, sanitizer report, timeout or memory blow-up fails the script and
+# leaves the input under build-sanitize/fuzz-artifacts/: add it to
 # fuzz/regressions/<target>/ (and, for a CLI-reachable case, a row to tests/cli/bad_inputs.json) with the fix.
 # Usage: scripts/fuzz.sh                  CI: a fixed seed and at most a fixed number of inputs per target, each
 #                                         target capped in time (seconds below: about three minutes in all on
@@ -21,13 +22,14 @@ declare -A runs=([fuzz_scene_json]=100000 [fuzz_mesh]=12000 [fuzz_vdb]=2000000 [
                  [fuzz_gltf]=20000 [fuzz_scene_geometry]=50000 [fuzz_compare]=20000 [fuzz_cli]=50000)
 declare -A seconds=([fuzz_scene_json]=25 [fuzz_mesh]=25 [fuzz_vdb]=20 [fuzz_mesh_binary]=20 [fuzz_gltf]=20
                     [fuzz_scene_geometry]=20 [fuzz_compare]=25 [fuzz_cli]=20)
-./scripts/install-deps.sh
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Fuzz -DRTSDF_BUILD_TESTS=OFF >/dev/null
-ninja -C build-fuzz "${targets[@]}"
+./scripts/build.sh Sanitize "${targets[@]}"
 
-seeds=build-fuzz/seeds
-rm -rf "$seeds" build-fuzz/artifacts
-mkdir -p build-fuzz/artifacts
+build=build-sanitize
+seeds=$build/fuzz-seeds
+artifacts=$build/fuzz-artifacts
+logs=$build/fuzz-logs
+rm -rf "$seeds" "$artifacts" "$logs"
+mkdir -p "$artifacts" "$logs"
 for target in "${targets[@]}"; do
   mkdir -p "$seeds/$target"
   if [ -d "fuzz/seeds/$target" ]; then cp -r "fuzz/seeds/$target/." "$seeds/$target/"; fi
@@ -64,18 +66,18 @@ for target in "${targets[@]}"; do
   if [ -n "$explore" ]; then bound=(-max_total_time="$explore"); fi
   echo "== $target: ${bound[*]} (seeds: $(ls "$seeds/$target" | wc -l), regressions: $(ls "$regressions" | wc -l))"
   # Regressions are replayed one by one (each must end cleanly), then the fuzzer starts from the seeds.
-  if [ -n "$(ls "$regressions")" ] && ! "build-fuzz/fuzz/$target" "$regressions"/* -timeout=10 -rss_limit_mb=2048 \
-       -malloc_limit_mb=2048 2> "build-fuzz/$target-replay.log"; then
-    tail -40 "build-fuzz/$target-replay.log"
+  if [ -n "$(ls "$regressions")" ] && ! "$build/fuzz/$target" "$regressions"/* -timeout=10 -rss_limit_mb=2048 \
+       -malloc_limit_mb=2048 2> "$logs/$target-replay.log"; then
+    tail -40 "$logs/$target-replay.log"
     status=1
   fi
-  if ! "build-fuzz/fuzz/$target" "$seeds/$target" "${bound[@]}" -max_len=65536 \
-       -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -artifact_prefix="build-fuzz/artifacts/$target-" \
-       -print_final_stats=1 2> "build-fuzz/$target.log"; then
-    tail -40 "build-fuzz/$target.log"
+  if ! "$build/fuzz/$target" "$seeds/$target" "${bound[@]}" -max_len=65536 \
+       -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -artifact_prefix="$artifacts/$target-" \
+       -print_final_stats=1 2> "$logs/$target.log"; then
+    tail -40 "$logs/$target.log"
     status=1
   fi
-  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "build-fuzz/$target.log" | tr '\n' ' '; echo
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$logs/$target.log" | tr '\n' ' '; echo
 done
-ls build-fuzz/artifacts
+ls "$artifacts"
 exit $status

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
-#include <openvdb/points/PointConversion.h>
+#include <openvdb/points/PointDataGrid.h>
 #include <openvdb/tools/LevelSetSphere.h>
 
 #include <algorithm>
@@ -273,11 +273,9 @@ TEST(VdbLayout, TopologyAndOffsetsThatDoNotFitAreRefused) {
 // Grids of other types (points here) are refused before OpenVDB reads them, naming the file, grid and type.
 TEST(VdbLayout, OtherGridTypesAreRefused) {
   openvdb::initialize();
-  const std::vector<openvdb::Vec3R> positions{{0, 0, 0}, {1, 2, 3}};
-  const openvdb::points::PointAttributeVector<openvdb::Vec3R> wrapper(positions);
-  auto transform = openvdb::math::Transform::createLinearTransform(0.5);
-  auto points = openvdb::points::createPointDataGrid<openvdb::points::NullCodec, openvdb::points::PointDataGrid>(
-      *openvdb::tools::createPointIndexGrid<openvdb::tools::PointIndexGrid>(wrapper, *transform), wrapper, *transform);
+  // An empty grid is enough: the refusal reads the grid's type from its descriptor, before any node.
+  auto points = openvdb::points::PointDataGrid::create();
+  points->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
   points->setName("points");
   const std::string file = written({oneLeaf(), points}, openvdb::io::COMPRESS_BLOSC, false, true);
   EXPECT_EQ(plainOpenVdb(file).size(), 2u);

@@ -242,19 +242,20 @@ TEST_F(CascadeRender, TheRoomKeepsItsShadowsInsideATownOfRooms) {
     double voxel = 0.0;   // the finest fine voxel
     CascadeLayout layout; // the levels (cascades)
   };
-  auto shoot = [&](const Scene& scene, const RenderSettings& settings) {
+  // The town's truth is rendered once, for both of its shots (same camera, time and light).
+  auto shoot = [&](const Scene& scene, const RenderSettings& settings, const RenderedFrame* truth) {
     Renderer r(*sCtx, scene, boundsOf(scene), settings);
-    Shot shot{r.renderFrame(0.0), renderRayTraced(scene, 0.0, truthSettings)};
+    Shot shot{r.renderFrame(0.0), truth ? *truth : renderRayTraced(scene, 0.0, truthSettings)};
     if (r.cascades()) shot.layout = r.cascades()->layout();
     shot.voxel = r.sdfPipeline() ? r.sdfPipeline()->fineSpec().voxelSize : shot.layout.levels.front().fine.voxelSize;
     return shot;
   };
-  const Shot alone = shoot(room, s), single = shoot(town, s);
+  const Shot alone = shoot(room, s, nullptr), single = shoot(town, s, nullptr);
   RenderSettings c = s;
   c.pipeline.cascades = 4;
   c.pipeline.fineRes = 256;
   c.pipeline.cascadeExtent = 256 * alone.voxel;
-  const Shot cascaded = shoot(town, c);
+  const Shot cascaded = shoot(town, c, &single.truth);
   EXPECT_DOUBLE_EQ(cascaded.voxel, alone.voxel);
   // The room's pixels the town leaves in view (its neighbours hide the rest), in every frame.
   std::vector<std::uint8_t> mask = roomPixels(town, cascaded.frame, cascaded.truth, roomInstances);

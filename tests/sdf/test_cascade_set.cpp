@@ -347,7 +347,7 @@ TEST_F(CascadeSetGpu, AllocatedMemoryStaysWithin5PercentFrom50To1000MetresAndIsT
     ASSERT_FALSE(level.empty()) << log;
     const Scene town = loadScene(level);
     std::printf("%d m\n", size);
-    allocatedBy(town, 128);
+    if (size == 50) allocatedBy(town, 128); // the estimate at a second fine resolution: one town is enough
     allocated.push_back(allocatedBy(town, 256));
   }
   for (std::size_t i = 1; i < allocated.size(); ++i)

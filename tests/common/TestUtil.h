@@ -53,6 +53,11 @@ inline PipelineSettings formerPipelineDefaults() {
 
 inline std::string dataPath(const std::string& rel) { return std::string(RTSDF_DATA_DIR) + "/" + rel; }
 
+/// The voxel (x, y, z) of a fine voxel index the GPU passes pack in 10 bits each (x lowest).
+inline glm::ivec3 unpackVoxel(std::uint32_t packed) {
+  return {int(packed & 1023u), int((packed >> 10) & 1023u), int((packed >> 20) & 1023u)};
+}
+
 /// Run a shell command; its standard output, and its wait status in @a status.
 inline std::string runCommand(const std::string& cmd, int& status) {
   std::string out;

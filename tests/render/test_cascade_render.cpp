@@ -2,6 +2,7 @@
 // march over the levels against its CPU copy, the levels following the camera path, and a room's shadows inside a
 // town of rooms against the ray-traced truth.
 #include "GpuFixture.h"
+#include "RenderTestUtil.h"
 #include "TestUtil.h"
 #include "TownOfRooms.h"
 #include "render/Renderer.h"
@@ -25,8 +26,8 @@ namespace {
 struct CascadeRenderTag : test::NoSuiteObjects {};
 using CascadeRender = test::VulkanSuite<CascadeRenderTag>;
 
-Scene defaultScene() { return loadScene(test::dataPath("scenes/default.json")); }
-Bounds boundsOf(const Scene& s, double t = 0.0) { return buildSceneGeometry(s, t).bounds; }
+using test::defaultScene;
+using test::boundsOf;
 
 
 /// The levels of @a layout as the march samples them, in the frame of @a origin, with fields from @a f(world point).
@@ -64,11 +65,7 @@ RenderSettings cascadeSettings(int w, int h) {
   return r;
 }
 
-std::size_t countAbove(const std::vector<float>& a, const std::vector<float>& b, float tol) {
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) n += std::fabs(a[i] - b[i]) > tol;
-  return n;
-}
+using test::countAbove;
 
 } // namespace
 

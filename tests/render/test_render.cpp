@@ -1,6 +1,7 @@
 // The renderer on lavapipe: every GPU pass against its CPU reference on real scenes, the SDF penumbra
 // against the closed form and the ray-traced truth, moving shadows, files and the extremes.
 #include "GpuFixture.h"
+#include "RenderTestUtil.h"
 #include "TestUtil.h"
 #include "image/ImageIO.h"
 #include "render/AnalyticPenumbra.h"
@@ -34,7 +35,7 @@ namespace {
 struct RenderTag : test::NoSuiteObjects {};
 using Render = test::VulkanSuite<RenderTag>;
 
-Scene defaultScene() { return loadScene(test::dataPath("scenes/default.json")); }
+using test::defaultScene;
 Scene analyticScene() { return loadScene(test::dataPath("scenes/analytic.json")); }
 /// A floor half covered by a plate (x in [-1, 0], 0.5 above it) under a sun straight down, seen from below the plate.
 Scene plateScene() {
@@ -44,7 +45,7 @@ Scene plateScene() {
       "camera": {"position": [0, 0.3, 2.6], "look_at": [0, 0.05, 0], "fov_deg": 60}})",
                     "plate.json");
 }
-Bounds boundsOf(const Scene& s, double t = 0.0) { return buildSceneGeometry(s, t).bounds; }
+using test::boundsOf;
 
 RenderSettings small(ShadowTechnique t, int w = 160, int h = 90) {
   RenderSettings r;
@@ -63,11 +64,7 @@ RenderSettings small(ShadowTechnique t, int w = 160, int h = 90) {
   return r;
 }
 
-std::size_t countAbove(const std::vector<float>& a, const std::vector<float>& b, float tol) {
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) n += std::fabs(a[i] - b[i]) > tol;
-  return n;
-}
+using test::countAbove;
 
 void expectAllFinite(const RenderedFrame& f) {
   for (const auto& v : f.visibility)

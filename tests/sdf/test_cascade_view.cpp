@@ -26,7 +26,7 @@ struct CascadeViewTag : test::NoSuiteObjects {};
 using CascadeViewGpu = test::VulkanSuite<CascadeViewTag>;
 
 /// test::threeLevels at coarse 24 / fine 48, the view's margin one coarse voxel of each level.
-PipelineSettings threeLevels() {
+PipelineSettings viewLevels() {
   PipelineSettings s = test::threeLevels();
   s.coarseRes = 24;
   s.fineRes = 48;
@@ -55,9 +55,6 @@ double distanceToCone(const ViewReach& r, const glm::dvec3& p) {
   return std::max(0.0, across * std::cos(r.halfAngle) - t * std::sin(r.halfAngle));
 }
 
-glm::ivec3 unpack(std::uint32_t packed) {
-  return {int(packed & 1023u), int((packed >> 10) & 1023u), int((packed >> 20) & 1023u)};
-}
 
 using test::largestDifference;
 
@@ -71,7 +68,7 @@ using test::largestDifference;
 // of the half-angle's sine and cosine).
 TEST_F(CascadeViewGpu, LevelsAboveZeroRefineNearTheViewAndKeepTheCoarseSdfElsewhere) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
-  const PipelineSettings s = threeLevels();
+  const PipelineSettings s = viewLevels();
   const Camera camera = eye({-0.3, 0.45, 0.1}, {0.4, 0.2, -0.3});
   const CascadeLayout layout =
       CascadeLayout::around(camera.position, cascadeShapeFor(buildSceneGeometry(scene).bounds, s));
@@ -96,7 +93,7 @@ TEST_F(CascadeViewGpu, LevelsAboveZeroRefineNearTheViewAndKeepTheCoarseSdfElsewh
     const std::vector<float> coarse = level.coarseField();
     const GridSpec cs = level.coarseSpec().inFrame(level.frameOrigin()), fsFrame = fs.inFrame(level.frameOrigin());
     std::vector<char> isOut(fine.size(), 0);
-    for (std::uint32_t packed : out) isOut[fs.linear(unpack(packed).x, unpack(packed).y, unpack(packed).z)] = 1;
+    for (std::uint32_t packed : out) isOut[fs.linear(test::unpackVoxel(packed).x, test::unpackVoxel(packed).y, test::unpackVoxel(packed).z)] = 1;
     std::uint64_t outDiffer = 0, inDiffer = 0;
     for (int z = 0; z < fs.dims.z; ++z)
       for (int y = 0; y < fs.dims.y; ++y)
@@ -121,11 +118,11 @@ TEST_F(CascadeViewGpu, LevelsAboveZeroRefineNearTheViewAndKeepTheCoarseSdfElsewh
     const double slack = 1e-4 * h; // the mask tests in floats
     double nearestOut = HUGE_VAL, farthestIn = 0.0;
     for (std::uint32_t packed : out) {
-      const glm::ivec3 v = unpack(packed);
+      const glm::ivec3 v = test::unpackVoxel(packed);
       nearestOut = std::min(nearestOut, distanceToCone(reach, fs.indexToWorld(glm::dvec3(v))));
     }
     for (std::uint32_t packed : level.rayMask().fineVoxels) {
-      const glm::ivec3 v = unpack(packed);
+      const glm::ivec3 v = test::unpackVoxel(packed);
       if (!isOut[fs.linear(v.x, v.y, v.z)])
         farthestIn = std::max(farthestIn, distanceToCone(reach, fs.indexToWorld(glm::dvec3(v))));
     }
@@ -152,7 +149,7 @@ TEST_F(CascadeViewGpu, ATurningCameraGivesTheLevelsAFreshBuildForItsViewWouldHav
   const glm::dvec3 turns[] = {{0.4, 0.2, -0.3}, {0.4, 0.2, -0.1}, {0.4, 0.2, 0.1}, {0.35, 0.2, 0.3}};
   for (const FineStorage storage : {FineStorage::Dense, FineStorage::Sparse}) {
     SCOPED_TRACE(toString(storage));
-    PipelineSettings s = threeLevels();
+    PipelineSettings s = viewLevels();
     s.fineStorage = storage;
     const CascadeLayout layout =
         CascadeLayout::around(position, cascadeShapeFor(buildSceneGeometry(scene).bounds, s));
@@ -189,7 +186,7 @@ TEST_F(CascadeViewGpu, ATurningCameraGivesTheLevelsAFreshBuildForItsViewWouldHav
 // same state after.
 TEST_F(CascadeViewGpu, TheMasksViewDecisionsEqualTheCpuCopy) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
-  const PipelineSettings s = threeLevels();
+  const PipelineSettings s = viewLevels();
   const glm::dvec3 position(-0.3, 0.45, 0.1);
   const CascadeLayout layout = CascadeLayout::around(position, cascadeShapeFor(buildSceneGeometry(scene).bounds, s));
   CascadeSet set(*sCtx, scene, layout, s);

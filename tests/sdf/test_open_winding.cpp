@@ -41,7 +41,7 @@ Scene hemisphere() {
   return scene;
 }
 
-PipelineSettings closestAt(int coarse, int fine, int rays) {
+PipelineSettings closestInBandAt(int coarse, int fine, int rays) {
   PipelineSettings s;
   s.band = 0.1; // scene units, as the other refinement tests
   s.coarseRes = coarse;
@@ -51,7 +51,6 @@ PipelineSettings closestAt(int coarse, int fine, int rays) {
   return s;
 }
 
-glm::ivec3 unpack(std::uint32_t p) { return {p & 1023u, (p >> 10) & 1023u, (p >> 20) & 1023u}; }
 
 /// Closest mode's fine field over its masked voxels farther than half a voxel from the surface, against the exact
 /// field (its sign and its largest error in voxels) and against the CPU copy's rule (the winding number where
@@ -70,7 +69,7 @@ OpenCheck checkOpen(const SdfPipeline& pipe, const Scene& scene, bool withCopy) 
   const RayMask mask = buildRayMask(pipe.coarseField(), pipe.coarseSpec(), ws, pipe.settings().band);
   OpenCheck c;
   for (std::uint32_t packed : mask.fineVoxels) {
-    const glm::ivec3 v = unpack(packed);
+    const glm::ivec3 v = test::unpackVoxel(packed);
     const glm::vec3 pw(ws.indexToWorld(glm::dvec3(v)));
     ExactDistanceField::Hit hit;
     if (!exact.closest(pw, INFINITY, hit)) continue;
@@ -162,7 +161,7 @@ TEST_F(OpenWindingGpu, ClosestModeSignsOpenMeshesAsTheExactFieldAndItsCpuCopy) {
     const Scene scene = teapot ? loadScene(test::dataPath("scenes/teapot.json")) : hemisphere();
     for (int rays : {0, 1}) {
       SCOPED_TRACE(::testing::Message() << (teapot ? "teapot" : "hemisphere") << ", x = " << rays);
-      SdfPipeline pipe(*sCtx, scene, buildSceneGeometry(scene, 0.0).bounds, closestAt(32, 64, rays));
+      SdfPipeline pipe(*sCtx, scene, buildSceneGeometry(scene, 0.0).bounds, closestInBandAt(32, 64, rays));
       for (int f = 0; f < (rays ? 4 : 1); ++f) pipe.runFrame(0.0);
       const OpenCheck c = checkOpen(pipe, scene, true);
       std::printf("%s x = %d: %llu voxels, %llu by winding, %llu wrong vs exact, %llu differ from the copy, largest "
@@ -188,7 +187,7 @@ TEST_F(OpenWindingGpu, ClosestModeSignsOpenMeshesAsTheExactFieldAndItsCpuCopy) {
 TEST_F(OpenWindingGpu, TeapotAtSizeMIsTheExactBakeWithinAVoxel) {
   const Scene scene = loadScene(test::dataPath("scenes/teapot.json"));
   const SceneGeometry geo = buildSceneGeometry(scene, 0.0);
-  SdfPipeline pipe(*sCtx, scene, geo.bounds, closestAt(128, 256, 0));
+  SdfPipeline pipe(*sCtx, scene, geo.bounds, closestInBandAt(128, 256, 0));
   const FrameStats stats = pipe.runFrame(0.0);
   const GridSpec& ws = pipe.fineSpec();
   ExactSdfOptions opt;
@@ -201,7 +200,7 @@ TEST_F(OpenWindingGpu, TeapotAtSizeMIsTheExactBakeWithinAVoxel) {
   std::uint64_t compared = 0, otherSign = 0;
   double largest = 0.0;
   for (std::uint32_t packed : mask.fineVoxels) {
-    const glm::ivec3 v = unpack(packed);
+    const glm::ivec3 v = test::unpackVoxel(packed);
     float e = 0.0f;
     if (!acc.probeValue(openvdb::Coord(v.x, v.y, v.z), e)) continue;
     const float f = fine[ws.linear(v.x, v.y, v.z)];

@@ -70,7 +70,6 @@ PipelineSettings settingsFor(RefineMode mode, int rays) {
   return s;
 }
 
-glm::ivec3 unpack(std::uint32_t p) { return {p & 1023u, (p >> 10) & 1023u, (p >> 20) & 1023u}; }
 
 /// Masked fine voxels farther than half a voxel from the surface whose sign differs from @a truth's.
 struct SignCount {
@@ -83,7 +82,7 @@ SignCount wrongSigns(const SdfPipeline& pipe, const std::function<double(const g
   const RayMask mask = buildRayMask(pipe.coarseField(), pipe.coarseSpec(), fs, pipe.settings().band);
   SignCount c;
   for (std::uint32_t packed : mask.fineVoxels) {
-    const glm::ivec3 v = unpack(packed);
+    const glm::ivec3 v = test::unpackVoxel(packed);
     const double d = truth(fs.indexToWorld(glm::dvec3(v)));
     if (std::fabs(d) <= 0.5 * fs.voxelSize) continue;
     ++c.voxels;
@@ -165,7 +164,7 @@ TEST_F(PieceUnionGpu, ClosestModeOnMovingBunniesIsTheExactUnionAndItsCpuCopy) {
     const RayMask mask = buildRayMask(pipe.coarseField(), pipe.coarseSpec(), pipe.fineSpec(), pipe.settings().band);
     std::uint64_t unionInside = 0, differ = 0, compared = 0;
     for (std::uint32_t packed : mask.fineVoxels) {
-      const glm::ivec3 v = unpack(packed);
+      const glm::ivec3 v = test::unpackVoxel(packed);
       const glm::vec3 p = glm::vec3(fs.origin) + (glm::vec3(v) + 0.5f) * float(fs.voxelSize);
       const glm::vec3 pw = glm::vec3(glm::dvec3(p) + pipe.frameOrigin());
       ExactDistanceField::Hit hit;
@@ -200,7 +199,7 @@ TEST_F(PieceUnionGpu, RaysFirstFrameEqualsTheCpuReferenceWithTheUnion) {
   const GridSpec& fs = pipe.fineSpec();
   std::size_t differ = 0, byUnion = 0;
   for (std::size_t k = 0; k < mask.fineVoxels.size(); ++k) {
-    const glm::ivec3 v = unpack(mask.fineVoxels[k]);
+    const glm::ivec3 v = test::unpackVoxel(mask.fineVoxels[k]);
     const float g = gpu[fs.linear(v.x, v.y, v.z)];
     if (std::fabs(g - withUnion[k]) > 1e-4f * (1.0f + std::fabs(withUnion[k]))) ++differ;
     if ((withUnion[k] < 0.0f) != (votesOnly[k] < 0.0f)) ++byUnion;
@@ -294,7 +293,7 @@ TEST_F(PieceUnionGpu, DISABLED_SignSuiteOverlapCasesAt96) {
       const RayMask mask = buildRayMask(pipe.coarseField(), pipe.coarseSpec(), fs, s.band);
       std::uint64_t n = 0, wrong = 0;
       for (std::uint32_t packed : mask.fineVoxels) {
-        const glm::ivec3 v = unpack(packed);
+        const glm::ivec3 v = test::unpackVoxel(packed);
         const float f = fine[fs.linear(v.x, v.y, v.z)];
         const double d = c.truth(fs.indexToWorld(glm::dvec3(v)));
         if (std::fabs(f) > s.band || std::fabs(d) <= 0.1 * fs.voxelSize) continue;

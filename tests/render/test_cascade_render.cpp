@@ -29,7 +29,6 @@ using CascadeRender = test::VulkanSuite<CascadeRenderTag>;
 using test::defaultScene;
 using test::boundsOf;
 
-
 /// The levels of @a layout as the march samples them, in the frame of @a origin, with fields from @a f(world point).
 template <class F>
 CascadeFieldCpu closedFormLevels(const CascadeLayout& layout, const glm::dvec3& origin, double blendVoxels, F f) {

@@ -55,7 +55,6 @@ double distanceToCone(const ViewReach& r, const glm::dvec3& p) {
   return std::max(0.0, across * std::cos(r.halfAngle) - t * std::sin(r.halfAngle));
 }
 
-
 using test::largestDifference;
 
 } // namespace
@@ -93,7 +92,10 @@ TEST_F(CascadeViewGpu, LevelsAboveZeroRefineNearTheViewAndKeepTheCoarseSdfElsewh
     const std::vector<float> coarse = level.coarseField();
     const GridSpec cs = level.coarseSpec().inFrame(level.frameOrigin()), fsFrame = fs.inFrame(level.frameOrigin());
     std::vector<char> isOut(fine.size(), 0);
-    for (std::uint32_t packed : out) isOut[fs.linear(test::unpackVoxel(packed).x, test::unpackVoxel(packed).y, test::unpackVoxel(packed).z)] = 1;
+    for (std::uint32_t packed : out) {
+      const glm::ivec3 v = test::unpackVoxel(packed);
+      isOut[fs.linear(v.x, v.y, v.z)] = 1;
+    }
     std::uint64_t outDiffer = 0, inDiffer = 0;
     for (int z = 0; z < fs.dims.z; ++z)
       for (int y = 0; y < fs.dims.y; ++y)

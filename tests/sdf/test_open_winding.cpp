@@ -51,7 +51,6 @@ PipelineSettings closestInBandAt(int coarse, int fine, int rays) {
   return s;
 }
 
-
 /// Closest mode's fine field over its masked voxels farther than half a voxel from the surface, against the exact
 /// field (its sign and its largest error in voxels) and against the CPU copy's rule (the winding number where
 /// windingSigns says so, else the nearest triangle's side as the exact field gives it).

@@ -70,7 +70,6 @@ PipelineSettings settingsFor(RefineMode mode, int rays) {
   return s;
 }
 
-
 /// Masked fine voxels farther than half a voxel from the surface whose sign differs from @a truth's.
 struct SignCount {
   std::uint64_t voxels = 0, wrong = 0;

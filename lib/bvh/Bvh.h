@@ -30,6 +30,13 @@ struct InstanceBvh {
   std::vector<gpu::shared::BvhInstance> instances;
 };
 
+/// @brief @a p mapped by the 3x4 matrix whose rows are @a m (BvhInstance::worldToObject or objectToWorld), in the
+///        order of operations of the shaders' xformPoint (bvh_traverse.glsl), for the CPU copies of their queries.
+inline glm::vec3 xformPoint(const glm::vec4 (&m)[3], const glm::vec3& p) {
+  return {glm::dot(glm::vec3(m[0]), p) + m[0].w, glm::dot(glm::vec3(m[1]), p) + m[1].w,
+          glm::dot(glm::vec3(m[2]), p) + m[2].w};
+}
+
 /// @brief Build the bottom level of every mesh of @a scene (once: meshes do not change).
 /// @param maxLeafSize triangles per leaf at most (1 to 32).
 MeshBvhs buildMeshBvhs(const Scene& scene, int maxLeafSize = 4);

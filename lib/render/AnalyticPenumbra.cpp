@@ -1,5 +1,6 @@
 #include "render/AnalyticPenumbra.h"
 
+#include "util/Bounds.h"
 #include "util/Error.h"
 
 #include <fmt/format.h>
@@ -9,17 +10,11 @@
 #include <cmath>
 
 namespace rtsdf {
-namespace {
 
-/// 1 - cos(x), without cancellation for small x.
 double oneMinusCos(double x) {
   const double s = std::sin(0.5 * x);
   return 2.0 * s * s;
 }
-
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-} // namespace
 
 double capIntersectionSolidAngle(double alpha, double beta, double gamma) {
   const double halfPi = glm::half_pi<double>(), pi = glm::pi<double>();
@@ -52,7 +47,7 @@ double capIntersectionSolidAngle(double alpha, double beta, double gamma) {
 
 double sunVisibilityPastSphere(const glm::dvec3& p, const glm::dvec3& toLight, double angularRadius,
                                const glm::dvec3& center, double radius) {
-  if (!finite(p) || !finite(toLight) || !finite(center) || !std::isfinite(radius) || !std::isfinite(angularRadius))
+  if (!isFinite(p) || !isFinite(toLight) || !isFinite(center) || !std::isfinite(radius) || !std::isfinite(angularRadius))
     throw Error("sun visibility past a sphere: inputs must be finite");
   if (!(glm::length(toLight) > 0.0)) throw Error("sun visibility past a sphere: the light direction is zero");
   if (!(angularRadius >= 0.0 && angularRadius <= glm::half_pi<double>()))

@@ -6,6 +6,9 @@
 
 namespace rtsdf {
 
+/// @brief 1 - cos(@a x), without cancellation for small x (a cap of angular radius x covers 2 pi (1 - cos x) sr).
+double oneMinusCos(double x);
+
 /// @brief Solid angle (steradians) of the intersection of two spherical caps on the unit sphere.
 /// @param alpha angular radius of the first cap, radians, in [0, pi/2].
 /// @param beta angular radius of the second cap, radians, in [0, pi/2].

@@ -1,5 +1,7 @@
 #include "render/RayTracedShadows.h"
 
+#include "render/AnalyticPenumbra.h"
+#include "util/Bounds.h"
 #include "util/Error.h"
 
 #include <embree3/rtcore.h>
@@ -76,12 +78,6 @@ std::uint32_t pcgHash(std::uint32_t v) {
 /// A uniform number in [0, 1) from the top 24 bits of @a h.
 double unit(std::uint32_t h) { return double(h >> 8) * (1.0 / 16777216.0); }
 
-/// 1 - cos(x), without cancellation for small x.
-double oneMinusCos(double x) {
-  const double s = std::sin(0.5 * x);
-  return 2.0 * s * s;
-}
-
 /// An orthonormal frame around unit @a w (Duff et al. 2017).
 void frame(const glm::dvec3& w, glm::dvec3& t, glm::dvec3& b) {
   const double sign = std::copysign(1.0, w.z);
@@ -112,18 +108,16 @@ bool occluded(RTCScene scene, const glm::vec3& origin, const glm::vec3& directio
   return ray.tfar < 0.0f; // Embree sets tfar to -inf on a hit
 }
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 void validateLight(const Light& l, std::size_t index) {
   const std::string name = fmt::format("light {} ('{}')", index, l.name);
   if (l.type == Light::Type::Directional) {
-    if (!finite(l.direction) || !(glm::length(l.direction) > 0.0))
+    if (!isFinite(l.direction) || !(glm::length(l.direction) > 0.0))
       throw Error(fmt::format("ray-traced shadows: {}: the direction must be finite and non-zero", name));
     if (!(l.angularRadius >= 0.0 && l.angularRadius < glm::half_pi<double>()))
       throw Error(fmt::format("ray-traced shadows: {}: angular radius {} rad is outside [0, pi/2)", name,
                               l.angularRadius));
   } else {
-    if (!finite(l.position) || !std::isfinite(l.radius) || l.radius < 0.0)
+    if (!isFinite(l.position) || !std::isfinite(l.radius) || l.radius < 0.0)
       throw Error(fmt::format("ray-traced shadows: {}: the position must be finite and the radius (got {}) "
                               "finite and not negative", name, l.radius));
   }

@@ -1,11 +1,15 @@
 #pragma once
 /// @file Bounds.h
-/// @brief An axis-aligned box in world space (double precision).
+/// @brief An axis-aligned box in world space (double precision), and the finiteness of a point.
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <limits>
 
 namespace rtsdf {
+
+/// @brief Whether every coordinate of @a v is finite (neither infinite nor NaN).
+inline bool isFinite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// @brief Axis-aligned bounds; empty until a point is added.
 struct Bounds {

@@ -23,11 +23,6 @@ std::uint32_t floatAsBits(float f) {
   return u;
 }
 
-glm::vec3 xformPoint(const glm::vec4 (&m)[3], const glm::vec3& p) {
-  return {glm::dot(glm::vec3(m[0]), p) + m[0].w, glm::dot(glm::vec3(m[1]), p) + m[1].w,
-          glm::dot(glm::vec3(m[2]), p) + m[2].w};
-}
-
 /// A closed piece of one instance, placed: its world box.
 struct PlacedPiece {
   std::uint32_t slot, box; // instance slot, index in closedBoxes[mesh]

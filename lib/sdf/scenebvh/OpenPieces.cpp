@@ -25,11 +25,6 @@ std::uint32_t nodeCountOf(const BvhNode& n) {
   return u;
 }
 
-glm::vec3 xformPoint(const glm::vec4 (&m)[3], const glm::vec3& p) {
-  return {glm::dot(glm::vec3(m[0]), p) + m[0].w, glm::dot(glm::vec3(m[1]), p) + m[1].w,
-          glm::dot(glm::vec3(m[2]), p) + m[2].w};
-}
-
 /// A node's cluster while the dipoles are built: area-weighted centroid sum, total area, summed vector area.
 struct Cluster {
   glm::dvec3 weighted{0.0}, areaNormal{0.0};

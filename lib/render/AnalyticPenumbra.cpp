@@ -47,7 +47,8 @@ double capIntersectionSolidAngle(double alpha, double beta, double gamma) {
 
 double sunVisibilityPastSphere(const glm::dvec3& p, const glm::dvec3& toLight, double angularRadius,
                                const glm::dvec3& center, double radius) {
-  if (!isFinite(p) || !isFinite(toLight) || !isFinite(center) || !std::isfinite(radius) || !std::isfinite(angularRadius))
+  if (!isFinite(p) || !isFinite(toLight) || !isFinite(center) || !std::isfinite(radius) ||
+      !std::isfinite(angularRadius))
     throw Error("sun visibility past a sphere: inputs must be finite");
   if (!(glm::length(toLight) > 0.0)) throw Error("sun visibility past a sphere: the light direction is zero");
   if (!(angularRadius >= 0.0 && angularRadius <= glm::half_pi<double>()))

@@ -131,7 +131,7 @@ private:
 Field pipelineField(const SdfPipeline& pipe, const char* method);
 
 /// One pipeline frame's statistics as Pipeline.frame() returns them: time, mask_voxels, refined_voxels, cut_voxels,
-/// near_half_voxels, near_half_kept, host_ms, wall_ms, pass_ms (per pass).
+/// moved_kept_voxels, near_half_voxels, near_half_kept, host_ms, wall_ms, pass_ms (per pass).
 py::dict frameStatsDict(const FrameStats& stats);
 
 void bindScenes(py::module_& m);

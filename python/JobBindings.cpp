@@ -138,6 +138,7 @@ py::dict frameStatsDict(const FrameStats& st) {
   d["mask_voxels"] = st.maskFineVoxels;
   d["refined_voxels"] = st.refinedFineVoxels;
   d["cut_voxels"] = st.cutVoxels; // refinements a CPU device's loop budget ended (FrameStats::cutVoxels)
+  d["moved_kept_voxels"] = st.movedKeptVoxels; // listed for a moving instance that came near none of them
   d["near_half_voxels"] = st.nearHalfVoxels; // signed by the exact winding number (FrameStats::nearHalfVoxels)
   d["near_half_kept"] = st.nearHalfKept;
   d["active_bricks"] = st.activeBricks;     // bricks under the band, each with a pool slot...

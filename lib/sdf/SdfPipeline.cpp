@@ -226,8 +226,8 @@ void SdfPipeline::submitFrame(double time) {
     mMask->recordMask(cmd, profiler, ++mMaskFrame, moved, mFields->coarseBuffer(), mMotion->buffer(),
                       mFields->changedBoxBuffer(), flags, *mPool);
   }
-  mFields->recordFine(cmd, profiler, mFields->refineParams(mFrame, *mPool), *mBvh, *mMask, *mPool, mPlan.refine,
-                      mPlan.upsample, mPlan.upsampleChanged);
+  mFields->recordFine(cmd, profiler, mFields->refineParams(mFrame, *mPool, moved), *mBvh, *mMask, *mPool,
+                      mMotion->buffer(), mPlan.refine, mPlan.upsample, mPlan.upsampleChanged);
   gpu::computeBarrier(cmd);
   if (mPlan.mask) mMask->recordCountsReadback(cmd, *mPool);
   mRecorder->submit(stats, t0);
@@ -240,6 +240,7 @@ FrameStats SdfPipeline::finishFrame() {
     stats.maskCoarseVoxels = counts.coarse;
     stats.refinedFineVoxels = mPlan.refine ? counts.refinedFine : 0; // a skipped mask left the last run's counts
     stats.cutVoxels = mPlan.refine ? counts.cutVoxels : 0;
+    stats.movedKeptVoxels = mPlan.refine ? counts.movedKept : 0;
     stats.nearHalfVoxels = mPlan.refine ? counts.nearHalf : 0;
     stats.nearHalfKept = mPlan.refine ? counts.nearHalfKept : 0;
     stats.activeBricks = counts.activeBricks;

@@ -125,6 +125,7 @@ void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bou
     r.wallMs = msSince(t0);
     r.gpuMs = passSum(stats.passMs);
     r.refinedVoxels = stats.refinedFineVoxels;
+    r.keptVoxels = stats.movedKeptVoxels;
     r.deviceMiB = double(ctx.deviceBytesInUse()) / (1024.0 * 1024.0); // what the levels hold: the set alone is on ctx
     r.passMs = stats.passMs;
     spdlog::info("{} {} {}: frame {}, {} level(s) moved ({} rebuilt), wall {:.1f} ms, GPU {:.1f} ms", r.scene,
@@ -167,6 +168,7 @@ void runShaded(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& 
     countMoves(frame.cascadeMove, r);
     r.gpuMs = passSum(frame.passMs);
     r.refinedVoxels = frame.sdf.refinedFineVoxels;
+    r.keptVoxels = frame.sdf.movedKeptVoxels;
     r.deviceMiB = double(ctx.deviceBytesInUse()) / (1024.0 * 1024.0);
     r.passMs = frame.passMs;
     spdlog::info("{} {} {}: frame {}, {} level(s) moved, wall {:.1f} ms, GPU {:.2f} ms", r.scene, r.camera, r.build,
@@ -226,11 +228,11 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
 }
 
 std::string cascadeCsv(const CascadeRun& run) {
-  std::string csv = "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,wall_ms,refined_voxels,device_mib\n";
+  std::string csv = "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,wall_ms,refined_voxels,device_mib,kept_voxels\n";
   for (const CascadeRow& r : run.rows)
-    csv += fmt::format("{},{},{},{},{:.4f},{:.3f},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.1f}\n", r.scene, r.camera,
+    csv += fmt::format("{},{},{},{},{:.4f},{:.3f},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.1f},{}\n", r.scene, r.camera,
                        r.build, r.frame, r.time, r.speed, r.levelsMoved, r.levelsRecut, r.levelsRebuilt, r.moveMs, r.gpuMs, r.wallMs, r.refinedVoxels,
-                       r.deviceMiB);
+                       r.deviceMiB, r.keptVoxels);
   return csv;
 }
 
@@ -263,13 +265,14 @@ BuildSummary summarize(const CascadeRun& run, const std::string& scene, const st
   const bool shaded = build != "incremental" && build != "full rebuild";
   const double moveMedian = medianAfterFirst(rows, [](const CascadeRow& r) { return r.moveMs; });
   const std::string moveMs = shaded ? "(in wall)" : fmt::format("{:.1f}", moveMedian);
-  b.row = fmt::format("| {} | {} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {} | {:.2f} / {:.2f} / {:.2f} | {:.0f} | "
+  b.row = fmt::format("| {} | {} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {} | {:.2f} / {:.2f} / {:.2f} | {:.0f} / {:.0f} | "
                       "{:.1f} |\n",
                       camera, build, b.wall, b.gpu, b.gpuMean, maxAfterFirst(rows, gpuOf), moveMs,
                       meanAfterFirst(rows, [](const CascadeRow& r) { return double(r.levelsMoved); }),
                       meanAfterFirst(rows, [](const CascadeRow& r) { return double(r.levelsRecut); }),
                       meanAfterFirst(rows, [](const CascadeRow& r) { return double(r.levelsRebuilt); }),
                       medianAfterFirst(rows, [](const CascadeRow& r) { return double(r.refinedVoxels); }),
+                      medianAfterFirst(rows, [](const CascadeRow& r) { return double(r.keptVoxels); }),
                       rows.empty() ? 0.0 : rows.back()->deviceMiB);
   return b;
 }
@@ -286,7 +289,7 @@ std::string sceneReport(const CascadeRun& run, const std::string& scene) {
     for (const auto& entry : r.passMs) addOnce(passes, entry.first);
   }
   std::string md = fmt::format("### {}\n\n| camera | build | wall (ms) | GPU (ms) | GPU mean (ms) | GPU max (ms) | "
-                               "moveTo (ms) | levels moved / recut / rebuilt per frame | refined voxels | device MiB "
+                               "moveTo (ms) | levels moved / recut / rebuilt per frame | refined voxels / of them kept | device MiB "
                                "|\n|---|---|---|---|---|---|---|---|---|---|\n",
                                scene);
   for (const std::string& camera : cameras) {

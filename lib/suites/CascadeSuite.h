@@ -28,6 +28,7 @@ struct CascadeRow {
   double gpuMs = 0.0;              ///< the sum of the frame's pass timestamps over every level
   double wallMs = 0.0;             ///< moveTo and runFrame, call to return
   std::uint64_t refinedVoxels = 0; ///< fine voxels refined this frame, every level
+  std::uint64_t keptVoxels = 0;    ///< of those, listed for a moving instance and kept unwalked (movedKeptVoxels)
   double deviceMiB = 0.0;          ///< the device memory every level holds, as allocated (VulkanContext::deviceBytesInUse)
   PassTimes passMs;                ///< GPU time per pass, every level's
 };
@@ -57,7 +58,7 @@ CascadeRun runCascadeSuite(const BenchOptions& options, const JobControl& contro
 std::string cascadeReport(const BenchOptions& options, const CascadeRun& run);
 
 /// @brief One CSV line per frame: `scene,camera,build,frame,time,speed,levels_moved,move_ms,gpu_ms,wall_ms,
-///        refined_voxels,device_mib`.
+///        refined_voxels,device_mib,kept_voxels`.
 std::string cascadeCsv(const CascadeRun& run);
 
 } // namespace rtsdf::bench

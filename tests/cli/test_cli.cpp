@@ -337,7 +337,7 @@ TEST(Cli, BenchCascadeSuiteFollowsTheCameraPathAgainstAFullRebuild) {
   std::ifstream csv(dir / "c.csv");
   std::string header, line;
   std::getline(csv, header);
-  EXPECT_EQ(header, "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,wall_ms,refined_voxels,device_mib");
+  EXPECT_EQ(header, "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,wall_ms,refined_voxels,device_mib,kept_voxels");
   struct Row { std::string camera, build; int frame = 0, moved = 0; double time = 0, speed = 0, gpu = 0; long refined = 0; };
   std::vector<Row> rows;
   while (std::getline(csv, line)) {

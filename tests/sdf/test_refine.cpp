@@ -69,6 +69,34 @@ PipelineSettings closestAt32(int rays) {
 
 Bounds boundsOf(const Scene& s) { return buildSceneGeometry(s, 0.0).bounds; }
 
+/// CPU copy of the refinement's kMaskMovedOnly rule: of the fine voxels under the coarse voxels @a movedOnly (linear
+/// indices), those whose last value in @a last (the dense fine field before the frame) every box of @a moved leaves
+/// alone (gpu::shared::movedBoxBeyond at the voxel's centre in the GPU's frame, as refine_main.glsl computes it).
+std::uint64_t movedKeptCpu(const SdfPipeline& pipe, const std::vector<std::uint32_t>& movedOnly,
+                           const std::vector<float>& last, const std::vector<gpu::shared::MovedBox>& moved) {
+  const GridSpec& cs = pipe.coarseSpec();
+  const GridSpec& fs = pipe.fineSpec();
+  const glm::vec3 corner(fs.inFrame(fs.origin).origin);
+  const float h = float(fs.voxelSize);
+  const std::vector<glm::ivec2> ranges = maskFineRanges(cs, fs);
+  std::uint64_t kept = 0;
+  for (std::uint32_t i : movedOnly) {
+    const glm::ivec3 c(int(i % cs.dims.x), int(i / cs.dims.x % cs.dims.y), int(i / cs.dims.x / cs.dims.y));
+    std::vector<std::uint32_t> fine;
+    appendFineVoxelsUnder(ranges, cs.dims, c, 0u, fine);
+    for (std::uint32_t packed : fine) {
+      const glm::ivec3 v(packed & 1023u, (packed >> 10) & 1023u, (packed >> 20) & 1023u);
+      const glm::vec3 q = corner + (glm::vec3(v) + 0.5f) * h;
+      const float lastDistance = std::fabs(last[fs.linear(v.x, v.y, v.z)]) * (1.0f + 1.0e-5f);
+      bool beyond = true;
+      for (const gpu::shared::MovedBox& b : moved)
+        beyond = beyond && gpu::shared::movedBoxBeyond(q, lastDistance, 0.01f * h, b);
+      kept += beyond;
+    }
+  }
+  return kept;
+}
+
 } // namespace
 
 TEST_F(Refine, RayMaskIsTheCoarseBandAndTheFineVoxelsUnderIt) {
@@ -487,7 +515,7 @@ TEST_F(Refine, IncrementalDecisionsEqualTheCpuReference) {
   SdfPipeline pipe(*sCtx, scene, bounds, s);
   const PipelineProbe probe(pipe);
   std::vector<glm::uvec2> state = probe.coarseState();
-  bool sawKept = false, sawNearMoved = false, sawRefresh = false;
+  bool sawKept = false, sawNearMoved = false, sawRefresh = false, sawMovedOnly = false;
   for (int f = 0; f < 6; ++f) {
     SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
     // Frame 4 repeats frame 3's time: nothing moves, settled voxels are kept but for the refresh.
@@ -501,18 +529,22 @@ TEST_F(Refine, IncrementalDecisionsEqualTheCpuReference) {
     EXPECT_TRUE(gpu == cpu.refined) << gpu.size() << " listed on the GPU, " << cpu.refined.size() << " on the CPU";
     const std::vector<glm::uvec2> after = probe.coarseState();
     EXPECT_TRUE(after == cpu.state);
+    EXPECT_TRUE(probe.movedOnlyCoarse() == cpu.movedOnly) << cpu.movedOnly.size() << " for motion alone on the CPU";
+    sawMovedOnly |= !cpu.movedOnly.empty();
     sawKept |= st.refinedFineVoxels < st.maskFineVoxels;
     sawNearMoved |= f == 2 && st.refinedFineVoxels > 0;
     sawRefresh |= f == 3 && st.refinedFineVoxels > 0 && st.refinedFineVoxels < st.maskFineVoxels / 2;
     state = after;
   }
-  EXPECT_TRUE(sawKept && sawNearMoved && sawRefresh);
+  EXPECT_TRUE(sawKept && sawNearMoved && sawRefresh && sawMovedOnly);
 }
 
 // The incremental frame against the paper's full recompute on the orbiting teapot (closest mode, exact values):
 // every frame the same fine field (the voxels kept hold the value a recompute would give), so the same error
 // against the exact field, while after the first frame a small part of the mask is refined. With sign rays
 // (x = 1) the kept voxels' signs stop collecting votes: the error must still be no worse than the recompute's.
+// Without them the voxels listed for the teapot alone that it came near none of keep their values unwalked (as many
+// as the rule's CPU copy counts on the last frame's field), and the field still equals the recompute's.
 TEST_F(Refine, IncrementalMatchesTheFullRecomputeOnTheOrbitingTeapot) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
   const double fps = 30.0;
@@ -529,9 +561,18 @@ TEST_F(Refine, IncrementalMatchesTheFullRecomputeOnTheOrbitingTeapot) {
     SdfPipeline incremental(*sCtx, scene, bounds, s);
     s.fullRecompute = true;
     SdfPipeline full(*sCtx, scene, bounds, s);
+    const PipelineProbe probe(incremental);
     for (int f = 0; f < frames; ++f) {
       SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
+      const std::vector<float> last = f > 0 ? incremental.fineField() : std::vector<float>{};
       const FrameStats a = incremental.runFrame(f / fps), b = full.runFrame(f / fps);
+      EXPECT_EQ(b.movedKeptVoxels, 0u);
+      if (rays > 0 || f == 0) {
+        EXPECT_EQ(a.movedKeptVoxels, 0u);
+      } else {
+        EXPECT_GT(a.movedKeptVoxels, 0u);
+        EXPECT_EQ(a.movedKeptVoxels, movedKeptCpu(incremental, probe.movedOnlyCoarse(), last, probe.lastMovedBoxes()));
+      }
       EXPECT_EQ(a.maskFineVoxels, b.maskFineVoxels);
       EXPECT_EQ(b.refinedFineVoxels, b.maskFineVoxels);
       if (f > 0 && rays == 0) EXPECT_LT(a.refinedFineVoxels, b.maskFineVoxels / 5);

@@ -123,6 +123,7 @@ FrameStats sumFrameStats(const std::vector<FrameStats>& levels) {
     sum.maskFineVoxels += f.maskFineVoxels;
     sum.refinedFineVoxels += f.refinedFineVoxels;
     sum.cutVoxels += f.cutVoxels;
+    sum.movedKeptVoxels += f.movedKeptVoxels;
     sum.nearHalfVoxels += f.nearHalfVoxels;
     sum.nearHalfKept += f.nearHalfKept;
     sum.upsampledFineVoxels += f.upsampledFineVoxels;

@@ -30,9 +30,11 @@ MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec&
         bool nearMoved = false;
         for (std::size_t b = 0; b < moved.size() && !fresh && !nearMoved; ++b)
           nearMoved = movedWithinReach(p, {x, y, z}, c, moved[b]);
-        const bool refined = refinesThisFrame(p, fresh, nearMoved, state[i].y, i);
+        const std::uint32_t before = state[i].y;
+        const bool refined = refinesThisFrame(p, fresh, nearMoved, before, i);
         state[i] = {p.frame, refinementsAfter(refined, fresh, nearMoved, state[i].y)};
         if (refined) appendFineVoxelsUnder(ranges, cs.dims, {x, y, z}, fresh ? kMaskFineFresh : 0u, out.refined);
+        if (refinedForMotionAlone(p, fresh, nearMoved, before, i)) out.movedOnly.push_back(i);
       }
   tbb::parallel_sort(out.refined.begin(), out.refined.end());
   tbb::parallel_sort(out.rewritten.begin(), out.rewritten.end());

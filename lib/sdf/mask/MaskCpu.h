@@ -17,6 +17,8 @@ struct MaskDecisions {
   std::vector<glm::uvec2> state;      ///< per coarse voxel: (last frame in the band, refinements in a row) after
   std::vector<std::uint32_t> rewritten; ///< fine voxels out of the view's reach written again with the coarse SDF
                                         ///< (outOfViewRewritten), packed with kMaskOutOfView, sorted
+  std::vector<std::uint32_t> movedOnly; ///< coarse linear indices of those refined for motion alone
+                                        ///< (refinedForMotionAlone: kMaskMovedOnly), sorted
 };
 
 /// @brief CPU copy of MaskCompactPass's incremental decisions: for every coarse voxel of @a coarse (dense,

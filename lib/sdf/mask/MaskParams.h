@@ -66,7 +66,8 @@ const uint kMaskBindingCoarse = 1u;      // coarse SDF c_t (read)
 const uint kMaskBindingFineRanges = 2u;  // ivec2 per coarse index per axis (x entries, then y, then z): the fine
                                          // voxels [lo, hi] whose centres lie in that coarse slab
 const uint kMaskBindingRefineList = 3u;  // appended: the coarse voxels whose fine voxels are refined this frame,
-                                         // linear index | kMaskFineFresh when new to the band, in no order
+                                         // linear index | kMaskFineFresh when new to the band | kMaskMovedOnly |
+                                         // kMaskOutOfView, in no order
 const uint kMaskBindingCoarseList = 4u;  // appended: (coarse linear index, floatBitsToUint(c)) per band voxel
 const uint kMaskBindingCoarseState = 5u; // uvec2 per coarse voxel: (last frame in the band, refinements in a row)
 const uint kMaskBindingMovedBoxes = 6u;  // MovedBox per instance that moved since the previous frame
@@ -81,6 +82,12 @@ const uint kMaskFineFresh = 0x40000000u;
 /// Or-ed into a refine-list entry (and a fine-list entry) of a band voxel out of the view's reach (withinViewReach):
 /// its fine voxels take the coarse SDF upsampled instead of a walk.
 const uint kMaskOutOfView = 0x80000000u;
+/// Or-ed into a refine-list entry of a band voxel listed only because a moving instance came within its reach
+/// (refinedForMotionAlone): closest mode without sign rays leaves each of its fine voxels that no swept box comes near
+/// (movedBoxBeyond) as it is. Refine-list entries only: the coarse index fits below it (kMaskCoarseIndex; the coarse
+/// state, 8 bytes a voxel, would pass maxStorageBufferRange's 4 GiB first).
+const uint kMaskMovedOnly = 0x20000000u;
+const uint kMaskCoarseIndex = 0x1FFFFFFFu;
 
 /// Word indices of the counts buffer: a VkDispatchIndirectCommand for the refinement at offset 0, then the
 /// counters mask_compact.comp appends with (reset to 0 before it runs).
@@ -179,6 +186,25 @@ RTSDF_FN uint refinementsAfter(bool refined, bool fresh, bool nearMoved, uint re
   if (!refined) return refinements;
   if (fresh || nearMoved) return 1u;
   return refinements == 0xFFFFFFFFu ? refinements : refinements + 1u;
+}
+
+/// Whether band voxel @a voxel, with @a refinements before this frame, is refined only because a moving instance came
+/// within reach (@a nearMoved): not new to the band (@a fresh), settled and not due for a refresh (kMaskMovedOnly).
+RTSDF_FN bool refinedForMotionAlone(MaskParams p, bool fresh, bool nearMoved, uint refinements, uint voxel) {
+  return !fresh && nearMoved && !refinesThisFrame(p, false, false, refinements, voxel);
+}
+
+/// Whether moving box @a b lies farther than @a lastDistance plus @a slack (rounding) from point @a q: a fine voxel's
+/// centre and its |f| before this frame, exact in closest mode. Where every box does, the voxel's value cannot change
+/// (the refinement keeps it, kMaskMovedOnly): its nearest surface was not the instance in its old pose, which lies at
+/// least as far as the box, and the new pose lies as far, so the same static surface stays nearest; the point lies in
+/// neither pose, so no sign rule changes (the nearest triangle's side and its mesh's winding number are the static
+/// surface's; a closed piece holding the point and another's surface nearer than its own overlaps that other without
+/// the instance).
+RTSDF_FN bool movedBoxBeyond(vec3 q, float lastDistance, float slack, MovedBox b) {
+  RTSDF_PRECISE vec3 gap = max(max(vec3(b.lo) - q, q - vec3(b.hi)), vec3(0.0));
+  RTSDF_PRECISE float reach = lastDistance + slack;
+  return dot(gap, gap) > reach * reach;
 }
 
 /// Whether moving box @a b lies within reach of coarse voxel @a v, whose value is @a c. Every fine voxel centre

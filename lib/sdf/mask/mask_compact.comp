@@ -7,14 +7,14 @@
 // whose centres lie in it (the per-axis range tables, computed on the CPU as the mirror does), marks the bricks
 // that hold them as needed this frame (the sparse fine state) and, when they are to be refined this frame
 // (refinesThisFrame: new to the band, reached by a moving instance, not settled), appends itself to the refine
-// list, which the refinement expands into those fine voxels. A band voxel out of the view's reach (withinViewReach: a
-// cascade level above 0) is listed flagged kMaskOutOfView where its fine voxels must take the coarse SDF upsampled
-// again (outOfViewRewritten: no walk); it marks no brick, so a brick wholly out of view gives its slot back, and the fine voxels of
-// one that straddles the reach's edge hold what the samplers read where there is no slot. The refinement hashes by
-// voxel, not by slot, so the lists' order does not matter. Slots are reserved per subgroup (a ballot's prefix count,
-// one global atomic per counter and subgroup): one global atomic per band voxel serialised the whole band on a single
-// address, and a work group's reservation through shared memory needs two barriers, which cost lavapipe as much as the
-// pass's work.
+// list, which the refinement expands into those fine voxels (flagged kMaskMovedOnly where the motion alone lists
+// it). A band voxel out of the view's reach (withinViewReach: a cascade level above 0) is listed flagged
+// kMaskOutOfView where its fine voxels must take the coarse SDF upsampled again (outOfViewRewritten: no walk); it
+// marks no brick, so a brick wholly out of view gives its slot back, and the fine voxels of one that straddles the
+// reach's edge hold what the samplers read where there is no slot. The refinement hashes by voxel, not by slot, so
+// the lists' order does not matter. Slots are reserved per subgroup (a ballot's prefix count, one global atomic per
+// counter and subgroup): one global atomic per band voxel serialised the whole band on a single address, and a work
+// group's reservation through shared memory needs two barriers, which cost lavapipe as much as the pass's work.
 #include "sdf/mask/MaskParams.h"
 
 layout(local_size_x = RTSDF_MASK_GROUP, local_size_y = RTSDF_MASK_GROUP, local_size_z = RTSDF_MASK_GROUP) in;
@@ -38,13 +38,15 @@ void markBricks(ivec3 lo, ivec3 hi) {
       for (int x = b0.x; x <= b1.x; ++x) brickNeeded[(z * bd.y + y) * bd.x + x] = params.frame;
 }
 
-// Decide whether band voxel p (index i, value c) is refined this frame and advance its state; sets fresh. Out of the
-// view's reach it is not, and its state says it holds the coarse SDF (no refinements); rewrite: whether its fine
-// voxels take that SDF again this frame (outOfViewRewritten).
-bool refineDecision(ivec3 p, uint i, float c, bool inView, out bool fresh, out bool rewrite) {
+// Decide whether band voxel p (index i, value c) is refined this frame and advance its state; sets fresh, and movedOnly
+// where only a moving instance's reach lists it (refinedForMotionAlone). Out of the view's reach it is not, and its
+// state says it holds the coarse SDF (no refinements); rewrite: whether its fine voxels take that SDF again this frame
+// (outOfViewRewritten).
+bool refineDecision(ivec3 p, uint i, float c, bool inView, out bool fresh, out bool rewrite, out bool movedOnly) {
   uvec2 state = coarseState[i];
   fresh = startsFresh(params, state);
   rewrite = !inView && outOfViewRewritten(params, state, p, changedLo, changedHi);
+  movedOnly = false;
   if (!inView) {
     coarseState[i] = uvec2(params.frame, 0u);
     return false;
@@ -53,6 +55,7 @@ bool refineDecision(ivec3 p, uint i, float c, bool inView, out bool fresh, out b
   for (uint b = 0u; b < params.movedBoxes && !fresh && !nearMoved; ++b)
     nearMoved = movedWithinReach(params, p, c, movedBoxes[b]);
   bool refined = refinesThisFrame(params, fresh, nearMoved, state.y, i);
+  movedOnly = refinedForMotionAlone(params, fresh, nearMoved, state.y, i);
   coarseState[i] = uvec2(params.frame, refinementsAfter(refined, fresh, nearMoved, state.y));
   return refined;
 }
@@ -79,7 +82,7 @@ void main() {
   uint i = inGrid ? uint((p.z * dims.y + p.y) * dims.x + p.x) : 0u;
   float c = inGrid ? coarse[i] : 0.0;
   bool inBand = inGrid && abs(c) <= params.band;
-  bool refined = false, fresh = false, outOfView = false, rewrite = false;
+  bool refined = false, fresh = false, outOfView = false, rewrite = false, movedOnly = false;
   ivec2 rx = ivec2(0, -1), ry = ivec2(0, -1), rz = ivec2(0, -1);
   uint count = 0u;
   if (inBand) {
@@ -90,7 +93,7 @@ void main() {
     count = uint(n.x * n.y * n.z);
     outOfView = !withinViewReach(params, p);
     if (count > 0u && !outOfView) markBricks(ivec3(rx.x, ry.x, rz.x), ivec3(rx.y, ry.y, rz.y));
-    refined = refineDecision(p, i, c, !outOfView, fresh, rewrite);
+    refined = refineDecision(p, i, c, !outOfView, fresh, rewrite, movedOnly);
   }
   // Every invocation of the subgroup takes part (none returned early).
   uint coarseOffset, refineOffset;
@@ -105,5 +108,6 @@ void main() {
   if (slot < params.coarseCapacity) coarseList[slot] = uvec2(i, floatBitsToUint(c));
   slot = baseRefine + refineOffset;
   if (listed && slot < params.refineCapacity)
-    refineList[slot] = i | (refined && fresh ? kMaskFineFresh : 0u) | (outOfView ? kMaskOutOfView : 0u);
+    refineList[slot] = i | (refined && fresh ? kMaskFineFresh : 0u) | (movedOnly ? kMaskMovedOnly : 0u) |
+                       (outOfView ? kMaskOutOfView : 0u);
 }

@@ -55,7 +55,7 @@ void FieldPasses::recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, cons
   if (mFine) recordGridShift(cmd, mFine, scratch, gridShiftPlanLoose(fine.dims, 4, fineShift), 0u);
 }
 
-RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& pool) const {
+RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& pool, std::uint32_t movedBoxes) const {
   const glm::dvec3& origin = mFineSpec.origin;
   RefineParams p = refineGridParams(mCoarseSpec.inFrame(origin), mFineSpec.inFrame(origin));
   p.alpha = float(mSettings.alpha);
@@ -72,13 +72,14 @@ RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& poo
   p.coarseDims.w = (mFine ? gpu::shared::kRefineWriteDense : 0) |
                    (mSettings.mode == RefineMode::Closest && mSettings.closestSearch == ClosestSearch::Cell
                         ? gpu::shared::kRefineCellSearch
-                        : 0);
+                        : 0) |
+                   int(std::min<std::uint32_t>(movedBoxes, RTSDF_MAX_MOVED_BOXES) << gpu::shared::kRefineMovedBoxesShift);
   return p;
 }
 
 void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const RefineParams& p,
-                             const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool, bool refine,
-                             bool upsample, bool upsampleChanged) const {
+                             const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool,
+                             const Buffer& movedBoxes, bool refine, bool upsample, bool upsampleChanged) const {
   const BrickPages pages = pool.pages();
   const Buffer& coarse = mCoarse.distanceBuffer();
   const Buffer& dense = mFine ? mFine : pool.placeholder();
@@ -90,7 +91,7 @@ void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
       gpu::computeBarrier(cmd);
     }
     mRefine->execute(cmd, profiler, {bvh, mask.refineList(), mask.countsBuffer(), coarse, mask.fineRanges(),
-                                     pool.slots()},
+                                     pool.slots(), movedBoxes},
                      {pages, dense, mask.refineStats(), mWindingDoubts ? mWindingDoubts : pool.placeholder()}, p);
     if (mWindingExact && bvh.openPieces().any())
       mWindingExact->execute(cmd, profiler, {bvh, mWindingDoubts}, {pages, dense, mask.refineStats()}, p);

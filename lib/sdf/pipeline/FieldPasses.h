@@ -38,15 +38,18 @@ public:
   ///        none).
   /// @throw Error as CoarseSdfBuilder::record does.
   void recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh);
-  /// @brief The refinement's and upsampling's parameters for frame number @a frame with the brick pool @a pool.
-  gpu::shared::RefineParams refineParams(std::uint32_t frame, const BrickPool& pool) const;
+  /// @brief The refinement's and upsampling's parameters for frame number @a frame with the brick pool @a pool and
+  ///        @a movedBoxes boxes of moving instances (at most RTSDF_MAX_MOVED_BOXES).
+  gpu::shared::RefineParams refineParams(std::uint32_t frame, const BrickPool& pool,
+                                         std::uint32_t movedBoxes = 0) const;
   /// @brief Record after the mask: where @a refine, the refinement of @a mask's refine list (band > 0); where
   ///        @a upsample, the upsampling into the dense fine SDF (Dense only), of every voxel or, where
   ///        @a upsampleChanged, of those near the coarse voxels the last recordCoarse changed (UpsampleRegionPass);
-  ///        and @a p uploaded for shading.
+  ///        and @a p uploaded for shading. @a movedBoxes: the moving instances' boxes the mask read (p counts them).
   void recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const gpu::shared::RefineParams& p,
-                  const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool, bool refine = true,
-                  bool upsample = true, bool upsampleChanged = false) const;
+                  const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool,
+                  const gpu::Buffer& movedBoxes, bool refine = true, bool upsample = true,
+                  bool upsampleChanged = false) const;
   /// @brief The fine voxels the last upsampling of changed voxels covered (its region's volume). The frame must be
   ///        finished.
   std::uint64_t lastRegionVoxels() const;

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_sort.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <utility>
@@ -150,12 +151,13 @@ GpuRayMask::Counts GpuRayMask::counts() const {
   n.cutVoxels = words[kStatsAt + kRefineStatCutVoxels];
   n.nearHalf = words[kStatsAt + kRefineStatNearHalf];
   n.nearHalfKept = words[kStatsAt + kRefineStatNearHalfKept];
+  n.movedKept = words[kStatsAt + kRefineStatMovedKept];
   // Each fine voxel lies under one coarse voxel and each coarse voxel is appended once: more would be a bug.
   const glm::ivec3 bd = mBrickDims;
   if (n.refinedFine > n.maskedFine || n.maskedFine > mFineSpec.voxelCount() || n.coarse > mCoarseSpec.voxelCount() ||
       n.refineList > n.coarse || n.outOfView > n.refineList || n.activeBricks > std::uint64_t(bd.x) * bd.y * bd.z ||
       n.overflowBricks > n.activeBricks || n.cutVoxels > n.refinedFine || n.nearHalf > n.refinedFine ||
-      n.nearHalfKept > n.nearHalf)
+      n.nearHalfKept > n.nearHalf || n.movedKept + n.cutVoxels > n.refinedFine)
     throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine ({} of them cut) of {} under {} coarse "
                             "voxels ({} listed), {} bricks ({} without a slot), more than the grids hold ({}, {} and "
                             "{})",
@@ -187,16 +189,29 @@ std::vector<std::uint32_t> GpuRayMask::readOutOfViewVoxels(std::uint32_t frame) 
   return list;
 }
 
+std::vector<std::uint32_t> GpuRayMask::readRefineList(std::uint32_t frame) const {
+  std::vector<std::uint32_t> entries(frame && mBand > 0.0 ? counts().refineList : 0);
+  download(mCtx, mRefineList, entries.data(), entries.size() * 4);
+  return entries;
+}
+
+std::vector<std::uint32_t> GpuRayMask::readMovedOnlyCoarse(std::uint32_t frame) const {
+  std::vector<std::uint32_t> list;
+  for (std::uint32_t entry : readRefineList(frame))
+    if (entry & gpu::shared::kMaskMovedOnly) list.push_back(entry & gpu::shared::kMaskCoarseIndex);
+  std::sort(list.begin(), list.end());
+  return list;
+}
+
 std::vector<std::uint32_t> GpuRayMask::readListedVoxels(std::uint32_t frame, bool outOfView) const {
   using gpu::shared::kMaskOutOfView;
-  std::vector<std::uint32_t> coarse(frame && mBand > 0.0 ? counts().refineList : 0);
-  download(mCtx, mRefineList, coarse.data(), coarse.size() * 4);
+  const std::vector<std::uint32_t> coarse = readRefineList(frame);
   const std::vector<glm::ivec2> ranges = maskFineRanges(mCoarseSpec, mFineSpec);
   const glm::ivec3 cd = mCoarseSpec.dims;
   std::vector<std::uint32_t> list;
   for (std::uint32_t entry : coarse) {
     if (((entry & kMaskOutOfView) != 0u) != outOfView) continue;
-    const std::uint32_t i = entry & gpu::shared::kMaskFineCoords;
+    const std::uint32_t i = entry & gpu::shared::kMaskCoarseIndex;
     const glm::ivec3 c(int(i % cd.x), int(i / cd.x % cd.y), int(i / cd.x / cd.y));
     appendFineVoxelsUnder(ranges, cd, c, entry & (gpu::shared::kMaskFineFresh | kMaskOutOfView), list);
   }

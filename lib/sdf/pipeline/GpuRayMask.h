@@ -36,6 +36,7 @@ public:
     std::uint32_t activeBricks = 0, overflowBricks = 0;
     std::uint32_t cutVoxels = 0; ///< refined fine voxels whose walks the loop budget ended (kRefineStatCutVoxels)
     std::uint32_t nearHalf = 0, nearHalfKept = 0; ///< kRefineStatNearHalf, kRefineStatNearHalfKept
+    std::uint32_t movedKept = 0; ///< of refinedFine, those kMaskMovedOnly entries kept unwalked (kRefineStatMovedKept)
   };
   /// @param settings the pipeline's settings in effect (band, beta, settling and refresh periods)
   /// @param refineParts the refinement's invocations per listed coarse voxel (refinePartsFor)
@@ -75,6 +76,8 @@ public:
   /// @brief As readRefinedVoxels, the band voxels the last frame listed out of the view's reach (their fine voxels
   ///        took the coarse SDF again: outOfViewRewritten), kMaskOutOfView on each.
   std::vector<std::uint32_t> readRewrittenVoxels(std::uint32_t frame) const;
+  /// @brief The coarse linear indices the last frame (number @a frame) listed for motion alone (kMaskMovedOnly), sorted.
+  std::vector<std::uint32_t> readMovedOnlyCoarse(std::uint32_t frame) const;
   /// @brief The fine voxels of every band voxel the last frame (number @a frame) left out of the view's reach (the
   ///        coarse state says so: in the band that frame, no refinements), packed without flags, sorted.
   std::vector<std::uint32_t> readOutOfViewVoxels(std::uint32_t frame) const;
@@ -99,6 +102,8 @@ public:
 private:
   /// The refine list's entries of the last frame with (@a outOfView) or without kMaskOutOfView, expanded.
   std::vector<std::uint32_t> readListedVoxels(std::uint32_t frame, bool outOfView) const;
+  /// The refine list's entries of the last frame (number @a frame), as the GPU appended them.
+  std::vector<std::uint32_t> readRefineList(std::uint32_t frame) const;
   const gpu::VulkanContext& mCtx;
   GridSpec mCoarseSpec, mFineSpec;
   bool mViewLimited = false;

@@ -22,6 +22,11 @@ std::vector<std::uint32_t> PipelineProbe::refinedVoxels() const {
   return mPipe.mPlan.refine ? mPipe.mMask->readRefinedVoxels(mPipe.mFrame) : std::vector<std::uint32_t>{};
 }
 
+std::vector<std::uint32_t> PipelineProbe::movedOnlyCoarse() const {
+  mPipe.waitForFrame();
+  return mPipe.mPlan.refine ? mPipe.mMask->readMovedOnlyCoarse(mPipe.mFrame) : std::vector<std::uint32_t>{};
+}
+
 std::vector<std::uint32_t> PipelineProbe::rewrittenVoxels() const {
   mPipe.waitForFrame();
   return mPipe.mPlan.refine ? mPipe.mMask->readRewrittenVoxels(mPipe.mFrame) : std::vector<std::uint32_t>{};

@@ -26,6 +26,8 @@ public:
   ///        fine voxels under each coarse voxel and sorted): packed 10 bits per axis, with
   ///        gpu::shared::kMaskFineFresh on those new to the band.
   std::vector<std::uint32_t> refinedVoxels() const;
+  /// @brief The coarse voxels (linear indices, sorted) the last frame listed for motion alone (kMaskMovedOnly).
+  std::vector<std::uint32_t> movedOnlyCoarse() const;
   /// @brief The fine voxels out of the view's reach the last frame wrote again (GpuRayMask::readRewrittenVoxels).
   std::vector<std::uint32_t> rewrittenVoxels() const;
   /// @brief Per coarse voxel (x fastest): the last frame it was in the band and its refinements in a row (read back;

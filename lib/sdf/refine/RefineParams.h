@@ -41,6 +41,8 @@ const float kSignVoteFacing = 0.1f;
 /// Flags of RefineParams::coarseDims.w in the refinement shaders.
 const int kRefineWriteDense = 1; // f_t is also written to the dense fine SDF (FineStorage::Dense)
 const int kRefineCellSearch = 2; // closest mode: one BVH walk per box collects candidates its voxels test
+/// Bits of RefineParams::coarseDims.w from this one on: the moving instances' boxes this frame (kRefineBindingMovedBoxes).
+const int kRefineMovedBoxesShift = 8;
 
 /// Bindings of refine_upsample.comp.
 const uint kUpsampleBindingCoarse = 0u;       // coarse SDF c_t (read)
@@ -74,12 +76,14 @@ const uint kRefineBindingOpenFlags = kRefineBindingUnionPieces + 1u; // GpuScene
 const uint kRefineBindingWindingNodes = kRefineBindingOpenFlags + 1u; // GpuSceneBvh::windingNodes(): their dipoles
 const uint kRefineBindingStats = kRefineBindingWindingNodes + 1u; // kRefineStat* words (zeroed every frame)
 const uint kRefineBindingWindingDoubts = kRefineBindingStats + 1u; // closest mode: the voxels WindingExactPass signs
-const uint kRefineBindingCount = kRefineBindingWindingDoubts + 1u;
+const uint kRefineBindingMovedBoxes = kRefineBindingWindingDoubts + 1u; // MaskCompactPass's MovedBox entries
+const uint kRefineBindingCount = kRefineBindingMovedBoxes + 1u;
 
 /// Words of the refinement's statistics buffer (kRefineBindingStats).
 const uint kRefineStatCutVoxels = 0u; // fine voxels whose walks the loop budget ended (CPU devices' shaders only)
 const uint kRefineStatNearHalf = 1u;  // fine voxels whose walked winding number lay within kWindingExactBand of 1/2
 const uint kRefineStatNearHalfKept = 2u; // of those, left with the walked number's side (list full, mesh too large)
+const uint kRefineStatMovedKept = 3u; // fine voxels of kMaskMovedOnly entries no swept box came near: not walked
 const uint kRefineStatWords = 4u;
 
 /// WindingExactPass (winding_exact.comp): the winding number of the voxels the refinement's walks left near 1/2
@@ -104,7 +108,7 @@ struct RefineParams {
   vec4 fineOriginH;      // xyz: world corner of fine voxel (0,0,0), w: fine voxel size
   ivec4 fineDims;        // xyz: fine voxels per axis, w: the brick pool's capacity (bricks)
   vec4 coarseOriginInvH; // xyz: world corner of coarse voxel (0,0,0), w: 1 / coarse voxel size
-  ivec4 coarseDims;      // xyz: coarse voxels per axis; w: refinement: kRefine* flags
+  ivec4 coarseDims;      // xyz: coarse voxels per axis; w: refinement: kRefine* flags | boxes << kRefineMovedBoxesShift
   float alpha;           // history decay
   uint rays;             // x, rays per masked voxel per frame
   uint frame;            // frame number (1, 2, ...)

@@ -111,6 +111,7 @@ void RefinePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const 
   b[kRefineBindingWindingNodes] = &in.bvh.windingNodes();
   b[kRefineBindingStats] = &out.stats;
   b[kRefineBindingWindingDoubts] = &out.doubts;
+  b[kRefineBindingMovedBoxes] = &in.movedBoxes;
   mPipeline.dispatchIndirect(cmd, b, &params, in.counts);
   gpu::computeBarrier(cmd);
 }

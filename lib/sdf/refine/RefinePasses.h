@@ -100,6 +100,10 @@ public:
     const gpu::Buffer& coarse;      ///< c_t, dense, x fastest: upsampled at each voxel for its bound
     const gpu::Buffer& fineRanges;  ///< maskFineRanges() of the two grids
     const gpu::Buffer& brickSlots;  ///< per brick: its slot in the pool (kNoBrick: left alone)
+    /// the boxes the moving instances swept (InstanceMotion::buffer(); their count in params.coarseDims.w from bit
+    /// kRefineMovedBoxesShift): closest mode without sign rays keeps the fine voxels of kMaskMovedOnly entries that
+    /// none comes near
+    const gpu::Buffer& movedBoxes;
   };
   /// Per fine voxel, in its brick: the SDF (in: f_{t-1} where not fresh; out: f_t, signed) and its decayed votes;
   /// @a dense: f_t also written into the dense fine SDF where params.coarseDims.w has kRefineWriteDense (else a

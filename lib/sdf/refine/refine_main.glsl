@@ -25,6 +25,9 @@
 // Closest mode's cell search (RTSDF_CELL_SEARCH): one BVH walk per box collects every triangle that can be nearest
 // to any voxel of it (collectCellCandidates), and each voxel tests only those, with the same triangle test and tie
 // rule as closestPoint, so the distances are the same; a voxel the candidates may not answer walks on its own.
+// Closest mode without sign rays: of a coarse voxel listed only for a moving instance (kMaskMovedOnly), a fine voxel
+// that no swept box comes within its last distance of keeps its value (movedBoxBeyond), unwalked; a box of voxels
+// that all keep theirs walks nothing. (With sign rays a kept voxel would miss the rays' votes the motion changes.)
 #include "bvh/GpuBvhLayout.h"
 #include "sdf/refine/RefineParams.h"
 #ifndef RTSDF_REFINE_MODE
@@ -53,6 +56,7 @@ layout(std430, binding = kRefineBindingDense) writeonly buffer Dense { float den
 layout(std430, binding = kRefineBindingStats) buffer Stats { uint refineStats[]; };
 // Closest mode: the voxels whose winding number the walks left near 1/2, for WindingExactPass (RefineParams.h).
 layout(std430, binding = kRefineBindingWindingDoubts) buffer WindingDoubts { uvec4 doubtHeader; uvec4 doubts[]; };
+layout(std430, binding = kRefineBindingMovedBoxes) readonly buffer MovedBoxes { MovedBox movedBoxes[]; };
 #define RTSDF_VALUE_PAGES kRefineBindingValuePages
 #define RTSDF_VOTE_PAGES kRefineBindingVotePages
 #include "sdf/mask/brick_pool.glsl"
@@ -210,6 +214,21 @@ float closestRadius(float bound) { return bound + 1.7320508 / params.coarseOrigi
 // Fine voxel v's centre (world).
 vec3 voxelCentre(ivec3 v) { return params.fineOriginH.xyz + (vec3(v) + 0.5) * params.fineOriginH.w; }
 
+#define RTSDF_KEEPS_UNMOVED (RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && !RTSDF_SIGN_RAYS)
+#if RTSDF_KEEPS_UNMOVED
+// Whether fine voxel v (in its brick slot at local) of a kMaskMovedOnly entry keeps its value: every box the instances
+// swept lies beyond its last distance (movedBoxBeyond; a hundredth of a fine voxel and a relative 1e-5 for rounding).
+bool keptDespiteMotion(ivec3 v, uint slot, uint local) {
+  vec3 q = voxelCentre(v);
+  float last = abs(loadValue(slot, local)) * (1.0 + 1.0e-5);
+  float slack = 0.01 * params.fineOriginH.w;
+  uint boxes = uint(params.coarseDims.w >> kRefineMovedBoxesShift);
+  for (uint b = 0u; b < boxes; ++b)
+    if (!movedBoxBeyond(q, last, slack, movedBoxes[b])) return false;
+  return true;
+}
+#endif
+
 // The coarse SDF as an upper bound of the distance at fine voxel v (fresh: new to the mask; slot, local: its place in
 // the brick pool), blended with its last value in rays mode: the nearest seed voxel touches the surface within half
 // its diagonal, and c_t took beta off. (With the paper's c_t itself the blend under-estimates, and rays, which can
@@ -356,18 +375,25 @@ void refineVoxel(ivec3 v, bool fresh, uint slot, uint local) {
 #endif
 }
 
-// Refine the fine voxels lo..hi one by one (x fastest). One loop over the box, not three nested: lavapipe runs a loop
-// nest around the walk slower.
-void refineVoxels(ivec3 lo, ivec3 hi, bool fresh) {
+// Refine the fine voxels lo..hi one by one (x fastest; movedOnly: of a kMaskMovedOnly entry). One loop over the box,
+// not three nested: lavapipe runs a loop nest around the walk slower.
+void refineVoxels(ivec3 lo, ivec3 hi, bool fresh, bool movedOnly) {
   ivec3 size = hi - lo + 1;
   int voxels = size.x * size.y * size.z;
+  uint kept = 0u;
   for (int j = 0; j < voxels; ++j) {
     ivec3 v = lo + ivec3(j % size.x, j / size.x % size.y, j / (size.x * size.y));
     uint slot = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    bool keep = false;
+#if RTSDF_KEEPS_UNMOVED
+    keep = movedOnly && slot != kNoBrick && keptDespiteMotion(v, slot, brickLocalOf(v));
+    kept += keep ? 1u : 0u;
+#endif
     uint hidden = loopHide(uint(voxels - j)); // an equal share of the loop budget left for each voxel left
-    if (slot != kNoBrick) refineVoxel(v, fresh, slot, brickLocalOf(v));
+    if (slot != kNoBrick && !keep) refineVoxel(v, fresh, slot, brickLocalOf(v));
     loopRestore(hidden);
   }
+  if (kept != 0u) atomicAdd(refineStats[kRefineStatMovedKept], kept);
 }
 
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
@@ -376,7 +402,25 @@ void refineVoxels(ivec3 lo, ivec3 hi, bool fresh) {
 // 1-voxel axis is two corners: both give the same answer, the first is kept). The voxels the candidates may not
 // answer walk on their own, in one loop after the others: on a SIMD machine (lavapipe) a walk inside the voxel loop
 // would run, masked, once per voxel even where no voxel needs it.
-void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
+void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh, bool movedOnly) {
+  // The box's voxels with a slot (a 1-voxel axis's second corner repeats the first: left out), less those a
+  // kMaskMovedOnly entry keeps: none left, no walk.
+  uint slots[8];
+  uint valid = 0u, kept = 0u;
+  [[unroll]] for (int j = 0; j < 8; ++j) {
+    ivec3 corner = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2), v = min(corner, hi);
+    slots[j] = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
+    if (any(greaterThan(corner, hi)) || slots[j] == kNoBrick) continue;
+#if RTSDF_KEEPS_UNMOVED
+    if (movedOnly && keptDespiteMotion(v, slots[j], brickLocalOf(v))) {
+      kept |= 1u << j;
+      continue;
+    }
+#endif
+    valid |= 1u << j;
+  }
+  if (kept != 0u) atomicAdd(refineStats[kRefineStatMovedKept], uint(bitCount(kept)));
+  if (valid == 0u) return;
   vec3 first = voxelCentre(lo), last = voxelCentre(hi);
   vec3 m = 0.5 * (first + last);
   // D(m) <= c^ at the coarse voxel's centre + the way from there to m: where the walk finds nothing that near,
@@ -391,10 +435,8 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   if (loopCut) cellMissed = true;
   ClosestQuery q[8];
   float radii[8];
-  uint slots[8];
   [[unroll]] for (int j = 0; j < 8; ++j) {
     ivec3 v = min(lo + ivec3(j & 1, (j >> 1) & 1, j >> 2), hi);
-    slots[j] = brickSlots[brickIndexOf(v, params.brickDims.xyz)];
     radii[j] = slots[j] != kNoBrick ? closestRadius(voxelBound(v, fresh, slots[j], brickLocalOf(v))) : 0.0;
     q[j] = closestBegin(voxelCentre(v), radii[j]);
   }
@@ -410,13 +452,9 @@ void refineCellBox(uint ci, ivec3 c, ivec3 lo, ivec3 hi, bool fresh) {
   // The voxels the candidates may not answer walk on their own, then the winding number is summed for those it signs,
   // then every voxel is finished: each in a loop of its own (a walk or a sum inside the voxel loop would run, masked,
   // once per voxel even where no voxel needs it), and finishClosest inlined once.
-  uint valid = 0u, alone = 0u, cut = 0u; // cut: the voxels whose own walks the loop budget ended
-  for (int j = 0; j < 8; ++j) {
-    ivec3 v = lo + ivec3(j & 1, (j >> 1) & 1, j >> 2);
-    if (any(greaterThan(v, hi)) || slots[j] == kNoBrick) continue;
-    valid |= 1u << j;
-    if (cellMissed || !complete[j]) alone |= 1u << j;
-  }
+  uint alone = 0u, cut = 0u; // cut: the voxels whose own walks the loop budget ended
+  for (int j = 0; j < 8; ++j)
+    if ((valid & (1u << j)) != 0u && (cellMissed || !complete[j])) alone |= 1u << j;
   while (alone != 0u) {
     int j = findLSB(alone);
     uint share = loopHide(uint(bitCount(alone)) + 1u); // and a share for the signs' walks after
@@ -486,7 +524,7 @@ void keepCoarse(ivec3 lo, ivec3 hi) {
 
 // Refine the fine voxels of box 'part' of coarse voxel ci (parts x fastest, params.partBox.xyz voxels each); out of
 // the view's reach, keep the coarse SDF there.
-void refineBox(uint ci, uint part, bool fresh, bool outOfView) {
+void refineBox(uint ci, uint part, bool fresh, bool outOfView, bool movedOnly) {
   ivec3 cd = params.coarseDims.xyz;
   ivec3 c = ivec3(int(ci % uint(cd.x)), int(ci / uint(cd.x) % uint(cd.y)), int(ci / uint(cd.x * cd.y)));
   ivec2 rx = fineRanges[c.x], ry = fineRanges[cd.x + c.y], rz = fineRanges[cd.x + cd.y + c.z];
@@ -501,11 +539,11 @@ void refineBox(uint ci, uint part, bool fresh, bool outOfView) {
   }
 #if RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && RTSDF_CELL_SEARCH
   if ((params.coarseDims.w & kRefineCellSearch) != 0) {
-    refineCellBox(ci, c, lo, hi, fresh);
+    refineCellBox(ci, c, lo, hi, fresh, movedOnly);
     return;
   }
 #endif
-  refineVoxels(lo, hi, fresh);
+  refineVoxels(lo, hi, fresh, movedOnly);
 }
 
 void main() {
@@ -514,5 +552,6 @@ void main() {
   uint e = k / parts;
   if (e >= maskCounts[kMaskCountRefineList]) return;
   uint entry = refineList[e];
-  refineBox(entry & kMaskFineCoords, k % parts, (entry & kMaskFineFresh) != 0u, (entry & kMaskOutOfView) != 0u);
+  refineBox(entry & kMaskCoarseIndex, k % parts, (entry & kMaskFineFresh) != 0u, (entry & kMaskOutOfView) != 0u,
+            (entry & kMaskMovedOnly) != 0u);
 }

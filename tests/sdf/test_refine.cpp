@@ -18,6 +18,7 @@
 
 #include <cstring>
 #include <memory>
+#include <utility>
 
 using namespace rtsdf;
 
@@ -544,20 +545,25 @@ TEST_F(Refine, IncrementalDecisionsEqualTheCpuReference) {
 // against the exact field, while after the first frame a small part of the mask is refined. With sign rays
 // (x = 1) the kept voxels' signs stop collecting votes: the error must still be no worse than the recompute's.
 // Without them the voxels listed for the teapot alone that it came near none of keep their values unwalked (as many
-// as the rule's CPU copy counts on the last frame's field), and the field still equals the recompute's.
+// as the rule's CPU copy counts on the last frame's field), and the field still equals the recompute's, with either
+// closest search.
 TEST_F(Refine, IncrementalMatchesTheFullRecomputeOnTheOrbitingTeapot) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
   const double fps = 30.0;
   const int frames = 5;
   Bounds bounds;
   for (int f = 0; f < frames; ++f) bounds.add(buildSceneGeometry(scene, f / fps).bounds);
-  for (int rays : {0, 1}) {
-    SCOPED_TRACE(::testing::Message() << "x = " << rays);
+  // Both closest searches without sign rays: a walk per box of voxels (a CPU device's) and per voxel (a GPU's).
+  const std::pair<int, ClosestSearch> cases[] = {
+      {0, ClosestSearch::Cell}, {1, ClosestSearch::Cell}, {0, ClosestSearch::Voxel}};
+  for (const auto& [rays, search] : cases) {
+    SCOPED_TRACE(::testing::Message() << "x = " << rays << (search == ClosestSearch::Voxel ? ", per voxel" : ""));
     PipelineSettings s = test::formerPipelineDefaults();
     s.coarseRes = 48;
     s.fineRes = 96;
     s.mode = RefineMode::Closest;
     s.rays = rays;
+    s.closestSearch = search;
     SdfPipeline incremental(*sCtx, scene, bounds, s);
     s.fullRecompute = true;
     SdfPipeline full(*sCtx, scene, bounds, s);

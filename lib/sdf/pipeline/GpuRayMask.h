@@ -76,7 +76,8 @@ public:
   /// @brief As readRefinedVoxels, the band voxels the last frame listed out of the view's reach (their fine voxels
   ///        took the coarse SDF again: outOfViewRewritten), kMaskOutOfView on each.
   std::vector<std::uint32_t> readRewrittenVoxels(std::uint32_t frame) const;
-  /// @brief The coarse linear indices the last frame (number @a frame) listed for motion alone (kMaskMovedOnly), sorted.
+  /// @brief The coarse linear indices the last frame (number @a frame) listed for motion alone (kMaskMovedOnly),
+  ///        sorted.
   std::vector<std::uint32_t> readMovedOnlyCoarse(std::uint32_t frame) const;
   /// @brief The fine voxels of every band voxel the last frame (number @a frame) left out of the view's reach (the
   ///        coarse state says so: in the band that frame, no refinements), packed without flags, sorted.

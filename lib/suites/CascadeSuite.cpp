@@ -265,8 +265,8 @@ BuildSummary summarize(const CascadeRun& run, const std::string& scene, const st
   const bool shaded = build != "incremental" && build != "full rebuild";
   const double moveMedian = medianAfterFirst(rows, [](const CascadeRow& r) { return r.moveMs; });
   const std::string moveMs = shaded ? "(in wall)" : fmt::format("{:.1f}", moveMedian);
-  b.row = fmt::format("| {} | {} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {} | {:.2f} / {:.2f} / {:.2f} | {:.0f} / {:.0f} | "
-                      "{:.1f} |\n",
+  b.row = fmt::format("| {} | {} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {} | {:.2f} / {:.2f} / {:.2f} | "
+                      "{:.0f} / {:.0f} | {:.1f} |\n",
                       camera, build, b.wall, b.gpu, b.gpuMean, maxAfterFirst(rows, gpuOf), moveMs,
                       meanAfterFirst(rows, [](const CascadeRow& r) { return double(r.levelsMoved); }),
                       meanAfterFirst(rows, [](const CascadeRow& r) { return double(r.levelsRecut); }),
@@ -289,8 +289,8 @@ std::string sceneReport(const CascadeRun& run, const std::string& scene) {
     for (const auto& entry : r.passMs) addOnce(passes, entry.first);
   }
   std::string md = fmt::format("### {}\n\n| camera | build | wall (ms) | GPU (ms) | GPU mean (ms) | GPU max (ms) | "
-                               "moveTo (ms) | levels moved / recut / rebuilt per frame | refined voxels / of them kept | device MiB "
-                               "|\n|---|---|---|---|---|---|---|---|---|---|\n",
+                               "moveTo (ms) | levels moved / recut / rebuilt per frame | refined voxels / of them "
+                               "kept | device MiB |\n|---|---|---|---|---|---|---|---|---|---|\n",
                                scene);
   for (const std::string& camera : cameras) {
     const BuildSummary inc = summarize(run, scene, camera, "incremental");

@@ -72,7 +72,8 @@ Bounds boundsOf(const Scene& s) { return buildSceneGeometry(s, 0.0).bounds; }
 
 /// CPU copy of the refinement's kMaskMovedOnly rule: of the fine voxels under the coarse voxels @a movedOnly (linear
 /// indices), those whose last value in @a last (the dense fine field before the frame) every box of @a moved leaves
-/// alone (gpu::shared::movedBoxBeyond at the voxel's centre in the GPU's frame, as refine_main.glsl computes it).
+/// alone (gpu::shared::movedKeepReach and movedBoxBeyond at the voxel's centre in the GPU's frame, as refine_main.glsl
+/// computes it).
 std::uint64_t movedKeptCpu(const SdfPipeline& pipe, const std::vector<std::uint32_t>& movedOnly,
                            const std::vector<float>& last, const std::vector<gpu::shared::MovedBox>& moved) {
   const GridSpec& cs = pipe.coarseSpec();
@@ -88,10 +89,9 @@ std::uint64_t movedKeptCpu(const SdfPipeline& pipe, const std::vector<std::uint3
     for (std::uint32_t packed : fine) {
       const glm::ivec3 v(packed & 1023u, (packed >> 10) & 1023u, (packed >> 20) & 1023u);
       const glm::vec3 q = corner + (glm::vec3(v) + 0.5f) * h;
-      const float lastDistance = std::fabs(last[fs.linear(v.x, v.y, v.z)]) * (1.0f + 1.0e-5f);
+      const float reach = gpu::shared::movedKeepReach(last[fs.linear(v.x, v.y, v.z)], h);
       bool beyond = true;
-      for (const gpu::shared::MovedBox& b : moved)
-        beyond = beyond && gpu::shared::movedBoxBeyond(q, lastDistance, 0.01f * h, b);
+      for (const gpu::shared::MovedBox& b : moved) beyond = beyond && gpu::shared::movedBoxBeyond(q, reach, b);
       kept += beyond;
     }
   }

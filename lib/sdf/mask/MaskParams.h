@@ -194,16 +194,21 @@ RTSDF_FN bool refinedForMotionAlone(MaskParams p, bool fresh, bool nearMoved, ui
   return !fresh && nearMoved && !refinesThisFrame(p, false, false, refinements, voxel);
 }
 
-/// Whether moving box @a b lies farther than @a lastDistance plus @a slack (rounding) from point @a q: a fine voxel's
-/// centre and its |f| before this frame, exact in closest mode. Where every box does, the voxel's value cannot change
-/// (the refinement keeps it, kMaskMovedOnly): its nearest surface was not the instance in its old pose, which lies at
-/// least as far as the box, and the new pose lies as far, so the same static surface stays nearest; the point lies in
-/// neither pose, so no sign rule changes (the nearest triangle's side and its mesh's winding number are the static
-/// surface's; a closed piece holding the point and another's surface nearer than its own overlaps that other without
-/// the instance).
-RTSDF_FN bool movedBoxBeyond(vec3 q, float lastDistance, float slack, MovedBox b) {
+/// The distance a moving box must keep from a fine voxel whose value before this frame was @a lastValue (exact in
+/// closest mode) for the voxel to keep it (movedBoxBeyond): |f| plus a relative 1e-5 and a hundredth of the fine voxel
+/// @a fineVoxel, for rounding.
+RTSDF_FN float movedKeepReach(float lastValue, float fineVoxel) {
+  return abs(lastValue) * 1.00001f + 0.01f * fineVoxel;
+}
+
+/// Whether moving box @a b lies farther than @a reach (movedKeepReach) from a fine voxel's centre @a q. Where every
+/// box does, the voxel's value cannot change (the refinement keeps it, kMaskMovedOnly): its nearest surface was not
+/// the instance in its old pose, which lies at least as far as the box, and the new pose lies as far, so the same
+/// static surface stays nearest; the point lies in neither pose, so no sign rule changes (the nearest triangle's side
+/// and its mesh's winding number are the static surface's; a closed piece holding the point and another's surface
+/// nearer than its own overlaps that other without the instance).
+RTSDF_FN bool movedBoxBeyond(vec3 q, float reach, MovedBox b) {
   RTSDF_PRECISE vec3 gap = max(max(vec3(b.lo) - q, q - vec3(b.hi)), vec3(0.0));
-  RTSDF_PRECISE float reach = lastDistance + slack;
   return dot(gap, gap) > reach * reach;
 }
 

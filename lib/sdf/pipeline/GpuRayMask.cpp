@@ -158,11 +158,11 @@ GpuRayMask::Counts GpuRayMask::counts() const {
       n.refineList > n.coarse || n.outOfView > n.refineList || n.activeBricks > std::uint64_t(bd.x) * bd.y * bd.z ||
       n.overflowBricks > n.activeBricks || n.cutVoxels > n.refinedFine || n.nearHalf > n.refinedFine ||
       n.nearHalfKept > n.nearHalf || n.movedKept + n.cutVoxels > n.refinedFine)
-    throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine ({} of them cut) of {} under {} coarse "
-                            "voxels ({} listed), {} bricks ({} without a slot), more than the grids hold ({}, {} and "
-                            "{})",
-                            n.refinedFine, n.cutVoxels, n.maskedFine, n.coarse, n.refineList, n.activeBricks,
-                            n.overflowBricks, mFineSpec.voxelCount(), mCoarseSpec.voxelCount(),
+    throw Error(fmt::format("ray mask: the GPU counted {} fine voxels to refine ({} of them cut, {} kept unwalked) of "
+                            "{} under {} coarse voxels ({} listed), {} bricks ({} without a slot), more than the grids "
+                            "hold ({}, {} and {})",
+                            n.refinedFine, n.cutVoxels, n.movedKept, n.maskedFine, n.coarse, n.refineList,
+                            n.activeBricks, n.overflowBricks, mFineSpec.voxelCount(), mCoarseSpec.voxelCount(),
                             std::uint64_t(bd.x) * bd.y * bd.z));
   return n;
 }

@@ -217,14 +217,13 @@ vec3 voxelCentre(ivec3 v) { return params.fineOriginH.xyz + (vec3(v) + 0.5) * pa
 #define RTSDF_KEEPS_UNMOVED (RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && !RTSDF_SIGN_RAYS)
 #if RTSDF_KEEPS_UNMOVED
 // Whether fine voxel v (in its brick slot at local) of a kMaskMovedOnly entry keeps its value: every box the instances
-// swept lies beyond its last distance (movedBoxBeyond; a hundredth of a fine voxel and a relative 1e-5 for rounding).
+// swept lies beyond its last distance (movedKeepReach, movedBoxBeyond).
 bool keptDespiteMotion(ivec3 v, uint slot, uint local) {
   vec3 q = voxelCentre(v);
-  float last = abs(loadValue(slot, local)) * (1.0 + 1.0e-5);
-  float slack = 0.01 * params.fineOriginH.w;
+  float reach = movedKeepReach(loadValue(slot, local), params.fineOriginH.w);
   uint boxes = uint(params.coarseDims.w >> kRefineMovedBoxesShift);
   for (uint b = 0u; b < boxes; ++b)
-    if (!movedBoxBeyond(q, last, slack, movedBoxes[b])) return false;
+    if (!movedBoxBeyond(q, reach, movedBoxes[b])) return false;
   return true;
 }
 #endif

@@ -184,7 +184,7 @@ std::shared_ptr<ComputePipeline::Compiled> ComputePipeline::compile() const {
 }
 
 void ComputePipeline::record(VkCommandBuffer cmd, const Binding* bindings, std::size_t count, const void* push,
-                             const glm::uvec3* groups, const Buffer* indirect) const {
+                             const glm::uvec3* groups, const Buffer* indirect, VkDeviceSize offset) const {
   const glm::uvec3 limit = mCtx->info().maxWorkGroupCount;
   if (groups && (groups->x > limit.x || groups->y > limit.y || groups->z > limit.z))
     throw Error(fmt::format("{}: dispatch of {}x{}x{} work groups exceeds {}'s limit of {}x{}x{}", mName, groups->x,
@@ -220,7 +220,7 @@ void ComputePipeline::record(VkCommandBuffer cmd, const Binding* bindings, std::
   if (n) mCtx->pushDescriptorSet()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, mCompiled->layout.get(), 0, n, writes.data());
   if (mPushBytes) vkCmdPushConstants(cmd, mCompiled->layout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, mPushBytes, push);
   if (indirect)
-    vkCmdDispatchIndirect(cmd, indirect->handle(), 0);
+    vkCmdDispatchIndirect(cmd, indirect->handle(), offset);
   else if (groups->x && groups->y && groups->z)
     vkCmdDispatch(cmd, groups->x, groups->y, groups->z);
 }

@@ -194,18 +194,18 @@ public:
     record(cmd, bindings.data(), N, push, &groups, nullptr);
   }
   /// @brief The same with the group counts read on the GPU from @a indirect (a VkDispatchIndirectCommand at
-  ///        offset 0; the buffer needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT).
+  ///        byte @a offset, a multiple of 4; the buffer needs VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT).
   template <std::size_t N>
   void dispatchIndirect(VkCommandBuffer cmd, const std::array<Binding, N>& bindings, const void* push,
-                        const Buffer& indirect) const {
-    record(cmd, bindings.data(), N, push, nullptr, &indirect);
+                        const Buffer& indirect, VkDeviceSize offset = 0) const {
+    record(cmd, bindings.data(), N, push, nullptr, &indirect, offset);
   }
   const std::string& name() const { return mName; }
 
 private:
-  /// Bind, push, then dispatch @a groups or, where given, indirectly from @a indirect.
+  /// Bind, push, then dispatch @a groups or, where given, indirectly from @a indirect at byte @a offset.
   void record(VkCommandBuffer cmd, const Binding* bindings, std::size_t count, const void* push,
-              const glm::uvec3* groups, const Buffer* indirect) const;
+              const glm::uvec3* groups, const Buffer* indirect, VkDeviceSize offset = 0) const;
   const VulkanContext* mCtx = nullptr;
   std::string mName;
   std::vector<VkDescriptorType> mTypes;

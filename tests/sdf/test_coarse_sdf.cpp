@@ -64,6 +64,23 @@ protected:
     EXPECT_GT(gpu.passTotal(isJumpFlooding(method) ? JumpFloodPass::kName : ExactEdtPass::kName), 0.0);
   }
 
+  /// The triangles VoxelizePass lists for its second dispatch with @a chunkVoxels per invocation, and how many the
+  /// CPU counts: those whose voxel range (the shared voxelRangeChunks) needs more than kVoxelizeFirstChunks.
+  static std::pair<std::uint32_t, std::uint32_t> largeTriangles(const std::vector<glm::vec4>& corners,
+                                                                const GridSpec& spec, std::uint32_t chunkVoxels) {
+    CoarseSdfSettings s;
+    s.chunkVoxels = chunkVoxels;
+    const std::uint32_t gpuCount = builder().build(corners, spec, s, true).largeTriangles;
+    const gpu::shared::VoxelizeParams p = voxelizeParams(spec, std::uint32_t(corners.size() / 3));
+    std::uint32_t cpuCount = 0;
+    for (std::size_t t = 0; t + 2 < corners.size(); t += 3) {
+      auto place = [&](std::size_t i) { return gpu::shared::toVoxelSpace(glm::vec3(corners[i]), p.originInvH); };
+      cpuCount += gpu::shared::voxelRangeChunks(place(t), place(t + 1), place(t + 2), spec.dims, chunkVoxels) >
+                  gpu::shared::kVoxelizeFirstChunks;
+    }
+    return {gpuCount, cpuCount};
+  }
+
   /// ExactEdtPass alone on given seeds: its nearest seeds.
   static std::vector<std::uint32_t> exactEdtGpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims) {
     const ExactEdtPass pass(*sCtx);
@@ -185,10 +202,15 @@ TEST_F(CoarseSdfGpu, DefaultSceneEqualsCpuForEveryVariant) {
     SCOPED_TRACE(toString(v));
     expectGpuEqualsCpu(triangleCorners(geo), spec, v);
   }
-  // A GPU's chunks (CI runs lavapipe, a CPU device, whose default is longer chunks).
+  // A GPU's chunks (CI runs lavapipe, a CPU device, whose default is longer chunks). Then the room's floor and walls
+  // take VoxelizePass's second dispatch and the teapot's triangles only its first: both must lose no seed.
   SCOPED_TRACE("GPU chunks");
   expectGpuEqualsCpu(triangleCorners(geo), spec, CoarseMethod::Edt, gpu::shared::kVoxelizeMaxChunkGroups,
                      gpu::shared::kVoxelizeChunkVoxelsGpu);
+  const auto [listed, listedCpu] = largeTriangles(triangleCorners(geo), spec, gpu::shared::kVoxelizeChunkVoxelsGpu);
+  EXPECT_EQ(listed, listedCpu);
+  EXPECT_GT(listed, 0u);
+  EXPECT_LT(listed, geo.triangleCount() / 10);
 }
 
 TEST_F(CoarseSdfGpu, BunnyEqualsCpuAt128) {
@@ -305,6 +327,8 @@ TEST_F(CoarseSdfGpu, HugeTrianglesAreVoxelizedCompletely) {
   expectGpuEqualsCpu(quad, spec, CoarseMethod::Edt, gpu::shared::kVoxelizeMinChunkGroups, 16);
   expectGpuEqualsCpu(quad, spec, CoarseMethod::Edt, gpu::shared::kVoxelizeMaxChunkGroups,
                      gpu::shared::kVoxelizeChunkVoxelsGpu);
+  EXPECT_EQ(largeTriangles(quad, spec, 16).first, 2u); // both in the second dispatch, in layers along z
+  EXPECT_EQ(largeTriangles(quad, spec, gpu::shared::kVoxelizeChunkVoxelsGpu).first, 2u);
   CoarseSdfSettings shortest;
   shortest.chunkVoxels = 8; // below 16: refused, naming the setting's value
   EXPECT_THROW(builder().build(quad, spec, shortest), Error);

@@ -15,9 +15,10 @@ RTSDF_SHARED_BEGIN
 const uint kVoxelizeBindingCorners = 0u;        // triangle corners, 3 per triangle, in their mesh's space (read)
 const uint kVoxelizeBindingSeeds = 1u;          // seeds (written where a triangle touches a voxel)
 const uint kVoxelizeBindingInstances = 2u;      // VoxelizeInstance per instance, by firstInstanceTriangle (read)
-const uint kVoxelizeBindingDispatch = 3u;       // voxelize.comp's indirect dispatch: y = the most chunks (atomicMax)
+const uint kVoxelizeBindingDispatch = 3u;       // voxelize.comp's two indirect dispatches (kVoxelizeDispatchWords)
 const uint kVoxelizeBindingPlaced = 4u;         // every instance triangle's corners in voxel space (3 x vec4 each)
-const uint kVoxelizeBindingCount = 5u;
+const uint kVoxelizeBindingLarge = 5u;          // the triangles with more than kVoxelizeFirstChunks chunks (listed)
+const uint kVoxelizeBindingCount = 6u;
 const uint kJumpFloodBindingSrc = 0u;           // nearest seeds after the previous step
 const uint kJumpFloodBindingDst = 1u;           // nearest seeds after this step
 const uint kJumpFloodBindingCount = 2u;
@@ -50,7 +51,22 @@ struct VoxelizeParams {
   uint chunkSize;      // voxels of a triangle's range handled by one invocation (keeps loops short)
   uint instanceCount;
   uint maxChunkGroups; // the most groups voxelize.comp runs along y (<= kVoxelizeMaxChunkGroups)
+  uint largePass;      // voxelize.comp: 0 every triangle's first chunks, 1 the listed triangles' other chunks
+  uint pad0, pad1, pad2;
 };
+
+/// VoxelizePass in two indirect dispatches, so that one large triangle (a level's ground spans the grid: hundreds of
+/// a GPU's chunks) no longer sets how many chunks every triangle's invocations are dispatched for, almost all of
+/// them with nothing to do. voxelize_chunks.comp fills the dispatch buffer: the first dispatch runs the triangles
+/// of at most kVoxelizeFirstChunks chunks, as many chunks of each as the most of them needs; a triangle with more
+/// is listed (kVoxelizeBindingLarge), and the second dispatch runs the listed triangles only. Words of the buffer:
+/// the first dispatch's group counts (x written by the host), the listed triangles' count, the second dispatch's
+/// group counts, a pad.
+const uint kVoxelizeFirstChunks = 8u;
+const uint kVoxelizeDispatchFirst = 0u;  // x: groups of 64 triangles; y: the most chunks of one not listed; z: 1
+const uint kVoxelizeLargeCount = 3u;     // the triangles listed for the second dispatch
+const uint kVoxelizeDispatchLarge = 4u;  // x: groups of 64 listed; y, z: their most chunks (in layers along z)
+const uint kVoxelizeDispatchWords = 8u;
 
 /// One placed mesh for the voxelization: its transform and where its triangles lie, so the GPU transforms
 /// mesh-space corners itself (the host uploads transforms, never triangles, per frame).

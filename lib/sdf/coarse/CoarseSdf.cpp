@@ -19,9 +19,11 @@ void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
                            const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
   vkCmdFillBuffer(cmd, out.seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
-  // x: one invocation per triangle; y and z: raised by voxelize_chunks.comp from 0 (no triangle touches the grid).
-  const std::uint32_t groups[3] = {gpu::groupsFor(params.shader.triangleCount, 64), 0u, 0u};
-  gpu::recordUpload(cmd, out.dispatch, groups, sizeof(groups));
+  // The first dispatch's x: one invocation per triangle; every other count is raised by voxelize_chunks.comp from 0
+  // (no triangle touches the grid, none listed).
+  std::array<std::uint32_t, kVoxelizeDispatchWords> words{};
+  words[kVoxelizeDispatchFirst] = gpu::groupsFor(params.shader.triangleCount, 64);
+  gpu::recordUpload(cmd, out.dispatch, words.data(), sizeof(words));
   gpu::computeBarrier(cmd);
   if (!params.shader.triangleCount) return;
   std::array<gpu::Binding, kVoxelizeBindingCount> b;
@@ -30,9 +32,15 @@ void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   b[kVoxelizeBindingSeeds] = &out.seeds;
   b[kVoxelizeBindingDispatch] = &out.dispatch;
   b[kVoxelizeBindingPlaced] = &out.placed;
-  mChunks.dispatch(cmd, b, &params.shader, {groups[0], 1, 1});
+  b[kVoxelizeBindingLarge] = &out.large;
+  mChunks.dispatch(cmd, b, &params.shader, {words[kVoxelizeDispatchFirst], 1, 1});
   gpu::computeBarrier(cmd);
-  mPipeline.dispatchIndirect(cmd, b, &params.shader, out.dispatch);
+  VoxelizeParams shader = params.shader;
+  shader.largePass = 0;
+  mPipeline.dispatchIndirect(cmd, b, &shader, out.dispatch, kVoxelizeDispatchFirst * 4);
+  gpu::computeBarrier(cmd); // both write seeds (the same value where two triangles touch a voxel)
+  shader.largePass = 1;
+  mPipeline.dispatchIndirect(cmd, b, &shader, out.dispatch, kVoxelizeDispatchLarge * 4);
 }
 
 void JumpFloodPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
@@ -117,6 +125,9 @@ CoarseSdf CoarseSdfBuilder::build(const SceneGeometry& geometry, const GridSpec&
 
 namespace {
 
+// The first dispatch's chunks fit along y on every device and within any maxChunkGroups a caller may set.
+static_assert(kVoxelizeFirstChunks <= kVoxelizeMinChunkGroups);
+
 /// CoarseSdfSettings::chunkVoxels resolved for a device and a grid of @a voxels.
 std::uint32_t voxelizeChunkVoxels(const CoarseSdfSettings& settings, bool cpuDevice, std::uint64_t voxels) {
   if (settings.chunkVoxels && (settings.chunkVoxels < 16 || settings.chunkVoxels > 65536))
@@ -158,8 +169,10 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& t
   using gpu::Buffer;
   // Kept between builds: a frame loop allocates them once.
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  gpu::reserve(mCtx, mDispatch, 3 * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Device,
-               "voxelize dispatch");
+  gpu::reserve(mCtx, mDispatch, kVoxelizeDispatchWords * 4, storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+               Buffer::Memory::Device, "voxelize dispatch");
+  gpu::reserve(mCtx, mLarge, std::uint64_t(triangles.triangleCount) * 4, storage, Buffer::Memory::Device,
+               "voxelize large triangles");
   gpu::reserve(mCtx, mPlaced, std::uint64_t(triangles.triangleCount) * 3 * sizeof(glm::vec4), storage,
                Buffer::Memory::Device, "placed triangles");
   gpu::reserve(mCtx, mSeedsA, voxels * 4, storage, Buffer::Memory::Device, "seeds / transform A");
@@ -192,7 +205,7 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
                                                   const InstancedTriangles& triangles, const Prepared& p) const {
   const bool exact = !isJumpFlooding(p.flood.variant);
   const gpu::Buffer& nearest = exact ? mSeedsB : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
-  mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced}, p.voxelize);
+  mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced, mLarge}, p.voxelize);
   if (exact)
     mExactEdt.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, {p.flood.dims});
   else
@@ -218,12 +231,15 @@ CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const G
   if (!keepSeeds) return build(triangles, spec, settings);
   const Prepared p = prepare(triangles, spec, settings);
   gpu::CommandBuffer cmd(mCtx);
-  mVoxelize.execute(cmd.handle(), nullptr, {triangles}, {mSeedsA, mDispatch, mPlaced}, p.voxelize);
+  mVoxelize.execute(cmd.handle(), nullptr, {triangles}, {mSeedsA, mDispatch, mPlaced, mLarge}, p.voxelize);
   cmd.submitAndWait();
   std::vector<std::uint32_t> seeds(spec.voxelCount());
   download(mCtx, mSeedsA, seeds.data(), seeds.size() * 4);
+  std::array<std::uint32_t, kVoxelizeDispatchWords> words{};
+  download(mCtx, mDispatch, words.data(), sizeof(words));
   CoarseSdf out = build(triangles, spec, settings);
   out.seeds = std::move(seeds);
+  out.largeTriangles = words[kVoxelizeLargeCount];
   return out;
 }
 

@@ -31,17 +31,20 @@ struct InstancedTriangles {
 };
 
 /// @brief VoxelizePass: conservative triangle/voxel overlap. Output: seeds (kNoSeed, or the voxel's own packed
-///        coordinate where a triangle touches its box). Two dispatches: voxelize_chunks.comp places every triangle in
-///        voxel space and finds the most chunks (params.shader.chunkSize voxels) any triangle's range needs, written
-///        into @a dispatch; voxelize.comp runs indirectly from it. The host neither transforms nor scans a triangle.
+///        coordinate where a triangle touches its box). Three dispatches: voxelize_chunks.comp places every triangle
+///        in voxel space, counts the chunks (params.shader.chunkSize voxels) of its range and lists the triangles
+///        with more than kVoxelizeFirstChunks in @a large; voxelize.comp runs indirectly from @a dispatch, over the
+///        others, then over the listed ones. The host neither transforms nor scans a triangle.
 class VoxelizePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "VoxelizePass";
   struct Inputs { InstancedTriangles triangles; };
   struct Outputs {
     const gpu::Buffer& seeds;
-    const gpu::Buffer& dispatch; ///< 3 uints, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT: voxelize.comp's group counts
+    /// kVoxelizeDispatchWords uints, VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT: voxelize.comp's two dispatches
+    const gpu::Buffer& dispatch;
     const gpu::Buffer& placed;   ///< scratch: 3 x vec4 per triangle (its corners in voxel space)
+    const gpu::Buffer& large;    ///< scratch: a uint per triangle (those listed for the second dispatch)
   };
   struct Params { gpu::shared::VoxelizeParams shader; };
   explicit VoxelizePass(const gpu::VulkanContext& ctx);
@@ -123,6 +126,7 @@ struct CoarseSdf {
   GridSpec spec;
   float beta = 0.0f;
   std::vector<std::uint32_t> seeds;   ///< only when asked for (for tests)
+  std::uint32_t largeTriangles = 0;   ///< with the seeds: the triangles VoxelizePass listed for its second dispatch
   std::vector<std::uint32_t> nearest; ///< nearest seed per voxel (x fastest), if CoarseSdfSettings::readNearest
   std::vector<float> distance;        ///< c per voxel, scene units
   PassTimes passMs;                   ///< GPU time per pass, in recording order
@@ -171,7 +175,7 @@ private:
   const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                                   const Prepared& p) const;
   const gpu::VulkanContext& mCtx;
-  gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mSeedsA, mSeedsB, mDistanceBuf, mChangedBox;
+  gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mLarge, mSeedsA, mSeedsB, mDistanceBuf, mChangedBox;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;
   ExactEdtPass mExactEdt;

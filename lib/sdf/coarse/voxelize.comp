@@ -1,26 +1,35 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// VoxelizePass, second dispatch: every voxel whose box a triangle touches becomes a seed (its own packed
+// VoxelizePass, second and third dispatches: every voxel whose box a triangle touches becomes a seed (its own packed
 // coordinate). One invocation per (triangle as voxelize_chunks.comp placed it, chunk of chunkSize voxels of its
-// voxel range), dispatched indirectly with voxelize_chunks.comp's count of chunks along y and z (chunk = z * groups
-// along y + y); empty voxels keep kNoSeed. Loops stay short on purpose: lavapipe cut off a single loop of ~100k iterations (lost writes), and an
-// invocation that strided through several chunks lost writes too, so each runs at most one chunk.
+// voxel range), dispatched indirectly from voxelize_chunks.comp's counts (kVoxelizeDispatchWords): with largePass 0,
+// invocation x is triangle x, left to the other dispatch where it has more than kVoxelizeFirstChunks chunks; with
+// largePass 1, the x-th listed triangle. The chunk is z * groups along y + y. Empty voxels keep kNoSeed.
+// Loops stay short on purpose: lavapipe cut off a single loop of ~100k iterations (lost writes), and an invocation
+// that strided through several chunks lost writes too, so each runs at most one chunk.
 #include "sdf/coarse/CoarseParams.h"
 
 layout(local_size_x = 64) in;
 layout(push_constant) uniform Push { VoxelizeParams params; };
 layout(std430, binding = kVoxelizeBindingPlaced) readonly buffer Placed { vec4 placed[]; }; // voxel space, 3 each
 layout(std430, binding = kVoxelizeBindingSeeds) buffer Seeds { uint seeds[]; };
+layout(std430, binding = kVoxelizeBindingDispatch) readonly buffer Dispatch { uint words[]; };
+layout(std430, binding = kVoxelizeBindingLarge) readonly buffer Large { uint large[]; };
 
 void main() {
   uint g = gl_GlobalInvocationID.x;
+  uint chunk = gl_WorkGroupID.z * gl_NumWorkGroups.y + gl_WorkGroupID.y;
+  if (params.largePass != 0u) {
+    if (g >= words[kVoxelizeLargeCount]) return;
+    g = large[g];
+  }
   if (g >= params.triangleCount) return;
   vec3 t0 = placed[3u * g].xyz, t1 = placed[3u * g + 1u].xyz, t2 = placed[3u * g + 2u].xyz;
   ivec3 lo = voxelRangeLo(t0, t1, t2);
   ivec3 n = voxelRangeHi(t0, t1, t2, params.dims.xyz) - lo + ivec3(1);
   int total = (n.x > 0 && n.y > 0 && n.z > 0) ? n.x * n.y * n.z : 0;
-  uint chunk = gl_WorkGroupID.z * gl_NumWorkGroups.y + gl_WorkGroupID.y;
   if (chunk * params.chunkSize >= uint(total)) return;
+  if (params.largePass == 0u && uint(total) > kVoxelizeFirstChunks * params.chunkSize) return; // listed
   int first = int(chunk * params.chunkSize);
   int last = min(total, first + int(params.chunkSize));
   for (int i = first; i < last; ++i) {

@@ -1,19 +1,22 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // VoxelizePass, first dispatch: places every instance triangle in voxel space (once: voxelize.comp's many
-// invocations per triangle read it), and the most chunks any triangle's voxel range needs becomes voxelize.comp's
-// indirect dispatch along y and z (y at most maxChunkGroups, z as many layers of y as the rest needs), so the
-// host never scans the triangles.
+// invocations per triangle read it) and fills voxelize.comp's two indirect dispatches (kVoxelizeDispatchWords), so
+// the host never scans the triangles: a triangle of at most kVoxelizeFirstChunks chunks is the first's, which runs
+// as many chunks of every triangle as the most of those needs; one with more is listed, and the second runs the
+// listed triangles' chunks (along y at most maxChunkGroups, layers of them along z), as many as the most needs.
 #include "voxelize_instances.glsl"
 
 layout(local_size_x = 64) in;
-layout(std430, binding = kVoxelizeBindingDispatch) buffer Dispatch { uint groups[3]; };
+layout(std430, binding = kVoxelizeBindingDispatch) buffer Dispatch { uint words[]; };
 layout(std430, binding = kVoxelizeBindingPlaced) writeonly buffer Placed { vec4 placed[]; };
+layout(std430, binding = kVoxelizeBindingLarge) writeonly buffer Large { uint large[]; };
 
-shared uint groupMost, groupLayers;
+shared uint groupFirst, groupMost, groupLayers;
 
 void main() {
   if (gl_LocalInvocationIndex == 0u) {
+    groupFirst = 0u;
     groupMost = 0u;
     groupLayers = 0u;
   }
@@ -26,15 +29,25 @@ void main() {
     placed[3u * g + 1u] = vec4(t1, 0.0);
     placed[3u * g + 2u] = vec4(t2, 0.0);
     uint chunks = voxelRangeChunks(t0, t1, t2, params.dims.xyz, params.chunkSize);
-    if (chunks > 0u) {
+    if (chunks > kVoxelizeFirstChunks) {
+      // Listed: a group of 64 more for the second dispatch with every 64th.
+      uint n = atomicAdd(words[kVoxelizeLargeCount], 1u);
+      large[n] = g;
+      if (n % 64u == 0u) atomicAdd(words[kVoxelizeDispatchLarge], 1u);
       atomicMax(groupMost, min(chunks, params.maxChunkGroups));
       atomicMax(groupLayers, (chunks + params.maxChunkGroups - 1u) / params.maxChunkGroups);
+    } else if (chunks > 0u) {
+      atomicMax(groupFirst, chunks);
     }
   }
   barrier();
   // One global atomic per count and work group.
+  if (gl_LocalInvocationIndex == 0u && groupFirst > 0u) {
+    atomicMax(words[kVoxelizeDispatchFirst + 1u], groupFirst);
+    atomicMax(words[kVoxelizeDispatchFirst + 2u], 1u);
+  }
   if (gl_LocalInvocationIndex == 0u && groupMost > 0u) {
-    atomicMax(groups[1], groupMost);
-    atomicMax(groups[2], groupLayers);
+    atomicMax(words[kVoxelizeDispatchLarge + 1u], groupMost);
+    atomicMax(words[kVoxelizeDispatchLarge + 2u], groupLayers);
   }
 }

@@ -280,7 +280,7 @@ std::vector<float> SdfPipeline::coarseField() const {
 RayMask SdfPipeline::rayMask() const {
   if (mFrame == 0 || mSettings.band <= 0.0) return RayMask{};
   waitForFrame();
-  return mMask->readRayMask(mMaskFrame);
+  return mMask->rayMaskOf(mFields->readCoarse());
 }
 
 void SdfPipeline::setViewReach(const ViewReach* reach) {

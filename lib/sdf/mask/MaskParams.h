@@ -68,12 +68,11 @@ const uint kMaskBindingFineRanges = 2u;  // ivec2 per coarse index per axis (x e
 const uint kMaskBindingRefineList = 3u;  // appended: the coarse voxels whose fine voxels are refined this frame,
                                          // linear index | kMaskFineFresh when new to the band | kMaskMovedOnly |
                                          // kMaskOutOfView, in no order
-const uint kMaskBindingCoarseList = 4u;  // appended: (coarse linear index, floatBitsToUint(c)) per band voxel
-const uint kMaskBindingCoarseState = 5u; // uvec2 per coarse voxel: (last frame in the band, refinements in a row)
-const uint kMaskBindingMovedBoxes = 6u;  // MovedBox per instance that moved since the previous frame
-const uint kMaskBindingBrickNeeded = 7u; // uint per brick: set to the frame number where a band voxel lies in it
-const uint kMaskBindingChangedBox = 8u;  // the coarse SDF's ChangedBox (read where kMaskCoarseRebuilt)
-const uint kMaskBindingCount = 9u;
+const uint kMaskBindingCoarseState = 4u; // uvec2 per coarse voxel: (last frame in the band, refinements in a row)
+const uint kMaskBindingMovedBoxes = 5u;  // MovedBox per instance that moved since the previous frame
+const uint kMaskBindingBrickNeeded = 6u; // uint per brick: set to the frame number where a band voxel lies in it
+const uint kMaskBindingChangedBox = 7u;  // the coarse SDF's ChangedBox (read where kMaskCoarseRebuilt)
+const uint kMaskBindingCount = 8u;
 
 /// A fine-list entry (SdfPipeline::refinedVoxels): x | y << 10 | z << 20; a refine-list entry: a coarse linear index.
 /// Either or-ed with kMaskFineFresh when the voxel is new to the mask (no history).
@@ -95,7 +94,7 @@ const uint kMaskCountGroupsX = 0u;
 const uint kMaskCountGroupsY = 1u;
 const uint kMaskCountGroupsZ = 2u;
 const uint kMaskCountFine = 3u;       // fine voxels under the coarse voxels of the refine list: those refined
-const uint kMaskCountCoarse = 4u;     // coarse band voxels appended
+const uint kMaskCountCoarse = 4u;     // coarse band voxels
 const uint kMaskCountMaskedFine = 5u; // fine voxels under the band, refined or kept
 const uint kMaskCountRefineList = 6u; // coarse voxels appended to the refine list, those out of view included
 const uint kMaskCountOutOfView = 7u;  // of those, the band voxels out of view written again (kMaskOutOfView)
@@ -121,7 +120,7 @@ struct MaskParams {
   ivec4 coarseDims;    // xyz: coarse voxels per axis; w: kMaskRelistOutOfView | kMaskCoarseRebuilt | growth << 8
   float band;          // d: a coarse voxel is in the band when |c| <= d (the CPU mirror's float comparison)
   uint refineCapacity; // entries the refine list holds (appends beyond it are counted, not written)
-  uint coarseCapacity; // entries the coarse list holds
+  uint pad0;
   uint frame;          // frame number (1, 2, ...)
   vec4 coarseOriginH;  // xyz: corner of coarse voxel (0,0,0) in the GPU's frame, w: coarse voxel size
   float reachPad;      // a fine voxel of the cell is within |c| + reachPad of the surface (see movedWithinReach)

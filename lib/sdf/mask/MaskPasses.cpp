@@ -61,7 +61,6 @@ void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, c
   b[kMaskBindingFineRanges] = &in.fineRanges;
   b[kMaskBindingRefineList] = &out.refineList;
   b[kMaskBindingBrickNeeded] = &out.brickNeeded;
-  b[kMaskBindingCoarseList] = &out.coarseList;
   b[kMaskBindingCoarseState] = &out.coarseState;
   b[kMaskBindingMovedBoxes] = &in.movedBoxes;
   b[kMaskBindingChangedBox] = &in.changedBox;

@@ -51,8 +51,8 @@ public:
   };
   /// @a coarseState: (last frame in the band, refinements in a row) per coarse voxel, read and advanced;
   /// @a brickNeeded: per brick, the last frame a band voxel lay in it.
-  struct Outputs { const gpu::Buffer &counts, &refineList, &coarseList, &coarseState, &brickNeeded; };
-  using Params = gpu::shared::MaskParams; ///< refineCapacity / coarseCapacity: entries the lists hold
+  struct Outputs { const gpu::Buffer &counts, &refineList, &coarseState, &brickNeeded; };
+  using Params = gpu::shared::MaskParams; ///< refineCapacity: entries the refine list holds
   explicit MaskCompactPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "mask_compact.comp", gpu::shared::kMaskBindingCount, sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,

@@ -2,17 +2,17 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-// MaskCompactPass: the ray mask appended on the GPU. One invocation per coarse voxel: a voxel in the band
-// (|c| <= d, the float comparison of the CPU mirror) appends itself to the coarse list, counts the fine voxels
-// whose centres lie in it (the per-axis range tables, computed on the CPU as the mirror does), marks the bricks
-// that hold them as needed this frame (the sparse fine state) and, when they are to be refined this frame
-// (refinesThisFrame: new to the band, reached by a moving instance, not settled), appends itself to the refine
-// list, which the refinement expands into those fine voxels (flagged kMaskMovedOnly where the motion alone lists
-// it). A band voxel out of the view's reach (withinViewReach: a cascade level above 0) is listed flagged
-// kMaskOutOfView where its fine voxels must take the coarse SDF upsampled again (outOfViewRewritten: no walk); it
-// marks no brick, so a brick wholly out of view gives its slot back, and the fine voxels of one that straddles the
-// reach's edge hold what the samplers read where there is no slot. The refinement hashes by voxel, not by slot, so
-// the lists' order does not matter. Slots are reserved per subgroup (a ballot's prefix count, one global atomic per
+// MaskCompactPass: the ray mask on the GPU. One invocation per coarse voxel: a voxel in the band (|c| <= d, the
+// float comparison of the CPU mirror) counts itself and the fine voxels whose centres lie in it (the per-axis range
+// tables, computed on the CPU as the mirror does), marks the bricks that hold them as needed this frame (the sparse
+// fine state) and, when they are to be refined this frame (refinesThisFrame: new to the band, reached by a moving
+// instance, not settled), appends itself to the refine list, which the refinement expands into those fine voxels
+// (flagged kMaskMovedOnly where the motion alone lists it). The band itself is not listed: a read-back takes it
+// from the coarse SDF (GpuRayMask::rayMaskOf). A band voxel out of the view's reach (withinViewReach: a cascade
+// level above 0) is listed flagged kMaskOutOfView where its fine voxels must take the coarse SDF upsampled again
+// (outOfViewRewritten: no walk); it marks no brick, so a brick wholly out of view gives its slot back, and the fine
+// voxels of one that straddles the reach's edge hold what the samplers read where there is no slot. The refinement
+// hashes by voxel, not by slot, so the list's order does not matter. Slots are reserved per subgroup (a ballot's prefix count, one global atomic per
 // counter and subgroup): one global atomic per band voxel serialised the whole band on a single address, and a work
 // group's reservation through shared memory needs two barriers, which cost lavapipe as much as the pass's work.
 #include "sdf/mask/MaskParams.h"
@@ -23,7 +23,6 @@ layout(std430, binding = kMaskBindingCounts) buffer Counts { uint counts[]; };
 layout(std430, binding = kMaskBindingCoarse) readonly buffer Coarse { float coarse[]; };
 layout(std430, binding = kMaskBindingFineRanges) readonly buffer FineRanges { ivec2 fineRanges[]; };
 layout(std430, binding = kMaskBindingRefineList) writeonly buffer RefineList { uint refineList[]; };
-layout(std430, binding = kMaskBindingCoarseList) writeonly buffer CoarseList { uvec2 coarseList[]; };
 layout(std430, binding = kMaskBindingCoarseState) buffer CoarseState { uvec2 coarseState[]; };
 layout(std430, binding = kMaskBindingMovedBoxes) readonly buffer MovedBoxes { MovedBox movedBoxes[]; };
 layout(std430, binding = kMaskBindingBrickNeeded) writeonly buffer BrickNeeded { uint brickNeeded[]; };
@@ -96,17 +95,14 @@ void main() {
     refined = refineDecision(p, i, c, !outOfView, fresh, rewrite, movedOnly);
   }
   // Every invocation of the subgroup takes part (none returned early).
-  uint coarseOffset, refineOffset;
+  uint refineOffset;
   bool listed = refined || rewrite;
-  uint baseCoarse = reserve(kMaskCountCoarse, inBand, coarseOffset);
   uint baseRefine = reserve(kMaskCountRefineList, listed, refineOffset);
+  addSubgroup(kMaskCountCoarse, inBand ? 1u : 0u);
   addSubgroup(kMaskCountFine, refined ? count : 0u);
   addSubgroup(kMaskCountMaskedFine, count);
   addSubgroup(kMaskCountOutOfView, rewrite ? 1u : 0u);
-  if (!inBand) return;
-  uint slot = baseCoarse + coarseOffset;
-  if (slot < params.coarseCapacity) coarseList[slot] = uvec2(i, floatBitsToUint(c));
-  slot = baseRefine + refineOffset;
+  uint slot = baseRefine + refineOffset;
   if (listed && slot < params.refineCapacity)
     refineList[slot] = i | (refined && fresh ? kMaskFineFresh : 0u) | (movedOnly ? kMaskMovedOnly : 0u) |
                        (outOfView ? kMaskOutOfView : 0u);

@@ -44,11 +44,9 @@ GpuRayMask::GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, co
   mCountsReadback = Buffer(ctx, kReadbackWords * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Host,
                            "ray mask counts (readback)");
   if (mBand > 0.0) {
-    // Each coarse voxel is appended at most once to each list.
+    // Each coarse voxel is appended at most once.
     mRefineList = Buffer(ctx, coarse.voxelCount() * 4, kStorageRead, Buffer::Memory::Device,
                          "refine list (coarse voxels)");
-    mCoarseList = Buffer(ctx, coarse.voxelCount() * 8, kStorageRead, Buffer::Memory::Device,
-                         "ray mask (coarse voxels)");
   }
 }
 
@@ -73,7 +71,6 @@ gpu::shared::MaskParams GpuRayMask::params(std::uint32_t frame, std::uint32_t mo
   p.coarseDims = glm::ivec4(mCoarseSpec.dims, flags | ((1 + brickCells) << 8));
   p.band = float(mBand);
   p.refineCapacity = std::uint32_t(mRefineList.size() / 4);
-  p.coarseCapacity = std::uint32_t(mCoarseList.size() / 8);
   p.frame = frame;
   // The grids measure from the fine grid's corner (SdfPipeline::frameOrigin()).
   const GridSpec coarse = mCoarseSpec.inFrame(mFineSpec.origin);
@@ -112,7 +109,7 @@ void GpuRayMask::recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std
   // d = 0 refines nothing (not even voxels with c = 0): the counts stay zero, and so does the dispatch.
   if (mBand > 0.0) {
     mCompact.execute(cmd, profiler, {coarse, mFineRanges, movedBoxes, changedBox},
-                     {mCounts, mRefineList, mCoarseList, mCoarseState, pool.stamps()}, mLastParams);
+                     {mCounts, mRefineList, mCoarseState, pool.stamps()}, mLastParams);
     pool.recordAlloc(cmd, profiler, frame);
   }
   mDispatch.execute(cmd, profiler, {}, {mCounts}, mLastParams);
@@ -225,16 +222,13 @@ std::vector<glm::uvec2> GpuRayMask::readCoarseState() const {
   return state;
 }
 
-RayMask GpuRayMask::readRayMask(std::uint32_t frame) const {
-  if (frame == 0 || mBand <= 0.0) return RayMask{};
-  const std::uint32_t coarse = counts().coarse;
-  std::vector<std::uint32_t> pairs(std::size_t(coarse) * 2);
-  download(mCtx, mCoarseList, pairs.data(), pairs.size() * 4);
-  std::vector<std::pair<std::uint64_t, float>> voxels(coarse);
-  for (std::size_t k = 0; k < coarse; ++k) {
-    voxels[k].first = pairs[2 * k];
-    std::memcpy(&voxels[k].second, &pairs[2 * k + 1], 4);
-  }
+RayMask GpuRayMask::rayMaskOf(const std::vector<float>& coarse) const {
+  if (mBand <= 0.0) return RayMask{};
+  // MaskCompactPass's test, the same float comparison.
+  const float band = float(mBand);
+  std::vector<std::pair<std::uint64_t, float>> voxels;
+  for (std::size_t i = 0; i < coarse.size(); ++i)
+    if (std::fabs(coarse[i]) <= band) voxels.emplace_back(i, coarse[i]);
   return rayMaskOfBand(std::move(voxels), mCoarseSpec, mFineSpec, mBand);
 }
 

@@ -25,7 +25,7 @@ class GridShiftPass;
 /// maskCoarseOfFine: "ray mask fine-to-coarse table"), uploaded once; per coarse voxel the refinement's history
 /// ("coarse refinement state": last frame in the band, refinements in a row); the counts (the refinement's indirect
 /// dispatch, then the mask's counters) and their host-visible copy (with the brick pool's counts after them); the
-/// refine list and the coarse band list (band > 0 only, sized for every coarse voxel: the GPU appends to them).
+/// refine list (band > 0 only, sized for every coarse voxel: the GPU appends to it).
 /// Also the last frame's MaskParams.
 class GpuRayMask {
 public:
@@ -84,9 +84,10 @@ public:
   std::vector<std::uint32_t> readOutOfViewVoxels(std::uint32_t frame) const;
   /// @brief The refinement's history per coarse voxel (read back). The frame must be finished.
   std::vector<glm::uvec2> readCoarseState() const;
-  /// @brief The last frame's compacted mask with its OpenVDB mirror (rayMaskOfBand); empty before the first frame
-  ///        (@a frame 0) or when d = 0. The frame must be finished.
-  RayMask readRayMask(std::uint32_t frame) const;
+  /// @brief The mask of @a coarse, the coarse SDF MaskCompactPass read (its band voxels: |c| <= d, the pass's
+  ///        float comparison), with its OpenVDB mirror (rayMaskOfBand); empty when d = 0. The pass keeps no list
+  ///        of them: only a read-back needs one.
+  RayMask rayMaskOf(const std::vector<float>& coarse) const;
 
   /// @brief MaskParams::reachPad: beta, a coarse voxel's diagonal and a fine voxel, the slack between a coarse
   ///        cell's bound of the distance and its fine voxels (what a moving instance's swept box must come within).
@@ -114,7 +115,7 @@ private:
   glm::ivec3 mBrickDims;
   MaskCompactPass mCompact;
   MaskDispatchPass mDispatch;
-  gpu::Buffer mCoarseState, mFineToCoarse, mFineRanges, mCounts, mRefineStats, mCountsReadback, mRefineList, mCoarseList;
+  gpu::Buffer mCoarseState, mFineToCoarse, mFineRanges, mCounts, mRefineStats, mCountsReadback, mRefineList;
   gpu::shared::MaskParams mLastParams{};
 };
 

@@ -45,10 +45,9 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   const bool dense = s.fineStorage == FineStorage::Dense;
   const std::uint64_t coarseBuf = nc * 4, fineBuf = dense ? nf * 4 : 0;
   if (fineBuf >= 2 * coarseBuf) { m.largestBuffer = fineBuf; m.largestBufferName = "fine SDF"; }
-  else { m.largestBuffer = 2 * coarseBuf; m.largestBufferName = "coarse band list"; }
+  else { m.largestBuffer = 2 * coarseBuf; m.largestBufferName = "coarse refinement state"; }
   const glm::uvec3 bricks(brickDimsOf(m.fine));
-  // Seeds A/B, the coarse SDF, the compacted band (8 bytes per voxel), the refinement state (8 bytes per voxel) and
-  // the refine list; the dense fine SDF; per brick its stamp and slot. The scene: per mesh triangle its bottom level
+  // Seeds A/B, the coarse SDF, the refinement state (8 bytes per voxel) and the refine list; the dense fine SDF; per brick its stamp and slot. The scene: per mesh triangle its bottom level
   // (nodes of 32 bytes and as many winding dipoles, at most two of each per triangle; corners 48 bytes; id, closed
   // piece and open-mesh flags 4 bytes each); per instance triangle its corners placed by VoxelizePass (48 bytes) and
   // a place in its list of large triangles (4); per instance two top-level nodes (64), its slot (4), its transforms
@@ -56,12 +55,13 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   // Closest mode: the list of voxels for the exact winding number (1 MiB).
   const std::uint64_t nearHalfList =
       s.mode == RefineMode::Closest ? (1 + std::uint64_t(gpu::shared::kWindingExactCapacity)) * 16 : 0;
-  m.deviceBytes = 8 * coarseBuf + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
+  m.deviceBytes = 6 * coarseBuf + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
                   scene.meshTriangles * (64 + 64 + 48 + 3 * 4) + scene.instanceTriangles * (48 + 4) +
                   scene.instances * (64 + 4 + 112 + 64 + 8 + 32) + nearHalfList + 4096;
-  // Read-backs with their staging copies: the coarse SDF, the compacted band (8 bytes per voxel) and its
-  // OpenVDB mirror (4 bytes and a mask bit per voxel at worst); the fine mask list and the fine SDF.
-  m.hostBytes = nc * 29 + nf * 16;
+  // Read-backs with their staging copies: the coarse SDF (coarseField(), and again for rayMask()), the band rayMask()
+  // lists (16 bytes per voxel at worst) and its OpenVDB mirror (4 bytes and a mask bit); the fine mask list and the
+  // fine SDF.
+  m.hostBytes = nc * 37 + nf * 16;
   return m;
 }
 

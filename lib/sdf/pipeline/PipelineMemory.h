@@ -17,20 +17,20 @@ namespace rtsdf {
 
 /// @brief What SdfPipeline would allocate for some settings and bounds, computed without allocating.
 ///
-/// Device buffers: per coarse voxel 32 bytes (seeds, jump-flood scratch, coarse SDF, the compacted coarse band,
-/// the refinement state, the list of voxels to refine: the GPU appends to them, so they are sized for every
-/// voxel); per brick 8 bytes (stamp, slot); per fine voxel 4 bytes with FineStorage::Dense (the dense fine SDF);
-/// the scene (SceneGpuSize): 188 bytes per mesh triangle (the bottom levels), 48 per instance triangle (placed
-/// corners), 284 per instance (the top level, its transforms, its closed pieces). Not counted: the brick pool (8 bytes per fine voxel of a brick under
+/// Device buffers: per coarse voxel 24 bytes (seeds, jump-flood scratch, coarse SDF, the refinement state, the list
+/// of voxels to refine: the GPU appends to it, so it is sized for every voxel); per brick 8 bytes (stamp, slot);
+/// per fine voxel 4 bytes with FineStorage::Dense (the dense fine SDF); the scene (SceneGpuSize): 188 bytes per mesh
+/// triangle (the bottom levels), 52 per instance triangle (placed corners, VoxelizePass's list of large triangles),
+/// 284 per instance (the top level, its transforms, its closed pieces). Not counted: the brick pool (8 bytes per fine voxel of a brick under
 /// the band: values and sign votes), which the first frame sizes from the band and checks against the same
 /// limits (SdfPipeline::poolBricks()). Host memory at its peak, when the results are read back (a frame itself
-/// reads back a few words): per coarse voxel 29 bytes (coarseField() and its staging copy; rayMask()'s coarse
-/// band, its staging copy and the OpenVDB mirror), per fine voxel 16 bytes (rayMask()'s list and fineField(),
+/// reads back a few words): per coarse voxel 37 bytes (coarseField() and its staging copy; rayMask()'s copy of
+/// the coarse SDF, its staging copy, the band it lists and the OpenVDB mirror), per fine voxel 16 bytes (rayMask()'s list and fineField(),
 /// each with its staging copy).
 struct PipelineMemory {
   GridSpec coarse, fine;          ///< the grids (pipelineGrids)
   std::uint64_t largestBuffer = 0;///< bytes of the largest single storage buffer
-  std::string largestBufferName;  ///< which one ("fine SDF" or "coarse band list")
+  std::string largestBufferName;  ///< which one ("fine SDF" or "coarse refinement state")
   std::uint64_t deviceBytes = 0;  ///< every device buffer together
   std::uint64_t hostBytes = 0;    ///< host copies and staging buffers (peak of one frame)
   std::string describe() const;

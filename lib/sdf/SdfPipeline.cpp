@@ -222,7 +222,8 @@ void SdfPipeline::submitFrame(double time) {
     // else where the coarse SDF changed (outOfViewRewritten).
     using namespace gpu::shared;
     const bool anywhere = changes.first || changes.poolReset || changes.scrolled || changes.viewChanged;
-    const int flags = (anywhere ? kMaskRelistOutOfView : 0) | (mPlan.coarse ? kMaskCoarseRebuilt : 0);
+    const int flags = (anywhere ? kMaskRelistOutOfView : 0) | (mPlan.coarse ? kMaskCoarseRebuilt : 0) |
+                      (mSettings.mode == RefineMode::Closest ? kMaskMotionKeepsSettled : 0);
     mMask->recordMask(cmd, profiler, ++mMaskFrame, moved, mFields->coarseBuffer(), mMotion->buffer(),
                       mFields->changedBoxBuffer(), flags, *mPool);
   }

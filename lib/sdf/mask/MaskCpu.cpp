@@ -32,7 +32,7 @@ MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec&
           nearMoved = movedWithinReach(p, {x, y, z}, c, moved[b]);
         const std::uint32_t before = state[i].y;
         const bool refined = refinesThisFrame(p, fresh, nearMoved, before, i);
-        state[i] = {p.frame, refinementsAfter(refined, fresh, nearMoved, state[i].y)};
+        state[i] = {p.frame, refinementsAfter(p, refined, fresh, nearMoved, before)};
         if (refined) appendFineVoxelsUnder(ranges, cs.dims, {x, y, z}, fresh ? kMaskFineFresh : 0u, out.refined);
         if (refinedForMotionAlone(p, fresh, nearMoved, before, i)) out.movedOnly.push_back(i);
       }

@@ -82,8 +82,8 @@ const uint kMaskFineFresh = 0x40000000u;
 /// its fine voxels take the coarse SDF upsampled instead of a walk.
 const uint kMaskOutOfView = 0x80000000u;
 /// Or-ed into a refine-list entry of a band voxel listed only because a moving instance came within its reach
-/// (refinedForMotionAlone): closest mode without sign rays leaves each of its fine voxels that no swept box comes near
-/// (movedBoxBeyond) as it is. Refine-list entries only: the coarse index fits below it (kMaskCoarseIndex; the coarse
+/// (refinedForMotionAlone): closest mode leaves each of its fine voxels that no swept box comes near (movedBoxBeyond)
+/// as it is. Refine-list entries only: the coarse index fits below it (kMaskCoarseIndex; the coarse
 /// state, 8 bytes a voxel, would pass maxStorageBufferRange's 4 GiB first).
 const uint kMaskMovedOnly = 0x20000000u;
 const uint kMaskCoarseIndex = 0x1FFFFFFFu;
@@ -115,9 +115,12 @@ struct MovedBox {
 const int kMaskRelistOutOfView = 1; // every band voxel out of view is written again (first frame, pool reset, scroll,
                                     // a new view: bricks may have new slots anywhere)
 const int kMaskCoarseRebuilt = 2;   // the coarse SDF was rebuilt this frame: its ChangedBox is this frame's
+const int kMaskMotionKeepsSettled = 4; // closest mode: a moving instance does not restart a voxel's settling
+                                       // (refinementsAfter)
 
 struct MaskParams {
-  ivec4 coarseDims;    // xyz: coarse voxels per axis; w: kMaskRelistOutOfView | kMaskCoarseRebuilt | growth << 8
+  ivec4 coarseDims;    // xyz: coarse voxels per axis; w: kMaskRelistOutOfView | kMaskCoarseRebuilt |
+                       // kMaskMotionKeepsSettled | growth << 8
   float band;          // d: a coarse voxel is in the band when |c| <= d (the CPU mirror's float comparison)
   uint refineCapacity; // entries the refine list holds (appends beyond it are counted, not written)
   uint pad0;
@@ -179,11 +182,16 @@ RTSDF_FN bool refinesThisFrame(MaskParams p, bool fresh, bool nearMoved, uint re
   return p.refreshPeriod != 0u && (voxel + p.frame) % p.refreshPeriod == 0u;
 }
 
-/// The voxel's refinements in a row after this frame: restarted by entering the band or a moving instance,
-/// counted up while refined (saturating), unchanged while kept.
-RTSDF_FN uint refinementsAfter(bool refined, bool fresh, bool nearMoved, uint refinements) {
+/// The voxel's refinements in a row after this frame: restarted by entering the band or, in rays mode, a moving
+/// instance (its blend starts again), counted up while refined (saturating), unchanged while kept. Closest mode
+/// (kMaskMotionKeepsSettled) does not restart on motion: a walk gives the exact distance, and the sign's votes need no
+/// new start, since a ray's first hit votes right whatever moved (a back face from inside a closed surface, a front
+/// face from outside). So a voxel near a moving instance settles as any other, and is then listed for the motion
+/// alone (kMaskMovedOnly), where the refinement keeps each fine voxel that no swept box came near (movedBoxBeyond);
+/// a restart would walk it whole again and again while the instance stays near, and for settleFrames - 1 frames after.
+RTSDF_FN uint refinementsAfter(MaskParams p, bool refined, bool fresh, bool nearMoved, uint refinements) {
   if (!refined) return refinements;
-  if (fresh || nearMoved) return 1u;
+  if (fresh || (nearMoved && (p.coarseDims.w & kMaskMotionKeepsSettled) == 0)) return 1u;
   return refinements == 0xFFFFFFFFu ? refinements : refinements + 1u;
 }
 

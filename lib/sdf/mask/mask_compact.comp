@@ -55,7 +55,7 @@ bool refineDecision(ivec3 p, uint i, float c, bool inView, out bool fresh, out b
     nearMoved = movedWithinReach(params, p, c, movedBoxes[b]);
   bool refined = refinesThisFrame(params, fresh, nearMoved, state.y, i);
   movedOnly = refinedForMotionAlone(params, fresh, nearMoved, state.y, i);
-  coarseState[i] = uvec2(params.frame, refinementsAfter(refined, fresh, nearMoved, state.y));
+  coarseState[i] = uvec2(params.frame, refinementsAfter(params, refined, fresh, nearMoved, state.y));
   return refined;
 }
 

@@ -15,7 +15,7 @@ struct FrameStats {
   double time = 0.0;
   std::uint64_t maskCoarseVoxels = 0, maskFineVoxels = 0;
   std::uint64_t refinedFineVoxels = 0; ///< masked fine voxels refined this frame (the others kept their value)
-  /// Of those, the voxels listed only for a moving instance that none came near (closest mode without sign rays:
+  /// Of those, the voxels listed only for a moving instance that none came near (closest mode:
   /// gpu::shared::movedBoxBeyond): they kept their value, unwalked.
   std::uint64_t movedKeptVoxels = 0;
   /// Of those, the voxels whose BVH walks a CPU device's loop budget ended (RTSDF_CPU_LOOP_BUDGET): each keeps the

@@ -101,8 +101,7 @@ public:
     const gpu::Buffer& fineRanges;  ///< maskFineRanges() of the two grids
     const gpu::Buffer& brickSlots;  ///< per brick: its slot in the pool (kNoBrick: left alone)
     /// the boxes the moving instances swept (InstanceMotion::buffer(); their count in params.coarseDims.w from bit
-    /// kRefineMovedBoxesShift): closest mode without sign rays keeps the fine voxels of kMaskMovedOnly entries that
-    /// none comes near
+    /// kRefineMovedBoxesShift): closest mode keeps the fine voxels of kMaskMovedOnly entries that none comes near
     const gpu::Buffer& movedBoxes;
   };
   /// Per fine voxel, in its brick: the SDF (in: f_{t-1} where not fresh; out: f_t, signed) and its decayed votes;

@@ -25,9 +25,11 @@
 // Closest mode's cell search (RTSDF_CELL_SEARCH): one BVH walk per box collects every triangle that can be nearest
 // to any voxel of it (collectCellCandidates), and each voxel tests only those, with the same triangle test and tie
 // rule as closestPoint, so the distances are the same; a voxel the candidates may not answer walks on its own.
-// Closest mode without sign rays: of a coarse voxel listed only for a moving instance (kMaskMovedOnly), a fine voxel
-// that no swept box comes within its last distance of keeps its value (movedBoxBeyond), unwalked; a box of voxels
-// that all keep theirs walks nothing. (With sign rays a kept voxel would miss the rays' votes the motion changes.)
+// Closest mode: of a coarse voxel listed only for a moving instance (kMaskMovedOnly), a fine voxel that no swept box
+// comes within its last distance of keeps its value (movedBoxBeyond), unwalked; a box of voxels that all keep theirs
+// walks nothing. With sign rays it keeps its votes too: it casts none this frame, as a settled voxel does, and those
+// it has vote right whatever moved (a ray's first hit is a back face from inside a closed surface, a front face
+// from outside).
 #include "bvh/GpuBvhLayout.h"
 #include "sdf/refine/RefineParams.h"
 #ifndef RTSDF_REFINE_MODE
@@ -214,7 +216,7 @@ float closestRadius(float bound) { return bound + 1.7320508 / params.coarseOrigi
 // Fine voxel v's centre (world).
 vec3 voxelCentre(ivec3 v) { return params.fineOriginH.xyz + (vec3(v) + 0.5) * params.fineOriginH.w; }
 
-#define RTSDF_KEEPS_UNMOVED (RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST && !RTSDF_SIGN_RAYS)
+#define RTSDF_KEEPS_UNMOVED (RTSDF_REFINE_MODE == RTSDF_REFINE_CLOSEST)
 #if RTSDF_KEEPS_UNMOVED
 // Whether fine voxel v (in its brick slot at local) of a kMaskMovedOnly entry keeps its value: every box the instances
 // swept lies beyond its last distance (movedKeepReach, movedBoxBeyond).

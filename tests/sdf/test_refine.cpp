@@ -547,7 +547,9 @@ TEST_F(Refine, IncrementalDecisionsEqualTheCpuReference) {
 // (a frame without sign rays, four with them), the voxels listed for the teapot alone that it came near none of keep
 // their values unwalked (as many as the rule's CPU copy counts on the last frame's field). Without sign rays the
 // field still equals the recompute's, with either closest search; with them (x = 1) the kept voxels' signs stop
-// collecting votes, and the error must still be no worse than the recompute's.
+// collecting votes, and the error must still be no worse than the recompute's. The teapot does not restart the
+// settling of the voxels it comes near (kMaskMotionKeepsSettled), so once settled x = 1 keeps about as many as
+// x = 0 (restarting it, as rays mode does, kept 56 voxels here against 6519).
 TEST_F(Refine, IncrementalMatchesTheFullRecomputeOnTheOrbitingTeapot) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
   const double fps = 30.0;
@@ -557,6 +559,7 @@ TEST_F(Refine, IncrementalMatchesTheFullRecomputeOnTheOrbitingTeapot) {
   // Both closest searches without sign rays: a walk per box of voxels (a CPU device's) and per voxel (a GPU's).
   const std::pair<int, ClosestSearch> cases[] = {
       {0, ClosestSearch::Cell}, {1, ClosestSearch::Cell}, {0, ClosestSearch::Voxel}};
+  std::vector<std::uint64_t> keptWithoutRays(frames, 0); // per frame, x = 0 and the cell search (the first case)
   for (const auto& [rays, search] : cases) {
     SCOPED_TRACE(::testing::Message() << "x = " << rays << (search == ClosestSearch::Voxel ? ", per voxel" : ""));
     PipelineSettings s = test::formerPipelineDefaults();
@@ -580,6 +583,8 @@ TEST_F(Refine, IncrementalMatchesTheFullRecomputeOnTheOrbitingTeapot) {
       } else {
         EXPECT_GT(a.movedKeptVoxels, 0u);
         EXPECT_EQ(a.movedKeptVoxels, movedKeptCpu(incremental, probe.movedOnlyCoarse(), last, probe.lastMovedBoxes()));
+        if (rays == 0 && search == ClosestSearch::Cell) keptWithoutRays[std::size_t(f)] = a.movedKeptVoxels;
+        if (rays > 0) EXPECT_GE(2 * a.movedKeptVoxels, keptWithoutRays[std::size_t(f)]);
       }
       EXPECT_EQ(a.maskFineVoxels, b.maskFineVoxels);
       EXPECT_EQ(b.refinedFineVoxels, b.maskFineVoxels);

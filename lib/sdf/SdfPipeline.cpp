@@ -281,7 +281,7 @@ std::vector<float> SdfPipeline::coarseField() const {
 RayMask SdfPipeline::rayMask() const {
   if (mFrame == 0 || mSettings.band <= 0.0) return RayMask{};
   waitForFrame();
-  return mMask->rayMaskOf(mFields->readCoarse());
+  return buildRayMask(mFields->readCoarse(), mCoarseSpec, mFineSpec, mSettings.band);
 }
 
 void SdfPipeline::setViewReach(const ViewReach* reach) {

@@ -127,9 +127,9 @@ public:
   /// @brief The box of the coarse voxels whose value the last coarse rebuild changed (gpu::shared::ChangedBox; the
   ///        upsampling after an instance moved covers the fine voxels near it). After a frame.
   gpu::shared::ChangedBox changedCoarseBox() const;
-  /// @brief The last frame's ray mask, with its OpenVDB mirror, built on demand from the coarse SDF read back (the
-  ///        band voxels MaskCompactPass counted; it keeps no list of them): the same voxels as
-  ///        buildRayMask(coarseField(), ...), the fine voxels sorted. Empty before the first frame or when d = 0.
+  /// @brief The last frame's ray mask, with its OpenVDB mirror: buildRayMask of the coarse SDF read back (the band
+  ///        voxels MaskCompactPass counted; it keeps no list of them), the fine voxels sorted. Empty before the first
+  ///        frame or when d = 0.
   RayMask rayMask() const;
   const GridSpec& coarseSpec() const { return mCoarseSpec; }
   /// @brief The world point the GPU passes measure from: the fine grid's corner. Triangles, the BVH's top level

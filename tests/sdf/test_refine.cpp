@@ -137,8 +137,8 @@ TEST_F(Refine, RayMaskIsTheCoarseBandAndTheFineVoxelsUnderIt) {
 namespace {
 
 /// The mask MaskCompactPass counted and listed for refinement against the CPU reference from the dense coarse SDF: the
-/// same counts and fine voxels; and SdfPipeline::rayMask() (its band taken from the coarse SDF read back, by
-/// rayMaskOfBand) against the same reference: the same fine voxels, and mirrors with the same active voxels and values.
+/// same counts and fine voxels; and SdfPipeline::rayMask() (buildRayMask of the coarse SDF it reads back) against the
+/// same reference: the same fine voxels, and mirrors with the same active voxels and values.
 void expectGpuMaskEqualsMirror(const SdfPipeline& pipe, const FrameStats& st) {
   const RayMask gpu = pipe.rayMask();
   const RayMask cpu = buildRayMask(pipe.coarseField(), pipe.coarseSpec(), pipe.fineSpec(), pipe.settings().band);

@@ -51,7 +51,7 @@ struct VoxelizeParams {
   uint chunkSize;      // voxels of a triangle's range handled by one invocation (keeps loops short)
   uint instanceCount;
   uint maxChunkGroups; // the most groups voxelize.comp runs along y (<= kVoxelizeMaxChunkGroups)
-  uint largePass;      // voxelize.comp: 0 every triangle's first chunks, 1 the listed triangles' other chunks
+  uint largePass;      // voxelize.comp: 0 the triangles not listed, 1 the listed ones (kVoxelizeBindingLarge)
   uint pad0, pad1, pad2;
 };
 

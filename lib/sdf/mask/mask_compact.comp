@@ -8,7 +8,7 @@
 // fine state) and, when they are to be refined this frame (refinesThisFrame: new to the band, reached by a moving
 // instance, not settled), appends itself to the refine list, which the refinement expands into those fine voxels
 // (flagged kMaskMovedOnly where the motion alone lists it). The band itself is not listed: a read-back takes it
-// from the coarse SDF (GpuRayMask::rayMaskOf). A band voxel out of the view's reach (withinViewReach: a cascade
+// from the coarse SDF (SdfPipeline::rayMask(), buildRayMask). A band voxel out of the view's reach (withinViewReach: a cascade
 // level above 0) is listed flagged kMaskOutOfView where its fine voxels must take the coarse SDF upsampled again
 // (outOfViewRewritten: no walk); it marks no brick, so a brick wholly out of view gives its slot back, and the fine
 // voxels of one that straddles the reach's edge hold what the samplers read where there is no slot. The refinement

@@ -222,14 +222,4 @@ std::vector<glm::uvec2> GpuRayMask::readCoarseState() const {
   return state;
 }
 
-RayMask GpuRayMask::rayMaskOf(const std::vector<float>& coarse) const {
-  if (mBand <= 0.0) return RayMask{};
-  // MaskCompactPass's test, the same float comparison.
-  const float band = float(mBand);
-  std::vector<std::pair<std::uint64_t, float>> voxels;
-  for (std::size_t i = 0; i < coarse.size(); ++i)
-    if (std::fabs(coarse[i]) <= band) voxels.emplace_back(i, coarse[i]);
-  return rayMaskOfBand(std::move(voxels), mCoarseSpec, mFineSpec, mBand);
-}
-
 } // namespace rtsdf

@@ -84,10 +84,6 @@ public:
   std::vector<std::uint32_t> readOutOfViewVoxels(std::uint32_t frame) const;
   /// @brief The refinement's history per coarse voxel (read back). The frame must be finished.
   std::vector<glm::uvec2> readCoarseState() const;
-  /// @brief The mask of @a coarse, the coarse SDF MaskCompactPass read (its band voxels: |c| <= d, the pass's
-  ///        float comparison), with its OpenVDB mirror (rayMaskOfBand); empty when d = 0. The pass keeps no list
-  ///        of them: only a read-back needs one.
-  RayMask rayMaskOf(const std::vector<float>& coarse) const;
 
   /// @brief MaskParams::reachPad: beta, a coarse voxel's diagonal and a fine voxel, the slack between a coarse
   ///        cell's bound of the distance and its fine voxels (what a moving instance's swept box must come within).

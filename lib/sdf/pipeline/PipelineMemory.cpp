@@ -58,10 +58,10 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   m.deviceBytes = 6 * coarseBuf + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
                   scene.meshTriangles * (64 + 64 + 48 + 3 * 4) + scene.instanceTriangles * (48 + 4) +
                   scene.instances * (64 + 4 + 112 + 64 + 8 + 32) + nearHalfList + 4096;
-  // Read-backs with their staging copies: the coarse SDF (coarseField(), and again for rayMask()), the band rayMask()
-  // lists (16 bytes per voxel at worst) and its OpenVDB mirror (4 bytes and a mask bit); the fine mask list and the
-  // fine SDF.
-  m.hostBytes = nc * 37 + nf * 16;
+  // Read-backs with their staging copies: the coarse SDF (coarseField(), and again for rayMask()), rayMask()'s copy
+  // of it in voxel units (tiny scenes) and its OpenVDB mirror (4 bytes and a mask bit at worst); the fine mask list
+  // and the fine SDF.
+  m.hostBytes = nc * 25 + nf * 16;
   return m;
 }
 

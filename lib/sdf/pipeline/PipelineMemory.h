@@ -24,8 +24,8 @@ namespace rtsdf {
 /// 284 per instance (the top level, its transforms, its closed pieces). Not counted: the brick pool (8 bytes per fine voxel of a brick under
 /// the band: values and sign votes), which the first frame sizes from the band and checks against the same
 /// limits (SdfPipeline::poolBricks()). Host memory at its peak, when the results are read back (a frame itself
-/// reads back a few words): per coarse voxel 37 bytes (coarseField() and its staging copy; rayMask()'s copy of
-/// the coarse SDF, its staging copy, the band it lists and the OpenVDB mirror), per fine voxel 16 bytes (rayMask()'s list and fineField(),
+/// reads back a few words): per coarse voxel 25 bytes (coarseField() and its staging copy; rayMask()'s copy of
+/// the coarse SDF, its staging copy, its copy in voxel units for tiny scenes and the OpenVDB mirror), per fine voxel 16 bytes (rayMask()'s list and fineField(),
 /// each with its staging copy).
 struct PipelineMemory {
   GridSpec coarse, fine;          ///< the grids (pipelineGrids)

@@ -50,30 +50,4 @@ RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& cs, const
   return mask;
 }
 
-RayMask rayMaskOfBand(std::vector<std::pair<std::uint64_t, float>> voxels, const GridSpec& cs, const GridSpec& fs,
-                      double band) {
-  RayMask mask;
-  mask.coarseVoxels = voxels.size();
-  // The fine voxels under the band, from the same range tables MaskCompactPass reads (the GPU lists only those it
-  // refines this frame).
-  const std::vector<glm::ivec2> ranges = maskFineRanges(cs, fs);
-  const glm::ivec3 cd = cs.dims;
-  for (const auto& [index, value] : voxels) {
-    const glm::ivec3 c(int(index % cd.x), int(index / cd.x % cd.y), int(index / cd.x / cd.y));
-    appendFineVoxelsUnder(ranges, cd, c, 0u, mask.fineVoxels);
-  }
-  tbb::parallel_sort(mask.fineVoxels.begin(), mask.fineVoxels.end());
-  if (cs.voxelSize >= minVdbVoxelSize()) {
-    mask.coarse = activeVoxelsToLevelSet(std::move(voxels), cs, float(band));
-  } else {
-    // Voxels too small for an OpenVDB transform: the same grid measured in voxels, as buildRayMask does.
-    GridSpec unit = cs;
-    unit.voxelSize = 1.0;
-    unit.origin = cs.origin / cs.voxelSize;
-    for (auto& v : voxels) v.second = float(double(v.second) / cs.voxelSize);
-    mask.coarse = activeVoxelsToLevelSet(std::move(voxels), unit, float(band / cs.voxelSize));
-  }
-  return mask;
-}
-
 } // namespace rtsdf

@@ -1,7 +1,7 @@
 #pragma once
 /// @file RayMask.h
 /// @brief The ray mask as the host sees it (RayMask: the coarse band's OpenVDB mirror and the fine voxels under it)
-///        and its CPU reference from a dense coarse SDF (buildRayMask). The GPU's compacted mask is GpuRayMask's.
+///        built from a dense coarse SDF (buildRayMask). The GPU's side of it is GpuRayMask's.
 #include "grid/GridSpec.h"
 
 #include <openvdb/openvdb.h>
@@ -23,16 +23,9 @@ struct RayMask {
   std::uint64_t coarseVoxels = 0; ///< active coarse voxels
 };
 
-/// @brief The CPU reference of the ray mask, from a dense coarse SDF (x fastest). SdfPipeline compacts the same
-///        mask on the GPU (MaskCompactPass) and builds its mirror on demand (SdfPipeline::rayMask()).
+/// @brief The ray mask of a dense coarse SDF (x fastest): the CPU reference of what MaskCompactPass counts and
+///        lists on the GPU, and what SdfPipeline::rayMask() builds on demand from the coarse SDF read back.
 RayMask buildRayMask(const std::vector<float>& coarse, const GridSpec& coarseSpec, const GridSpec& fineSpec,
                      double band);
-
-/// @brief The ray mask of the coarse band voxels @a voxels (linear index into @a coarseSpec, x fastest, and the
-///        coarse SDF there; any order), as the GPU compacts them: the fine voxels under them (maskFineRanges),
-///        sorted, and the OpenVDB mirror (activeVoxelsToLevelSet, measured in voxels where buildRayMask is).
-///        The same mask as buildRayMask of the dense coarse SDF.
-RayMask rayMaskOfBand(std::vector<std::pair<std::uint64_t, float>> voxels, const GridSpec& coarseSpec,
-                      const GridSpec& fineSpec, double band);
 
 } // namespace rtsdf

@@ -15,6 +15,7 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   "jump_flood.comp                sdf/coarse/jump_flood.comp"
   "exact_edt.comp                 sdf/coarse/exact_edt.comp"
   "coarse_distance.comp           sdf/coarse/coarse_distance.comp"
+  "coarse_region.comp             sdf/coarse/coarse_region.comp"
   # The scene BVH's queries (tests).
   "bvh_query.comp                 sdf/scenebvh/bvh_query.comp"
   # The refinement: UpsamplePass's two kernels, RayRefinePass, ClosestRefinePass::Variant's eight shaders

@@ -216,7 +216,11 @@ void SdfPipeline::submitFrame(double time) {
   mViewChanged = false;
   stats.skippedPasses = skippedPasses(mPlan, mSettings);
   stats.fieldChanged = mPlan.coarse || mPlan.refine || mPlan.upsample;
-  if (mPlan.coarse) mFields->recordCoarse(cmd, profiler, *mBvh);
+  if (mPlan.coarse) {
+    // Only instances moved: the coarse SDF over what their seeds reach.
+    const CoarseVoxelBox change = movedSeedBox(mMotion->lastBoxes(), mCoarseSpec.inFrame(frameOrigin()));
+    mFields->recordCoarse(cmd, profiler, *mBvh, mPlan.coarseOverChange ? &change : nullptr);
+  }
   if (mPlan.mask) {
     // The band out of the view's reach is written again everywhere where bricks may have taken new slots anywhere,
     // else where the coarse SDF changed (outOfViewRewritten).
@@ -250,6 +254,9 @@ FrameStats SdfPipeline::finishFrame() {
     stats.upsampledFineVoxels = !mPlan.upsample ? 0
                                 : mPlan.upsampleChanged ? mFields->lastRegionVoxels()
                                                         : mFineSpec.voxelCount();
+    stats.coarseRebuiltVoxels = !mPlan.coarse                     ? 0
+                                : mFields->lastCoarseOverChange() ? regionVoxels(mFields->readCoarseRegion())
+                                                                  : mCoarseSpec.voxelCount();
     stats.deviceBytes = mMemory.deviceBytes + BrickPool::deviceBytesFor(mPool->capacity());
     if (mPlan.mask) mPool->noteFrame(counts.activeBricks, counts.overflowBricks);
   });

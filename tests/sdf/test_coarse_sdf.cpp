@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>
 
+#include <cstring>
 #include <memory>
 #include <random>
 
@@ -85,14 +86,73 @@ protected:
   static std::vector<std::uint32_t> exactEdtGpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims) {
     const ExactEdtPass pass(*sCtx);
     const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-    gpu::Buffer a, b;
+    gpu::Buffer a, b, region;
     gpu::reserveAndUpload(*sCtx, a, seeds.data(), seeds.size() * 4, usage, "seeds");
     gpu::reserve(*sCtx, b, seeds.size() * 4, usage, gpu::Buffer::Memory::Device, "scratch");
+    gpu::reserve(*sCtx, region, sizeof(gpu::shared::CoarseRegion), usage, gpu::Buffer::Memory::Device, "region");
     gpu::CommandBuffer cmd(*sCtx);
-    pass.execute(cmd.handle(), nullptr, {a}, {b}, {dims});
+    pass.execute(cmd.handle(), nullptr, {a, region}, {b}, {dims});
     cmd.submitAndWait();
     std::vector<std::uint32_t> out(seeds.size());
     gpu::download(*sCtx, b, out.data(), out.size() * 4);
+    return out;
+  }
+
+  /// What a build over a change computes from its passes alone: ExactEdtPass (kept) and CoarseDistancePass over
+  /// @a before, then CoarseRegionPass with @a change, ExactEdtPass and CoarseDistancePass over what @a after changed
+  /// in it. Also returns the block bounds the first build left, and the region.
+  struct OverChange {
+    std::vector<std::uint32_t> nearest, blockMaxBefore;
+    std::vector<float> distance;
+    gpu::shared::CoarseRegion region{};
+  };
+  static OverChange buildOverChange(const std::vector<std::uint32_t>& before, const std::vector<std::uint32_t>& after,
+                                    const glm::ivec3& dims, const CoarseVoxelBox& change) {
+    const ExactEdtPass edt(*sCtx);
+    const CoarseRegionPass regionPass(*sCtx);
+    const CoarseDistancePass distancePass(*sCtx);
+    const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    const std::size_t bytes = before.size() * 4;
+    const glm::uvec3 bd(gpu::shared::coarseBlockDims(dims));
+    const std::size_t blocks = std::size_t(bd.x) * bd.y * bd.z;
+    gpu::Buffer seeds, scratch, planes, nearest, distance, changed, blockMax, region;
+    gpu::reserveAndUpload(*sCtx, seeds, before.data(), bytes, usage, "seeds");
+    for (gpu::Buffer* b : {&scratch, &planes, &nearest, &distance})
+      gpu::reserve(*sCtx, *b, bytes, usage, gpu::Buffer::Memory::Device, "transform");
+    gpu::reserve(*sCtx, changed, sizeof(gpu::shared::ChangedBox), usage, gpu::Buffer::Memory::Device, "changed");
+    gpu::reserve(*sCtx, blockMax, blocks * 4, usage, gpu::Buffer::Memory::Device, "block bounds");
+    gpu::reserve(*sCtx, region, sizeof(gpu::shared::CoarseRegion), usage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                 gpu::Buffer::Memory::Device, "region");
+    gpu::shared::CoarseDistanceParams dp{};
+    dp.dims = glm::ivec4(dims, 0);
+    dp.voxelSize = 0.5f;
+    dp.beta = 0.25f;
+    dp.emptyDistance = 99.0f;
+    {
+      gpu::CommandBuffer cmd(*sCtx);
+      vkCmdFillBuffer(cmd.handle(), blockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
+      vkCmdFillBuffer(cmd.handle(), changed.handle(), 0, VK_WHOLE_SIZE, 0u);
+      edt.execute(cmd.handle(), nullptr, {seeds, region}, {scratch, &planes, &nearest}, {dims});
+      distancePass.execute(cmd.handle(), nullptr, {nearest, region}, {distance, changed, blockMax}, dp);
+      cmd.submitAndWait();
+    }
+    OverChange out;
+    out.blockMaxBefore.resize(blocks);
+    gpu::download(*sCtx, blockMax, out.blockMaxBefore.data(), blocks * 4);
+    upload(*sCtx, seeds, after.data(), bytes);
+    {
+      gpu::CommandBuffer cmd(*sCtx);
+      regionPass.execute(cmd.handle(), nullptr, {blockMax}, {region}, {dims, change});
+      edt.execute(cmd.handle(), nullptr, {seeds, region}, {scratch, &planes, &nearest}, {dims, &change});
+      dp.regionOnly = 1;
+      distancePass.execute(cmd.handle(), nullptr, {nearest, region}, {distance, changed, blockMax}, dp);
+      cmd.submitAndWait();
+    }
+    out.nearest.resize(before.size());
+    out.distance.resize(before.size());
+    gpu::download(*sCtx, nearest, out.nearest.data(), bytes);
+    gpu::download(*sCtx, distance, out.distance.data(), bytes);
+    gpu::download(*sCtx, region, &out.region, sizeof(out.region));
     return out;
   }
 
@@ -271,6 +331,70 @@ TEST_F(CoarseSdfGpu, ExactEdtEqualsBruteForceWithTiesAndLongLines) {
     }
     const std::vector<std::uint32_t> none(n, kNoSeed);
     EXPECT_EQ(exactEdtGpu(none, dims), none);
+  }
+}
+
+// A build over a change: random seeds, then those inside a box drawn again (some boxes emptied, one at a corner, an
+// empty scene gaining seeds and one losing them all). ExactEdtPass and CoarseDistancePass over the planes the box
+// crosses and the region CoarseRegionPass gives (equal to its CPU copy) leave the nearest seeds of a brute-force
+// search over the new seeds (the tie rule too) and the distances bit for bit of the CPU copy on them; the region is
+// less than the grid where the seeds are dense.
+TEST_F(CoarseSdfGpu, ExactEdtOverAChangeEqualsBruteForce) {
+  std::mt19937 rng(5);
+  const glm::ivec3 dims(37, 29, 33);
+  const std::size_t n = std::size_t(dims.x) * dims.y * dims.z;
+  auto index = [&](const glm::ivec3& p) { return (std::size_t(p.z) * dims.y + p.y) * dims.x + p.x; };
+  auto scatter = [&](std::vector<std::uint32_t>& seeds, const CoarseVoxelBox& box, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) {
+      const glm::ivec3 e = box.hi - box.lo + 1;
+      const glm::ivec3 p = box.lo + glm::ivec3(int(rng() % e.x), int(rng() % e.y), int(rng() % e.z));
+      seeds[index(p)] = gpu::shared::packSeed(p);
+    }
+  };
+  const CoarseVoxelBox grid{glm::ivec3(0), dims - 1};
+  struct Case {
+    const char* name;
+    std::size_t seedsBefore, seedsInBox;
+    CoarseVoxelBox box;
+  };
+  const std::vector<Case> cases = {{"dense, a middle box", n / 40, 30, {{10, 8, 12}, {18, 14, 17}}},
+                                   {"dense, a box emptied", n / 40, 0, {{3, 20, 5}, {12, 28, 9}}},
+                                   {"dense, a corner box", n / 40, 5, {{33, 25, 29}, {36, 28, 32}}},
+                                   {"sparse, a middle box", 12, 3, {{15, 10, 10}, {20, 16, 14}}},
+                                   {"empty before", 0, 4, {{4, 4, 4}, {9, 8, 7}}},
+                                   {"every seed removed", 0, 0, {{4, 4, 4}, {9, 8, 7}}}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    std::vector<std::uint32_t> before(n, kNoSeed);
+    scatter(before, grid, c.seedsBefore);
+    if (std::string(c.name) == "every seed removed") scatter(before, c.box, 6);
+    std::vector<std::uint32_t> after = before;
+    for (int z = c.box.lo.z; z <= c.box.hi.z; ++z)
+      for (int y = c.box.lo.y; y <= c.box.hi.y; ++y)
+        for (int x = c.box.lo.x; x <= c.box.hi.x; ++x) after[index({x, y, z})] = kNoSeed;
+    scatter(after, c.box, c.seedsInBox);
+    const OverChange gpu = buildOverChange(before, after, dims, c.box);
+    std::vector<std::uint32_t> brute(n, kNoSeed);
+    std::vector<std::uint32_t> points;
+    for (std::uint32_t s : after)
+      if (s != kNoSeed) points.push_back(s);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+      const glm::ivec3 q(int(i % dims.x), int((i / dims.x) % dims.y), int(i / (std::size_t(dims.x) * dims.y)));
+      for (std::uint32_t p : points) brute[i] = gpu::shared::nearerSeed(q, brute[i], p);
+    });
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < n; ++i) wrong += gpu.nearest[i] != brute[i];
+    EXPECT_EQ(wrong, 0u) << "voxels whose nearest seed is not the brute force's";
+    const std::vector<float> cpu = coarseDistanceCpu(brute, dims, 0.5f, 0.25f, 99.0f);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < n; ++i) differ += std::memcmp(&cpu[i], &gpu.distance[i], 4) != 0;
+    EXPECT_EQ(differ, 0u) << "distances not those of the CPU copy";
+    const CoarseVoxelBox cpuRegion = coarseRegionCpu(gpu.blockMaxBefore, dims, c.box);
+    EXPECT_EQ(glm::ivec3(glm::uvec3(gpu.region.lo)), cpuRegion.lo);
+    EXPECT_EQ(glm::ivec3(glm::uvec3(gpu.region.hi)), cpuRegion.hi);
+    const std::uint64_t covered = regionVoxels(gpu.region);
+    std::printf("%s: region %llu of %zu voxels\n", c.name, static_cast<unsigned long long>(covered), n);
+    if (c.seedsBefore >= n / 40) EXPECT_LT(covered, n / 2) << "dense seeds: the change reaches a part of the grid";
   }
 }
 

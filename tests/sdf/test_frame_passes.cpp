@@ -10,6 +10,7 @@
 #include "sdf/coarse/CoarseSdf.h"
 #include "sdf/mask/MaskParams.h"
 #include "sdf/mask/MaskPasses.h"
+#include "sdf/pipeline/InstanceMotion.h"
 #include "sdf/pipeline/PipelineProbe.h"
 #include "sdf/refine/RefinePasses.h"
 
@@ -194,6 +195,65 @@ TEST_F(FramePasses, AMovingInstanceUpsamplesOnlyWhereTheCoarseSdfChanged) {
     EXPECT_LT(st.upsampledFineVoxels, all / 2) << "the teapot changes a corner of the room";
     std::printf("frame %d: coarse box (%u %u %u)-(%u %u %u) of %dx%dx%d, upsampled %.1f%% of the fine voxels\n", f + 1,
                 lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, dims.x, dims.y, dims.z, 100.0 * double(st.upsampledFineVoxels) / double(all));
+  }
+}
+
+// Where only an instance moved, the coarse SDF is built over what its seeds can reach: the region CoarseRegionPass
+// gives is its CPU copy's on the block bounds before the frame and the moved boxes' seed box, holds every coarse voxel
+// whose value changed (against the two fields read back) and is a part of the grid; every voxel's bound of its
+// squared seed distance holds. (That the field equals a full build bit for bit is
+// SkippingFramesEqualAFullRebuildOnTheOrbitingTeapot's; a region too small fails CoarseSdfGpu's
+// ExactEdtOverAChangeEqualsBruteForce.)
+TEST_F(FramePasses, AMovingInstanceRebuildsTheCoarseSdfOnlyWhereItsSeedsReach) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  Bounds bounds;
+  for (int f = 0; f < 4; ++f) bounds.add(buildSceneGeometry(scene, f / kFps).bounds);
+  SdfPipeline pipe(*sCtx, scene, bounds, closestAt(64, 128, 0));
+  const PipelineProbe probe(pipe);
+  const glm::ivec3 dims = pipe.coarseSpec().dims;
+  const std::uint64_t all = pipe.coarseSpec().voxelCount();
+  EXPECT_EQ(pipe.runFrame(0.0).coarseRebuiltVoxels, all) << "the first frame builds the whole grid";
+  EXPECT_FALSE(probe.coarseOverChange());
+  for (int f = 1; f < 4; ++f) {
+    SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
+    const std::vector<std::uint32_t> blockMax = probe.coarseBlockMax();
+    const std::vector<float> before = pipe.coarseField();
+    const FrameStats st = pipe.runFrame(f / kFps);
+    const std::vector<float> after = pipe.coarseField();
+    ASSERT_TRUE(probe.coarseOverChange());
+    const gpu::shared::CoarseRegion region = probe.coarseRegion();
+    const CoarseVoxelBox change = movedSeedBox(probe.lastMovedBoxes(), pipe.coarseSpec().inFrame(pipe.frameOrigin()));
+    ASSERT_FALSE(change.empty());
+    const CoarseVoxelBox cpu = coarseRegionCpu(blockMax, dims, change);
+    EXPECT_EQ(glm::ivec3(glm::uvec3(region.lo)), cpu.lo);
+    EXPECT_EQ(glm::ivec3(glm::uvec3(region.hi)), cpu.hi);
+    EXPECT_EQ(st.coarseRebuiltVoxels, regionVoxels(region));
+    EXPECT_LT(st.coarseRebuiltVoxels, all / 2) << "the teapot reaches a part of the room";
+    std::size_t changed = 0, outside = 0;
+    for (int z = 0; z < dims.z; ++z)
+      for (int y = 0; y < dims.y; ++y)
+        for (int x = 0; x < dims.x; ++x) {
+          const std::size_t i = (std::size_t(z) * dims.y + y) * dims.x + x;
+          if (std::memcmp(&before[i], &after[i], 4) == 0) continue;
+          ++changed;
+          outside += glm::any(glm::lessThan(glm::ivec3(x, y, z), cpu.lo)) ||
+                     glm::any(glm::greaterThan(glm::ivec3(x, y, z), cpu.hi));
+        }
+    EXPECT_GT(changed, 0u);
+    EXPECT_EQ(outside, 0u) << "coarse voxels changed outside the region";
+    // The bounds after the frame: at least each voxel's squared distance to its nearest seed, in voxels.
+    const std::vector<std::uint32_t> bounds = probe.coarseBlockMax();
+    const GridSpec& cs = pipe.coarseSpec();
+    const double beta = pipe.settings().beta >= 0.0 ? pipe.settings().beta : 0.5 * cs.voxelSize;
+    std::size_t below = 0;
+    for (std::size_t i = 0; i < after.size(); ++i) {
+      const glm::ivec3 v(int(i % dims.x), int(i / dims.x % dims.y), int(i / dims.x / dims.y));
+      const double d = (double(after[i]) + beta) / cs.voxelSize;
+      below += double(bounds[gpu::shared::coarseBlockIndex(v, gpu::shared::coarseBlockDims(dims))]) < d * d * 0.999;
+    }
+    EXPECT_EQ(below, 0u) << "voxels farther from their seed than their block's bound";
+    std::printf("frame %d: %zu coarse voxels changed; built over %.1f%% of the grid\n", f + 1, changed,
+                100.0 * double(st.coarseRebuiltVoxels) / double(all));
   }
 }
 

@@ -24,11 +24,17 @@ const uint kJumpFloodBindingDst = 1u;           // nearest seeds after this step
 const uint kJumpFloodBindingCount = 2u;
 const uint kExactEdtBindingSrc = 0u;            // nearest seeds of the previous axis (or the seeds)
 const uint kExactEdtBindingDst = 1u;            // nearest seeds after this axis; also the line's scratch stack
-const uint kExactEdtBindingCount = 2u;
+const uint kExactEdtBindingRegion = 2u;         // CoarseRegion (read where ExactEdtParams::fromRegion)
+const uint kExactEdtBindingCount = 3u;
 const uint kCoarseDistanceBindingNearest = 0u;  // nearest seed per voxel
 const uint kCoarseDistanceBindingDistance = 1u; // c per voxel (read: the last build's, then written)
 const uint kCoarseDistanceBindingChanged = 2u;  // ChangedBox: grown to hold every voxel whose c changed
-const uint kCoarseDistanceBindingCount = 3u;
+const uint kCoarseDistanceBindingBlockMax = 3u; // uint per block: at least the largest squared seed distance in it
+const uint kCoarseDistanceBindingRegion = 4u;   // CoarseRegion (read where CoarseDistanceParams::regionOnly)
+const uint kCoarseDistanceBindingCount = 5u;
+const uint kCoarseRegionBindingBlockMax = 0u;   // the last build's block bounds (read)
+const uint kCoarseRegionBindingRegion = 1u;     // CoarseRegion (grown, then its dispatches written)
+const uint kCoarseRegionBindingCount = 2u;
 
 /// The box of the coarse voxels whose value a build changed (coarse_distance.comp compares each voxel's new c with
 /// the last build's, bit for bit): lo.xyz and hi.xyz inclusive; empty while lo.x > hi.x (reset to kChangedBoxEmpty).
@@ -37,6 +43,52 @@ struct ChangedBox {
   uvec4 hi;
 };
 const uint kChangedBoxEmptyLo = 0xFFFFFFFFu; // the reset value of lo (hi is reset to 0)
+
+/// A build over what changed (CoarseSdfBuilder::record with a change box): where a moving instance's seeds may have
+/// changed, box S, a voxel's nearest seed can change only if S lies within its old seed distance D (a nearer new
+/// seed lies in S; a removed nearest one did). CoarseDistancePass keeps, per block of RTSDF_COARSE_BLOCK^3 voxels, an
+/// upper bound of D^2 in the block (kCoarseDistanceBindingBlockMax: raised as voxels change, reset by a full build),
+/// and CoarseRegionPass grows the region, the box of the blocks that S lies within that bound of; the z lines of
+/// ExactEdtPass and CoarseDistancePass then run over the region alone, from indirect dispatches it writes.
+#define RTSDF_COARSE_BLOCK 4
+/// Work-group size of coarse_region.comp (one invocation per block).
+#define RTSDF_COARSE_REGION_GROUP 64
+
+/// The region of a build over what changed: lo.xyz and hi.xyz inclusive (empty while lo.x > hi.x, reset to
+/// kChangedBoxEmptyLo and 0), and the indirect dispatches of ExactEdtPass's z lines (x over the region's x, y over its
+/// y) and of CoarseDistancePass over it (RTSDF_JFA_GROUP_* groups); no groups (x = 0) for an empty region.
+struct CoarseRegion {
+  uvec4 lo;
+  uvec4 hi;
+  uvec4 edtGroups;
+  uvec4 distanceGroups;
+};
+
+/// Push constants of coarse_region.comp.
+struct CoarseRegionParams {
+  ivec4 dims;     // xyz: voxels per axis; w: the phase (RTSDF_COARSE_REGION_GROW or RTSDF_COARSE_REGION_DISPATCH)
+  ivec4 changeLo; // xyz: box S, inclusive (empty where any lo > hi)
+  ivec4 changeHi;
+};
+#define RTSDF_COARSE_REGION_GROW 0     // one invocation per block: the region grown by the blocks S reaches
+#define RTSDF_COARSE_REGION_DISPATCH 1 // one invocation: the region's indirect dispatches
+
+/// Blocks per axis of a grid of @a dims voxels.
+RTSDF_FN ivec3 coarseBlockDims(ivec3 dims) { return (dims + ivec3(RTSDF_COARSE_BLOCK - 1)) / RTSDF_COARSE_BLOCK; }
+RTSDF_FN uint coarseBlockIndex(ivec3 v, ivec3 blockDims) {
+  ivec3 b = v / RTSDF_COARSE_BLOCK;
+  return uint((b.z * blockDims.y + b.y) * blockDims.x + b.x);
+}
+
+/// Whether box @a changeLo..changeHi (S) lies within the seed distance of some voxel of the block with voxels @a lo..hi
+/// whose squared seed distances are at most @a maxD2 (0xFFFFFFFF: a voxel without a seed, an empty scene): the
+/// squared gap between the boxes, in whole voxels, at most maxD2. Integers only: the CPU copy decides alike.
+RTSDF_FN bool coarseBlockReached(ivec3 lo, ivec3 hi, ivec3 changeLo, ivec3 changeHi, uint maxD2) {
+  if (changeLo.x > changeHi.x || changeLo.y > changeHi.y || changeLo.z > changeHi.z) return false;
+  if (maxD2 == 0xFFFFFFFFu) return true;
+  ivec3 gap = max(max(changeLo - hi, lo - changeHi), ivec3(0));
+  return uint(gap.x * gap.x + gap.y * gap.y + gap.z * gap.z) <= maxD2;
+}
 
 /// No seed (empty voxel) in a seed or nearest-seed buffer.
 const uint kNoSeed = 0xFFFFFFFFu;
@@ -105,7 +157,9 @@ struct JumpFloodParams {
 struct ExactEdtParams {
   ivec4 dims;
   int axis;            // 0: lines along x (indexed by y, z); 1: along y (x, z); 2: along z (x, y)
-  int pad0, pad1, pad2;
+  int fromRegion;      // 1: the lines (a, b) of the CoarseRegion's box (z lines only); 0: those of @a lines
+  int pad0, pad1;
+  ivec4 lines;         // the lines run: a in [x, z), b in [y, w)
 };
 
 /// Push constants of coarse_distance.comp.
@@ -114,7 +168,7 @@ struct CoarseDistanceParams {
   float voxelSize;
   float beta;          // subtracted from the distance: surfaces become thin negative shells
   float emptyDistance; // value where no seed exists at all (empty scene)
-  float pad0;
+  uint regionOnly;     // 1: the voxels of the CoarseRegion's box only (dispatched from its distanceGroups)
 };
 
 RTSDF_FN uint packSeed(ivec3 c) { return uint(c.x) | (uint(c.y) << 10) | (uint(c.z) << 20); }

@@ -7,6 +7,9 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
 
 namespace rtsdf {
 using namespace gpu::shared;
@@ -71,23 +74,73 @@ const gpu::Buffer& JumpFloodPass::result(const Inputs& in, const Outputs& out, c
 
 void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
+  const bool keep = out.planes && out.nearest;
+  if (params.change && !keep)
+    throw Error("ExactEdtPass: a build over what changed needs the planes and nearest seeds of the build before");
   gpu::ProfileScope scope(profiler, cmd, kName);
   const glm::ivec3 dims = params.dims;
-  const gpu::Buffer* src = &in.seeds;
-  const gpu::Buffer* dst = &out.scratch;
+  // Each axis reads the one before's output: seeds, x, y (planes), z (nearest).
+  const std::array<const gpu::Buffer*, 4> stages{&in.seeds, &out.scratch, keep ? out.planes : &in.seeds,
+                                                 keep ? out.nearest : &out.scratch};
   for (int axis = 0; axis < 3; ++axis) {
     ExactEdtParams p{};
     p.dims = glm::ivec4(dims, 0);
     p.axis = axis;
     const int na = axis == 0 ? dims.y : dims.x, nb = axis == 2 ? dims.y : dims.z;
+    p.lines = glm::ivec4(0, 0, na, nb);
+    // Over what changed: the x and y lines of the planes z the change crosses; the z lines of the region.
+    if (params.change && axis < 2) p.lines = glm::ivec4(0, params.change->lo.z, na, params.change->hi.z + 1);
+    p.fromRegion = params.change && axis == 2 ? 1 : 0;
     gpu::computeBarrier(cmd); // the previous axis (or pass) wrote src
     std::array<gpu::Binding, kExactEdtBindingCount> b;
-    b[kExactEdtBindingSrc] = src;
-    b[kExactEdtBindingDst] = dst;
-    mPipeline.dispatch(cmd, b, &p, {gpu::groupsFor(na, RTSDF_EDT_GROUP_X), std::uint32_t(nb), 1});
-    std::swap(src, dst);
+    b[kExactEdtBindingSrc] = stages[axis];
+    b[kExactEdtBindingDst] = stages[axis + 1];
+    b[kExactEdtBindingRegion] = &in.region;
+    if (p.fromRegion)
+      mPipeline.dispatchIndirect(cmd, b, &p, in.region, offsetof(CoarseRegion, edtGroups));
+    else if (p.lines.w > p.lines.y)
+      mPipeline.dispatch(cmd, b, &p, {gpu::groupsFor(na, RTSDF_EDT_GROUP_X), std::uint32_t(p.lines.w - p.lines.y), 1});
   }
   gpu::computeBarrier(cmd);
+}
+
+void CoarseRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                               const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  const CoarseRegion empty{glm::uvec4(kChangedBoxEmptyLo), glm::uvec4(0u), glm::uvec4(0u), glm::uvec4(0u)};
+  gpu::recordUpload(cmd, out.region, &empty, sizeof(empty));
+  gpu::computeBarrier(cmd);
+  CoarseRegionParams p{};
+  p.dims = glm::ivec4(params.dims, RTSDF_COARSE_REGION_GROW);
+  p.changeLo = glm::ivec4(params.change.lo, 0);
+  p.changeHi = glm::ivec4(params.change.hi, 0);
+  std::array<gpu::Binding, kCoarseRegionBindingCount> b;
+  b[kCoarseRegionBindingBlockMax] = &in.blockMax;
+  b[kCoarseRegionBindingRegion] = &out.region;
+  const glm::uvec3 blocks(coarseBlockDims(params.dims));
+  mPipeline.dispatch(cmd, b, &p, {gpu::groupsFor(std::uint64_t(blocks.x) * blocks.y * blocks.z,
+                                                 RTSDF_COARSE_REGION_GROUP), 1, 1});
+  gpu::computeBarrier(cmd);
+  p.dims.w = RTSDF_COARSE_REGION_DISPATCH;
+  mPipeline.dispatch(cmd, b, &p, {1, 1, 1});
+  gpu::computeBarrier(cmd); // its dispatches are read as indirect commands
+}
+
+CoarseVoxelBox coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
+                               const CoarseVoxelBox& change) {
+  const glm::ivec3 bd = coarseBlockDims(dims);
+  CoarseVoxelBox region{glm::ivec3(std::numeric_limits<int>::max()), glm::ivec3(-1)};
+  for (int z = 0; z < bd.z; ++z)
+    for (int y = 0; y < bd.y; ++y)
+      for (int x = 0; x < bd.x; ++x) {
+        const glm::ivec3 lo = glm::ivec3(x, y, z) * RTSDF_COARSE_BLOCK;
+        const glm::ivec3 hi = glm::min(lo + glm::ivec3(RTSDF_COARSE_BLOCK - 1), dims - 1);
+        if (!coarseBlockReached(lo, hi, change.lo, change.hi, blockMax.at(std::size_t((z * bd.y + y) * bd.x + x))))
+          continue;
+        region.lo = glm::min(region.lo, lo);
+        region.hi = glm::max(region.hi, hi);
+      }
+  return region;
 }
 
 void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in,
@@ -97,16 +150,22 @@ void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
   b[kCoarseDistanceBindingNearest] = &in.nearest;
   b[kCoarseDistanceBindingDistance] = &out.distance;
   b[kCoarseDistanceBindingChanged] = &out.changed;
-  mPipeline.dispatch(cmd, b, &params,
-                     {gpu::groupsFor(params.dims.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(params.dims.y, RTSDF_JFA_GROUP_Y),
-                      gpu::groupsFor(params.dims.z, RTSDF_JFA_GROUP_Z)});
+  b[kCoarseDistanceBindingBlockMax] = &out.blockMax;
+  b[kCoarseDistanceBindingRegion] = &in.region;
+  if (params.regionOnly)
+    mPipeline.dispatchIndirect(cmd, b, &params, in.region, offsetof(CoarseRegion, distanceGroups));
+  else
+    mPipeline.dispatch(cmd, b, &params,
+                       {gpu::groupsFor(params.dims.x, RTSDF_JFA_GROUP_X),
+                        gpu::groupsFor(params.dims.y, RTSDF_JFA_GROUP_Y),
+                        gpu::groupsFor(params.dims.z, RTSDF_JFA_GROUP_Z)});
   gpu::computeBarrier(cmd);
 }
 
 float emptySceneDistance(const GridSpec& spec) { return float(glm::length(glm::dvec3(spec.dims)) * spec.voxelSize); }
 
 CoarseSdfBuilder::CoarseSdfBuilder(const gpu::VulkanContext& ctx)
-    : mCtx(ctx), mVoxelize(ctx), mJumpFlood(ctx), mExactEdt(ctx), mDistance(ctx), mProfiler(ctx) {}
+    : mCtx(ctx), mVoxelize(ctx), mJumpFlood(ctx), mExactEdt(ctx), mRegionPass(ctx), mDistance(ctx), mProfiler(ctx) {}
 
 VoxelizeInstance identityInstance(std::uint32_t triangleCount) {
   VoxelizeInstance inst{};
@@ -179,6 +238,17 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& t
   gpu::reserve(mCtx, mSeedsB, voxels * 4, storage, Buffer::Memory::Device, "transform B");
   gpu::reserve(mCtx, mDistanceBuf, voxels * 4, storage, Buffer::Memory::Device, "coarse SDF");
   gpu::reserve(mCtx, mChangedBox, sizeof(ChangedBox), storage, Buffer::Memory::Device, "coarse SDF changed box");
+  const glm::u64vec3 blocks(coarseBlockDims(dims));
+  gpu::reserve(mCtx, mBlockMax, blocks.x * blocks.y * blocks.z * 4, storage, Buffer::Memory::Device,
+               "coarse SDF block bounds");
+  // Host memory: a frame's statistics read it mapped (readRegion), without a copy.
+  gpu::reserve(mCtx, mRegion, sizeof(CoarseRegion), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+               Buffer::Memory::Host, "coarse SDF region");
+  p.keep = settings.keepTransform && settings.method == CoarseMethod::Edt;
+  if (p.keep) {
+    gpu::reserve(mCtx, mPlanes, voxels * 4, storage, Buffer::Memory::Device, "transform planes (kept)");
+    gpu::reserve(mCtx, mNearest, voxels * 4, storage, Buffer::Memory::Device, "nearest seeds (kept)");
+  }
 
   p.beta = float(settings.beta >= 0.0 ? settings.beta : 0.5 * spec.voxelSize);
   p.distance.dims = glm::ivec4(dims, 0);
@@ -202,27 +272,52 @@ InstancedTriangles CoarseSdfBuilder::uploadWorldCorners(const std::vector<glm::v
 }
 
 const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler,
-                                                  const InstancedTriangles& triangles, const Prepared& p) const {
+                                                  const InstancedTriangles& triangles, const Prepared& p,
+                                                  const CoarseVoxelBox* change) const {
   const bool exact = !isJumpFlooding(p.flood.variant);
-  const gpu::Buffer& nearest = exact ? mSeedsB : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
+  const gpu::Buffer& nearest = exact ? (p.keep ? mNearest : mSeedsB)
+                                     : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
   mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced, mLarge}, p.voxelize);
+  // Over what changed: the region from the last build's block bounds, before this build raises them.
+  if (change) mRegionPass.execute(cmd, profiler, {mBlockMax}, {mRegion}, {p.flood.dims, *change});
   if (exact)
-    mExactEdt.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, {p.flood.dims});
+    mExactEdt.execute(cmd, profiler, {mSeedsA, mRegion},
+                      {mSeedsB, p.keep ? &mPlanes : nullptr, p.keep ? &mNearest : nullptr}, {p.flood.dims, change});
   else
     mJumpFlood.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, p.flood);
-  // The box starts empty; the pass grows it over the voxels whose value changed.
+  // The box starts empty; the pass grows it over the voxels whose value changed. A full build raises the block
+  // bounds from zero.
   static const ChangedBox kEmpty{glm::uvec4(kChangedBoxEmptyLo), glm::uvec4(0u)};
   gpu::recordUpload(cmd, mChangedBox, &kEmpty, sizeof(kEmpty));
+  if (!change) vkCmdFillBuffer(cmd, mBlockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::computeBarrier(cmd);
-  mDistance.execute(cmd, profiler, {nearest}, {mDistanceBuf, mChangedBox}, p.distance);
+  CoarseDistanceParams distance = p.distance;
+  distance.regionOnly = change ? 1u : 0u;
+  mDistance.execute(cmd, profiler, {nearest, mRegion}, {mDistanceBuf, mChangedBox, mBlockMax}, distance);
   return nearest;
 }
 
 float CoarseSdfBuilder::record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
-                               const GridSpec& spec, const CoarseSdfSettings& settings) {
+                               const GridSpec& spec, const CoarseSdfSettings& settings, const CoarseVoxelBox* change) {
   const Prepared p = prepare(triangles, spec, settings);
-  recordPasses(cmd, profiler, triangles, p);
+  // The kept transform and block bounds must be this grid's, from a build that kept them.
+  mLastOverChange = change && p.keep && mKeptDims == spec.dims;
+  recordPasses(cmd, profiler, triangles, p, mLastOverChange ? change : nullptr);
+  mKeptDims = p.keep ? spec.dims : glm::ivec3(-1);
   return p.beta;
+}
+
+gpu::shared::CoarseRegion CoarseSdfBuilder::readRegion() const {
+  CoarseRegion r{};
+  if (mRegion) std::memcpy(&r, mRegion.mapped(), sizeof(r));
+  return r;
+}
+
+std::vector<std::uint32_t> CoarseSdfBuilder::readBlockMax(const glm::ivec3& dims) const {
+  const glm::u64vec3 blocks(coarseBlockDims(dims));
+  std::vector<std::uint32_t> out(blocks.x * blocks.y * blocks.z);
+  download(mCtx, mBlockMax, out.data(), out.size() * 4);
+  return out;
 }
 
 CoarseSdf CoarseSdfBuilder::build(const std::vector<glm::vec4>& corners, const GridSpec& spec,
@@ -253,6 +348,8 @@ CoarseSdf CoarseSdfBuilder::build(const InstancedTriangles& triangles, const Gri
   gpu::CommandBuffer cmd(mCtx);
   mProfiler.reset(cmd.handle());
   const gpu::Buffer& nearest = recordPasses(cmd.handle(), &mProfiler, triangles, p);
+  mKeptDims = p.keep ? spec.dims : glm::ivec3(-1);
+  mLastOverChange = false;
   cmd.submitAndWait();
   out.passMs = mProfiler.results();
   out.distance.resize(voxels);

@@ -75,28 +75,86 @@ public:
   static const gpu::Buffer& result(const Inputs& in, const Outputs& out, const Params& params);
 };
 
-/// @brief ExactEdtPass: the exact nearest seed per voxel by a separable feature transform, one dispatch per axis
-///        (x: seeds -> scratch, y: scratch -> seeds, z: seeds -> scratch), one invocation per grid line. The
-///        result ends in the scratch buffer. Any dims up to kMaxSeedAxis per axis.
+/// @brief A box of coarse voxels, inclusive (empty where any lo > hi).
+struct CoarseVoxelBox {
+  glm::ivec3 lo{0};
+  glm::ivec3 hi{-1};
+  bool empty() const { return glm::any(glm::greaterThan(lo, hi)); }
+};
+
+/// @brief ExactEdtPass: the exact nearest seed per voxel by a separable feature transform, one dispatch per axis, one
+///        invocation per grid line. Any dims up to kMaxSeedAxis per axis. Without @a planes and @a nearest: x: seeds
+///        -> scratch, y: scratch -> seeds, z: seeds -> scratch (the result). With them (kept from build to build):
+///        x: seeds -> scratch, y: scratch -> planes, z: planes -> nearest; and then Params::change may restrict the
+///        build to what a change of seeds inside that box reaches: the x and y lines of the planes z crossing it (the
+///        planes elsewhere hold the same seeds), and the z lines of the CoarseRegion in @a region (CoarseRegionPass,
+///        dispatched indirectly). @a region is bound in any case.
 class ExactEdtPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "ExactEdtPass";
-  struct Inputs { const gpu::Buffer& seeds; };    ///< overwritten by the y pass
-  struct Outputs { const gpu::Buffer& scratch; }; ///< the nearest seeds
-  struct Params { glm::ivec3 dims{0}; };
+  struct Inputs {
+    const gpu::Buffer& seeds;  ///< overwritten by the y pass unless @a planes is given
+    const gpu::Buffer& region; ///< gpu::shared::CoarseRegion, read with Params::change
+  };
+  struct Outputs {
+    const gpu::Buffer& scratch;             ///< the x pass's output; the nearest seeds unless @a nearest is given
+    const gpu::Buffer* planes = nullptr;    ///< the y pass's output, kept (the nearest seed in each plane z)
+    const gpu::Buffer* nearest = nullptr;   ///< the nearest seeds, kept
+  };
+  struct Params {
+    glm::ivec3 dims{0};
+    /// Where given: the box outside which the seeds are those of the build before, which wrote @a planes and
+    /// @a nearest on the same grid.
+    const CoarseVoxelBox* change = nullptr;
+  };
   explicit ExactEdtPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "exact_edt.comp", gpu::shared::kExactEdtBindingCount, sizeof(gpu::shared::ExactEdtParams)) {}
+  /// @throw Error where Params::change is given without @a planes and @a nearest.
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 };
 
-/// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel, and the box of the voxels whose c differs
-///        from what @a distance held (gpu::shared::ChangedBox, grown: the caller resets it).
+/// @brief CoarseRegionPass: the region a change of seeds inside box @a change can reach (gpu::shared::CoarseRegion:
+///        the blocks that coarseBlockReached says the box lies within their seed distance, by @a blockMax of the
+///        last build) and its indirect dispatches, written into @a region (reset first).
+class CoarseRegionPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "CoarseRegionPass";
+  struct Inputs { const gpu::Buffer& blockMax; };
+  struct Outputs { const gpu::Buffer& region; };
+  struct Params {
+    glm::ivec3 dims{0};
+    CoarseVoxelBox change;
+  };
+  explicit CoarseRegionPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "coarse_region.comp", gpu::shared::kCoarseRegionBindingCount,
+                    sizeof(gpu::shared::CoarseRegionParams)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
+/// @brief CPU copy of CoarseRegionPass: the region (lo, hi inclusive; empty: lo > hi) of @a change on a grid of
+///        @a dims with the block bounds @a blockMax.
+CoarseVoxelBox coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
+                               const CoarseVoxelBox& change);
+
+/// @brief The voxels of region @a r's box (0 when empty).
+inline std::uint64_t regionVoxels(const gpu::shared::CoarseRegion& r) {
+  if (r.lo.x > r.hi.x || r.lo.y > r.hi.y || r.lo.z > r.hi.z) return 0;
+  const glm::u64vec3 n = glm::u64vec3(r.hi) - glm::u64vec3(r.lo) + glm::u64vec3(1);
+  return n.x * n.y * n.z;
+}
+
+/// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel, the box of the voxels whose c differs
+///        from what @a distance held (gpu::shared::ChangedBox, grown: the caller resets it), and per block of
+///        RTSDF_COARSE_BLOCK^3 voxels @a blockMax raised to at least each voxel's squared seed distance (the caller
+///        zeroes it for a full build). With Params::regionOnly, over the CoarseRegion in @a region alone (dispatched
+///        indirectly); @a region is bound in any case.
 class CoarseDistancePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "CoarseDistancePass";
-  struct Inputs { const gpu::Buffer& nearest; };
-  struct Outputs { const gpu::Buffer& distance, & changed; };
+  struct Inputs { const gpu::Buffer& nearest, & region; };
+  struct Outputs { const gpu::Buffer& distance, & changed, & blockMax; };
   using Params = gpu::shared::CoarseDistanceParams;
   explicit CoarseDistancePass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "coarse_distance.comp", gpu::shared::kCoarseDistanceBindingCount, sizeof(Params)) {}
@@ -119,6 +177,9 @@ struct CoarseSdfSettings {
   /// kVoxelizeChunkVoxelsGpu on a GPU (one long loop stalls the whole pass). Raised (doubled) where a grid's
   /// chunks would not fit maxChunkGroups x 65535 work groups.
   std::uint32_t chunkVoxels = 0;
+  /// Keep the exact transform's planes and nearest seeds in buffers of their own (8 more bytes per voxel; Edt only),
+  /// so that a later record() on the same grid can build over what changed.
+  bool keepTransform = false;
 };
 
 /// @brief A coarse SDF read back from the GPU, with the time of each pass.
@@ -151,8 +212,19 @@ public:
   /// @param spec the grid in the instances' frame.
   /// @return beta as applied (scene units).
   /// @throw Error as build() does.
+  /// @param change where given: the box (in this grid's voxels) outside which the triangles' seeds are those of the
+  ///        last record(), so that the exact transform and the distances run over what a change there can reach
+  ///        (ExactEdtPass, CoarseRegionPass) with the same result bit for bit; taken only where the last record() was
+  ///        an Edt build with keepTransform on a grid of the same dims, and so are these settings (else: a full build).
   float record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
-               const GridSpec& spec, const CoarseSdfSettings& settings);
+               const GridSpec& spec, const CoarseSdfSettings& settings, const CoarseVoxelBox* change = nullptr);
+  /// @brief Whether the last record() built over what changed (its change was taken).
+  bool lastBuiltOverChange() const { return mLastOverChange; }
+  /// @brief Read back the region of the last record() over what changed. Its command buffer must be finished.
+  gpu::shared::CoarseRegion readRegion() const;
+  /// @brief Read back the block bounds of the squared seed distances (RTSDF_COARSE_BLOCK^3 voxels per block, x
+  ///        fastest) of a grid of @a dims as the last record() on it left them. Its command buffer must be finished.
+  std::vector<std::uint32_t> readBlockMax(const glm::ivec3& dims) const;
   /// @brief The last build's coarse SDF on the GPU (x fastest), valid until the next build: later passes
   ///        read it in place instead of uploading the read-back copy again.
   const gpu::Buffer& distanceBuffer() const { return mDistanceBuf; }
@@ -166,19 +238,26 @@ private:
     JumpFloodPass::Params flood;
     gpu::shared::CoarseDistanceParams distance{};
     float beta = 0.0f;
+    bool keep = false; ///< the kept transform's buffers are there
   };
   /// Check the grid and size the buffers: everything the passes need but the triangles and the recording.
   Prepared prepare(const InstancedTriangles& triangles, const GridSpec& spec, const CoarseSdfSettings& settings);
   /// Upload world-space corners as one instance with the identity transform.
   InstancedTriangles uploadWorldCorners(const std::vector<glm::vec4>& corners);
-  /// Record voxelize, transform and distance; returns the buffer that holds the nearest seeds.
+  /// Record voxelize, transform and distance (over what changed inside @a change, where given); returns the buffer
+  /// that holds the nearest seeds.
   const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
-                                  const Prepared& p) const;
+                                  const Prepared& p, const CoarseVoxelBox* change = nullptr) const;
   const gpu::VulkanContext& mCtx;
   gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mLarge, mSeedsA, mSeedsB, mDistanceBuf, mChangedBox;
+  gpu::Buffer mBlockMax, mRegion; ///< the block bounds (CoarseDistancePass) and the region of a build over changes
+  gpu::Buffer mPlanes, mNearest;  ///< kept transform (CoarseSdfSettings::keepTransform)
+  glm::ivec3 mKeptDims{-1};       ///< the grid the kept transform and block bounds are of; -1: none
+  bool mLastOverChange = false;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;
   ExactEdtPass mExactEdt;
+  CoarseRegionPass mRegionPass;
   CoarseDistancePass mDistance;
   gpu::GpuProfiler mProfiler;
 };

@@ -4,7 +4,9 @@
 // value differs from the last build's (bit for bit) grows the changed box, so the passes after it can run over the
 // region that changed (UpsamplePass). A bound is raised atomically only where this voxel lies beyond it as last read:
 // the box only grows, so a stale read costs an atomic, never a voxel left out (no barrier or shared memory, which
-// made the pass 4.6 times slower on lavapipe).
+// made the pass 4.6 times slower on lavapipe). Each voxel raises its block's bound of the squared seed distance where
+// it exceeds it (coarseBlockReached's input; a full build reset the bounds). A build over what changed runs over the
+// CoarseRegion's box alone: elsewhere no voxel's nearest seed changed.
 #include "sdf/coarse/CoarseParams.h"
 
 layout(local_size_x = RTSDF_JFA_GROUP_X, local_size_y = RTSDF_JFA_GROUP_Y, local_size_z = RTSDF_JFA_GROUP_Z) in;
@@ -12,15 +14,24 @@ layout(push_constant) uniform Push { CoarseDistanceParams params; };
 layout(std430, binding = kCoarseDistanceBindingNearest) readonly buffer Nearest { uint nearest[]; };
 layout(std430, binding = kCoarseDistanceBindingDistance) buffer Distance { float distance[]; };
 layout(std430, binding = kCoarseDistanceBindingChanged) buffer Changed { ChangedBox changed; };
+layout(std430, binding = kCoarseDistanceBindingBlockMax) buffer BlockMax { uint blockMax[]; };
+layout(std430, binding = kCoarseDistanceBindingRegion) readonly buffer Region { CoarseRegion region; };
 
 void main() {
   ivec3 p = ivec3(gl_GlobalInvocationID);
   ivec3 dims = params.dims.xyz;
-  if (any(greaterThanEqual(p, dims))) return;
+  ivec3 end = dims;
+  if (params.regionOnly != 0u) {
+    p += ivec3(region.lo.xyz);
+    end = min(end, ivec3(region.hi.xyz) + ivec3(1));
+  }
+  if (any(greaterThanEqual(p, end))) return;
   int i = (p.z * dims.y + p.y) * dims.x + p.x;
   uint s = nearest[i];
-  float c = s == kNoSeed ? params.emptyDistance
-                         : sqrt(float(distance2(p, unpackSeed(s)))) * params.voxelSize - params.beta;
+  uint d2 = s == kNoSeed ? 0xFFFFFFFFu : uint(distance2(p, unpackSeed(s)));
+  uint block = coarseBlockIndex(p, coarseBlockDims(dims));
+  if (d2 > blockMax[block]) atomicMax(blockMax[block], d2);
+  float c = s == kNoSeed ? params.emptyDistance : sqrt(float(d2)) * params.voxelSize - params.beta;
   if (floatBitsToUint(distance[i]) != floatBitsToUint(c)) {
     for (int a = 0; a < 3; ++a) {
       uint v = uint(p[a]);

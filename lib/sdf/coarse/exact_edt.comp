@@ -7,13 +7,15 @@
 // Integer arithmetic only; ties go to the smaller position on the line, so over three axes to the smaller packed
 // seed, the same rule as exactEdtNearestCpu() (sdf/coarse/CoarseCpu.cpp) and jump flooding.
 // The envelope's stack lives in the line's own output slots (slot k <= the position being written), so there is
-// no private array; every loop runs at most 2n iterations (n <= 1024).
+// no private array; every loop runs at most 2n iterations (n <= 1024). A dispatch runs the lines (a, b) of a box:
+// all of an axis in a full build, those a change can reach in a build over what changed (CoarseRegion).
 #include "sdf/coarse/CoarseParams.h"
 
 layout(local_size_x = RTSDF_EDT_GROUP_X) in;
 layout(push_constant) uniform Push { ExactEdtParams params; };
 layout(std430, binding = kExactEdtBindingSrc) readonly buffer Src { uint src[]; };
 layout(std430, binding = kExactEdtBindingDst) buffer Dst { uint dst[]; };
+layout(std430, binding = kExactEdtBindingRegion) readonly buffer Region { CoarseRegion region; };
 
 ivec3 gDims;
 ivec3 gStart;
@@ -27,8 +29,10 @@ int heightAt(int s) { return distance2(gStart + s * gStep, unpackSeed(src[gBase 
 void main() {
   gDims = params.dims.xyz;
   int axis = params.axis;
-  int a = int(gl_GlobalInvocationID.x), b = int(gl_GlobalInvocationID.y);
-  if (a >= (axis == 0 ? gDims.y : gDims.x) || b >= (axis == 2 ? gDims.y : gDims.z)) return;
+  ivec4 lines = params.fromRegion != 0 ? ivec4(region.lo.x, region.lo.y, region.hi.x + 1u, region.hi.y + 1u)
+                                      : params.lines;
+  int a = lines.x + int(gl_GlobalInvocationID.x), b = lines.y + int(gl_GlobalInvocationID.y);
+  if (a >= min(lines.z, axis == 0 ? gDims.y : gDims.x) || b >= min(lines.w, axis == 2 ? gDims.y : gDims.z)) return;
   gStart = edtLineStart(axis, a, b);
   gStep = ivec3(axis == 0 ? 1 : 0, axis == 1 ? 1 : 0, axis == 2 ? 1 : 0);
   gBase = (gStart.z * gDims.y + gStart.y) * gDims.x + gStart.x;

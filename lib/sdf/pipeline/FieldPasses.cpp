@@ -1,5 +1,6 @@
 #include "sdf/pipeline/FieldPasses.h"
 
+#include "sdf/pipeline/FramePlan.h"
 #include "sdf/pipeline/GridShift.h"
 
 #include <algorithm>
@@ -39,12 +40,14 @@ void FieldPasses::recordClear(VkCommandBuffer cmd) const {
   if (mFine) vkCmdFillBuffer(cmd, mFine.handle(), 0, VK_WHOLE_SIZE, 0u);
 }
 
-void FieldPasses::recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh) {
+void FieldPasses::recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh,
+                               const CoarseVoxelBox* change) {
   CoarseSdfSettings cs;
   cs.method = mSettings.coarseMethod;
   cs.beta = mSettings.beta;
+  cs.keepTransform = coarseBuiltOverChanges(mSettings);
   // Every GPU pass measures from the fine grid's corner (SdfPipeline::frameOrigin()).
-  mCoarse.record(cmd, profiler, bvh.instancedTriangles(), mCoarseSpec.inFrame(mFineSpec.origin), cs);
+  mCoarse.record(cmd, profiler, bvh.instancedTriangles(), mCoarseSpec.inFrame(mFineSpec.origin), cs, change);
 }
 
 void FieldPasses::recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine,

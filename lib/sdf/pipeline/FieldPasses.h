@@ -35,9 +35,17 @@ public:
   /// @brief Record: the dense fine SDF zeroed, where there is one (construction only).
   void recordClear(VkCommandBuffer cmd) const;
   /// @brief Record the coarse SDF of @a bvh's instanced triangles into coarseBuffer() (scopes to @a profiler, null:
-  ///        none).
+  ///        none); where @a change is given, over what a change of seeds inside it reaches (CoarseSdfBuilder::record:
+  ///        taken after a full build of these settings where coarseBuiltOverChanges says so).
   /// @throw Error as CoarseSdfBuilder::record does.
-  void recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh);
+  void recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const GpuSceneBvh& bvh,
+                    const CoarseVoxelBox* change = nullptr);
+  /// @brief Whether the last recordCoarse built over what changed.
+  bool lastCoarseOverChange() const { return mCoarse.lastBuiltOverChange(); }
+  /// @brief Read back the region of the last recordCoarse over what changed. The frame must be finished.
+  gpu::shared::CoarseRegion readCoarseRegion() const { return mCoarse.readRegion(); }
+  /// @brief Read back the coarse SDF's block bounds (CoarseSdfBuilder::readBlockMax). The frame must be finished.
+  std::vector<std::uint32_t> readCoarseBlockMax() const { return mCoarse.readBlockMax(mCoarseSpec.dims); }
   /// @brief The refinement's and upsampling's parameters for frame number @a frame with the brick pool @a pool and
   ///        @a movedBoxes boxes of moving instances (at most RTSDF_MAX_MOVED_BOXES).
   gpu::shared::RefineParams refineParams(std::uint32_t frame, const BrickPool& pool,

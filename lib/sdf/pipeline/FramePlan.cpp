@@ -16,7 +16,12 @@ FramePlan planFrame(const FrameChanges& c, const PipelineSettings& s) {
   plan.refine = plan.mask;
   plan.upsample = s.fineStorage == FineStorage::Dense && (plan.coarse || c.poolReset);
   plan.upsampleChanged = plan.upsample && c.moved && !c.scrolled && !c.poolReset;
+  plan.coarseOverChange = c.moved && !c.scrolled && coarseBuiltOverChanges(s);
   return plan;
+}
+
+bool coarseBuiltOverChanges(const PipelineSettings& s) {
+  return s.coarseMethod == CoarseMethod::Edt && !s.fullRebuild && !s.fullRecompute;
 }
 
 std::vector<std::string> skippedPasses(const FramePlan& plan, const PipelineSettings& s) {

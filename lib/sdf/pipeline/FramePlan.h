@@ -27,7 +27,15 @@ struct FramePlan {
   /// The upsampling rewrites only the fine voxels near the coarse voxels whose value the rebuild changed
   /// (UpsampleRegionPass): an instance moved, and the grids, the pool and the last build's coarse SDF are as they were.
   bool upsampleChanged = false;
+  /// The coarse SDF is built over what the moving instances' seeds can reach (CoarseSdfBuilder::record with their
+  /// box): only instances moved, and coarseBuiltOverChanges.
+  bool coarseOverChange = false;
 };
+
+/// @brief Whether a pipeline under @a s keeps the exact transform from frame to frame, so that a frame where only
+///        instances moved builds the coarse SDF over what they reach: the exact transform (Edt), and frames not
+///        rebuilt whole by setting (fullRebuild, fullRecompute).
+bool coarseBuiltOverChanges(const PipelineSettings& s);
 
 /// @brief The passes a frame with @a changes runs under the settings in effect @a s. Every pass runs with
 ///        fullRebuild or fullRecompute and on the first frame. Otherwise the coarse SDF is rebuilt only when an
@@ -38,7 +46,8 @@ struct FramePlan {
 ///        over the frames) or never settle (settleFrames 0). A run that lists nothing leaves the band, the bricks
 ///        and the fine SDF as they are, so skipping it changes nothing. The upsampling writes the coarse SDF
 ///        outside the slotted band: it runs when the coarse SDF or the slots changed, over the whole grid unless only
-///        an instance moved (then where the coarse SDF changed: the slots change only where the band does).
+///        an instance moved (then where the coarse SDF changed: the slots change only where the band does). The coarse
+///        SDF is built over what changed where only an instance moved (coarseOverChange).
 FramePlan planFrame(const FrameChanges& changes, const PipelineSettings& s);
 
 /// @brief The profiler names of the passes @a plan leaves out under @a s (in recording order), for FrameStats.

@@ -3,6 +3,7 @@
 #include "scene/SceneGeometry.h"
 
 #include <cmath>
+#include <limits>
 
 namespace rtsdf {
 
@@ -70,6 +71,24 @@ const std::vector<gpu::shared::MovedBox>& InstanceMotion::advance(std::uint32_t 
 
 void InstanceMotion::recordUpload(VkCommandBuffer cmd) const {
   gpu::recordUpload(cmd, mBuffer, mLast.data(), mLast.size() * sizeof(mLast[0]));
+}
+
+CoarseVoxelBox movedSeedBox(const std::vector<gpu::shared::MovedBox>& boxes, const GridSpec& coarse) {
+  CoarseVoxelBox box;
+  if (boxes.empty()) return box;
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const gpu::shared::MovedBox& b : boxes) {
+    lo = glm::min(lo, glm::dvec3(glm::vec3(b.lo)));
+    hi = glm::max(hi, glm::dvec3(glm::vec3(b.hi)));
+  }
+  const glm::dvec3 first = glm::floor((lo - coarse.origin) / coarse.voxelSize) - 2.0;
+  const glm::dvec3 last = glm::floor((hi - coarse.origin) / coarse.voxelSize) + 2.0;
+  // Clamped in double: a box far off the grid stays empty instead of wrapping an int.
+  box.lo = glm::ivec3(glm::max(first, glm::dvec3(0.0)));
+  box.hi = glm::ivec3(glm::min(last, glm::dvec3(coarse.dims - 1)));
+  if (glm::any(glm::lessThan(last, glm::dvec3(0.0))) || glm::any(glm::greaterThan(first, glm::dvec3(coarse.dims - 1))))
+    return CoarseVoxelBox{};
+  return box;
 }
 
 } // namespace rtsdf

@@ -4,6 +4,8 @@
 ///        (movedInstanceBoxes) and InstanceMotion, which keeps the previous frame's time and the device buffer the
 ///        boxes travel in.
 #include "gpu/Resources.h"
+#include "grid/GridSpec.h"
+#include "sdf/coarse/CoarseSdf.h"
 #include "sdf/refine/RefineParams.h"
 #include "scene/Scene.h"
 #include "util/Bounds.h"
@@ -22,6 +24,12 @@ namespace rtsdf {
 std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const std::vector<Bounds>& meshBounds,
                                                       double before, double after, const glm::dvec3& origin,
                                                       const Bounds& reach = {});
+
+/// @brief The coarse voxels of @a coarse (a grid in the boxes' frame) whose seeds the instances that swept @a boxes
+///        can have changed: the voxels the boxes' union meets, grown by two voxels (VoxelizePass marks the voxels a
+///        triangle touches, which may be the neighbour of the one holding it, and places corners in float), clamped to
+///        the grid (empty where the boxes miss it).
+CoarseVoxelBox movedSeedBox(const std::vector<gpu::shared::MovedBox>& boxes, const GridSpec& coarse);
 
 /// @brief The instances' motion from frame to frame of one pipeline. Owns the meshes' own bounds (positionBounds,
 ///        what placement checks and swept boxes start from), the previous frame's time, the last frame's boxes and

@@ -1,6 +1,7 @@
 #include "sdf/pipeline/PipelineProbe.h"
 
 #include "sdf/pipeline/BrickPool.h"
+#include "sdf/pipeline/FieldPasses.h"
 #include "sdf/pipeline/GpuRayMask.h"
 #include "sdf/pipeline/InstanceMotion.h"
 
@@ -42,5 +43,17 @@ const gpu::shared::MaskParams& PipelineProbe::lastMaskParams() const { return mP
 const std::vector<gpu::shared::MovedBox>& PipelineProbe::lastMovedBoxes() const {
   return mPipe.mMotion->lastBoxes();
 }
+
+std::vector<std::uint32_t> PipelineProbe::coarseBlockMax() const {
+  mPipe.waitForFrame();
+  return mPipe.mFields->readCoarseBlockMax();
+}
+
+gpu::shared::CoarseRegion PipelineProbe::coarseRegion() const {
+  mPipe.waitForFrame();
+  return mPipe.mFields->readCoarseRegion();
+}
+
+bool PipelineProbe::coarseOverChange() const { return mPipe.mPlan.coarse && mPipe.mFields->lastCoarseOverChange(); }
 
 } // namespace rtsdf

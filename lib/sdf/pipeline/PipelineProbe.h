@@ -3,6 +3,7 @@
 /// @brief Read-backs of an SdfPipeline's internal state, for tests that check the GPU against the CPU references
 ///        (the brick pool's slots and values, the refinement's history and list, the mask's parameters and moved
 ///        boxes). Kept out of SdfPipeline.h so that its users see no gpu::shared types.
+#include "sdf/coarse/CoarseParams.h"
 #include "sdf/refine/RefineParams.h"
 #include "sdf/SdfPipeline.h"
 
@@ -36,6 +37,12 @@ public:
   /// @brief MaskCompactPass's parameters in the last frame and the moving boxes it read (maskDecisionsCpu's input).
   const gpu::shared::MaskParams& lastMaskParams() const;
   const std::vector<gpu::shared::MovedBox>& lastMovedBoxes() const;
+  /// @brief The coarse SDF's block bounds as the last frame left them (CoarseSdfBuilder::readBlockMax).
+  std::vector<std::uint32_t> coarseBlockMax() const;
+  /// @brief The region of the last coarse build over what changed (CoarseSdfBuilder::readRegion), and whether the
+  ///        last frame's coarse build was one.
+  gpu::shared::CoarseRegion coarseRegion() const;
+  bool coarseOverChange() const;
 
 private:
   const SdfPipeline& mPipe;

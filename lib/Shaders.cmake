@@ -49,6 +49,7 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   # The ray mask and the brick pool.
   "mask_compact.comp              sdf/mask/mask_compact.comp"
   "mask_dispatch.comp             sdf/mask/mask_dispatch.comp"
+  "mask_region.comp               sdf/mask/mask_region.comp"
   "brick_alloc.comp               sdf/mask/brick_alloc.comp"
   # A scrolled level's grids moved by whole cells.
   "grid_shift.comp                sdf/pipeline/grid_shift.comp"

@@ -204,6 +204,7 @@ void SdfPipeline::submitFrame(double time) {
   changes.poolReset = mPoolReset;
   changes.scrolled = mScrolled;
   changes.viewChanged = mViewChanged;
+  changes.viewLimited = mView.has_value();
   // Listed for a walk: the band voxels out of the view's reach written again are listed too, and a run skipped keeps
   // what they hold.
   if (!changes.first) { // before the first frame nothing has been read back
@@ -227,9 +228,13 @@ void SdfPipeline::submitFrame(double time) {
     using namespace gpu::shared;
     const bool anywhere = changes.first || changes.poolReset || changes.scrolled || changes.viewChanged;
     const int flags = (anywhere ? kMaskRelistOutOfView : 0) | (mPlan.coarse ? kMaskCoarseRebuilt : 0) |
-                      (mSettings.mode == RefineMode::Closest ? kMaskMotionKeepsSettled : 0);
+                      (mSettings.mode == RefineMode::Closest ? kMaskMotionKeepsSettled : 0) |
+                      (mPlan.maskOverChange ? kMaskRegionOnly : 0);
+    // Over what changed: the band voxels a moving box can come within reach of (movedWithinReach: |c| <= band).
+    const CoarseVoxelBox near = movedReachBox(mMotion->lastBoxes(), mCoarseSpec.inFrame(frameOrigin()),
+                                              mSettings.band + mMask->reachPad());
     mMask->recordMask(cmd, profiler, ++mMaskFrame, moved, mFields->coarseBuffer(), mMotion->buffer(),
-                      mFields->changedBoxBuffer(), flags, *mPool);
+                      mFields->changedBoxBuffer(), flags, *mPool, near);
   }
   mFields->recordFine(cmd, profiler, mFields->refineParams(mFrame, *mPool, moved), *mBvh, *mMask, *mPool,
                       mMotion->buffer(), mPlan.refine, mPlan.upsample, mPlan.upsampleChanged);
@@ -254,6 +259,7 @@ FrameStats SdfPipeline::finishFrame() {
     stats.upsampledFineVoxels = !mPlan.upsample ? 0
                                 : mPlan.upsampleChanged ? mFields->lastRegionVoxels()
                                                         : mFineSpec.voxelCount();
+    stats.maskVisitedVoxels = mPlan.mask && mSettings.band > 0.0 ? regionVoxels(mMask->lastRegion()) : 0;
     stats.coarseRebuiltVoxels = !mPlan.coarse                     ? 0
                                 : mFields->lastCoarseOverChange() ? regionVoxels(mFields->readCoarseRegion())
                                                                   : mCoarseSpec.voxelCount();

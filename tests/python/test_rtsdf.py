@@ -165,6 +165,10 @@ def test_a_moving_instance_upsamples_only_near_what_it_changed():
     moving = levels.frame(0.1)
     # Level 1 (1.2 wide) rewrites the fine voxels near the coarse voxels the teapot changed, not its whole grid.
     assert moving[1]["moved_instances"] == 1 and 0 < moving[1]["upsampled_voxels"] < 32 ** 3 / 2
+    # Its coarse SDF is built, and its mask visited, over what the teapot can reach; the first frame's, whole.
+    assert [level["coarse_rebuilt_voxels"] for level in first] == [16 ** 3, 16 ** 3]
+    assert [level["mask_visited_voxels"] for level in first] == [16 ** 3, 16 ** 3]
+    assert 0 < moving[1]["coarse_rebuilt_voxels"] < 16 ** 3 and 0 < moving[1]["mask_visited_voxels"] < 16 ** 3
 
 
 def test_cascades_above_level_0_refine_near_the_view_given():

@@ -9,6 +9,7 @@
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
 #include "sdf/SdfPipeline.h"
+#include "sdf/coarse/CoarseSdf.h"
 #include "sdf/pipeline/BrickPool.h"
 #include "sdf/pipeline/PipelineProbe.h"
 
@@ -501,44 +502,58 @@ TEST_F(Refine, UpsampleKernelsEqualTheCpuReferenceEverywhere) {
 
 // Incremental refinement, decided on the GPU (MaskCompactPass) against its CPU reference, frame by frame on the
 // orbiting teapot: the same fine voxels listed (fresh flags included) and the same per-coarse-voxel state after.
-// Settle 2 and refresh 3 take every branch: new to the band, near the teapot, settling, settled, refreshed.
+// Settle 2 and refresh 3 take every branch: new to the band, near the teapot, settling, settled, refreshed; without
+// the refresh, the runs over what changed visit a part of the grid, the CPU copy the same part.
 TEST_F(Refine, IncrementalDecisionsEqualTheCpuReference) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
-  PipelineSettings s = test::formerPipelineDefaults();
-  s.coarseRes = 40;
-  s.fineRes = 80;
-  s.mode = RefineMode::Closest;
-  s.rays = 0;
-  s.settleFrames = 2;
-  s.refreshPeriod = 3;
-  Bounds bounds;
   const double fps = 10.0;
+  Bounds bounds;
   for (int f = 0; f < 6; ++f) bounds.add(buildSceneGeometry(scene, f / fps).bounds);
-  SdfPipeline pipe(*sCtx, scene, bounds, s);
-  const PipelineProbe probe(pipe);
-  std::vector<glm::uvec2> state = probe.coarseState();
-  bool sawKept = false, sawNearMoved = false, sawRefresh = false, sawMovedOnly = false;
-  for (int f = 0; f < 6; ++f) {
-    SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
-    // Frame 4 repeats frame 3's time: nothing moves, settled voxels are kept but for the refresh.
-    const double time = (f == 3 ? f - 1 : f) / fps;
-    const FrameStats st = pipe.runFrame(time);
-    EXPECT_EQ(st.movedInstances, (f == 0 || f == 3) ? 0u : 1u);
-    const MaskDecisions cpu = maskDecisionsCpu(pipe.coarseField(), pipe.coarseSpec(), pipe.fineSpec(), state,
-                                               probe.lastMaskParams(), probe.lastMovedBoxes());
-    const std::vector<std::uint32_t> gpu = probe.refinedVoxels();
-    EXPECT_EQ(st.refinedFineVoxels, cpu.refined.size());
-    EXPECT_TRUE(gpu == cpu.refined) << gpu.size() << " listed on the GPU, " << cpu.refined.size() << " on the CPU";
-    const std::vector<glm::uvec2> after = probe.coarseState();
-    EXPECT_TRUE(after == cpu.state);
-    EXPECT_TRUE(probe.movedOnlyCoarse() == cpu.movedOnly) << cpu.movedOnly.size() << " for motion alone on the CPU";
-    sawMovedOnly |= !cpu.movedOnly.empty();
-    sawKept |= st.refinedFineVoxels < st.maskFineVoxels;
-    sawNearMoved |= f == 2 && st.refinedFineVoxels > 0;
-    sawRefresh |= f == 3 && st.refinedFineVoxels > 0 && st.refinedFineVoxels < st.maskFineVoxels / 2;
-    state = after;
+  // With a refresh period every run visits every voxel; without, a run after the first visits the voxels whose
+  // decisions can change (MaskRegionPass), and the CPU copy visits the same box.
+  for (const std::uint32_t refresh : {3u, 0u}) {
+    SCOPED_TRACE(::testing::Message() << "refresh period " << refresh);
+    PipelineSettings s = test::formerPipelineDefaults();
+    s.coarseRes = 40;
+    s.fineRes = 80;
+    s.mode = RefineMode::Closest;
+    s.rays = 0;
+    s.settleFrames = 2;
+    s.refreshPeriod = refresh;
+    SdfPipeline pipe(*sCtx, scene, bounds, s);
+    const PipelineProbe probe(pipe);
+    const std::uint64_t all = pipe.coarseSpec().voxelCount();
+    std::vector<glm::uvec2> state = probe.coarseState();
+    bool sawKept = false, sawNearMoved = false, sawRefresh = false, sawMovedOnly = false, sawPart = false;
+    for (int f = 0; f < 6; ++f) {
+      SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
+      // Frame 4 repeats frame 3's time: nothing moves, settled voxels are kept but for the refresh.
+      const double time = (f == 3 ? f - 1 : f) / fps;
+      const FrameStats st = pipe.runFrame(time);
+      EXPECT_EQ(st.movedInstances, (f == 0 || f == 3) ? 0u : 1u);
+      const gpu::shared::MaskRegion visited = probe.lastMaskRegion();
+      EXPECT_EQ(st.maskVisitedVoxels, regionVoxels(visited));
+      if (refresh || f == 0) EXPECT_EQ(st.maskVisitedVoxels, all);
+      sawPart |= st.maskVisitedVoxels < all;
+      const MaskDecisions cpu = maskDecisionsCpu(pipe.coarseField(), pipe.coarseSpec(), pipe.fineSpec(), state,
+                                                 probe.lastMaskParams(), probe.lastMovedBoxes(),
+                                                 pipe.changedCoarseBox(), &visited);
+      const std::vector<std::uint32_t> gpu = probe.refinedVoxels();
+      EXPECT_EQ(st.refinedFineVoxels, cpu.refined.size());
+      EXPECT_TRUE(gpu == cpu.refined) << gpu.size() << " listed on the GPU, " << cpu.refined.size() << " on the CPU";
+      const std::vector<glm::uvec2> after = probe.coarseState();
+      EXPECT_TRUE(after == cpu.state);
+      EXPECT_TRUE(probe.movedOnlyCoarse() == cpu.movedOnly) << cpu.movedOnly.size() << " for motion alone on the CPU";
+      sawMovedOnly |= !cpu.movedOnly.empty();
+      sawKept |= st.refinedFineVoxels < st.maskFineVoxels;
+      sawNearMoved |= f == 2 && st.refinedFineVoxels > 0;
+      sawRefresh |= f == 3 && st.refinedFineVoxels > 0 && st.refinedFineVoxels < st.maskFineVoxels / 2;
+      state = after;
+    }
+    EXPECT_TRUE(sawKept && sawNearMoved && sawMovedOnly);
+    if (refresh) EXPECT_TRUE(sawRefresh);
+    EXPECT_EQ(sawPart, refresh == 0) << "runs over what changed";
   }
-  EXPECT_TRUE(sawKept && sawNearMoved && sawRefresh && sawMovedOnly);
 }
 
 // The incremental frame against the paper's full recompute on the orbiting teapot (closest mode, exact values):

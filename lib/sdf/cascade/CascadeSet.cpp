@@ -127,6 +127,8 @@ FrameStats sumFrameStats(const std::vector<FrameStats>& levels) {
     sum.nearHalfVoxels += f.nearHalfVoxels;
     sum.nearHalfKept += f.nearHalfKept;
     sum.upsampledFineVoxels += f.upsampledFineVoxels;
+    sum.coarseRebuiltVoxels += f.coarseRebuiltVoxels;
+    sum.maskVisitedVoxels += f.maskVisitedVoxels;
     sum.activeBricks += f.activeBricks;
     sum.overflowBricks += f.overflowBricks;
     sum.poolBricks += f.poolBricks;

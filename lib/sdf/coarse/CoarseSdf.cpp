@@ -279,7 +279,7 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
                                      : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
   mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced, mLarge}, p.voxelize);
   // Over what changed: the region from the last build's block bounds, before this build raises them.
-  if (change) mRegionPass.execute(cmd, profiler, {mBlockMax}, {mRegion}, {p.flood.dims, *change});
+  if (change) mRegionPass.execute(cmd, nullptr, {mBlockMax}, {mRegion}, {p.flood.dims, *change});
   if (exact)
     mExactEdt.execute(cmd, profiler, {mSeedsA, mRegion},
                       {mSeedsB, p.keep ? &mPlanes : nullptr, p.keep ? &mNearest : nullptr}, {p.flood.dims, change});

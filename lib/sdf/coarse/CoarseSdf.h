@@ -138,8 +138,8 @@ public:
 CoarseVoxelBox coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
                                const CoarseVoxelBox& change);
 
-/// @brief The voxels of region @a r's box (0 when empty).
-inline std::uint64_t regionVoxels(const gpu::shared::CoarseRegion& r) {
+/// @brief The voxels of region @a r's box (0 when empty): a CoarseRegion or a MaskRegion.
+template <class Region> std::uint64_t regionVoxels(const Region& r) {
   if (r.lo.x > r.hi.x || r.lo.y > r.hi.y || r.lo.z > r.hi.z) return 0;
   const glm::u64vec3 n = glm::u64vec3(r.hi) - glm::u64vec3(r.lo) + glm::u64vec3(1);
   return n.x * n.y * n.z;

@@ -11,15 +11,22 @@ using namespace gpu::shared;
 
 MaskDecisions maskDecisionsCpu(const std::vector<float>& coarse, const GridSpec& cs, const GridSpec& fs,
                                std::vector<glm::uvec2> state, const MaskParams& p, const std::vector<MovedBox>& moved,
-                               const ChangedBox& changed) {
+                               const ChangedBox& changed, const MaskRegion* visit) {
   MaskDecisions out;
   const std::vector<glm::ivec2> ranges = maskFineRanges(cs, fs);
-  for (int z = 0; z < cs.dims.z; ++z)
-    for (int y = 0; y < cs.dims.y; ++y)
-      for (int x = 0; x < cs.dims.x; ++x) {
+  const bool none = visit && glm::any(glm::greaterThan(glm::uvec3(visit->lo), glm::uvec3(visit->hi)));
+  const glm::ivec3 lo = visit && !none ? glm::ivec3(glm::uvec3(visit->lo)) : glm::ivec3(0);
+  const glm::ivec3 hi = none ? glm::ivec3(-1) : visit ? glm::min(glm::ivec3(glm::uvec3(visit->hi)), cs.dims - 1)
+                                                       : cs.dims - 1;
+  for (int z = lo.z; z <= hi.z; ++z)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x) {
         const auto i = std::uint32_t(cs.linear(x, y, z));
         const float c = coarse[i];
-        if (!(std::fabs(c) <= p.band)) continue;
+        if (!(std::fabs(c) <= p.band)) {
+          if (state[i].x != kNotInBand) state[i] = glm::uvec2(kNotInBand); // left the band
+          continue;
+        }
         const bool fresh = startsFresh(p, state[i]);
         if (!withinViewReach(p, {x, y, z})) {
           if (outOfViewRewritten(p, state[i], {x, y, z}, changed.lo, changed.hi))

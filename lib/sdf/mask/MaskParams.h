@@ -28,7 +28,7 @@ const uint kBrickCountWords = 4u;
 
 /// Bindings of brick_alloc.comp.
 const uint kBrickBindingCounts = 0u; // kBrickCount* words
-const uint kBrickBindingNeeded = 1u; // uint per brick: the last frame a band voxel lay in it (MaskCompactPass)
+const uint kBrickBindingNeeded = 1u; // uint per brick: the band voxels in view over it (MaskCompactPass)
 const uint kBrickBindingSlots = 2u;  // uint per brick: its slot, kNoBrick: none
 const uint kBrickBindingFree = 3u;   // the free stack of slots, kBrickCountFreeTop of them
 const uint kBrickBindingCount = 4u;
@@ -36,11 +36,10 @@ const uint kBrickBindingCount = 4u;
 /// Push constants of brick_alloc.comp.
 struct BrickParams {
   uint bricks; // bricks in the grid
-  uint frame;  // frame number (1, 2, ...)
   uint phase;  // RTSDF_BRICK_FREE, RTSDF_BRICK_TAKE or RTSDF_BRICK_SETTLE
-  uint pad0;
+  uint pad0, pad1;
 };
-#define RTSDF_BRICK_FREE 0u   // per brick: a slot whose brick is no longer needed goes back on the free stack
+#define RTSDF_BRICK_FREE 0u   // per brick: a slot whose brick no band voxel in view counts in goes back on the free stack
 #define RTSDF_BRICK_TAKE 1u   // per brick: a needed brick without a slot takes one off the stack (or overflows)
 #define RTSDF_BRICK_SETTLE 2u // one invocation: the stack's top lowered by the slots taken
 
@@ -68,11 +67,44 @@ const uint kMaskBindingFineRanges = 2u;  // ivec2 per coarse index per axis (x e
 const uint kMaskBindingRefineList = 3u;  // appended: the coarse voxels whose fine voxels are refined this frame,
                                          // linear index | kMaskFineFresh when new to the band | kMaskMovedOnly |
                                          // kMaskOutOfView, in no order
-const uint kMaskBindingCoarseState = 4u; // uvec2 per coarse voxel: (last frame in the band, refinements in a row)
+const uint kMaskBindingCoarseState = 4u; // uvec2 per coarse voxel: (the run that last visited it in the band, or
+                                         // kNotInBand; refinements in a row)
 const uint kMaskBindingMovedBoxes = 5u;  // MovedBox per instance that moved since the previous frame
-const uint kMaskBindingBrickNeeded = 6u; // uint per brick: set to the frame number where a band voxel lies in it
+const uint kMaskBindingBrickNeeded = 6u; // uint per brick: the band voxels in view over it (counted: brickBandDelta)
 const uint kMaskBindingChangedBox = 7u;  // the coarse SDF's ChangedBox (read where kMaskCoarseRebuilt)
-const uint kMaskBindingCount = 8u;
+const uint kMaskBindingRegion = 8u;      // MaskRegion: the voxels visited (read), the settling box (grown)
+const uint kMaskBindingCount = 9u;
+
+/// Bindings of mask_region.comp (MaskRegionPass).
+const uint kMaskRegionBindingChangedBox = 0u; // the coarse SDF's ChangedBox (read where kMaskCoarseRebuilt)
+const uint kMaskRegionBindingRegion = 1u;     // MaskRegion (written; the settling boxes read and reset)
+const uint kMaskRegionBindingCount = 2u;
+
+/// A coarse voxel's state before it has been in the band, and after it left (both words).
+const uint kNotInBand = 0xFFFFFFFFu;
+
+/// The coarse voxels one run of MaskCompactPass visits (MaskRegionPass): all of them, or where a run over what changed
+/// (kMaskRegionOnly) may decide otherwise than the last: where the coarse SDF changed, where a moving box comes within
+/// the band's reach, and where band voxels were left settling. lo and hi inclusive, empty while lo.x > hi.x; groups:
+/// the indirect dispatch over them. settlingLo/Hi[k]: the box of the band voxels that the run of a frame number of
+/// parity k left with fewer than settleFrames refinements (grown by that run, reset by the region pass before it).
+struct MaskRegion {
+  uvec4 lo;
+  uvec4 hi;
+  uvec4 groups;
+  uvec4 pad0;
+  uvec4 settlingLo[2];
+  uvec4 settlingHi[2];
+};
+
+/// Push constants of mask_region.comp.
+struct MaskRegionParams {
+  ivec4 dims;   // xyz: coarse voxels per axis; w: kMaskRegionOnly | kMaskCoarseRebuilt
+  ivec4 nearLo; // xyz: the coarse voxels a moving box comes within the band's reach of, inclusive (empty: lo > hi)
+  ivec4 nearHi;
+  uint frame;   // the run's frame number: it reads the settling box of the other parity and resets its own
+  uint pad0, pad1, pad2;
+};
 
 /// A fine-list entry (SdfPipeline::refinedVoxels): x | y << 10 | z << 20; a refine-list entry: a coarse linear index.
 /// Either or-ed with kMaskFineFresh when the voxel is new to the mask (no history).
@@ -117,10 +149,12 @@ const int kMaskRelistOutOfView = 1; // every band voxel out of view is written a
 const int kMaskCoarseRebuilt = 2;   // the coarse SDF was rebuilt this frame: its ChangedBox is this frame's
 const int kMaskMotionKeepsSettled = 4; // closest mode: a moving instance does not restart a voxel's settling
                                        // (refinementsAfter)
+const int kMaskRegionOnly = 8;         // the run visits the MaskRegion alone, keeps the band's counts and the bricks'
+                                       // band counts and changes them where a visited voxel's band or view changed
 
 struct MaskParams {
   ivec4 coarseDims;    // xyz: coarse voxels per axis; w: kMaskRelistOutOfView | kMaskCoarseRebuilt |
-                       // kMaskMotionKeepsSettled | growth << 8
+                       // kMaskMotionKeepsSettled | kMaskRegionOnly | growth << 8
   float band;          // d: a coarse voxel is in the band when |c| <= d (the CPU mirror's float comparison)
   uint refineCapacity; // entries the refine list holds (appends beyond it are counted, not written)
   uint pad0;
@@ -136,9 +170,20 @@ struct MaskParams {
   vec4 viewAxis;       // xyz: the unit view direction; w: the tangent of the view cone's half-angle
 };
 
-/// Whether a band voxel whose state is @a state starts afresh (no history to blend with or keep): new to the band, or
-/// holding the coarse SDF (out of the view's reach in the last frame: no refinements).
-RTSDF_FN bool startsFresh(MaskParams p, uvec2 state) { return state.x + 1u != p.frame || state.y == 0u; }
+/// Whether a band voxel whose state is @a state starts afresh (no history to blend with or keep): new to the band (not
+/// in it at the last run that visited it: a voxel no run visits keeps its coarse value, so its band), or holding the
+/// coarse SDF (out of the view's reach at that run: no refinements).
+RTSDF_FN bool startsFresh(MaskParams p, uvec2 state) { return state.x == kNotInBand || state.y == 0u; }
+
+/// How a visited coarse voxel changes the band counts of the bricks over its fine voxels (kMaskBindingBrickNeeded):
+/// it counts where it is in the band and in view and has fine voxels (@a now; @a before: as its state said, @a
+/// state.y > 0 for a voxel refined in view). A run over every voxel counts from zero (+1 where now); a run over
+/// what changed (kMaskRegionOnly) adds the difference.
+RTSDF_FN int brickBandDelta(MaskParams p, uvec2 state, bool hasFine, bool now) {
+  bool before = hasFine && state.x != kNotInBand && state.y != 0u;
+  if ((p.coarseDims.w & kMaskRegionOnly) == 0) return now ? 1 : 0;
+  return (now ? 1 : 0) - (before ? 1 : 0);
+}
 
 /// Whether coarse voxel @a v lies within the view's reach: its bounding sphere (half the cell's diagonal, widened by
 /// the view margin: R) meets the cone around the camera's view direction holding the image (apex at the camera,
@@ -164,7 +209,7 @@ RTSDF_FN bool withinViewReach(MaskParams p, ivec3 v) {
 /// the band takes anew holds no values yet for the cells beside it. Elsewhere its voxels keep what they hold.
 RTSDF_FN bool outOfViewRewritten(MaskParams p, uvec2 state, ivec3 v, uvec4 changedLo, uvec4 changedHi) {
   if ((p.coarseDims.w & kMaskRelistOutOfView) != 0) return true;
-  if (state.x + 1u != p.frame || state.y != 0u) return true;
+  if (state.x == kNotInBand || state.y != 0u) return true;
   if ((p.coarseDims.w & kMaskCoarseRebuilt) == 0 || changedLo.x > changedHi.x) return false;
   int grow = p.coarseDims.w >> 8;
   ivec3 lo = ivec3(changedLo.x, changedLo.y, changedLo.z) - ivec3(grow);

@@ -64,11 +64,19 @@ void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, c
   b[kMaskBindingCoarseState] = &out.coarseState;
   b[kMaskBindingMovedBoxes] = &in.movedBoxes;
   b[kMaskBindingChangedBox] = &in.changedBox;
-  const glm::ivec3 d = params.coarseDims;
-  mPipeline.dispatch(cmd, b, &params,
-                     {gpu::groupsFor(d.x, RTSDF_MASK_GROUP), gpu::groupsFor(d.y, RTSDF_MASK_GROUP),
-                      gpu::groupsFor(d.z, RTSDF_MASK_GROUP)});
+  b[kMaskBindingRegion] = &out.region;
+  mPipeline.dispatchIndirect(cmd, b, &params, out.region, offsetof(MaskRegion, groups));
   gpu::computeBarrier(cmd);
+}
+
+void MaskRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                             const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kMaskRegionBindingCount> b;
+  b[kMaskRegionBindingChangedBox] = &in.changedBox;
+  b[kMaskRegionBindingRegion] = &out.region;
+  mPipeline.dispatch(cmd, b, &params, {1, 1, 1});
+  gpu::computeBarrier(cmd); // read as an indirect command
 }
 
 void MaskDispatchPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs&, const Outputs& out,

@@ -34,12 +34,14 @@ std::vector<int> maskCoarseOfFine(const GridSpec& coarse, const GridSpec& fine);
 /// @brief The longest run of fine voxels under one coarse voxel along each axis (maskFineRanges of the grids).
 glm::ivec3 longestFineRuns(const GridSpec& coarse, const GridSpec& fine);
 
-/// @brief MaskCompactPass (mask_compact.comp): the ray mask on the GPU. Appends every coarse voxel with |c| <= d
-///        (index and value) to the coarse list, stamps the bricks holding the fine voxels under it with the frame
-///        number and, when they are to be refined this frame (gpu::shared::refinesThisFrame, which advances the
-///        voxel's state), appends the voxel (kMaskFineFresh when new to the band) to the refine list, in no order;
-///        counts both lists, the fine voxels refined and every fine voxel under the band in the counts buffer
-///        (sdf/mask/MaskParams.h's kMaskCount* words, which must be zero before).
+/// @brief MaskCompactPass (mask_compact.comp): the ray mask on the GPU, over the coarse voxels of the MaskRegion
+///        (MaskRegionPass; dispatched indirectly from it). Counts every coarse voxel with |c| <= d in the bricks
+///        holding the fine voxels under it (gpu::shared::brickBandDelta) and, when they are to be refined this frame
+///        (gpu::shared::refinesThisFrame, which advances the voxel's state), appends the voxel (kMaskFineFresh when new
+///        to the band) to the refine list, in no order; counts the list, the fine voxels refined, and the band's coarse
+///        and fine voxels in the counts buffer (sdf/mask/MaskParams.h's kMaskCount* words, which must be zero before,
+///        but for the band's two with kMaskRegionOnly: the last run's, changed by what it visits; so the bricks' counts,
+///        zero before a run over every voxel), and grows the box of the voxels it leaves settling.
 class MaskCompactPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "MaskCompactPass";
@@ -49,12 +51,28 @@ public:
     const gpu::Buffer& movedBoxes; ///< MovedBox per instance that moved (params.movedBoxes of them)
     const gpu::Buffer& changedBox; ///< the coarse SDF's ChangedBox (read with kMaskCoarseRebuilt in params)
   };
-  /// @a coarseState: (last frame in the band, refinements in a row) per coarse voxel, read and advanced;
-  /// @a brickNeeded: per brick, the last frame a band voxel lay in it.
-  struct Outputs { const gpu::Buffer &counts, &refineList, &coarseState, &brickNeeded; };
+  /// @a coarseState: (the run that last visited it in the band or kNotInBand, refinements in a row) per coarse voxel,
+  /// read and advanced; @a brickNeeded: per brick, the band voxels in view over it; @a region: the MaskRegion.
+  struct Outputs { const gpu::Buffer &counts, &refineList, &coarseState, &brickNeeded, &region; };
   using Params = gpu::shared::MaskParams; ///< refineCapacity: entries the refine list holds
   explicit MaskCompactPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "mask_compact.comp", gpu::shared::kMaskBindingCount, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
+/// @brief MaskRegionPass (mask_region.comp): one invocation writes the MaskRegion of a run of MaskCompactPass (every
+///        voxel, or with kMaskRegionOnly in params.dims.w the box of the coarse SDF's ChangedBox where
+///        kMaskCoarseRebuilt, the voxels near a moving box and the last run's settling box) and its dispatch, and
+///        resets this run's settling box.
+class MaskRegionPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "MaskRegionPass";
+  struct Inputs { const gpu::Buffer& changedBox; };
+  struct Outputs { const gpu::Buffer& region; };
+  using Params = gpu::shared::MaskRegionParams;
+  explicit MaskRegionPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "mask_region.comp", gpu::shared::kMaskRegionBindingCount, sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 };
@@ -75,17 +93,17 @@ public:
 };
 
 /// @brief BrickAllocPass (brick_alloc.comp): the brick pool's slots follow the ray mask on the GPU. A brick that
-///        MaskCompactPass stamped this frame keeps its slot or takes one off the free stack; a brick it did not
-///        stamp gives its slot back. Slots are assigned in no particular order; a needed brick finds none only when
+///        MaskCompactPass counts a band voxel in view in keeps its slot or takes one off the free stack; a brick
+///        without gives its slot back. Slots are assigned in no particular order; a needed brick finds none only when
 ///        the stack is empty (kBrickCountOverflow counts those). The counts' per-frame words
 ///        (kBrickCountActive, kBrickCountAllocated, kBrickCountOverflow) must be zero before.
 class BrickAllocPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "BrickAllocPass";
-  struct Inputs { const gpu::Buffer& needed; };  ///< per brick: the last frame it was needed
+  struct Inputs { const gpu::Buffer& needed; };  ///< per brick: the band voxels in view over it (0: not needed)
   /// kBrickCount* words; per brick its slot (kNoBrick: none); the free stack (kBrickCountFreeTop entries).
   struct Outputs { const gpu::Buffer &counts, &slots, &freeStack; };
-  using Params = gpu::shared::BrickParams;       ///< bricks and frame (phase: set by execute)
+  using Params = gpu::shared::BrickParams;       ///< bricks (phase: set by execute)
   explicit BrickAllocPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "brick_alloc.comp", gpu::shared::kBrickBindingCount, sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,

@@ -1,9 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// BrickAllocPass: the brick pool's slots follow the ray mask, on the GPU. MaskCompactPass stamped the bricks
-// under the band with the frame number; then three dispatches of this shader (params.phase):
-//   FREE   one invocation per brick: a slotted brick not stamped this frame pushes its slot on the free stack;
-//   TAKE   one invocation per brick: a stamped brick without a slot pops one (its history starts fresh: every
+// BrickAllocPass: the brick pool's slots follow the ray mask, on the GPU. MaskCompactPass counts per brick the band
+// voxels in view over it (needed: the count is not zero); then three dispatches of this shader (params.phase):
+//   FREE   one invocation per brick: a slotted brick no longer needed pushes its slot on the free stack;
+//   TAKE   one invocation per brick: a needed brick without a slot pops one (its history starts fresh: every
 //          band voxel in it is new to the band, since a voxel in the band last frame kept its brick), or, with
 //          the stack empty, counts an overflow and stays without;
 //   SETTLE one invocation: the stack's top lowered by the slots taken.
@@ -25,7 +25,7 @@ void main() {
   }
   uint b = gl_GlobalInvocationID.x;
   if (b >= params.bricks) return;
-  bool isNeeded = needed[b] == params.frame;
+  bool isNeeded = needed[b] != 0u;
   uint slot = slots[b];
   if (params.phase == RTSDF_BRICK_FREE) {
     if (isNeeded) atomicAdd(counts[kBrickCountActive], 1u);

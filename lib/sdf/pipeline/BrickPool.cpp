@@ -29,7 +29,7 @@ std::uint64_t poolBricksFor(std::uint64_t activeBricks, const glm::ivec3& brickD
 BrickPool::BrickPool(const gpu::VulkanContext& ctx, const GridSpec& fine)
     : mCtx(ctx), mFineSpec(fine), mBrickDims(brickDimsOf(fine)), mAlloc(ctx) {
   const std::uint64_t bricks = gridBricks();
-  mNeeded = Buffer(ctx, bricks * 4, kStorageFilled, Buffer::Memory::Device, "brick stamps");
+  mNeeded = Buffer(ctx, bricks * 4, kStorageFilled, Buffer::Memory::Device, "brick band counts");
   mSlots = Buffer(ctx, bricks * 4, kStorageRead, Buffer::Memory::Device, "brick slots");
   mCounts = Buffer(ctx, gpu::shared::kBrickCountWords * 4, kStorageRead, Buffer::Memory::Device, "brick counts");
   mPlaceholder = Buffer(ctx, 16, kStorage, Buffer::Memory::Device, "brick pool placeholder");
@@ -83,14 +83,14 @@ void BrickPool::allocate(std::uint64_t bricks, const PipelineMemory& estimate, c
   mPoolBricks = bricks;
 }
 
-void BrickPool::recordResetCounts(VkCommandBuffer cmd) const {
+void BrickPool::recordResetCounts(VkCommandBuffer cmd, bool bandCounts) const {
   vkCmdFillBuffer(cmd, mCounts.handle(), 4, (gpu::shared::kBrickCountWords - 1) * 4, 0u);
+  if (bandCounts) vkCmdFillBuffer(cmd, mNeeded.handle(), 0, VK_WHOLE_SIZE, 0u);
 }
 
-void BrickPool::recordAlloc(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame) const {
+void BrickPool::recordAlloc(VkCommandBuffer cmd, gpu::GpuProfiler* profiler) const {
   gpu::shared::BrickParams bp{};
   bp.bricks = std::uint32_t(gridBricks());
-  bp.frame = frame;
   mAlloc.execute(cmd, profiler, {mNeeded}, {mCounts, mSlots, mFree}, bp);
 }
 
@@ -124,7 +124,6 @@ void BrickPool::recordScroll(VkCommandBuffer cmd, const glm::ivec3& brickShift, 
     const std::uint32_t newTop = top + std::uint32_t(freed.size());
     vkCmdUpdateBuffer(cmd, mCounts.handle(), gpu::shared::kBrickCountFreeTop * 4, 4, &newTop);
   }
-  recordGridShift(cmd, shiftPass, mNeeded, scratch, mBrickDims, 4, brickShift, 0u);
   recordGridShift(cmd, shiftPass, mSlots, scratch, mBrickDims, 4, brickShift, gpu::shared::kNoBrick);
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file BrickPool.h
-/// @brief The sparse fine state of one pipeline: per brick of the fine grid its stamp and its slot, and the pool of
+/// @brief The sparse fine state of one pipeline: per brick of the fine grid its band count and its slot, and the pool of
 ///        slots that holds the refinement's values and sign votes for the bricks under the band (BrickPool), with
 ///        its sizing (poolBricksFor).
 #include "gpu/Profiler.h"
@@ -26,7 +26,7 @@ std::uint64_t poolBricksFor(std::uint64_t activeBricks, const glm::ivec3& brickD
 
 /// @brief The brick pool of one fine grid and the pass that hands out its slots (BrickAllocPass).
 ///
-/// Owns, per brick of the grid, the last frame it was needed ("brick stamps", written by MaskCompactPass) and its
+/// Owns, per brick of the grid, the band voxels in view over it ("brick band counts", kept by MaskCompactPass) and its
 /// slot ("brick slots", kNoBrick: none); the counts (kBrickCount* words), the free stack, and up to
 /// RTSDF_BRICK_PAGES pages of values and of votes, each of pageBricks() bricks (pages beyond the pool bound to a
 /// placeholder). There is no pool until allocate(); a frame that overflows it notes the size to regrow to
@@ -36,7 +36,7 @@ public:
   /// @brief The per-brick buffers of @a fine's bricks (uncleared: recordClear()).
   /// @throw VulkanError when a buffer cannot be allocated.
   BrickPool(const gpu::VulkanContext& ctx, const GridSpec& fine);
-  /// @brief Record: no brick stamped, none holding a slot, the counts zero (construction only).
+  /// @brief Record: no brick counted, none holding a slot, the counts zero (construction only).
   void recordClear(VkCommandBuffer cmd) const;
   /// @brief (Re)allocate the pool for @a bricks bricks, every slot free and no brick holding one, and reset
   ///        @a coarseState (the mask's history: every coarse voxel new to the band) in the same submission. No frame
@@ -44,14 +44,16 @@ public:
   /// @throw SettingError when it needs more than RTSDF_BRICK_PAGES pages of maxStorageBufferRange or does not fit
   ///        the device (checkPipelineMemory).
   void allocate(std::uint64_t bricks, const PipelineMemory& estimate, const gpu::Buffer& coarseState);
-  /// @brief Record: the counts' per-frame words zeroed (the free stack's top persists), before MaskCompactPass.
-  void recordResetCounts(VkCommandBuffer cmd) const;
-  /// @brief Record BrickAllocPass for frame number @a frame, after MaskCompactPass stamped the bricks.
-  void recordAlloc(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame) const;
-  /// @brief The grid moved by @a brickShift whole bricks (SdfPipeline::scroll): record the stamps and slots shifted
+  /// @brief Record: the counts' per-frame words zeroed (the free stack's top persists), and where @a bandCounts the
+  ///        bricks' band counts (a run of MaskCompactPass over every voxel counts from zero), before MaskCompactPass.
+  void recordResetCounts(VkCommandBuffer cmd, bool bandCounts) const;
+  /// @brief Record BrickAllocPass, after MaskCompactPass counted the band in the bricks.
+  void recordAlloc(VkCommandBuffer cmd, gpu::GpuProfiler* profiler) const;
+  /// @brief The grid moved by @a brickShift whole bricks (SdfPipeline::scroll): record the slots shifted
   ///        through @a scratch (by @a shiftPass where given: recordGridShift; the bricks that entered hold no slot),
   ///        and the slots of the bricks that left pushed back on the free stack (read back now: no frame may be in
-  ///        flight). The values stay in their slots, so a brick that stays keeps its refinement.
+  ///        flight). The values stay in their slots, so a brick that stays keeps its refinement. The band counts are
+  ///        not shifted: the next run of the mask counts them from zero.
   void recordScroll(VkCommandBuffer cmd, const glm::ivec3& brickShift, const gpu::Buffer& scratch,
                     const GridShiftPass* shiftPass);
   /// @brief After a frame that counted @a activeBricks bricks under the band, @a overflowBricks of them without a
@@ -70,7 +72,7 @@ public:
   std::uint64_t pageBricks() const { return mPageBricks; }
   /// @brief The pages the refinement binds.
   BrickPages pages() const;
-  const gpu::Buffer& stamps() const { return mNeeded; }
+  const gpu::Buffer& bandCounts() const { return mNeeded; }
   const gpu::Buffer& slots() const { return mSlots; }
   const gpu::Buffer& counts() const { return mCounts; }
   /// @brief A small buffer bound where a pass needs one and has none (pages beyond the pool, no dense SDF).

@@ -17,6 +17,8 @@ FramePlan planFrame(const FrameChanges& c, const PipelineSettings& s) {
   plan.upsample = s.fineStorage == FineStorage::Dense && (plan.coarse || c.poolReset);
   plan.upsampleChanged = plan.upsample && c.moved && !c.scrolled && !c.poolReset;
   plan.coarseOverChange = c.moved && !c.scrolled && coarseBuiltOverChanges(s);
+  plan.maskOverChange = plan.mask && !c.poolReset && !c.scrolled && !c.viewChanged && !c.viewLimited &&
+                        settleFramesFor(s) > 0 && refreshPeriodFor(s) == 0;
   return plan;
 }
 

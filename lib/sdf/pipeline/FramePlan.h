@@ -17,6 +17,7 @@ struct FrameChanges {
   bool scrolled = false;    ///< the grids moved (SdfPipeline::scroll): the cells that entered are new to every buffer
   bool lastListed = true;   ///< the mask's last run listed voxels to refine (some may still be settling)
   bool viewChanged = false; ///< the view's reach changed (SdfPipeline::setViewReach): voxels enter or leave it
+  bool viewLimited = false; ///< the band is refined only within a view's reach
 };
 
 /// @brief The passes one frame runs. Coarse: VoxelizePass, the nearest-seed transform and CoarseDistancePass; mask:
@@ -30,6 +31,10 @@ struct FramePlan {
   /// The coarse SDF is built over what the moving instances' seeds can reach (CoarseSdfBuilder::record with their
   /// box): only instances moved, and coarseBuiltOverChanges.
   bool coarseOverChange = false;
+  /// The mask visits only the coarse voxels whose decisions can change (MaskRegionPass, kMaskRegionOnly): the
+  /// grids, the pool and the view are as they were, no view limits the band, and settled voxels stay settled
+  /// (settleFrames > 0, no refresh period).
+  bool maskOverChange = false;
 };
 
 /// @brief Whether a pipeline under @a s keeps the exact transform from frame to frame, so that a frame where only

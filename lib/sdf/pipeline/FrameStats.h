@@ -35,6 +35,9 @@ struct FrameStats {
   /// Coarse voxels whose distance the coarse SDF's build wrote this frame: the whole grid, or where only instances
   /// moved the region their seeds can reach (CoarseRegionPass); 0 where it did not run.
   std::uint64_t coarseRebuiltVoxels = 0;
+  /// Coarse voxels the mask's compaction visited this frame: the whole grid, or where its inputs changed only near
+  /// moving instances those whose decisions can change (MaskRegionPass); 0 where it did not run.
+  std::uint64_t maskVisitedVoxels = 0;
   std::uint64_t movedInstances = 0;    ///< instances whose transform changed since the previous frame near the grid
   /// CPU time of the frame outside its wait for the GPU: the BVH's top level and the instance transforms,
   /// recording, submitting, and reading the counts after the GPU finished. It grows with the instances, not with

@@ -28,7 +28,7 @@ GpuRayMask::GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, co
     : mCtx(ctx), mCoarseSpec(coarse), mFineSpec(fine), mBand(settings.band),
       mBeta(settings.beta >= 0.0 ? settings.beta : 0.5 * coarse.voxelSize),
       mSettleFrames(std::uint32_t(settleFramesFor(settings))), mRefreshPeriod(std::uint32_t(refreshPeriodFor(settings))),
-      mRefineParts(refineParts), mBrickDims(brickDimsOf(fine)), mCompact(ctx), mDispatch(ctx) {
+      mRefineParts(refineParts), mBrickDims(brickDimsOf(fine)), mCompact(ctx), mDispatch(ctx), mRegionPass(ctx) {
   mCoarseState = Buffer(ctx, coarse.voxelCount() * 8, kStorageFilled, Buffer::Memory::Device,
                         "coarse refinement state");
   const std::vector<int> fineToCoarse = maskCoarseOfFine(coarse, fine);
@@ -43,6 +43,11 @@ GpuRayMask::GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, co
                         "refinement statistics");
   mCountsReadback = Buffer(ctx, kReadbackWords * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Memory::Host,
                            "ray mask counts (readback)");
+  mRegion = Buffer(ctx, sizeof(gpu::shared::MaskRegion), kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                   Buffer::Memory::Host, "ray mask region");
+  gpu::shared::MaskRegion empty{};
+  for (int k = 0; k < 2; ++k) empty.settlingLo[k] = glm::uvec4(0xFFFFFFFFu); // no voxel left settling yet
+  std::memcpy(mRegion.mapped(), &empty, sizeof(empty));
   if (mBand > 0.0) {
     // Each coarse voxel is appended at most once.
     mRefineList = Buffer(ctx, coarse.voxelCount() * 4, kStorageRead, Buffer::Memory::Device,
@@ -100,17 +105,32 @@ void GpuRayMask::setViewReach(const ViewReach* reach) {
 
 void GpuRayMask::recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame,
                             std::uint32_t movedCount, const gpu::Buffer& coarse, const gpu::Buffer& movedBoxes,
-                            const gpu::Buffer& changedBox, int flags, const BrickPool& pool) {
+                            const gpu::Buffer& changedBox, int flags, const BrickPool& pool,
+                            const CoarseVoxelBox& near) {
+  using namespace gpu::shared;
   mLastParams = params(frame, movedCount, flags);
-  vkCmdFillBuffer(cmd, mCounts.handle(), 0, VK_WHOLE_SIZE, 0u);
+  const bool regionOnly = (flags & kMaskRegionOnly) != 0;
+  if (regionOnly) { // the band's counts are the last run's, changed where a visited voxel changed
+    vkCmdFillBuffer(cmd, mCounts.handle(), 0, kMaskCountCoarse * 4, 0u);
+    vkCmdFillBuffer(cmd, mCounts.handle(), kMaskCountRefineList * 4, (kMaskCountWords - kMaskCountRefineList) * 4, 0u);
+    static_assert(kMaskCountMaskedFine + 1 == kMaskCountRefineList && kMaskCountCoarse + 1 == kMaskCountMaskedFine);
+  } else {
+    vkCmdFillBuffer(cmd, mCounts.handle(), 0, VK_WHOLE_SIZE, 0u);
+  }
   vkCmdFillBuffer(cmd, mRefineStats.handle(), 0, VK_WHOLE_SIZE, 0u);
-  pool.recordResetCounts(cmd);
+  pool.recordResetCounts(cmd, !regionOnly);
   gpu::computeBarrier(cmd);
   // d = 0 refines nothing (not even voxels with c = 0): the counts stay zero, and so does the dispatch.
   if (mBand > 0.0) {
+    MaskRegionParams rp{};
+    rp.dims = glm::ivec4(mCoarseSpec.dims, flags & (kMaskRegionOnly | kMaskCoarseRebuilt));
+    rp.nearLo = glm::ivec4(near.lo, 0);
+    rp.nearHi = glm::ivec4(near.hi, 0);
+    rp.frame = frame;
+    mRegionPass.execute(cmd, nullptr, {changedBox}, {mRegion}, rp);
     mCompact.execute(cmd, profiler, {coarse, mFineRanges, movedBoxes, changedBox},
-                     {mCounts, mRefineList, mCoarseState, pool.stamps()}, mLastParams);
-    pool.recordAlloc(cmd, profiler, frame);
+                     {mCounts, mRefineList, mCoarseState, pool.bandCounts(), mRegion}, mLastParams);
+    pool.recordAlloc(cmd, profiler);
   }
   mDispatch.execute(cmd, profiler, {}, {mCounts}, mLastParams);
 }
@@ -131,6 +151,12 @@ void GpuRayMask::recordCountsReadback(VkCommandBuffer cmd, const BrickPool& pool
 
 double GpuRayMask::reachPad() const {
   return mBeta + std::sqrt(3.0) * mCoarseSpec.voxelSize + mFineSpec.voxelSize;
+}
+
+gpu::shared::MaskRegion GpuRayMask::lastRegion() const {
+  gpu::shared::MaskRegion r{};
+  std::memcpy(&r, mRegion.mapped(), sizeof(r));
+  return r;
 }
 
 GpuRayMask::Counts GpuRayMask::counts() const {

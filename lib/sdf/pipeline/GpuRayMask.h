@@ -57,12 +57,16 @@ public:
   ///        flags @a flags (kMaskRelistOutOfView, kMaskCoarseRebuilt).
   gpu::shared::MaskParams params(std::uint32_t frame, std::uint32_t movedBoxes, int flags = 0) const;
   /// @brief Record frame number @a frame's mask: the counters reset (with @a pool's), then, where band > 0,
-  ///        MaskCompactPass over the coarse SDF @a coarse, the moved boxes @a movedBoxes (@a movedCount of them) and
-  ///        the coarse SDF's ChangedBox @a changedBox, with @a flags (params), and @a pool's BrickAllocPass; then
-  ///        MaskDispatchPass. The parameters become lastParams().
+  ///        MaskRegionPass and MaskCompactPass over the coarse SDF @a coarse, the moved boxes @a movedBoxes
+  ///        (@a movedCount of them) and the coarse SDF's ChangedBox @a changedBox, with @a flags (params), and
+  ///        @a pool's BrickAllocPass; then MaskDispatchPass. With kMaskRegionOnly in @a flags the run visits only what
+  ///        can change (the band's and the bricks' counts are kept), @a near the coarse voxels a moving box comes
+  ///        within the band's reach of (movedReachBox). The parameters become lastParams().
   void recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame, std::uint32_t movedCount,
                   const gpu::Buffer& coarse, const gpu::Buffer& movedBoxes, const gpu::Buffer& changedBox, int flags,
-                  const BrickPool& pool);
+                  const BrickPool& pool, const CoarseVoxelBox& near = {});
+  /// @brief The region the last run of the mask visited (MaskRegion, host-visible). The frame must be finished.
+  gpu::shared::MaskRegion lastRegion() const;
   /// @brief Record: the mask's and @a pool's counts copied into the host-visible copy, visible to the host after
   ///        the frame.
   void recordCountsReadback(VkCommandBuffer cmd, const BrickPool& pool) const;
@@ -111,7 +115,9 @@ private:
   glm::ivec3 mBrickDims;
   MaskCompactPass mCompact;
   MaskDispatchPass mDispatch;
+  MaskRegionPass mRegionPass;
   gpu::Buffer mCoarseState, mFineToCoarse, mFineRanges, mCounts, mRefineStats, mCountsReadback, mRefineList;
+  gpu::Buffer mRegion; ///< MaskRegion (host memory: lastRegion() reads it mapped)
   gpu::shared::MaskParams mLastParams{};
 };
 

@@ -73,7 +73,11 @@ void InstanceMotion::recordUpload(VkCommandBuffer cmd) const {
   gpu::recordUpload(cmd, mBuffer, mLast.data(), mLast.size() * sizeof(mLast[0]));
 }
 
-CoarseVoxelBox movedSeedBox(const std::vector<gpu::shared::MovedBox>& boxes, const GridSpec& coarse) {
+namespace {
+
+/// The coarse voxels whose cells come within @a reach of the boxes' union, grown by @a margin voxels, clamped.
+CoarseVoxelBox coarseCellsNear(const std::vector<gpu::shared::MovedBox>& boxes, const GridSpec& coarse, double reach,
+                               double margin) {
   CoarseVoxelBox box;
   if (boxes.empty()) return box;
   glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
@@ -81,14 +85,24 @@ CoarseVoxelBox movedSeedBox(const std::vector<gpu::shared::MovedBox>& boxes, con
     lo = glm::min(lo, glm::dvec3(glm::vec3(b.lo)));
     hi = glm::max(hi, glm::dvec3(glm::vec3(b.hi)));
   }
-  const glm::dvec3 first = glm::floor((lo - coarse.origin) / coarse.voxelSize) - 2.0;
-  const glm::dvec3 last = glm::floor((hi - coarse.origin) / coarse.voxelSize) + 2.0;
+  const glm::dvec3 first = glm::floor((lo - reach - coarse.origin) / coarse.voxelSize) - margin;
+  const glm::dvec3 last = glm::floor((hi + reach - coarse.origin) / coarse.voxelSize) + margin;
   // Clamped in double: a box far off the grid stays empty instead of wrapping an int.
   box.lo = glm::ivec3(glm::max(first, glm::dvec3(0.0)));
   box.hi = glm::ivec3(glm::min(last, glm::dvec3(coarse.dims - 1)));
   if (glm::any(glm::lessThan(last, glm::dvec3(0.0))) || glm::any(glm::greaterThan(first, glm::dvec3(coarse.dims - 1))))
     return CoarseVoxelBox{};
   return box;
+}
+
+} // namespace
+
+CoarseVoxelBox movedSeedBox(const std::vector<gpu::shared::MovedBox>& boxes, const GridSpec& coarse) {
+  return coarseCellsNear(boxes, coarse, 0.0, 2.0);
+}
+
+CoarseVoxelBox movedReachBox(const std::vector<gpu::shared::MovedBox>& boxes, const GridSpec& coarse, double reach) {
+  return coarseCellsNear(boxes, coarse, reach, 1.0);
 }
 
 } // namespace rtsdf

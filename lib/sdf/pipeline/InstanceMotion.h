@@ -31,6 +31,11 @@ std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const 
 ///        the grid (empty where the boxes miss it).
 CoarseVoxelBox movedSeedBox(const std::vector<gpu::shared::MovedBox>& boxes, const GridSpec& coarse);
 
+/// @brief The coarse voxels of @a coarse whose cells come within @a reach (scene units) of the union of @a boxes, grown
+///        by a voxel for rounding and clamped to the grid (empty where none): with the band plus MaskParams::reachPad,
+///        every band voxel gpu::shared::movedWithinReach can find near a box.
+CoarseVoxelBox movedReachBox(const std::vector<gpu::shared::MovedBox>& boxes, const GridSpec& coarse, double reach);
+
 /// @brief The instances' motion from frame to frame of one pipeline. Owns the meshes' own bounds (positionBounds,
 ///        what placement checks and swept boxes start from), the previous frame's time, the last frame's boxes and
 ///        the device buffer MaskCompactPass reads them from (RTSDF_MAX_MOVED_BOXES MovedBox, "moved instance

@@ -1,6 +1,7 @@
 #include "sdf/pipeline/PipelineMemory.h"
 
 #include "sdf/pipeline/BrickPool.h"
+#include "sdf/pipeline/FramePlan.h"
 #include "sdf/refine/RefineParams.h"
 #include "util/Error.h"
 #include "util/Memory.h"
@@ -55,7 +56,10 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   // Closest mode: the list of voxels for the exact winding number (1 MiB).
   const std::uint64_t nearHalfList =
       s.mode == RefineMode::Closest ? (1 + std::uint64_t(gpu::shared::kWindingExactCapacity)) * 16 : 0;
-  m.deviceBytes = 6 * coarseBuf + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
+  // A pipeline that builds the coarse SDF over what changed keeps the transform's planes and nearest seeds; every
+  // one keeps a bound per block of 64 coarse voxels.
+  const std::uint64_t keptTransform = coarseBuiltOverChanges(s) ? 2 * coarseBuf : 0;
+  m.deviceBytes = 6 * coarseBuf + keptTransform + coarseBuf / 64 + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
                   scene.meshTriangles * (64 + 64 + 48 + 3 * 4) + scene.instanceTriangles * (48 + 4) +
                   scene.instances * (64 + 4 + 112 + 64 + 8 + 32) + nearHalfList + 4096;
   // Read-backs with their staging copies: the coarse SDF (coarseField(), and again for rayMask()), rayMask()'s copy

@@ -54,6 +54,11 @@ gpu::shared::CoarseRegion PipelineProbe::coarseRegion() const {
   return mPipe.mFields->readCoarseRegion();
 }
 
+gpu::shared::MaskRegion PipelineProbe::lastMaskRegion() const {
+  mPipe.waitForFrame();
+  return mPipe.mMask->lastRegion();
+}
+
 bool PipelineProbe::coarseOverChange() const { return mPipe.mPlan.coarse && mPipe.mFields->lastCoarseOverChange(); }
 
 } // namespace rtsdf

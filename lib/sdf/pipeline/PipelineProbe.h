@@ -4,6 +4,7 @@
 ///        (the brick pool's slots and values, the refinement's history and list, the mask's parameters and moved
 ///        boxes). Kept out of SdfPipeline.h so that its users see no gpu::shared types.
 #include "sdf/coarse/CoarseParams.h"
+#include "sdf/mask/MaskParams.h"
 #include "sdf/refine/RefineParams.h"
 #include "sdf/SdfPipeline.h"
 
@@ -43,6 +44,8 @@ public:
   ///        last frame's coarse build was one.
   gpu::shared::CoarseRegion coarseRegion() const;
   bool coarseOverChange() const;
+  /// @brief The coarse voxels the last run of the mask visited (GpuRayMask::lastRegion).
+  gpu::shared::MaskRegion lastMaskRegion() const;
 
 private:
   const SdfPipeline& mPipe;

@@ -165,10 +165,24 @@ def test_a_moving_instance_upsamples_only_near_what_it_changed():
     moving = levels.frame(0.1)
     # Level 1 (1.2 wide) rewrites the fine voxels near the coarse voxels the teapot changed, not its whole grid.
     assert moving[1]["moved_instances"] == 1 and 0 < moving[1]["upsampled_voxels"] < 32 ** 3 / 2
-    # Its coarse SDF is built, and its mask visited, over what the teapot can reach; the first frame's, whole.
+    # The first frame builds the coarse SDF and visits the mask over every voxel; moving, level 1's mask visits what
+    # the teapot can reach (its coarse region is the whole of these 4^3 blocks of 4^3 voxels).
     assert [level["coarse_rebuilt_voxels"] for level in first] == [16 ** 3, 16 ** 3]
     assert [level["mask_visited_voxels"] for level in first] == [16 ** 3, 16 ** 3]
-    assert 0 < moving[1]["coarse_rebuilt_voxels"] < 16 ** 3 and 0 < moving[1]["mask_visited_voxels"] < 16 ** 3
+    assert 0 < moving[1]["mask_visited_voxels"] < 16 ** 3 and moving[1]["coarse_rebuilt_voxels"] > 0
+
+
+def test_a_moving_instance_rebuilds_the_coarse_sdf_and_visits_the_mask_only_where_it_reaches():
+    scene = rtsdf.load_scene(os.path.join(DATA, "scenes", "default.json"))
+    pipe = rtsdf.Pipeline(scene, frames=3, fps=30.0, coarse=48, fine=96, refine="closest", rays=0)
+    first = pipe.frame(0.0)
+    grid = first["coarse_rebuilt_voxels"]
+    assert grid > 0 and first["mask_visited_voxels"] == grid
+    for t in (1 / 30, 2 / 30):
+        moving = pipe.frame(t)
+        # Measured: 39% of the grid rebuilt, 14-18% visited by the mask.
+        assert moving["moved_instances"] == 1
+        assert 0 < moving["coarse_rebuilt_voxels"] < grid / 2 and 0 < moving["mask_visited_voxels"] < grid / 4
 
 
 def test_cascades_above_level_0_refine_near_the_view_given():

@@ -73,6 +73,8 @@ int expectEqualToAFullRebuild(const gpu::VulkanContext& ctx, const Scene& scene,
     EXPECT_EQ(differing(skipping.coarseField(), rebuilt.coarseField()), 0u) << "coarse voxels differ";
     EXPECT_EQ(skipping.rayMask().fineVoxels, rebuilt.rayMask().fineVoxels);
     EXPECT_EQ(ps.refinedVoxels(), pr.refinedVoxels());
+    EXPECT_EQ(ps.movedOnlyCoarse(), pr.movedOnlyCoarse());
+    EXPECT_EQ(a.movedKeptVoxels, b.movedKeptVoxels);
     EXPECT_EQ(slotted(ps.brickSlots()), slotted(pr.brickSlots())); // which slot is the order of atomics
     EXPECT_EQ(differing(skipping.fineField(), rebuilt.fineField()), 0u) << "fine voxels differ";
   }

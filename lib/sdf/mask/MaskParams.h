@@ -39,7 +39,7 @@ struct BrickParams {
   uint phase;  // RTSDF_BRICK_FREE, RTSDF_BRICK_TAKE or RTSDF_BRICK_SETTLE
   uint pad0, pad1;
 };
-#define RTSDF_BRICK_FREE 0u   // per brick: a slot whose brick no band voxel in view counts in goes back on the free stack
+#define RTSDF_BRICK_FREE 0u   // per brick: a slot whose brick no band voxel in view counts in goes back on the stack
 #define RTSDF_BRICK_TAKE 1u   // per brick: a needed brick without a slot takes one off the stack (or overflows)
 #define RTSDF_BRICK_SETTLE 2u // one invocation: the stack's top lowered by the slots taken
 

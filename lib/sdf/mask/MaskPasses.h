@@ -40,8 +40,8 @@ glm::ivec3 longestFineRuns(const GridSpec& coarse, const GridSpec& fine);
 ///        (gpu::shared::refinesThisFrame, which advances the voxel's state), appends the voxel (kMaskFineFresh when new
 ///        to the band) to the refine list, in no order; counts the list, the fine voxels refined, and the band's coarse
 ///        and fine voxels in the counts buffer (sdf/mask/MaskParams.h's kMaskCount* words, which must be zero before,
-///        but for the band's two with kMaskRegionOnly: the last run's, changed by what it visits; so the bricks' counts,
-///        zero before a run over every voxel), and grows the box of the voxels it leaves settling.
+///        but for the band's two with kMaskRegionOnly: the last run's, changed by what it visits; so the bricks'
+///        counts, zero before a run over every voxel), and grows the box of the voxels it leaves settling.
 class MaskCompactPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "MaskCompactPass";

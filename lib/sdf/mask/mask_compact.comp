@@ -15,9 +15,9 @@
 // (outOfViewRewritten: no walk); it marks no brick, so a brick wholly out of view gives its slot back, and the fine
 // voxels of one that straddles the reach's edge hold what the samplers read where there is no slot. A voxel that left
 // the band takes the state kNotInBand. A run over what changed keeps the counts of the band and of the bricks and adds
-// what its voxels changed, and every run grows the box of the voxels it left settling for the next run's region. The refinement
-// hashes by voxel, not by slot, so the list's order does not matter. Slots are reserved per subgroup (a ballot's prefix count, one global atomic per
-// counter and subgroup): one global atomic per band voxel serialised the whole band on a single address, and a work
+// what its voxels changed, and every run grows the box of the voxels it left settling for the next run's region.
+// The refinement hashes by voxel, not by slot, so the list's order does not matter. Slots are reserved per subgroup
+// (a ballot's prefix count, one global atomic per counter and subgroup): one global atomic per band voxel serialised the whole band on a single address, and a work
 // group's reservation through shared memory needs two barriers, which cost lavapipe as much as the pass's work.
 #include "sdf/mask/MaskParams.h"
 
@@ -29,7 +29,7 @@ layout(std430, binding = kMaskBindingFineRanges) readonly buffer FineRanges { iv
 layout(std430, binding = kMaskBindingRefineList) writeonly buffer RefineList { uint refineList[]; };
 layout(std430, binding = kMaskBindingCoarseState) buffer CoarseState { uvec2 coarseState[]; };
 layout(std430, binding = kMaskBindingMovedBoxes) readonly buffer MovedBoxes { MovedBox movedBoxes[]; };
-layout(std430, binding = kMaskBindingBrickNeeded) writeonly buffer BrickNeeded { uint brickNeeded[]; };
+layout(std430, binding = kMaskBindingBrickNeeded) buffer BrickNeeded { uint brickNeeded[]; };
 layout(std430, binding = kMaskBindingChangedBox) readonly buffer Changed { uvec4 changedLo; uvec4 changedHi; };
 layout(std430, binding = kMaskBindingRegion) buffer Region { MaskRegion region; };
 

@@ -1,12 +1,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// MaskRegionPass: one invocation. The coarse voxels this run of MaskCompactPass visits (MaskRegion): every voxel, or in
-// a run over what changed (kMaskRegionOnly) the box holding the voxels whose decision can differ from the last run's:
-// those whose coarse value changed (the coarse SDF's ChangedBox, where it was rebuilt this frame: a voxel keeps its band
-// and so its freshness elsewhere), those a moving box comes within the band's reach of (the host's box: no other is
-// near a moved instance, movedWithinReach), and the band voxels the last run left settling (the box it grew); elsewhere
-// a band voxel is settled, not near a moved instance and not new, so it keeps its values, its bricks and its state.
-// Then the indirect dispatch over the box, and this run's settling box reset (the last run's is the other parity's).
+// MaskRegionPass: one invocation. The coarse voxels this run of MaskCompactPass visits (MaskRegion): every voxel, or
+// in a run over what changed (kMaskRegionOnly) the box holding the voxels whose decision can differ from the last
+// run's: those whose coarse value changed (the coarse SDF's ChangedBox, where it was rebuilt this frame: a voxel keeps
+// its band and so its freshness elsewhere), those a moving box comes within the band's reach of (the host's box: no
+// other is near a moved instance, movedWithinReach), and the band voxels the last run left settling (the box it
+// grew); elsewhere a band voxel is settled, not near a moved instance and not new, so it keeps its values, its bricks
+// and its state. Then the indirect dispatch over the box, and this run's settling box reset (the last run's is the
+// other parity's).
 #include "sdf/mask/MaskParams.h"
 
 layout(local_size_x = 1) in;

@@ -1,7 +1,7 @@
 #pragma once
 /// @file BrickPool.h
-/// @brief The sparse fine state of one pipeline: per brick of the fine grid its band count and its slot, and the pool of
-///        slots that holds the refinement's values and sign votes for the bricks under the band (BrickPool), with
+/// @brief The sparse fine state of one pipeline: per brick of the fine grid its band count and its slot, and the pool
+///        of slots that holds the refinement's values and sign votes for the bricks under the band (BrickPool), with
 ///        its sizing (poolBricksFor).
 #include "gpu/Profiler.h"
 #include "gpu/Resources.h"

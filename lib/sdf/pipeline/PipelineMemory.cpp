@@ -59,7 +59,8 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   // A pipeline that builds the coarse SDF over what changed keeps the transform's planes and nearest seeds; every
   // one keeps a bound per block of 64 coarse voxels.
   const std::uint64_t keptTransform = coarseBuiltOverChanges(s) ? 2 * coarseBuf : 0;
-  m.deviceBytes = 6 * coarseBuf + keptTransform + coarseBuf / 64 + fineBuf + std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
+  m.deviceBytes = 6 * coarseBuf + keptTransform + coarseBuf / 64 + fineBuf +
+                  std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
                   scene.meshTriangles * (64 + 64 + 48 + 3 * 4) + scene.instanceTriangles * (48 + 4) +
                   scene.instances * (64 + 4 + 112 + 64 + 8 + 32) + nearHalfList + 4096;
   // Read-backs with their staging copies: the coarse SDF (coarseField(), and again for rayMask()), rayMask()'s copy

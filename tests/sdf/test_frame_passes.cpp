@@ -95,6 +95,16 @@ PipelineSettings closestAt(int coarse, int fine, int rays) {
   return s;
 }
 
+/// A block crossing a floor 8 long at 30 m/s (1 m a frame at 30 fps, for 0.2 s), written into @a dir and loaded.
+Scene crossingBlock(const test::TempDir& dir) {
+  test::writeText(dir / "crossing.json", R"({"rtsdf_scene": 1,
+    "meshes": {"floor": {"box": [8, 0.2, 3]}, "block": {"box": [1, 0.6, 0.6]}},
+    "instances": [{"name": "floor", "mesh": "floor", "translate": [0, -0.1, 0]},
+      {"name": "block", "mesh": "block", "animation": {"keyframes": [
+        {"time": 0, "translate": [-3, 0.35, 0]}, {"time": 0.2, "translate": [3, 0.35, 0]}]}}]})");
+  return loadScene(dir / "crossing.json");
+}
+
 bool timed(const FrameStats& st, const std::string& pass) {
   for (const auto& entry : st.passMs)
     if (entry.first == pass) return true;
@@ -125,15 +135,9 @@ TEST_F(FramePasses, SkippingFramesEqualAFullRebuildOnTheOrbitingTeapot) {
 // changed must give their slots back (their band counts fall to zero), as a full rebuild does.
 TEST_F(FramePasses, SkippingFramesEqualAFullRebuildWhereAnInstanceLeavesBricks) {
   const test::TempDir dir;
-  test::writeText(dir / "crossing.json", R"({"rtsdf_scene": 1,
-    "meshes": {"floor": {"box": [8, 0.2, 3]}, "block": {"box": [1, 0.6, 0.6]}},
-    "instances": [{"name": "floor", "mesh": "floor", "translate": [0, -0.1, 0]},
-      {"name": "block", "mesh": "block", "animation": {"keyframes": [
-        {"time": 0, "translate": [-3, 0.35, 0]}, {"time": 0.2, "translate": [3, 0.35, 0]}]}}]})");
   std::vector<double> times;
   for (int f = 0; f < 6; ++f) times.push_back(f / kFps);
-  EXPECT_EQ(expectEqualToAFullRebuild(*sCtx, loadScene(dir / "crossing.json"), "crossing.json", closestAt(64, 128, 0),
-                                      times), 0);
+  EXPECT_EQ(expectEqualToAFullRebuild(*sCtx, crossingBlock(dir), "crossing.json", closestAt(64, 128, 0), times), 0);
 }
 
 // A static scene: after the first frame nothing moves, so only the settling refinements run.
@@ -345,12 +349,7 @@ TEST_F(FramePasses, AMovingInstanceVisitsOnlyTheMaskVoxelsWhoseDecisionsCanChang
 // bake, every frame.
 TEST_F(FramePasses, AnInstanceMovingOffFasterThanTheSearchSlackLeavesNoGhost) {
   const test::TempDir dir;
-  test::writeText(dir / "fast.json", R"({"rtsdf_scene": 1,
-    "meshes": {"floor": {"box": [8, 0.2, 3]}, "block": {"box": [1, 0.6, 0.6]}},
-    "instances": [{"name": "floor", "mesh": "floor", "translate": [0, -0.1, 0]},
-      {"name": "block", "mesh": "block", "animation": {"keyframes": [
-        {"time": 0, "translate": [-3, 0.35, 0]}, {"time": 0.2, "translate": [3, 0.35, 0]}]}}]})");
-  const Scene scene = loadScene(dir / "fast.json");
+  const Scene scene = crossingBlock(dir);
   std::vector<double> times;
   for (int f = 0; f < 6; ++f) times.push_back(f / kFps);
   Bounds bounds;

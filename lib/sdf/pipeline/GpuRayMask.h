@@ -21,12 +21,12 @@ class GridShiftPass;
 
 /// @brief The ray mask compacted on the GPU, for one pair of grids.
 ///
-/// Owns the two passes and their buffers: the grids' tables (maskFineRanges: "ray mask fine ranges";
+/// Owns the three passes and their buffers: the grids' tables (maskFineRanges: "ray mask fine ranges";
 /// maskCoarseOfFine: "ray mask fine-to-coarse table"), uploaded once; per coarse voxel the refinement's history
-/// ("coarse refinement state": last frame in the band, refinements in a row); the counts (the refinement's indirect
-/// dispatch, then the mask's counters) and their host-visible copy (with the brick pool's counts after them); the
-/// refine list (band > 0 only, sized for every coarse voxel: the GPU appends to it).
-/// Also the last frame's MaskParams.
+/// ("coarse refinement state": the run that last visited it in the band or kNotInBand, refinements in a row); the
+/// counts (the refinement's indirect dispatch, then the mask's counters) and their host-visible copy (with the brick
+/// pool's counts after them); the refine list (band > 0 only, sized for every coarse voxel: the GPU appends to it);
+/// the MaskRegion ("ray mask region", host-visible). Also the last frame's MaskParams.
 class GpuRayMask {
 public:
   /// What a frame's mask counted (read back after the frame).

@@ -32,8 +32,8 @@ public:
   std::vector<std::uint32_t> movedOnlyCoarse() const;
   /// @brief The fine voxels out of the view's reach the last frame wrote again (GpuRayMask::readRewrittenVoxels).
   std::vector<std::uint32_t> rewrittenVoxels() const;
-  /// @brief Per coarse voxel (x fastest): the last frame it was in the band and its refinements in a row (read back;
-  ///        0xFFFFFFFF before it has been in the band).
+  /// @brief Per coarse voxel (x fastest): the mask's run that last visited it in the band and its refinements in a
+  ///        row (read back; kNotInBand in both before it has been in the band and once it left).
   std::vector<glm::uvec2> coarseState() const;
   /// @brief MaskCompactPass's parameters in the last frame and the moving boxes it read (maskDecisionsCpu's input).
   const gpu::shared::MaskParams& lastMaskParams() const;

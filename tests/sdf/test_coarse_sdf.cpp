@@ -396,6 +396,13 @@ TEST_F(CoarseSdfGpu, ExactEdtOverAChangeEqualsBruteForce) {
     std::printf("%s: region %llu of %zu voxels\n", c.name, static_cast<unsigned long long>(covered), n);
     if (c.seedsBefore >= n / 40) EXPECT_LT(covered, n / 2) << "dense seeds: the change reaches a part of the grid";
   }
+  // A box of changed seeds partly outside the grid is refused before anything is recorded.
+  const ExactEdtPass edt(*sCtx);
+  gpu::Buffer buf;
+  gpu::reserve(*sCtx, buf, 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device, "unused");
+  const CoarseVoxelBox outside{{0, 0, -1}, {3, 3, 3}};
+  gpu::CommandBuffer cmd(*sCtx);
+  EXPECT_THROW(edt.execute(cmd.handle(), nullptr, {buf, buf}, {buf, &buf, &buf}, {dims, &outside}), Error);
 }
 
 TEST_F(CoarseSdfGpu, NonCubicThinEmptyAndBoundaryGrids) {

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -77,6 +78,10 @@ void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   const bool keep = out.planes && out.nearest;
   if (params.change && !keep)
     throw Error("ExactEdtPass: a build over what changed needs the planes and nearest seeds of the build before");
+  if (params.change && !params.change->empty() &&
+      (glm::any(glm::lessThan(params.change->lo, glm::ivec3(0))) ||
+       glm::any(glm::greaterThanEqual(params.change->hi, params.dims))))
+    throw Error("ExactEdtPass: the box of changed seeds lies partly outside the grid");
   gpu::ProfileScope scope(profiler, cmd, kName);
   const glm::ivec3 dims = params.dims;
   // Each axis reads the one before's output: seeds, x, y (planes), z (nearest).
@@ -117,9 +122,11 @@ void CoarseRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
   std::array<gpu::Binding, kCoarseRegionBindingCount> b;
   b[kCoarseRegionBindingBlockMax] = &in.blockMax;
   b[kCoarseRegionBindingRegion] = &out.region;
-  const glm::uvec3 blocks(coarseBlockDims(params.dims));
-  mPipeline.dispatch(cmd, b, &p, {gpu::groupsFor(std::uint64_t(blocks.x) * blocks.y * blocks.z,
-                                                 RTSDF_COARSE_REGION_GROUP), 1, 1});
+  // One invocation per block: at most 65535 groups along x (every device's limit), the rest along y.
+  const glm::u64vec3 blocks(coarseBlockDims(params.dims));
+  const std::uint32_t groups = gpu::groupsFor(blocks.x * blocks.y * blocks.z, RTSDF_COARSE_REGION_GROUP);
+  const std::uint32_t groupsX = std::min<std::uint32_t>(groups, 65535u);
+  mPipeline.dispatch(cmd, b, &p, {groupsX, (groups + groupsX - 1) / groupsX, 1});
   gpu::computeBarrier(cmd);
   p.dims.w = RTSDF_COARSE_REGION_DISPATCH;
   mPipeline.dispatch(cmd, b, &p, {1, 1, 1});
@@ -300,11 +307,20 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
 float CoarseSdfBuilder::record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                                const GridSpec& spec, const CoarseSdfSettings& settings, const CoarseVoxelBox* change) {
   const Prepared p = prepare(triangles, spec, settings);
-  // The kept transform and block bounds must be this grid's, from a build that kept them.
-  mLastOverChange = change && p.keep && mKeptDims == spec.dims;
+  // The kept transform, distances and block bounds must be of this grid and beta, from a build that kept them.
+  const bool sameGrid = mKeptDims == spec.dims && mKeptOrigin == spec.origin && mKeptVoxel == spec.voxelSize &&
+                        mKeptBeta == p.beta;
+  mLastOverChange = change && p.keep && sameGrid;
   recordPasses(cmd, profiler, triangles, p, mLastOverChange ? change : nullptr);
-  mKeptDims = p.keep ? spec.dims : glm::ivec3(-1);
+  keepGrid(p.keep, spec, p.beta);
   return p.beta;
+}
+
+void CoarseSdfBuilder::keepGrid(bool keep, const GridSpec& spec, float beta) {
+  mKeptDims = keep ? spec.dims : glm::ivec3(-1);
+  mKeptOrigin = spec.origin;
+  mKeptVoxel = spec.voxelSize;
+  mKeptBeta = beta;
 }
 
 gpu::shared::CoarseRegion CoarseSdfBuilder::readRegion() const {
@@ -348,7 +364,7 @@ CoarseSdf CoarseSdfBuilder::build(const InstancedTriangles& triangles, const Gri
   gpu::CommandBuffer cmd(mCtx);
   mProfiler.reset(cmd.handle());
   const gpu::Buffer& nearest = recordPasses(cmd.handle(), &mProfiler, triangles, p);
-  mKeptDims = p.keep ? spec.dims : glm::ivec3(-1);
+  keepGrid(p.keep, spec, p.beta);
   mLastOverChange = false;
   cmd.submitAndWait();
   out.passMs = mProfiler.results();

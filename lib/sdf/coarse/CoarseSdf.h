@@ -215,7 +215,8 @@ public:
   /// @param change where given: the box (in this grid's voxels) outside which the triangles' seeds are those of the
   ///        last record(), so that the exact transform and the distances run over what a change there can reach
   ///        (ExactEdtPass, CoarseRegionPass) with the same result bit for bit; taken only where the last record() was
-  ///        an Edt build with keepTransform on a grid of the same dims, and so are these settings (else: a full build).
+  ///        an Edt build with keepTransform on the same grid (dims, origin, voxel size) with the same beta, and so are
+  ///        these settings (else: a full build). The triangles outside @a change must be the last record()'s.
   float record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                const GridSpec& spec, const CoarseSdfSettings& settings, const CoarseVoxelBox* change = nullptr);
   /// @brief Whether the last record() built over what changed (its change was taken).
@@ -244,6 +245,8 @@ private:
   Prepared prepare(const InstancedTriangles& triangles, const GridSpec& spec, const CoarseSdfSettings& settings);
   /// Upload world-space corners as one instance with the identity transform.
   InstancedTriangles uploadWorldCorners(const std::vector<glm::vec4>& corners);
+  /// Remember the grid and beta the last record() built on, with whether its transform was kept (@a keep).
+  void keepGrid(bool keep, const GridSpec& spec, float beta);
   /// Record voxelize, transform and distance (over what changed inside @a change, where given); returns the buffer
   /// that holds the nearest seeds.
   const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
@@ -253,6 +256,9 @@ private:
   gpu::Buffer mBlockMax, mRegion; ///< the block bounds (CoarseDistancePass) and the region of a build over changes
   gpu::Buffer mPlanes, mNearest;  ///< kept transform (CoarseSdfSettings::keepTransform)
   glm::ivec3 mKeptDims{-1};       ///< the grid the kept transform and block bounds are of; -1: none
+  glm::dvec3 mKeptOrigin{0.0};
+  double mKeptVoxel = 0.0;
+  float mKeptBeta = 0.0f;
   bool mLastOverChange = false;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;

@@ -29,7 +29,7 @@ void main() {
     return;
   }
   ivec3 bd = coarseBlockDims(dims);
-  uint b = gl_GlobalInvocationID.x;
+  uint b = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   if (b >= uint(bd.x * bd.y * bd.z)) return;
   ivec3 cell = ivec3(int(b) % bd.x, int(b) / bd.x % bd.y, int(b) / (bd.x * bd.y));
   ivec3 lo = cell * RTSDF_COARSE_BLOCK;

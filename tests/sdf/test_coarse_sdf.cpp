@@ -128,6 +128,7 @@ protected:
     dp.voxelSize = 0.5f;
     dp.beta = 0.25f;
     dp.emptyDistance = 99.0f;
+    dp.flags = gpu::shared::kCoarseDistanceKeepBounds;
     {
       gpu::CommandBuffer cmd(*sCtx);
       vkCmdFillBuffer(cmd.handle(), blockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
@@ -144,7 +145,7 @@ protected:
       gpu::CommandBuffer cmd(*sCtx);
       regionPass.execute(cmd.handle(), nullptr, {blockMax}, {region}, {dims, change});
       edt.execute(cmd.handle(), nullptr, {seeds, region}, {scratch, &planes, &nearest}, {dims, &change});
-      dp.regionOnly = 1;
+      dp.flags = gpu::shared::kCoarseDistanceRegionOnly | gpu::shared::kCoarseDistanceKeepBounds;
       distancePass.execute(cmd.handle(), nullptr, {nearest, region}, {distance, changed, blockMax}, dp);
       cmd.submitAndWait();
     }

@@ -30,7 +30,7 @@ const uint kCoarseDistanceBindingNearest = 0u;  // nearest seed per voxel
 const uint kCoarseDistanceBindingDistance = 1u; // c per voxel (read: the last build's, then written)
 const uint kCoarseDistanceBindingChanged = 2u;  // ChangedBox: grown to hold every voxel whose c changed
 const uint kCoarseDistanceBindingBlockMax = 3u; // uint per block: at least the largest squared seed distance in it
-const uint kCoarseDistanceBindingRegion = 4u;   // CoarseRegion (read where CoarseDistanceParams::regionOnly)
+const uint kCoarseDistanceBindingRegion = 4u;   // CoarseRegion (read with kCoarseDistanceRegionOnly)
 const uint kCoarseDistanceBindingCount = 5u;
 const uint kCoarseRegionBindingBlockMax = 0u;   // the last build's block bounds (read)
 const uint kCoarseRegionBindingRegion = 1u;     // CoarseRegion (grown, then its dispatches written)
@@ -168,8 +168,12 @@ struct CoarseDistanceParams {
   float voxelSize;
   float beta;          // subtracted from the distance: surfaces become thin negative shells
   float emptyDistance; // value where no seed exists at all (empty scene)
-  uint regionOnly;     // 1: the voxels of the CoarseRegion's box only (dispatched from its distanceGroups)
+  uint flags;          // kCoarseDistanceRegionOnly | kCoarseDistanceKeepBounds
 };
+/// CoarseDistanceParams::flags: the voxels of the CoarseRegion's box only (dispatched from its distanceGroups); the
+/// block bounds raised (a build that keeps its transform for builds over a change; others skip the work).
+const uint kCoarseDistanceRegionOnly = 1u;
+const uint kCoarseDistanceKeepBounds = 2u;
 
 RTSDF_FN uint packSeed(ivec3 c) { return uint(c.x) | (uint(c.y) << 10) | (uint(c.z) << 20); }
 RTSDF_FN ivec3 unpackSeed(uint s) { return ivec3(int(s & 1023u), int((s >> 10) & 1023u), int((s >> 20) & 1023u)); }

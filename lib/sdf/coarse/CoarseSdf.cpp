@@ -159,7 +159,7 @@ void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
   b[kCoarseDistanceBindingChanged] = &out.changed;
   b[kCoarseDistanceBindingBlockMax] = &out.blockMax;
   b[kCoarseDistanceBindingRegion] = &in.region;
-  if (params.regionOnly)
+  if (params.flags & kCoarseDistanceRegionOnly)
     mPipeline.dispatchIndirect(cmd, b, &params, in.region, offsetof(CoarseRegion, distanceGroups));
   else
     mPipeline.dispatch(cmd, b, &params,
@@ -292,14 +292,14 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
                       {mSeedsB, p.keep ? &mPlanes : nullptr, p.keep ? &mNearest : nullptr}, {p.flood.dims, change});
   else
     mJumpFlood.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, p.flood);
-  // The box starts empty; the pass grows it over the voxels whose value changed. A full build raises the block
-  // bounds from zero.
+  // The box starts empty; the pass grows it over the voxels whose value changed. A full build that keeps its
+  // transform raises the block bounds from zero (others leave them: no build over a change follows them).
   static const ChangedBox kEmpty{glm::uvec4(kChangedBoxEmptyLo), glm::uvec4(0u)};
   gpu::recordUpload(cmd, mChangedBox, &kEmpty, sizeof(kEmpty));
-  if (!change) vkCmdFillBuffer(cmd, mBlockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
+  if (p.keep && !change) vkCmdFillBuffer(cmd, mBlockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::computeBarrier(cmd);
   CoarseDistanceParams distance = p.distance;
-  distance.regionOnly = change ? 1u : 0u;
+  distance.flags = (change ? kCoarseDistanceRegionOnly : 0u) | (p.keep ? kCoarseDistanceKeepBounds : 0u);
   mDistance.execute(cmd, profiler, {nearest, mRegion}, {mDistanceBuf, mChangedBox, mBlockMax}, distance);
   return nearest;
 }

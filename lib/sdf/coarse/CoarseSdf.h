@@ -147,9 +147,9 @@ template <class Region> std::uint64_t regionVoxels(const Region& r) {
 
 /// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel, the box of the voxels whose c differs
 ///        from what @a distance held (gpu::shared::ChangedBox, grown: the caller resets it), and per block of
-///        RTSDF_COARSE_BLOCK^3 voxels @a blockMax raised to at least each voxel's squared seed distance (the caller
-///        zeroes it for a full build). With Params::regionOnly, over the CoarseRegion in @a region alone (dispatched
-///        indirectly); @a region is bound in any case.
+///        RTSDF_COARSE_BLOCK^3 voxels, with kCoarseDistanceKeepBounds, @a blockMax raised to at least each voxel's
+///        squared seed distance (the caller zeroes it for a full build). With kCoarseDistanceRegionOnly, over the
+///        CoarseRegion in @a region alone (dispatched indirectly); @a region and @a blockMax are bound in any case.
 class CoarseDistancePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "CoarseDistancePass";

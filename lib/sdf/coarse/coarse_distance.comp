@@ -4,8 +4,8 @@
 // value differs from the last build's (bit for bit) grows the changed box, so the passes after it can run over the
 // region that changed (UpsamplePass). A bound is raised atomically only where this voxel lies beyond it as last read:
 // the box only grows, so a stale read costs an atomic, never a voxel left out (no barrier or shared memory, which
-// made the pass 4.6 times slower on lavapipe). Each voxel raises its block's bound of the squared seed distance where
-// it exceeds it (coarseBlockReached's input; a full build reset the bounds). A build over what changed runs over the
+// made the pass 4.6 times slower on lavapipe). In a build that keeps its transform, each voxel raises its block's bound
+// of the squared seed distance where it exceeds it (coarseBlockReached's input; a full build reset the bounds). A build over what changed runs over the
 // CoarseRegion's box alone: elsewhere no voxel's nearest seed changed.
 #include "sdf/coarse/CoarseParams.h"
 
@@ -21,7 +21,7 @@ void main() {
   ivec3 p = ivec3(gl_GlobalInvocationID);
   ivec3 dims = params.dims.xyz;
   ivec3 end = dims;
-  if (params.regionOnly != 0u) {
+  if ((params.flags & kCoarseDistanceRegionOnly) != 0u) {
     p += ivec3(region.lo.xyz);
     end = min(end, ivec3(region.hi.xyz) + ivec3(1));
   }
@@ -30,7 +30,7 @@ void main() {
   uint s = nearest[i];
   uint d2 = s == kNoSeed ? 0xFFFFFFFFu : uint(distance2(p, unpackSeed(s)));
   uint block = coarseBlockIndex(p, coarseBlockDims(dims));
-  if (d2 > blockMax[block]) atomicMax(blockMax[block], d2);
+  if ((params.flags & kCoarseDistanceKeepBounds) != 0u && d2 > blockMax[block]) atomicMax(blockMax[block], d2);
   float c = s == kNoSeed ? params.emptyDistance : sqrt(float(d2)) * params.voxelSize - params.beta;
   if (floatBitsToUint(distance[i]) != floatBitsToUint(c)) {
     for (int a = 0; a < 3; ++a) {

@@ -75,7 +75,8 @@ RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& poo
   p.coarseDims.w = (mFine ? gpu::shared::kRefineWriteDense : 0) |
                    (mSettings.mode == RefineMode::Closest && mSettings.closestSearch == ClosestSearch::Cell
                         ? gpu::shared::kRefineCellSearch
-                        : 0);
+                        : 0) |
+                   (mSettings.shaderTarget == ShaderTarget::Cpu ? gpu::shared::kRefineSpreadGroups : 0);
   const auto boxes = int(std::min<std::uint32_t>(movedBoxes, RTSDF_MAX_MOVED_BOXES));
   p.coarseDims.w |= boxes << gpu::shared::kRefineMovedBoxesShift;
   return p;

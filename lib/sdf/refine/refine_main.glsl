@@ -548,7 +548,9 @@ void refineBox(uint ci, uint part, bool fresh, bool outOfView, bool movedOnly) {
 }
 
 void main() {
-  uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+  uint g = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
+  if ((params.coarseDims.w & kRefineSpreadGroups) != 0) g = spreadGroup(g, gl_NumWorkGroups.x * gl_NumWorkGroups.y);
+  uint k = g * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
   uint parts = params.refineParts;
   uint e = k / parts;
   if (e >= maskCounts[kMaskCountRefineList]) return;

@@ -19,7 +19,8 @@
 // The list holds the coarse voxels MaskCompactPass chose to refine this frame (the others keep their values);
 // each is expanded into the fine voxels under it (maskFineRanges), cut into params.refineParts boxes of at most
 // params.partBox.xyz fine voxels, one invocation per box (a short loop: at most 8 voxels, or a run along z of
-// the fine/coarse ratio + 1). A voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with
+// the fine/coarse ratio + 1). On CPU devices (kRefineSpreadGroups) the groups take the list in spreadGroup's order, so
+// that each of lavapipe's threads, which runs one contiguous run of the groups, gets a share of every part of it. A voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with
 // their last value, which the brick pool holds (the sparse fine state), and so, with FineStorage::Dense, does
 // the dense fine SDF; a voxel whose brick found no slot (a full pool) is left alone.
 // Closest mode's cell search (RTSDF_CELL_SEARCH): one BVH walk per box collects every triangle that can be nearest

@@ -234,7 +234,7 @@ TEST(RefineSpread, SpreadGroupsPermuteTheListAndShareItEvenlyAmongRuns) {
         for (std::uint32_t g = r * n / runs; g < (r + 1) * n / runs; ++g)
           ++perPart[std::uint64_t(spreadGroup(g, n)) * runs / n];
         for (std::uint32_t part = 0; part < runs; ++part)
-          EXPECT_NEAR(perPart[part], fair, 0.6 * fair) // worst seen 0.55 (4470 groups, 16 runs); in order, 1 or more
+          EXPECT_NEAR(perPart[part], fair, 0.6 * fair) // worst seen 0.55 (4470 groups, 16 runs); list order: 1+
               << n << " groups, run " << r << " of " << runs << ": list part " << part;
       }
     }

@@ -20,9 +20,10 @@
 // each is expanded into the fine voxels under it (maskFineRanges), cut into params.refineParts boxes of at most
 // params.partBox.xyz fine voxels, one invocation per box (a short loop: at most 8 voxels, or a run along z of
 // the fine/coarse ratio + 1). On CPU devices (kRefineSpreadGroups) the groups take the list in spreadGroup's order, so
-// that each of lavapipe's threads, which runs one contiguous run of the groups, gets a share of every part of it. A voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with
-// their last value, which the brick pool holds (the sparse fine state), and so, with FineStorage::Dense, does
-// the dense fine SDF; a voxel whose brick found no slot (a full pool) is left alone.
+// that each of lavapipe's threads, which runs one contiguous run of the groups, gets a share of every part of it.
+// A voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with their last value, which the brick
+// pool holds (the sparse fine state), and so, with FineStorage::Dense, does the dense fine SDF; a voxel whose brick
+// found no slot (a full pool) is left alone.
 // Closest mode's cell search (RTSDF_CELL_SEARCH): one BVH walk per box collects every triangle that can be nearest
 // to any voxel of it (collectCellCandidates), and each voxel tests only those, with the same triangle test and tie
 // rule as closestPoint, so the distances are the same; a voxel the candidates may not answer walks on its own.

@@ -270,6 +270,7 @@ TEST_F(Refine, MaskDispatchPassWritesTheRefinementsGroups) {
     const glm::uvec3 want = refineDispatch(n * parts);
     EXPECT_EQ(glm::uvec3(words[kMaskCountGroupsX], words[kMaskCountGroupsY], words[kMaskCountGroupsZ]), want) << n;
     EXPECT_EQ(words[kMaskCountRefineList], n);
+    EXPECT_EQ(words[kMaskCountSpreadStride], spreadStride(want.x * want.y)) << n;
     // Enough invocations for every part of every listed voxel, and less than a group too many.
     const std::uint64_t invocations = std::uint64_t(want.x) * want.y * want.z * RTSDF_REFINE_GROUP;
     EXPECT_GE(invocations, std::uint64_t(n) * parts);

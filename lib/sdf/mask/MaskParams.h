@@ -130,7 +130,8 @@ const uint kMaskCountCoarse = 4u;     // coarse band voxels
 const uint kMaskCountMaskedFine = 5u; // fine voxels under the band, refined or kept
 const uint kMaskCountRefineList = 6u; // coarse voxels appended to the refine list, those out of view included
 const uint kMaskCountOutOfView = 7u;  // of those, the band voxels out of view written again (kMaskOutOfView)
-const uint kMaskCountWords = 8u;
+const uint kMaskCountSpreadStride = 8u; // spreadStride of the refinement's groups (MaskDispatchPass writes it)
+const uint kMaskCountWords = 9u;
 
 /// Moving instances' boxes MaskCompactPass reads (more are merged into the last one).
 #define RTSDF_MAX_MOVED_BOXES 256
@@ -297,18 +298,22 @@ RTSDF_FN uint greatestCommonDivisor(uint a, uint b) {
   return a;
 }
 
-/// The refinement's groups spread over its list (kRefineSpreadGroups): the list position of group @a g of @a groups,
-/// (g * s) mod groups for the first stride s from groups / golden ratio on (odd) that is coprime to groups, a
+/// The stride that spreads the refinement's @a groups over its list (kRefineSpreadGroups): group g takes the list's
+/// group (g * stride) mod groups. The first odd stride from groups / golden ratio on that is coprime to groups, so a
 /// permutation in which any run of consecutive groups takes positions spread evenly over the list. Lavapipe gives each
 /// of its threads a run of a dispatch's groups, and the list keeps the voxels near a moving instance together, so in
 /// list order one thread walked most of them while the other waited (ClosestRefinePass 1.6x slower, measured). Past
-/// 65535 groups (the product would overflow) and below 3 the order is kept.
-RTSDF_FN uint spreadGroup(uint g, uint groups) {
-  if (groups < 3u || groups > 65535u) return g;
+/// 65535 groups (the product would overflow) and below 3: 1, the list's order. MaskDispatchPass computes it once a
+/// frame (kMaskCountSpreadStride).
+RTSDF_FN uint spreadStride(uint groups) {
+  if (groups < 3u || groups > 65535u) return 1u;
   uint s = (groups * 618u / 1000u) | 1u;
   while (greatestCommonDivisor(s, groups) != 1u) s += 2u; // ends by groups - 1 or groups - 2, both coprime
-  return (g * s) % groups;
+  return s;
 }
+
+/// The list's group that group @a g of @a groups takes with the spread (spreadStride).
+RTSDF_FN uint spreadGroup(uint g, uint groups) { return g * spreadStride(groups) % groups; }
 
 RTSDF_SHARED_END
 

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // MaskDispatchPass: one invocation turns the coarse voxels MaskCompactPass appended to the refine list into the
 // refinement's indirect dispatch (refineParts invocations each), so the host never reads the mask's size inside
-// the frame.
+// the frame, and the stride that spreads its groups over the list on CPU devices (spreadStride, once a frame).
 #include "sdf/mask/MaskParams.h"
 
 layout(local_size_x = 1) in;
@@ -15,4 +15,5 @@ void main() {
   counts[kMaskCountGroupsX] = groups.x;
   counts[kMaskCountGroupsY] = groups.y;
   counts[kMaskCountGroupsZ] = groups.z;
+  counts[kMaskCountSpreadStride] = spreadStride(groups.x * groups.y);
 }

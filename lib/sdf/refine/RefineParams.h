@@ -41,7 +41,7 @@ const float kSignVoteFacing = 0.1f;
 /// Flags of RefineParams::coarseDims.w in the refinement shaders.
 const int kRefineWriteDense = 1; // f_t is also written to the dense fine SDF (FineStorage::Dense)
 const int kRefineCellSearch = 2; // closest mode: one BVH walk per box collects candidates its voxels test
-const int kRefineSpreadGroups = 4; // CPU devices: the groups take the list in spreadGroup's order (MaskParams.h)
+const int kRefineSpreadGroups = 4; // CPU devices: the groups take the list in spreadStride's order (MaskParams.h)
 /// Bits of RefineParams::coarseDims.w from this one on: the moving instances' boxes this frame
 /// (kRefineBindingMovedBoxes).
 const int kRefineMovedBoxesShift = 8;

@@ -19,7 +19,7 @@
 // The list holds the coarse voxels MaskCompactPass chose to refine this frame (the others keep their values);
 // each is expanded into the fine voxels under it (maskFineRanges), cut into params.refineParts boxes of at most
 // params.partBox.xyz fine voxels, one invocation per box (a short loop: at most 8 voxels, or a run along z of
-// the fine/coarse ratio + 1). On CPU devices (kRefineSpreadGroups) the groups take the list in spreadGroup's order, so
+// the fine/coarse ratio + 1). On CPU devices (kRefineSpreadGroups) the groups take the list in spreadStride's order, so
 // that each of lavapipe's threads, which runs one contiguous run of the groups, gets a share of every part of it.
 // A voxel new to the mask (kMaskFineFresh) restarts from c_t, the others blend with their last value, which the brick
 // pool holds (the sparse fine state), and so, with FineStorage::Dense, does the dense fine SDF; a voxel whose brick
@@ -551,7 +551,8 @@ void refineBox(uint ci, uint part, bool fresh, bool outOfView, bool movedOnly) {
 
 void main() {
   uint g = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
-  if ((params.coarseDims.w & kRefineSpreadGroups) != 0) g = spreadGroup(g, gl_NumWorkGroups.x * gl_NumWorkGroups.y);
+  if ((params.coarseDims.w & kRefineSpreadGroups) != 0)
+    g = g * maskCounts[kMaskCountSpreadStride] % (gl_NumWorkGroups.x * gl_NumWorkGroups.y); // spreadGroup
   uint k = g * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
   uint parts = params.refineParts;
   uint e = k / parts;

@@ -1,8 +1,8 @@
 #pragma once
 /// @file GltfChecks.h
 /// @brief Checks on glTF 2.0 files before assimp reads them: a GLB's lengths against the file's size (assimp
-///        allocates what a chunk header says: 2.1 GB for a 616-byte file), and every triangle's vertex indices
-///        against its primitive's vertex count (assimp drops such a face without an error).
+///        allocates what a chunk header says: 2.1 GB for a 616-byte file), and every primitive's element count and
+///        vertex indices against its vertex count.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -26,13 +26,20 @@ void checkGlbFile(const std::filesystem::path& path, std::uint64_t fileSize);
 /// @throw Error "<name>: not a binary glTF: a .glb starts with 'glTF'".
 void checkGltfForm(const std::string& head, const std::string& extension, const std::string& name);
 
-/// @brief Check each triangle index of a glTF's meshes (in a .gltf's JSON or a .glb's chunks) against the
-///        vertex count of its primitive. Indices the check cannot reach (a buffer it cannot read, a sparse
-///        accessor, an accessor past its buffer) are left to assimp, which reports what is malformed.
+/// @brief Check each primitive of a glTF's meshes (in a .gltf's JSON or a .glb's chunks), whatever its mode
+///        (points, lines, loops, strips, triangles, fans): that it holds enough indices (or vertices, without
+///        indices) for one element, and that every index lies within its vertex count. assimp drops a face with an
+///        index past the vertices without an error, reads a loop's dropped first line through a null pointer, and
+///        allocates 2^32 faces for a line strip of no indices. Indices the check cannot reach (a buffer it cannot
+///        read, a sparse accessor, an accessor past its buffer) are left to assimp, which reports what is malformed.
+///        Members are read as the importer reads them (a mode that is not a whole number is triangles, indices
+///        that are not an index are none, no POSITION is no vertices). A JSON that does not parse is refused.
 /// @param bytes the whole file; @param folder where its external buffers lie (empty: none are read).
 /// @param allowOutside whether an external buffer may lie outside @a folder.
-/// @throw Error "<name>: mesh 'tri' primitive 0: face 1 uses vertex index 99 but the primitive has 3 vertices".
-void checkGltfIndices(const std::string& bytes, const std::string& name, const std::filesystem::path& folder,
+/// @throw Error "<name>: not a glTF: malformed JSON: ...",
+///        "<name>: mesh 'tri' primitive 0: face 1 uses vertex index 99 but the primitive has 3 vertices",
+///        "<name>: mesh 0 primitive 0: mode 3 (line strip) needs at least 2 indices but index accessor 1 has 0".
+void checkGltfPrimitives(const std::string& bytes, const std::string& name, const std::filesystem::path& folder,
                       bool allowOutside);
 
 } // namespace rtsdf

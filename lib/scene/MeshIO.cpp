@@ -8,10 +8,14 @@
 #include "util/Memory.h"
 #include "util/Text.h"
 
+#include <assimp/BaseImporter.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
 
 namespace rtsdf {
 namespace fs = std::filesystem;
@@ -69,9 +73,29 @@ const aiScene* postProcess(Assimp::Importer& importer, const std::string& name) 
   return importer.ApplyPostProcessing(kPostSteps);
 }
 
-void configure(Assimp::Importer& importer) {
+/// Take out of @a importer every importer that does not claim @a fileName's extension (as assimp matches them: the
+/// name's end, any case). Where the importers that claim it decline a file (two claim .gltf and .glb, and both
+/// decline a JSON that does not parse), assimp would try every other importer's sniffing on the bytes, and some
+/// read past the end of what is not theirs (fuzz_gltf: the OBJ importer on such a .gltf, a SEGV).
+void keepOnlyImportersOf(Assimp::Importer& importer, const std::string& fileName) {
+  const std::string name = toLower(fileName);
+  for (std::size_t i = importer.GetImporterCount(); i-- > 0;) {
+    Assimp::BaseImporter* candidate = importer.GetImporter(i);
+    std::set<std::string> extensions;
+    candidate->GetExtensionList(extensions);
+    const bool claims = std::any_of(extensions.begin(), extensions.end(), [&name](const std::string& e) {
+      const std::string end = "." + toLower(e);
+      return name.size() >= end.size() && name.compare(name.size() - end.size(), end.size(), end) == 0;
+    });
+    // Taken out of the importer's list, it is ours to delete (the importer deletes only what its list holds).
+    if (!claims && importer.UnregisterLoader(candidate) == aiReturn_SUCCESS) delete candidate;
+  }
+}
+
+void configure(Assimp::Importer& importer, const std::string& fileName) {
   // Keep only triangles; points and lines carry no surface.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  keepOnlyImportersOf(importer, fileName);
 }
 
 } // namespace
@@ -92,12 +116,12 @@ Mesh loadMeshFile(const fs::path& path, const MeshLoadOptions& options) {
   if (ext == ".glb" || ext == ".gltf") {
     checkGltfForm(readFileHead(path, 64), ext, path.string());
     checkGlbFile(path, size);
-    checkGltfIndices(readFileHead(path, size), path.string(), fs::absolute(path).parent_path(),
-                     options.allowOutsideReferences);
+    checkGltfPrimitives(readFileHead(path, size), path.string(), fs::absolute(path).parent_path(),
+                        options.allowOutsideReferences);
   }
   if (ext == ".obj") checkObjLines(readFileHead(path, size), path.string());
   Assimp::Importer importer;
-  configure(importer);
+  configure(importer, path.string());
   // Every file assimp opens goes through the confined file system (the importer owns and deletes it).
   // The path is made absolute so that every path the importer builds from a reference is absolute too: a bare
   // name would be read from the working folder.
@@ -121,15 +145,15 @@ Mesh loadMeshFromMemory(const std::string& bytes, const std::string& extension, 
   if (toLower(extension) == ".glb" || toLower(extension) == "glb" || toLower(extension) == ".gltf" ||
       toLower(extension) == "gltf") {
     checkGltfForm(bytes.substr(0, 64), extension, name);
-    checkGltfIndices(bytes, name, {}, false);
+    checkGltfPrimitives(bytes, name, {}, false);
   }
   if (toLower(extension) == ".obj" || toLower(extension) == "obj") checkObjLines(bytes, name);
   Assimp::Importer importer;
-  configure(importer);
+  const std::string hint = extension.empty() || extension[0] != '.' ? extension : extension.substr(1);
+  configure(importer, "." + hint);
   // assimp's memory reader hands every other name to the importer's file system: this one has no file.
   ConfinedIOSystem* files = new ConfinedIOSystem(name);
   importer.SetIOHandler(files);
-  const std::string hint = extension.empty() || extension[0] != '.' ? extension : extension.substr(1);
   const aiScene* scene =
       importer.ReadFileFromMemory(bytes.data(), bytes.size(), kReadSteps, hint.c_str()) ? postProcess(importer, name)
                                                                                         : nullptr;

@@ -39,10 +39,12 @@ std::string triangleBuffer(const std::vector<std::uint16_t>& indices) {
   return bytes;
 }
 
-/// A glTF's JSON for triangleBuffer(@a indices) named 'tri', the buffer at @a uri (none: the GLB's BIN chunk).
-std::string triangleGltf(std::size_t indices, const std::string& uri, std::size_t bufferBytes) {
+/// A glTF's JSON for triangleBuffer(@a indices) named 'tri', the buffer at @a uri (none: the GLB's BIN chunk), its
+/// primitive of glTF mode @a mode (4: triangles).
+std::string triangleGltf(std::size_t indices, const std::string& uri, std::size_t bufferBytes, int mode = 4) {
   return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],)"
-         R"("meshes":[{"name":"tri","primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)"
+         R"("meshes":[{"name":"tri","primitives":[{"attributes":{"POSITION":0},"indices":1,"mode":)" +
+         std::to_string(mode) + R"(}]}],)"
          R"("buffers":[{"byteLength":)" + std::to_string(bufferBytes) +
          (uri.empty() ? "" : R"(,"uri":")" + uri + "\"") +
          R"(}],"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":)" +
@@ -190,6 +192,12 @@ TEST(InputChecks, GlbLengthsMustFitTheFile) {
   writeText(dir / "long.glb", longer);
   msg = errorOf([&] { loadMeshFile(dir / "long.glb"); });
   EXPECT_NE(msg.find("long.glb: the GLB header says 1073741824 bytes but the file has"), std::string::npos) << msg;
+  // The importer reads the JSON chunk whatever the header's length says: a length of 0 let a JSON chunk stating
+  // 4 GiB through (fuzz/regressions/fuzz_gltf/glb-header-length-0-json-chunk-4-gib).
+  std::string none = glb(json, triangleBuffer({0, 1, 2}), 0xFFDD0000u);
+  std::memset(&none[8], 0, 4);
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(none, ".glb", "none.glb"); }),
+            "none.glb: the GLB header says 0 bytes: too few for its 12-byte header and its JSON chunk's");
   // The BIN chunk past a JSON chunk of more than 64 KiB is checked too.
   std::string big = glb(json + std::string(70000, ' '), triangleBuffer({0, 1, 2}));
   const std::uint32_t binClaim = 1u << 31;
@@ -209,6 +217,77 @@ TEST(InputChecks, GltfIndexPastTheVerticesNamesMeshAndFace) {
   const std::string inGlb = glb(triangleGltf(6, "", 48), triangleBuffer({0, 1, 2, 0, 2, 99}));
   EXPECT_NE(errorOf([&] { loadMeshFromMemory(inGlb, ".glb", "i.glb"); }).find("i.glb: mesh 'tri' primitive 0: face 1"),
             std::string::npos);
+}
+
+// Points, lines, loops, strips and fans are checked as triangles are: assimp read a line loop whose first line it
+// had dropped (an index past the vertices) through a null pointer, and counted a line strip of no indices as 2^32
+// lines (64 GiB asked for); both were fuzz_gltf's findings (fuzz/regressions/fuzz_gltf).
+TEST(InputChecks, GltfPrimitivesOfEveryModeNeedEnoughIndicesWithinTheVertices) {
+  const auto load = [](const std::vector<std::uint16_t>& indices, int mode) {
+    const std::string bin = triangleBuffer(indices);
+    const std::string file = glb(triangleGltf(indices.size(), "", bin.size(), mode), bin);
+    return errorOf([&] { loadMeshFromMemory(file, ".glb", "m.glb"); });
+  };
+  const std::string at = "m.glb: mesh 'tri' primitive 0: ";
+  EXPECT_EQ(load({5, 1, 2}, 2), at + "line 0 uses vertex index 5 but the primitive has 3 vertices");
+  EXPECT_EQ(load({0, 1, 2, 99}, 5), at + "face 1 uses vertex index 99 but the primitive has 3 vertices");
+  EXPECT_EQ(load({0, 1, 7}, 0), at + "point 2 uses vertex index 7 but the primitive has 3 vertices");
+  EXPECT_EQ(load({}, 3), at + "mode 3 (line strip) needs at least 2 indices but index accessor 1 has 0");
+  EXPECT_EQ(load({0, 1}, 6), at + "mode 6 (triangle fan) needs at least 3 indices but index accessor 1 has 2");
+  EXPECT_EQ(load({0}, 1), at + "mode 1 (lines) needs at least 2 indices but index accessor 1 has 1");
+  // Bytes past the length in the GLB's header are not the GLB's, as the importer reads it: the check reads the same.
+  const std::string bin = triangleBuffer({5, 1, 2});
+  const std::string junk = glb(triangleGltf(3, "", bin.size(), 2), bin) + "junk, 13 long";
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(junk, ".glb", "j.glb"); }),
+            "j.glb: mesh 'tri' primitive 0: line 0 uses vertex index 5 but the primitive has 3 vertices");
+  // A JSON chunk's stated length need not be a multiple of 4: the importer skips its padding to the BIN chunk, and
+  // the check finds the BIN chunk there too.
+  std::string unpadded = triangleGltf(3, "", bin.size(), 2) + "    ";
+  while (unpadded.size() % 4) unpadded += ' ';
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(unpadded, bin, unpadded.size() - 1), ".glb", "p.glb"); }),
+            "p.glb: mesh 'tri' primitive 0: line 0 uses vertex index 5 but the primitive has 3 vertices");
+  // Without indices the vertices are the elements.
+  std::string unindexed = triangleGltf(0, "", 36, 5);
+  unindexed.replace(unindexed.find(R"("indices":1,)"), 12, "");
+  const std::string two = std::string(R"("count":2,"type":"VEC3")");
+  unindexed.replace(unindexed.find(R"("count":3,"type":"VEC3")"), two.size(), two);
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(unindexed, triangleBuffer({})), ".glb", "u.glb"); }),
+            "u.glb: mesh 'tri' primitive 0: mode 5 (triangle strip) needs at least 3 vertices but the primitive has 2 "
+            "vertices");
+  // A primitive without a POSITION attribute has no vertices: its indices, if any, point past them, and a strip
+  // or fan without indices has too few (others are left to the importer: not drawn).
+  std::string noPositions = triangleGltf(3, "", bin.size(), 2);
+  noPositions.replace(noPositions.find(R"("POSITION":0)"), 12, R"("NORMAL":0)");
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(noPositions, bin), ".glb", "n.glb"); }),
+            "n.glb: mesh 'tri' primitive 0: line 0 uses vertex index 5 but the primitive has no vertices (no POSITION "
+            "attribute)");
+  noPositions.replace(noPositions.find(R"(,"indices":1)"), 12, "");
+  noPositions.replace(noPositions.find(R"("mode":2)"), 8, R"("mode":6)");
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(noPositions, bin), ".glb", "n.glb"); }),
+            "n.glb: mesh 'tri' primitive 0: mode 6 (triangle fan) needs at least 3 vertices but the primitive has no "
+            "vertices (no POSITION attribute)");
+  // Members of another type are read as the importer reads them: a mode that is not a whole number is triangles,
+  // and indices that are not an index are none.
+  std::string typed = triangleGltf(3, "", bin.size(), 2);
+  typed.replace(typed.find(R"("mode":2)"), 8, R"("mode":"2")");
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(typed, bin), ".glb", "t.glb"); }),
+            "t.glb: mesh 'tri' primitive 0: face 0 uses vertex index 5 but the primitive has 3 vertices");
+  typed.replace(typed.find(R"("indices":1)"), 11, R"("indices":-1)");
+  typed.replace(typed.find(R"("count":3,"type":"VEC3")"), two.size(), two);
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(typed, bin), ".glb", "t.glb"); }),
+            "t.glb: mesh 'tri' primitive 0: mode 4 (triangles) needs at least 3 vertices but the primitive has 2 "
+            "vertices");
+  // A well-formed strip and fan load their triangle; the file path checks too.
+  for (const int mode : {5, 6}) {
+    const std::string ok = triangleBuffer({0, 1, 2});
+    EXPECT_EQ(loadMeshFromMemory(glb(triangleGltf(3, "", ok.size(), mode), ok), ".glb", "ok.glb").triangles.size(), 1u);
+  }
+  TempDir dir;
+  writeText(dir / "t.bin", triangleBuffer({}));
+  writeText(dir / "t.gltf", triangleGltf(0, "t.bin", 36, 2));
+  EXPECT_EQ(errorOf([&] { loadMeshFile(dir / "t.gltf"); }),
+            (dir / "t.gltf").string() +
+                ": mesh 'tri' primitive 0: mode 2 (line loop) needs at least 2 indices but index accessor 1 has 0");
 }
 
 TEST(InputChecks, NamesOfAMegabyteAreCutInMessages) {
@@ -261,4 +340,10 @@ TEST(InputChecks, AGlbWithoutItsMagicOrAGltfThatIsNotJsonIsRefused) {
   const std::string json = errorOf([&] { loadMeshFromMemory("\xEF\xBB\xBF  {\"asset\": {}}", ".gltf", "j.gltf"); });
   EXPECT_EQ(json.find("not a glTF"), std::string::npos) << json;
   EXPECT_NE(json.find("j.gltf"), std::string::npos) << json;
+  // JSON that does not parse: both glTF importers declined it, and assimp sniffed it with every other importer (the
+  // OBJ importer read through a null pointer: fuzz/regressions/fuzz_gltf/gltf-malformed-json-sniffed-as-obj).
+  const std::string broken = errorOf([&] { loadMeshFromMemory("{\"asset\" mtllib {}}", ".gltf", "b.gltf"); });
+  EXPECT_EQ(broken.rfind("b.gltf: not a glTF: malformed JSON: ", 0), 0u) << broken;
+  const std::string array = errorOf([&] { loadMeshFromMemory("[1, 2]", ".gltf", "a.gltf"); });
+  EXPECT_EQ(array, "a.gltf: not a glTF: a .gltf is a JSON object (it starts with '{') or a GLB") << array;
 }

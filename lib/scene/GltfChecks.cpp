@@ -21,6 +21,7 @@ using json = nlohmann::json;
 namespace {
 
 constexpr std::uint32_t kChunkJson = 0x4E4F534A, kChunkBin = 0x004E4942;
+constexpr int kMaxJsonDepth = 64;
 
 std::uint32_t u32At(const std::string& b, std::size_t at) {
   std::uint32_t v = 0;
@@ -42,6 +43,8 @@ void checkGlb(const std::function<std::string(std::uint64_t, std::size_t)>& read
   const std::string header = read(0, 12);
   if (header.size() < 12)
     throw Error(fmt::format("{}: a GLB needs a 12-byte header but the file has {} bytes", name, fileSize));
+  if (const std::uint32_t version = u32At(header, 4); version != 2)
+    throw Error(fmt::format("{}: GLB version {}: only glTF 2.0 is read", name, version));
   const std::uint64_t length = u32At(header, 8);
   if (length > fileSize)
     throw Error(fmt::format("{}: the GLB header says {} bytes but the file has {}", name, length, fileSize));
@@ -62,14 +65,23 @@ void checkGlb(const std::function<std::string(std::uint64_t, std::size_t)>& read
   }
 }
 
-std::string decodeBase64(const std::string& text) {
+/// Base64 @a text as bytes; std::nullopt for a character outside its alphabet, or padding before the end (the
+/// importer decodes such a character as 0, and the bytes would not be what it reads).
+std::optional<std::string> decodeBase64(const std::string& text) {
   std::string out;
   unsigned bits = 0;
   int count = 0;
-  for (const char c : text) {
-    int v = c >= 'A' && c <= 'Z' ? c - 'A' : c >= 'a' && c <= 'z' ? c - 'a' + 26 : c >= '0' && c <= '9' ? c - '0' + 52
-          : c == '+' ? 62 : c == '/' ? 63 : -1;
-    if (v < 0) continue; // padding
+  const std::size_t end = text.find_last_not_of('=') + 1;
+  if (text.size() - end > 2) return std::nullopt;
+  for (std::size_t i = 0; i < end; ++i) {
+    const char c = text[i];
+    const int v = c >= 'A' && c <= 'Z'   ? c - 'A'
+                  : c >= 'a' && c <= 'z' ? c - 'a' + 26
+                  : c >= '0' && c <= '9' ? c - '0' + 52
+                  : c == '+'             ? 62
+                  : c == '/'             ? 63
+                                         : -1;
+    if (v < 0) return std::nullopt;
     bits = (bits << 6) | unsigned(v);
     if ((count += 6) >= 8) out += char((bits >> (count -= 8)) & 0xFF);
   }
@@ -85,6 +97,7 @@ const json& member(const json& obj, const char* key) {
 /// The glTF's JSON and its GLB binary chunk (empty for a .gltf).
 struct GltfParts {
   std::string jsonText, bin;
+  bool glb = false;
 };
 
 /// The JSON and BIN chunks as the importer reads them (checkGlb). std::nullopt where they do not fit or are not
@@ -94,6 +107,7 @@ std::optional<GltfParts> splitGltf(const std::string& bytes) {
   if (bytes.size() < 20) return std::nullopt;
   const std::uint64_t length = std::min<std::uint64_t>(u32At(bytes, 8), bytes.size());
   GltfParts parts;
+  parts.glb = true;
   std::uint64_t at = 12;
   for (int chunk = 0; chunk < 2 && (chunk == 0 || at + 8 <= length); ++chunk) {
     const std::uint64_t chunkLength = u32At(bytes, at);
@@ -118,16 +132,20 @@ public:
 
 private:
   std::optional<std::string> load(std::size_t index) const {
+    if (mParts.glb && index == 0) return mParts.bin; // the importer's buffer 0 in a GLB, whatever its uri says
     const json& buffers = member(mDoc, "buffers");
     if (!buffers.is_array() || index >= buffers.size() || !buffers[index].is_object()) return std::nullopt;
     const json& b = buffers[index];
-    if (!b.contains("uri")) return index == 0 ? std::optional<std::string>(mParts.bin) : std::nullopt;
-    if (!b["uri"].is_string()) return std::nullopt;
+    if (!b.contains("uri") || !b["uri"].is_string()) return std::nullopt;
     const std::string uri = b["uri"];
     if (uri.rfind("data:", 0) == 0) {
       const std::size_t comma = uri.find(";base64,");
-      if (comma == std::string::npos) return std::nullopt;
-      return decodeBase64(uri.substr(comma + 8));
+      if (comma == std::string::npos || comma > uri.find(','))
+        throw Error(fmt::format("{}: buffer {}: a data URI that is not base64 (a glTF's are)", mName, index));
+      const std::optional<std::string> bytes = decodeBase64(uri.substr(comma + 8));
+      if (!bytes)
+        throw Error(fmt::format("{}: buffer {}: its data URI holds a character outside base64", mName, index));
+      return bytes;
     }
     if (mFolder.empty()) return std::nullopt;
     const fs::path file = mFolder / uri;
@@ -190,67 +208,182 @@ std::uint64_t elementOf(int mode, std::uint64_t i) {
   }
 }
 
-/// The bytes of an index accessor: its buffer, where its indices start and their size (null: cannot be reached).
-struct IndexBytes {
-  const std::string* data = nullptr;
-  std::uint64_t start = 0, size = 0;
-};
-
-IndexBytes indexBytes(const json& doc, const json& acc, std::uint64_t count, Buffers& buffers) {
-  const json& views = member(doc, "bufferViews");
-  const std::optional<std::uint32_t> viewIndex = indexOf(acc, "bufferView");
-  if (!views.is_array() || acc.contains("sparse") || !viewIndex || *viewIndex >= views.size()) return {};
-  const json& view = views[*viewIndex];
-  const std::uint64_t type = unsignedOr(acc, "componentType", 0);
-  const std::size_t size = type == 5121 ? 1 : type == 5123 ? 2 : type == 5125 ? 4 : 0;
-  const std::optional<std::uint32_t> buffer = indexOf(view, "buffer");
-  if (size == 0 || !buffer) return {};
-  const std::string* data = buffers.get(*buffer);
-  const std::uint64_t start = unsignedOr(view, "byteOffset", 0) + unsignedOr(acc, "byteOffset", 0);
-  if (!data || start > data->size() || count > (data->size() - start) / size) return {}; // assimp: out of range
-  return {data, start, size};
+/// The bytes of one component of glTF component type @a type (0: not a component type).
+std::uint64_t componentBytes(std::uint64_t type) {
+  switch (type) {
+  case 5120: // BYTE
+  case 5121: return 1; // UNSIGNED_BYTE
+  case 5122: // SHORT
+  case 5123: return 2; // UNSIGNED_SHORT
+  case 5125: // UNSIGNED_INT
+  case 5126: return 4; // FLOAT
+  default: return 0;
+  }
 }
 
-/// Check one primitive's element count and indices, its members read as the importer reads them; @return without
-/// a word where they cannot be reached.
-void checkPrimitive(const json& doc, const json& prim, Buffers& buffers, const std::string& where,
-                    const std::string& name) {
-  const json& modeValue = member(prim, "mode");
-  const std::int64_t mode = modeValue.is_number_integer() ? modeValue.get<std::int64_t>() : 4;
+/// The components of one element of glTF accessor type @a type (0: not an accessor type).
+std::uint64_t componentsOf(const json& type) {
+  static const std::map<std::string, std::uint64_t> kTypes = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4},
+                                                               {"MAT2", 4},   {"MAT3", 9}, {"MAT4", 16}};
+  const auto it = type.is_string() ? kTypes.find(type.get<std::string>()) : kTypes.end();
+  return it == kTypes.end() ? 0 : it->second;
+}
+
+/// Where an accessor's elements lie: its buffer's bytes (null where they cannot be read here), the first element's
+/// offset in them, the step between elements and one element's size.
+struct AccessorBytes {
+  const std::string* data = nullptr;
+  std::uint64_t start = 0, stride = 0, elementBytes = 0, count = 0;
+};
+
+/// Check that a buffer view of @a bytesNeeded bytes from @a offset lies within the view @a viewIndex and the view
+/// within its buffer; @return the buffer's bytes and where the view starts (null: the buffer cannot be read here).
+std::pair<const std::string*, std::uint64_t> checkViewReach(const json& doc, std::uint32_t viewIndex,
+                                                            std::uint64_t offset, std::uint64_t bytesNeeded,
+                                                            Buffers& buffers, const std::string& what) {
+  const json& views = member(doc, "bufferViews");
+  if (!views.is_array() || viewIndex >= views.size() || !views[viewIndex].is_object())
+    throw Error(fmt::format("{}: buffer view {} does not exist", what, viewIndex));
+  const json& view = views[viewIndex];
+  const std::uint64_t viewLength = unsignedOr(view, "byteLength", 0), viewStart = unsignedOr(view, "byteOffset", 0);
+  if (offset > viewLength || bytesNeeded > viewLength - offset)
+    throw Error(fmt::format("{}: {} bytes from byte {} reach past the {} bytes of buffer view {}", what, bytesNeeded,
+                            offset, viewLength, viewIndex));
+  const std::optional<std::uint32_t> buffer = indexOf(view, "buffer");
+  if (!buffer) throw Error(fmt::format("{}: buffer view {} names no buffer", what, viewIndex));
+  const std::string* data = buffers.get(*buffer);
+  if (data && (viewStart > data->size() || viewLength > data->size() - viewStart))
+    throw Error(fmt::format("{}: buffer view {} ({} bytes from byte {}) reaches past the {} bytes of buffer {}", what,
+                            viewIndex, viewLength, viewStart, data->size(), *buffer));
+  return {data, viewStart};
+}
+
+/// Check a sparse accessor's substitutions (the importer writes each value at its index without a check).
+void checkSparse(const json& doc, const json& sparse, std::uint64_t count, std::uint64_t elementBytes,
+                 Buffers& buffers, const std::string& what) {
+  const json& indices = member(sparse, "indices");
+  const json& values = member(sparse, "values");
+  const std::uint64_t n = unsignedOr(sparse, "count", 0);
+  const std::uint64_t size = componentBytes(unsignedOr(indices, "componentType", 0));
+  const std::optional<std::uint32_t> indexView = indexOf(indices, "bufferView");
+  const std::optional<std::uint32_t> valueView = indexOf(values, "bufferView");
+  if (!sparse.is_object() || n == 0 || n > count || !indexView || !valueView || size == 0)
+    throw Error(fmt::format("{}: a sparse part needs a count of 1 to {}, and indices and values with a buffer view "
+                            "each", what, count));
+  const std::uint64_t indexOffset = unsignedOr(indices, "byteOffset", 0);
+  const auto [data, viewStart] =
+      checkViewReach(doc, *indexView, indexOffset, n * size, buffers, what + " sparse indices");
+  checkViewReach(doc, *valueView, unsignedOr(values, "byteOffset", 0), n * elementBytes, buffers,
+                 what + " sparse values");
+  if (!data) return;
+  for (std::uint64_t i = 0; i < n; ++i) {
+    std::uint64_t index = 0;
+    for (std::uint64_t b = size; b-- > 0;)
+      index = (index << 8) | static_cast<unsigned char>((*data)[viewStart + indexOffset + i * size + b]);
+    if (index >= count)
+      throw Error(fmt::format("{}: sparse index {} is {}, past the accessor's {} elements", what, i, index, count));
+  }
+}
+
+/// Check accessor @a index as the spec lays it out (a known type and component type, a count of 1 or more, every
+/// element within its buffer view and the view within its buffer, sparse parts within theirs): the importer reads
+/// what these say without checking all of it (a count times one component, not one element). @return its bytes.
+AccessorBytes checkAccessor(const json& doc, std::uint32_t index, Buffers& buffers, const std::string& what) {
+  const json& accessors = member(doc, "accessors");
+  if (!accessors.is_array() || index >= accessors.size() || !accessors[index].is_object())
+    throw Error(fmt::format("{}: accessor {} does not exist", what, index));
+  const json& acc = accessors[index];
+  const std::uint64_t components = componentsOf(member(acc, "type"));
+  const std::uint64_t size = componentBytes(unsignedOr(acc, "componentType", 0));
+  AccessorBytes out;
+  out.count = unsignedOr(acc, "count", 0);
+  if (components == 0 || size == 0 || out.count == 0 || out.count > 0xFFFFFFFFu)
+    throw Error(fmt::format("{}: accessor {} needs a type (SCALAR, VEC2-4, MAT2-4), a component type (5120-5126) "
+                            "and a count from 1 to 2^32 - 1", what, index));
+  out.elementBytes = components * size;
+  const std::string self = fmt::format("{}: accessor {}", what, index);
+  if (acc.contains("sparse")) checkSparse(doc, acc["sparse"], out.count, out.elementBytes, buffers, self);
+  const std::optional<std::uint32_t> viewIndex = indexOf(acc, "bufferView");
+  if (!viewIndex) return out; // zeros, with sparse values on them
+  const json& views = member(doc, "bufferViews");
+  static const json kNone;
+  const json& stride = views.is_array() && *viewIndex < views.size() ? member(views[*viewIndex], "byteStride") : kNone;
+  out.stride = stride.is_number_unsigned() ? stride.get<std::uint64_t>() : out.elementBytes;
+  if (!stride.is_null() && (out.stride < out.elementBytes || out.stride % 4 != 0 || out.stride > 252))
+    throw Error(fmt::format("{}: buffer view {} has a byteStride of {}, not a multiple of 4 from {} to 252", self,
+                            *viewIndex, stride.dump(), out.elementBytes));
+  const std::uint64_t offset = unsignedOr(acc, "byteOffset", 0);
+  const auto [data, viewStart] =
+      checkViewReach(doc, *viewIndex, offset, (out.count - 1) * out.stride + out.elementBytes, buffers, self);
+  out.data = data;
+  out.start = viewStart + offset;
+  return out;
+}
+
+/// Check a primitive's index accessor as the spec has it (unsigned scalars, tightly packed, no sparse part: the
+/// importer reads each index as 4 bytes or fewer at each element's step) and @return its bytes.
+AccessorBytes checkIndexAccessor(const json& doc, std::uint32_t index, Buffers& buffers, const std::string& what) {
+  const AccessorBytes bytes = checkAccessor(doc, index, buffers, what); // it exists, then
+  const json& acc = doc["accessors"][index];
+  const std::uint64_t type = unsignedOr(acc, "componentType", 0);
+  if (componentsOf(member(acc, "type")) != 1 || (type != 5121 && type != 5123 && type != 5125) ||
+      acc.contains("sparse") || (bytes.data && bytes.stride != bytes.elementBytes))
+    throw Error(fmt::format("{}: index accessor {} must hold tightly packed unsigned SCALARs (component type 5121, "
+                            "5123 or 5125) without a sparse part", what, index));
+  return bytes;
+}
+
+/// Check every accessor a primitive's attributes and morph targets name (the importer skips a value that is not an
+/// index): the importer extracts each one.
+void checkAttributeAccessors(const json& doc, const json& prim, Buffers& buffers, const std::string& what) {
+  const auto checkAll = [&](const json& attributes, const std::string& of) {
+    if (!attributes.is_object()) return;
+    for (const auto& [semantic, value] : attributes.items())
+      if (const std::optional<std::uint32_t> index = indexOf(attributes, semantic.c_str()))
+        checkAccessor(doc, *index, buffers, fmt::format("{}{} {}", what, of, oneLine(semantic, 40)));
+  };
+  checkAll(member(prim, "attributes"), "");
+  const json& targets = member(prim, "targets");
+  if (targets.is_array())
+    for (std::size_t t = 0; t < targets.size(); ++t) checkAll(targets[t], fmt::format(" target {}", t));
+}
+
+/// Check one primitive, its members read as the importer reads them: the accessors it names, enough indices (or
+/// vertices, without indices) for one element of its mode, and every index within its vertices.
+void checkPrimitive(const json& doc, const json& prim, Buffers& buffers, const std::string& where) {
+  checkAttributeAccessors(doc, prim, buffers, where);
+  const json& modeValue = member(prim, "mode"); // rapidjson's IsInt, else triangles
+  const bool intMode = modeValue.is_number_integer() && modeValue.get<std::int64_t>() >= INT32_MIN &&
+                       modeValue.get<std::int64_t>() <= INT32_MAX;
+  const std::int64_t mode = intMode ? modeValue.get<std::int64_t>() : 4;
   if (mode < 0 || mode > 6) return; // the importer makes no element of it
   const ModeShape shape = shapeOf(int(mode));
-  // A POSITION that is not an index is skipped, and without one the importer makes a primitive of no vertices
-  // (and goes on); one naming no accessor is an error it reports.
-  const json& accessors = member(doc, "accessors");
-  const std::size_t accessorCount = accessors.is_array() ? accessors.size() : 0;
+  // Without a POSITION attribute the importer makes a primitive of no vertices (and goes on).
   const std::optional<std::uint32_t> positions = indexOf(member(prim, "attributes"), "POSITION");
-  if (positions && *positions >= accessorCount) return;
-  const std::uint64_t vertices = positions ? unsignedOr(accessors[*positions], "count", 0) : 0;
+  const std::uint64_t vertices = positions ? unsignedOr(doc["accessors"][*positions], "count", 0) : 0;
   const std::string verticesText =
-      positions ? fmt::format("{} vertices", vertices) : std::string("no vertices (no POSITION attribute)");
+      !positions ? std::string("no vertices (no POSITION attribute)")
+                 : fmt::format("{} {}", vertices, vertices == 1 ? "vertex" : "vertices");
   const std::optional<std::uint32_t> indices = indexOf(prim, "indices");
   if (!indices) {
     // Without positions (the primitive is then not drawn) only the strips and fans count their elements wrongly.
     if (vertices < shape.fewest && (positions || mode == 3 || mode >= 5))
-      throw Error(fmt::format("{}: {}: mode {} ({}) needs at least {} vertices but the primitive has {}", name, where,
-                              mode, shape.name, shape.fewest, verticesText));
+      throw Error(fmt::format("{}: mode {} ({}) needs at least {} vertices but the primitive has {}", where, mode,
+                              shape.name, shape.fewest, verticesText));
     return;
   }
-  if (*indices >= accessorCount) return;
-  const json& acc = accessors[*indices];
-  const std::uint64_t count = unsignedOr(acc, "count", 0);
-  if (count < shape.fewest)
-    throw Error(fmt::format("{}: {}: mode {} ({}) needs at least {} indices but index accessor {} has {}", name, where,
-                            mode, shape.name, shape.fewest, *indices, count));
-  const IndexBytes bytes = indexBytes(doc, acc, count, buffers);
+  const AccessorBytes bytes = checkIndexAccessor(doc, *indices, buffers, where);
+  if (bytes.count < shape.fewest)
+    throw Error(fmt::format("{}: mode {} ({}) needs at least {} indices but index accessor {} has {}", where, mode,
+                            shape.name, shape.fewest, *indices, bytes.count));
   if (!bytes.data) return;
-  for (std::uint64_t i = 0; i < count; ++i) {
+  for (std::uint64_t i = 0; i < bytes.count; ++i) {
     std::uint64_t index = 0;
-    for (std::size_t b = bytes.size; b-- > 0;) // little-endian
-      index = (index << 8) | static_cast<unsigned char>((*bytes.data)[bytes.start + i * bytes.size + b]);
+    for (std::uint64_t b = bytes.elementBytes; b-- > 0;) // little-endian
+      index = (index << 8) | static_cast<unsigned char>((*bytes.data)[bytes.start + i * bytes.elementBytes + b]);
     if (index >= vertices)
-      throw Error(fmt::format("{}: {}: {} {} uses vertex index {} but the primitive has {}", name, where,
-                              shape.element, elementOf(int(mode), i), index, verticesText));
+      throw Error(fmt::format("{}: {} {} uses vertex index {} but the primitive has {}", where, shape.element,
+                              elementOf(int(mode), i), index, verticesText));
   }
 }
 
@@ -291,12 +424,20 @@ void checkGltfPrimitives(const std::string& bytes, const std::string& name, cons
   if (!parts) return;
   json doc;
   try {
-    doc = json::parse(parts->jsonText);
+    // The importer's JSON reader recurses into each level: a deep file ends it (a glTF needs a handful of levels).
+    doc = json::parse(parts->jsonText, [&name](int depth, json::parse_event_t, json&) {
+      if (depth > kMaxJsonDepth)
+        throw Error(fmt::format("{}: not a glTF: its JSON nests deeper than {} levels", name, kMaxJsonDepth));
+      return true;
+    });
   } catch (const json::exception& e) {
     // Neither glTF importer takes it, and the importer would go on to sniff it with every other format's.
     throw Error(fmt::format("{}: not a glTF: malformed JSON: {}", name, oneLine(e.what(), 160)));
   }
   if (!doc.is_object()) throw Error(fmt::format("{}: not a glTF: its JSON is not an object", name));
+  const json& version = member(member(doc, "asset"), "version");
+  if (!version.is_string() || version.get<std::string>().rfind("2.", 0) != 0)
+    throw Error(fmt::format("{}: asset.version is {}: only glTF 2.0 is read", name, oneLine(version.dump(), 40)));
   if (!doc.contains("meshes") || !doc["meshes"].is_array()) return; // assimp says what is wrong
   Buffers buffers(doc, *parts, folder, name, allowOutside);
   const json& meshes = doc["meshes"];
@@ -309,7 +450,7 @@ void checkGltfPrimitives(const std::string& bytes, const std::string& name, cons
                                                      : fmt::format("mesh {}", m);
       for (std::size_t p = 0; p < prims.size(); ++p)
         if (prims[p].is_object())
-          checkPrimitive(doc, prims[p], buffers, fmt::format("{} primitive {}", meshName, p), name);
+          checkPrimitive(doc, prims[p], buffers, fmt::format("{}: {} primitive {}", name, meshName, p));
     }
   } catch (const json::exception&) {
     return; // not expected (every member is read by type): the importer reports what is malformed

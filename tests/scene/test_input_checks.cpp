@@ -175,6 +175,23 @@ TEST(InputChecks, BinaryPlyCountsMustFitAfterTheHeader) {
   EXPECT_NE(vertices.find("element 'vertex' with 3 records of at least 12 bytes"), std::string::npos) << vertices;
 }
 
+// assimp reads the count of an element whose name it does not know where the name starts: a name of digits was
+// 3817748707 records, 91 GB allocated at once (fuzz/regressions/fuzz_mesh/ply-element-name-of-digits-read-as-count).
+// Records of no properties still count a byte each.
+TEST(InputChecks, PlyElementCountsAreTheCountsTheImporterReads) {
+  const std::string digits = "ply\nformat ascii 1.0\nelement 555555555555555555555555555555555loat\nend_header\n"
+                             "0 0 0\n";
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(digits, ".ply", "d.ply"); }),
+            "d.ply: the PLY header declares element '555555555555555555555555555555555loat' with 3817748707 records "
+            "of at least 1 bytes (in all at least 3817748707 bytes), but the file has 6 bytes after its header");
+  // A name it does not know, followed by its count, is 0 records to the importer: the count is not held against it.
+  const std::string tetra = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                            "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+                            "element color 1000000\nproperty uchar r\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                            "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  EXPECT_EQ(loadMeshFromMemory(tetra, ".ply", "t.ply").triangles.size(), 4u);
+}
+
 TEST(InputChecks, GlbLengthsMustFitTheFile) {
   const std::string json = triangleGltf(3, "", 44);
   const std::string good = glb(json, triangleBuffer({0, 1, 2}));
@@ -232,7 +249,9 @@ TEST(InputChecks, GltfPrimitivesOfEveryModeNeedEnoughIndicesWithinTheVertices) {
   EXPECT_EQ(load({5, 1, 2}, 2), at + "line 0 uses vertex index 5 but the primitive has 3 vertices");
   EXPECT_EQ(load({0, 1, 2, 99}, 5), at + "face 1 uses vertex index 99 but the primitive has 3 vertices");
   EXPECT_EQ(load({0, 1, 7}, 0), at + "point 2 uses vertex index 7 but the primitive has 3 vertices");
-  EXPECT_EQ(load({}, 3), at + "mode 3 (line strip) needs at least 2 indices but index accessor 1 has 0");
+  EXPECT_EQ(load({0}, 3), at + "mode 3 (line strip) needs at least 2 indices but index accessor 1 has 1");
+  EXPECT_EQ(load({}, 3), at + "accessor 1 needs a type (SCALAR, VEC2-4, MAT2-4), a component type (5120-5126) and a "
+                              "count from 1 to 2^32 - 1");
   EXPECT_EQ(load({0, 1}, 6), at + "mode 6 (triangle fan) needs at least 3 indices but index accessor 1 has 2");
   EXPECT_EQ(load({0}, 1), at + "mode 1 (lines) needs at least 2 indices but index accessor 1 has 1");
   // Bytes past the length in the GLB's header are not the GLB's, as the importer reads it: the check reads the same.
@@ -283,11 +302,11 @@ TEST(InputChecks, GltfPrimitivesOfEveryModeNeedEnoughIndicesWithinTheVertices) {
     EXPECT_EQ(loadMeshFromMemory(glb(triangleGltf(3, "", ok.size(), mode), ok), ".glb", "ok.glb").triangles.size(), 1u);
   }
   TempDir dir;
-  writeText(dir / "t.bin", triangleBuffer({}));
-  writeText(dir / "t.gltf", triangleGltf(0, "t.bin", 36, 2));
+  writeText(dir / "t.bin", triangleBuffer({1}));
+  writeText(dir / "t.gltf", triangleGltf(1, "t.bin", 40, 2));
   EXPECT_EQ(errorOf([&] { loadMeshFile(dir / "t.gltf"); }),
             (dir / "t.gltf").string() +
-                ": mesh 'tri' primitive 0: mode 2 (line loop) needs at least 2 indices but index accessor 1 has 0");
+                ": mesh 'tri' primitive 0: mode 2 (line loop) needs at least 2 indices but index accessor 1 has 1");
 }
 
 TEST(InputChecks, NamesOfAMegabyteAreCutInMessages) {
@@ -346,4 +365,54 @@ TEST(InputChecks, AGlbWithoutItsMagicOrAGltfThatIsNotJsonIsRefused) {
   EXPECT_EQ(broken.rfind("b.gltf: not a glTF: malformed JSON: ", 0), 0u) << broken;
   const std::string array = errorOf([&] { loadMeshFromMemory("[1, 2]", ".gltf", "a.gltf"); });
   EXPECT_EQ(array, "a.gltf: not a glTF: a .gltf is a JSON object (it starts with '{') or a GLB") << array;
+}
+
+// Every accessor a primitive names is checked as the spec lays it out before the importer reads it: the importer
+// trusts a count times one component, reads an index accessor of any type as packed integers, reads buffer 0 of a
+// GLB from its BIN chunk whatever its uri says, patches sparse values through indices it never checks, and hands
+// a glTF 1.0 file to its older importer, which counts a strip's lines without a check (a review's crafted files).
+TEST(InputChecks, GltfAccessorsAreCheckedAsTheSpecLaysThemOut) {
+  const std::string bin = triangleBuffer({0, 1, 2});
+  const auto load = [&bin](const std::string& json, const std::string& extension = ".glb") {
+    const std::string file = extension == ".glb" ? glb(json, bin) : json;
+    return errorOf([&] { loadMeshFromMemory(file, extension, "a" + extension); });
+  };
+  const auto edited = [](std::string json, const std::string& from, const std::string& to) {
+    return json.replace(json.find(from), from.size(), to);
+  };
+  const std::string good = triangleGltf(3, "", bin.size());
+  EXPECT_EQ(load(good), "");
+  const std::string at = "a.glb: mesh 'tri' primitive 0";
+  EXPECT_EQ(load(edited(good, R"("componentType":5123)", R"("componentType":5122)")),
+            at + ": index accessor 1 must hold tightly packed unsigned SCALARs (component type 5121, 5123 or 5125) "
+                 "without a sparse part");
+  EXPECT_EQ(load(edited(good, R"("byteOffset":36,"byteLength":6)", R"("byteOffset":36,"byteLength":6,"byteStride":3)")),
+            at + ": accessor 1: buffer view 1 has a byteStride of 3, not a multiple of 4 from 2 to 252");
+  EXPECT_EQ(load(edited(good, R"("count":3,"type":"VEC3")", R"("count":4,"type":"VEC3")")),
+            at + " POSITION: accessor 0: 48 bytes from byte 0 reach past the 36 bytes of buffer view 0");
+  EXPECT_EQ(load(edited(good, R"("type":"VEC3",)", R"("type":"VEC3","sparse":{"count":1},)")),
+            at + " POSITION: accessor 0: a sparse part needs a count of 1 to 3, and indices and values with a buffer "
+                 "view each");
+  // Buffer 0 of a GLB is its BIN chunk, whatever its uri says.
+  const std::string past = triangleBuffer({0, 1, 9});
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(triangleGltf(3, "elsewhere.bin", 44), past), ".glb", "u.glb"); }),
+            "u.glb: mesh 'tri' primitive 0: face 0 uses vertex index 9 but the primitive has 3 vertices");
+  // A .gltf's data URI is base64, wholly.
+  const std::string uri =
+      "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA=";
+  const std::string inline_ = triangleGltf(3, uri, 44);
+  EXPECT_EQ(load(inline_, ".gltf"), "");
+  EXPECT_EQ(load(edited(inline_, "AAABAAIA", "AAAB!AIA"), ".gltf"),
+            "a.gltf: buffer 0: its data URI holds a character outside base64");
+  EXPECT_EQ(load(edited(inline_, ";base64,", ","), ".gltf"),
+            "a.gltf: buffer 0: a data URI that is not base64 (a glTF's are)");
+  // glTF 2.0 only, and JSON of a handful of levels.
+  EXPECT_EQ(load(edited(inline_, R"("version":"2.0")", R"("version":"1.0")"), ".gltf"),
+            "a.gltf: asset.version is \"1.0\": only glTF 2.0 is read");
+  std::string v1 = glb(good, bin);
+  v1[4] = 1;
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(v1, ".glb", "v.glb"); }), "v.glb: GLB version 1: only glTF 2.0 is read");
+  const std::string deep = R"("scene":0,"x":)" + std::string(65, '[') + std::string(65, ']') + ",";
+  EXPECT_EQ(load(edited(inline_, R"("scene":0,)", deep), ".gltf"),
+            "a.gltf: not a glTF: its JSON nests deeper than 64 levels");
 }

@@ -22,6 +22,7 @@ namespace {
 
 constexpr std::uint32_t kChunkJson = 0x4E4F534A, kChunkBin = 0x004E4942;
 constexpr int kMaxJsonDepth = 64;
+constexpr std::size_t kMaxDataUriHeader = 100;
 
 std::uint32_t u32At(const std::string& b, std::size_t at) {
   std::uint32_t v = 0;
@@ -97,7 +98,7 @@ const json& member(const json& obj, const char* key) {
 /// The glTF's JSON and its GLB binary chunk (empty for a .gltf).
 struct GltfParts {
   std::string jsonText, bin;
-  bool glb = false;
+  bool glb = false, hasBin = false;
 };
 
 /// The JSON and BIN chunks as the importer reads them (checkGlb). std::nullopt where they do not fit or are not
@@ -114,6 +115,7 @@ std::optional<GltfParts> splitGltf(const std::string& bytes) {
     if (u32At(bytes, at + 4) != (chunk == 0 ? kChunkJson : kChunkBin) || chunkLength > bytes.size() - at - 8)
       return std::nullopt;
     (chunk == 0 ? parts.jsonText : parts.bin) = bytes.substr(at + 8, chunkLength);
+    parts.hasBin = chunk == 1;
     at = nextChunkAt(at, chunkLength);
   }
   return parts;
@@ -138,6 +140,12 @@ private:
     const json& b = buffers[index];
     if (!b.contains("uri") || !b["uri"].is_string()) return std::nullopt;
     const std::string uri = b["uri"];
+    // The importer marks a data URI it has parsed by a leading 0x10 and keeps its offsets in a char.
+    if (std::any_of(uri.begin(), uri.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
+      throw Error(fmt::format("{}: buffer {}: its uri holds a control character", mName, index));
+    if (uri.rfind("data:", 0) == 0 && uri.find(',') > kMaxDataUriHeader)
+      throw Error(fmt::format("{}: buffer {}: a data URI whose media type runs past {} characters", mName, index,
+                              kMaxDataUriHeader));
     if (uri.rfind("data:", 0) == 0) {
       const std::size_t comma = uri.find(";base64,");
       if (comma == std::string::npos || comma > uri.find(','))
@@ -309,6 +317,8 @@ AccessorBytes checkAccessor(const json& doc, std::uint32_t index, Buffers& buffe
   static const json kNone;
   const json& stride = views.is_array() && *viewIndex < views.size() ? member(views[*viewIndex], "byteStride") : kNone;
   out.stride = stride.is_number_unsigned() ? stride.get<std::uint64_t>() : out.elementBytes;
+  if (acc.contains("sparse") && out.stride != out.elementBytes) // the importer steps through its packed copy by it
+    throw Error(fmt::format("{}: a sparse accessor on a view with a byteStride ({}) is not read", self, stride.dump()));
   if (!stride.is_null() && (out.stride < out.elementBytes || out.stride % 4 != 0 || out.stride > 252))
     throw Error(fmt::format("{}: buffer view {} has a byteStride of {}, not a multiple of 4 from {} to 252", self,
                             *viewIndex, stride.dump(), out.elementBytes));
@@ -387,6 +397,107 @@ void checkPrimitive(const json& doc, const json& prim, Buffers& buffers, const s
   }
 }
 
+/// The glTF's JSON as a document, refused where the importer would not read it as glTF 2.0.
+json parseGltfJson(const std::string& text, const std::string& name) {
+  json doc;
+  try {
+    // The importer's JSON reader recurses into each level: a deep file ends it (a glTF needs a handful of levels).
+    doc = json::parse(text, [&name](int depth, json::parse_event_t, json&) {
+      if (depth > kMaxJsonDepth)
+        throw Error(fmt::format("{}: not a glTF: its JSON nests deeper than {} levels", name, kMaxJsonDepth));
+      return true;
+    });
+  } catch (const json::exception& e) {
+    // Neither glTF importer takes it, and the importer would go on to sniff it with every other format's.
+    throw Error(fmt::format("{}: not a glTF: malformed JSON: {}", name, oneLine(e.what(), 160)));
+  }
+  if (!doc.is_object()) throw Error(fmt::format("{}: not a glTF: its JSON is not an object", name));
+  const json& version = member(member(doc, "asset"), "version");
+  if (!version.is_string() || version.get<std::string>().rfind("2.", 0) != 0)
+    throw Error(fmt::format("{}: asset.version is {}: only glTF 2.0 is read", name, oneLine(version.dump(), 40)));
+  return doc;
+}
+
+/// Check every primitive of every mesh (checkPrimitive).
+void checkMeshes(const json& doc, Buffers& buffers, const std::string& name) {
+  const json& meshes = member(doc, "meshes");
+  if (!meshes.is_array()) return; // the importer says what is wrong
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const json& prims = member(meshes[m], "primitives");
+    if (!prims.is_array()) continue;
+    const json& label = member(meshes[m], "name");
+    const std::string meshName = label.is_string() ? fmt::format("mesh '{}'", oneLine(label.get<std::string>(), 60))
+                                                   : fmt::format("mesh {}", m);
+    for (std::size_t p = 0; p < prims.size(); ++p)
+      if (prims[p].is_object())
+        checkPrimitive(doc, prims[p], buffers, fmt::format("{}: {} primitive {}", name, meshName, p));
+  }
+}
+
+/// The object @a from with only its members named in @a keep (anything else as it is: the importer reports it).
+json keepOnly(const json& from, std::initializer_list<const char*> keep) {
+  if (!from.is_object()) return from;
+  json out = json::object();
+  for (const char* key : keep)
+    if (from.contains(key)) out[key] = from[key];
+  return out;
+}
+
+/// @a doc with only what the surface needs: the scenes' node tree with its transforms and meshes, each primitive's
+/// positions, indices and mode (and its extensions, which the importer refuses where it cannot read them), and the
+/// accessors, views and buffers they name. Skins, animations, materials, textures, images, cameras and the other
+/// attributes are dropped: the importer reads each (skins and animations whether or not anything uses them), and
+/// trusts what they say (a skin without inverse bind matrices, an animation sampler of no inputs ended it). External
+/// buffers are named by their absolute paths, as the importer reads this document from memory.
+json geometryOnly(const json& doc, const GltfParts& parts, const fs::path& folder) {
+  json out = keepOnly(doc, {"asset", "scene", "scenes", "extensionsUsed", "extensionsRequired", "accessors",
+                            "bufferViews", "buffers"});
+  if (doc["nodes"].is_array()) {
+    out["nodes"] = json::array();
+    for (const json& node : doc["nodes"])
+      out["nodes"].push_back(keepOnly(node, {"name", "children", "matrix", "translation", "rotation", "scale", "mesh"}));
+  }
+  if (doc["meshes"].is_array()) {
+    out["meshes"] = json::array();
+    for (const json& mesh : doc["meshes"]) {
+      json kept = keepOnly(mesh, {"name", "primitives"});
+      if (kept.is_object() && kept["primitives"].is_array())
+        for (json& prim : kept["primitives"]) {
+          const json attributes = keepOnly(member(prim, "attributes"), {"POSITION"});
+          prim = keepOnly(prim, {"mode", "indices", "extensions"});
+          if (prim.is_object()) prim["attributes"] = attributes.is_null() ? json::object() : attributes;
+        }
+      out["meshes"].push_back(std::move(kept));
+    }
+  }
+  if (out["buffers"].is_array())
+    for (std::size_t i = 0; i < out["buffers"].size(); ++i) {
+      json& buffer = out["buffers"][i];
+      if (!buffer.is_object() || !buffer["uri"].is_string()) continue;
+      if (parts.glb && i == 0) buffer.erase("uri"); // the importer's buffer 0 of a GLB is its BIN chunk
+      else if (buffer["uri"].get<std::string>().rfind("data:", 0) != 0 && !folder.empty())
+        buffer["uri"] = (folder / buffer["uri"].get<std::string>()).string();
+    }
+  return out;
+}
+
+/// A GLB of @a jsonText and, where the file had one, its BIN chunk @a bin.
+std::string assembleGlb(std::string jsonText, const std::optional<std::string>& bin) {
+  const auto u32 = [](std::uint64_t v) {
+    std::string b(4, '\0');
+    for (int i = 0; i < 4; ++i) b[std::size_t(i)] = char((v >> (8 * i)) & 0xFF);
+    return b;
+  };
+  while (jsonText.size() % 4) jsonText += ' ';
+  std::string body = u32(jsonText.size()) + u32(kChunkJson) + jsonText;
+  if (bin) {
+    std::string padded = *bin;
+    while (padded.size() % 4) padded += '\0';
+    body += u32(padded.size()) + u32(kChunkBin) + padded;
+  }
+  return "glTF" + u32(2) + u32(12 + body.size()) + body;
+}
+
 } // namespace
 
 void checkGlbLengths(const std::string& head, std::uint64_t fileSize, const std::string& name) {
@@ -419,42 +530,20 @@ void checkGltfForm(const std::string& head, const std::string& extension, const 
     throw Error(fmt::format("{}: not a glTF: a .gltf is a JSON object (it starts with '{{') or a GLB", name));
 }
 
-void checkGltfPrimitives(const std::string& bytes, const std::string& name, const fs::path& folder, bool allowOutside) {
+std::string gltfGeometry(const std::string& bytes, const std::string& name, const fs::path& folder, bool allowOutside) {
   std::optional<GltfParts> parts = splitGltf(bytes);
-  if (!parts) return;
-  json doc;
-  try {
-    // The importer's JSON reader recurses into each level: a deep file ends it (a glTF needs a handful of levels).
-    doc = json::parse(parts->jsonText, [&name](int depth, json::parse_event_t, json&) {
-      if (depth > kMaxJsonDepth)
-        throw Error(fmt::format("{}: not a glTF: its JSON nests deeper than {} levels", name, kMaxJsonDepth));
-      return true;
-    });
-  } catch (const json::exception& e) {
-    // Neither glTF importer takes it, and the importer would go on to sniff it with every other format's.
-    throw Error(fmt::format("{}: not a glTF: malformed JSON: {}", name, oneLine(e.what(), 160)));
-  }
-  if (!doc.is_object()) throw Error(fmt::format("{}: not a glTF: its JSON is not an object", name));
-  const json& version = member(member(doc, "asset"), "version");
-  if (!version.is_string() || version.get<std::string>().rfind("2.", 0) != 0)
-    throw Error(fmt::format("{}: asset.version is {}: only glTF 2.0 is read", name, oneLine(version.dump(), 40)));
-  if (!doc.contains("meshes") || !doc["meshes"].is_array()) return; // assimp says what is wrong
+  if (!parts)
+    throw Error(fmt::format("{}: not a glTF: a GLB's first chunk must be its JSON and its second, if any, its BIN "
+                            "chunk, each within the file", name));
+  const json doc = parseGltfJson(parts->jsonText, name);
   Buffers buffers(doc, *parts, folder, name, allowOutside);
-  const json& meshes = doc["meshes"];
   try {
-    for (std::size_t m = 0; m < meshes.size(); ++m) {
-      const json& prims = member(meshes[m], "primitives");
-      if (!prims.is_array()) continue;
-      const json& label = member(meshes[m], "name");
-      const std::string meshName = label.is_string() ? fmt::format("mesh '{}'", oneLine(label.get<std::string>(), 60))
-                                                     : fmt::format("mesh {}", m);
-      for (std::size_t p = 0; p < prims.size(); ++p)
-        if (prims[p].is_object())
-          checkPrimitive(doc, prims[p], buffers, fmt::format("{}: {} primitive {}", name, meshName, p));
-    }
-  } catch (const json::exception&) {
-    return; // not expected (every member is read by type): the importer reports what is malformed
+    checkMeshes(doc, buffers, name);
+  } catch (const json::exception& e) { // not expected: every member is read by its type
+    throw Error(fmt::format("{}: not a glTF: {}", name, oneLine(e.what(), 160)));
   }
+  const std::string text = geometryOnly(doc, *parts, folder).dump();
+  return parts->glb ? assembleGlb(text, parts->hasBin ? std::optional<std::string>(parts->bin) : std::nullopt) : text;
 }
 
 } // namespace rtsdf

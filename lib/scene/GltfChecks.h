@@ -26,20 +26,25 @@ void checkGlbFile(const std::filesystem::path& path, std::uint64_t fileSize);
 /// @throw Error "<name>: not a binary glTF: a .glb starts with 'glTF'".
 void checkGltfForm(const std::string& head, const std::string& extension, const std::string& name);
 
-/// @brief Check each primitive of a glTF's meshes (in a .gltf's JSON or a .glb's chunks), whatever its mode
-///        (points, lines, loops, strips, triangles, fans): that it holds enough indices (or vertices, without
-///        indices) for one element, and that every index lies within its vertex count. assimp drops a face with an
-///        index past the vertices without an error, reads a loop's dropped first line through a null pointer, and
-///        allocates 2^32 faces for a line strip of no indices. Indices the check cannot reach (a buffer it cannot
-///        read, a sparse accessor, an accessor past its buffer) are left to assimp, which reports what is malformed.
-///        Members are read as the importer reads them (a mode that is not a whole number is triangles, indices
-///        that are not an index are none, no POSITION is no vertices). A JSON that does not parse is refused.
-/// @param bytes the whole file; @param folder where its external buffers lie (empty: none are read).
+/// @brief The glTF (a .gltf's JSON or a GLB) as the importer is to read it, after checking what the importer
+///        trusts. Checked: glTF 2.0 (asset.version "2.x", GLB version 2); JSON that parses, nested at most 64
+///        levels; buffers' uris without control characters, data URIs in base64 only; the GLB's chunks as the
+///        importer finds them (its buffer 0 being the BIN chunk); and every primitive of every mesh, whatever its
+///        mode: each accessor it names as the spec lays it out (type, component type, count, every element within
+///        its view and the view within its buffer, byteStride, sparse parts), its index accessor packed unsigned
+///        scalars, enough indices (or vertices) for one element of its mode, every index within its vertices.
+///        Members are read as the importer reads them (a mode that is not a 32-bit integer is triangles, indices
+///        that are not an index are none, no POSITION is no vertices). Returned: the document with only the
+///        surface (geometryOnly in the source: the node tree, positions, indices, modes), external buffers named
+///        by absolute path; skins, animations, materials, images and other attributes, which the importer reads
+///        unchecked, are dropped.
+/// @param bytes the whole file; @param name what messages call it.
+/// @param folder where its external buffers lie (empty: none are read, and their uris are left as they are).
 /// @param allowOutside whether an external buffer may lie outside @a folder.
 /// @throw Error "<name>: not a glTF: malformed JSON: ...",
 ///        "<name>: mesh 'tri' primitive 0: face 1 uses vertex index 99 but the primitive has 3 vertices",
-///        "<name>: mesh 0 primitive 0: mode 3 (line strip) needs at least 2 indices but index accessor 1 has 0".
-void checkGltfPrimitives(const std::string& bytes, const std::string& name, const std::filesystem::path& folder,
-                      bool allowOutside);
+///        "<name>: mesh 0 primitive 0: mode 3 (line strip) needs at least 2 indices but index accessor 1 has 1".
+std::string gltfGeometry(const std::string& bytes, const std::string& name, const std::filesystem::path& folder,
+                         bool allowOutside);
 
 } // namespace rtsdf

@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 #include <set>
 
 namespace rtsdf {
@@ -113,10 +114,12 @@ Mesh loadMeshFile(const fs::path& path, const MeshLoadOptions& options) {
                             path.string(), double(size) / (1u << 30), double(available) / (1u << 30)));
   const std::string ext = toLower(path.extension().string());
   checkHeaderClaims(readFileHead(path, 1 << 16), size, ext, path.string());
+  // A glTF is read as gltfGeometry hands it on: checked, and only its surface.
+  std::optional<std::string> gltf;
   if (ext == ".glb" || ext == ".gltf") {
     checkGltfForm(readFileHead(path, 64), ext, path.string());
     checkGlbFile(path, size);
-    checkGltfPrimitives(readFileHead(path, size), path.string(), fs::absolute(path).parent_path(),
+    gltf = gltfGeometry(readFileHead(path, size), path.string(), fs::absolute(path).parent_path(),
                         options.allowOutsideReferences);
   }
   if (ext == ".obj") checkObjLines(readFileHead(path, size), path.string());
@@ -129,7 +132,9 @@ Mesh loadMeshFile(const fs::path& path, const MeshLoadOptions& options) {
   ConfinedIOSystem* files = options.allowOutsideReferences ? nullptr : new ConfinedIOSystem(absolute, path.string());
   if (files) importer.SetIOHandler(files);
   // No vertex joining or degenerate removal here: validateMesh() welds and counts what it drops.
-  const aiScene* scene = importer.ReadFile(absolute, kReadSteps) ? postProcess(importer, path.string()) : nullptr;
+  const bool read = gltf ? importer.ReadFileFromMemory(gltf->data(), gltf->size(), kReadSteps, ext.c_str() + 1)
+                         : importer.ReadFile(absolute, kReadSteps);
+  const aiScene* scene = read ? postProcess(importer, path.string()) : nullptr;
   // A refused reference is the error even where the importer went on without the file (OBJ material libraries).
   if (files && !files->refusal().empty()) throw Error(files->refusal());
   if (!scene)
@@ -142,11 +147,13 @@ Mesh loadMeshFile(const fs::path& path, const MeshLoadOptions& options) {
 
 Mesh loadMeshFromMemory(const std::string& bytes, const std::string& extension, const std::string& name) {
   checkHeaderClaims(bytes.substr(0, 1 << 16), bytes.size(), extension, name);
+  std::string gltf;
   if (toLower(extension) == ".glb" || toLower(extension) == "glb" || toLower(extension) == ".gltf" ||
       toLower(extension) == "gltf") {
     checkGltfForm(bytes.substr(0, 64), extension, name);
-    checkGltfPrimitives(bytes, name, {}, false);
+    gltf = gltfGeometry(bytes, name, {}, false);
   }
+  const std::string& read = gltf.empty() ? bytes : gltf;
   if (toLower(extension) == ".obj" || toLower(extension) == "obj") checkObjLines(bytes, name);
   Assimp::Importer importer;
   const std::string hint = extension.empty() || extension[0] != '.' ? extension : extension.substr(1);
@@ -155,8 +162,8 @@ Mesh loadMeshFromMemory(const std::string& bytes, const std::string& extension, 
   ConfinedIOSystem* files = new ConfinedIOSystem(name);
   importer.SetIOHandler(files);
   const aiScene* scene =
-      importer.ReadFileFromMemory(bytes.data(), bytes.size(), kReadSteps, hint.c_str()) ? postProcess(importer, name)
-                                                                                        : nullptr;
+      importer.ReadFileFromMemory(read.data(), read.size(), kReadSteps, hint.c_str()) ? postProcess(importer, name)
+                                                                                      : nullptr;
   if (!files->refusal().empty()) throw Error(files->refusal());
   if (!scene) throw Error(fmt::format("{}: cannot read mesh: {}", name, oneLine(importer.GetErrorString())));
   Mesh mesh = toMesh(*scene, name);

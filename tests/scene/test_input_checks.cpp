@@ -416,3 +416,18 @@ TEST(InputChecks, GltfAccessorsAreCheckedAsTheSpecLaysThemOut) {
   EXPECT_EQ(load(edited(inline_, R"("scene":0,)", deep), ".gltf"),
             "a.gltf: not a glTF: its JSON nests deeper than 64 levels");
 }
+
+// The importer reads a glTF's skins and animations whatever uses them, and trusts them: a skin without inverse bind
+// matrices (valid glTF) ended it. It reads only the surface now (gltfGeometry): node tree, positions, indices and
+// modes. Duplicate keys, which the importer's JSON reader takes first and the checks' last, reach it as the checks
+// saw them.
+TEST(InputChecks, GltfIsReadAsItsSurfaceOnly) {
+  const std::string bin = triangleBuffer({0, 1, 2});
+  std::string skinned = triangleGltf(3, "", bin.size());
+  skinned.replace(skinned.find(R"("nodes":[{"mesh":0}])"), 20, R"("nodes":[{"mesh":0,"skin":0}],"skins":[{"joints":[0]}])");
+  EXPECT_EQ(loadMeshFromMemory(glb(skinned, bin), ".glb", "s.glb").triangles.size(), 1u);
+  std::string twice = triangleGltf(3, "", bin.size(), 2);
+  twice.replace(twice.find(R"(,"buffers")"), 10, R"(,"meshes":[],"buffers")");
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(twice, triangleBuffer({9, 1, 2})), ".glb", "t.glb"); }).rfind("t.glb: ", 0),
+            0u);
+}

@@ -452,16 +452,17 @@ json keepOnly(const json& from, std::initializer_list<const char*> keep) {
 json geometryOnly(const json& doc, const GltfParts& parts, const fs::path& folder) {
   json out = keepOnly(doc, {"asset", "scene", "scenes", "extensionsUsed", "extensionsRequired", "accessors",
                             "bufferViews", "buffers"});
-  if (doc["nodes"].is_array()) {
+  if (const json& nodes = member(doc, "nodes"); nodes.is_array()) {
     out["nodes"] = json::array();
-    for (const json& node : doc["nodes"])
-      out["nodes"].push_back(keepOnly(node, {"name", "children", "matrix", "translation", "rotation", "scale", "mesh"}));
+    for (const json& node : nodes)
+      out["nodes"].push_back(
+          keepOnly(node, {"name", "children", "matrix", "translation", "rotation", "scale", "mesh"}));
   }
-  if (doc["meshes"].is_array()) {
+  if (const json& meshes = member(doc, "meshes"); meshes.is_array()) {
     out["meshes"] = json::array();
-    for (const json& mesh : doc["meshes"]) {
+    for (const json& mesh : meshes) {
       json kept = keepOnly(mesh, {"name", "primitives"});
-      if (kept.is_object() && kept["primitives"].is_array())
+      if (kept.is_object() && kept.contains("primitives") && kept["primitives"].is_array())
         for (json& prim : kept["primitives"]) {
           const json attributes = keepOnly(member(prim, "attributes"), {"POSITION"});
           prim = keepOnly(prim, {"mode", "indices", "extensions"});
@@ -470,13 +471,14 @@ json geometryOnly(const json& doc, const GltfParts& parts, const fs::path& folde
       out["meshes"].push_back(std::move(kept));
     }
   }
-  if (out["buffers"].is_array())
+  if (out.contains("buffers") && out["buffers"].is_array())
     for (std::size_t i = 0; i < out["buffers"].size(); ++i) {
       json& buffer = out["buffers"][i];
-      if (!buffer.is_object() || !buffer["uri"].is_string()) continue;
+      const json& uri = member(buffer, "uri");
+      if (!uri.is_string()) continue;
       if (parts.glb && i == 0) buffer.erase("uri"); // the importer's buffer 0 of a GLB is its BIN chunk
-      else if (buffer["uri"].get<std::string>().rfind("data:", 0) != 0 && !folder.empty())
-        buffer["uri"] = (folder / buffer["uri"].get<std::string>()).string();
+      else if (uri.get<std::string>().rfind("data:", 0) != 0 && !folder.empty())
+        buffer["uri"] = (folder / uri.get<std::string>()).string();
     }
   return out;
 }

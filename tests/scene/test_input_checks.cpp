@@ -424,10 +424,15 @@ TEST(InputChecks, GltfAccessorsAreCheckedAsTheSpecLaysThemOut) {
 TEST(InputChecks, GltfIsReadAsItsSurfaceOnly) {
   const std::string bin = triangleBuffer({0, 1, 2});
   std::string skinned = triangleGltf(3, "", bin.size());
-  skinned.replace(skinned.find(R"("nodes":[{"mesh":0}])"), 20, R"("nodes":[{"mesh":0,"skin":0}],"skins":[{"joints":[0]}])");
+  const std::string skin = R"("nodes":[{"mesh":0,"skin":0}],"skins":[{"joints":[0]}])";
+  skinned.replace(skinned.find(R"("nodes":[{"mesh":0}])"), 20, skin);
   EXPECT_EQ(loadMeshFromMemory(glb(skinned, bin), ".glb", "s.glb").triangles.size(), 1u);
   std::string twice = triangleGltf(3, "", bin.size(), 2);
   twice.replace(twice.find(R"(,"buffers")"), 10, R"(,"meshes":[],"buffers")");
-  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(twice, triangleBuffer({9, 1, 2})), ".glb", "t.glb"); }).rfind("t.glb: ", 0),
-            0u);
+  const std::string twiceGlb = glb(twice, triangleBuffer({9, 1, 2}));
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(twiceGlb, ".glb", "t.glb"); }).rfind("t.glb: ", 0), 0u);
+  // Members it does not have are read as absent (fuzz/regressions/fuzz_gltf/gltf-without-nodes-read-as-missing-key).
+  std::string bare = triangleGltf(3, "", bin.size());
+  bare.replace(bare.find(R"("nodes":[{"mesh":0}],)"), 21, "");
+  EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(bare, bin), ".glb", "b.glb"); }).rfind("b.glb: ", 0), 0u);
 }

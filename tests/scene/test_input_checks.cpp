@@ -436,3 +436,12 @@ TEST(InputChecks, GltfIsReadAsItsSurfaceOnly) {
   bare.replace(bare.find(R"("nodes":[{"mesh":0}],)"), 21, "");
   EXPECT_EQ(errorOf([&] { loadMeshFromMemory(glb(bare, bin), ".glb", "b.glb"); }).rfind("b.glb: ", 0), 0u);
 }
+
+// Only the importers that claim a file's extension read it: where they decline it (both glTF importers decline a
+// .gltf they cannot parse), assimp used to try every other importer's sniffing on the bytes, and the OBJ importer
+// read a broken .gltf through a null pointer. An OBJ under a name no importer claims is no longer read as an OBJ.
+TEST(InputChecks, AFileIsReadOnlyByTheImportersOfItsExtension) {
+  EXPECT_EQ(loadMeshFromMemory(kTetraObj, ".obj", "t.obj").triangles.size(), 4u);
+  const std::string msg = errorOf([&] { loadMeshFromMemory(kTetraObj, ".xyz", "t.xyz"); });
+  EXPECT_EQ(msg.rfind("t.xyz: cannot read mesh: ", 0), 0u) << msg;
+}

@@ -102,6 +102,7 @@ void checkPlyHeader(const std::string& head, std::uint64_t fileSize, const std::
   std::string line, format;
   std::vector<PlyElement> elements;
   std::uint64_t headerBytes = 0;
+  int lineNumber = 0;
   while (std::getline(in, line)) {
     headerBytes += line.size() + 1;
     std::istringstream w(line);
@@ -109,6 +110,14 @@ void checkPlyHeader(const std::string& head, std::uint64_t fileSize, const std::
     w >> key;
     if (endsPlyHeader(line)) key = "end_header";
     else if (key == "end_header") key.clear(); // a look-alike assimp reads past
+    ++lineNumber;
+    // assimp skips a line it does not know, but not always cleanly: a line 'proper555...5ty float x' after an
+    // element made it allocate 28 GB (fuzz_mesh). The format has no other keywords.
+    static const std::set<std::string> kKeywords = {"ply", "format", "comment", "obj_info", "element", "property",
+                                                    "end_header"};
+    if (!key.empty() && !kKeywords.count(key))
+      throw Error(fmt::format("{}: line {} of the PLY header starts with '{}', not a PLY keyword (format, comment, "
+                              "obj_info, element, property, end_header)", name, lineNumber, oneLine(key, 40)));
     if (key == "format") w >> format;
     else if (key == "element") {
       PlyElement e;

@@ -48,6 +48,17 @@ void checkOffHeader(const std::string& head, std::uint64_t fileSize, const std::
   }
 }
 
+/// The first @a maxBytes of @a bytes for a message: printable ASCII as it is, any other byte as \xNN (a message
+/// must stay valid UTF-8 on one line: Python's exceptions decode it).
+std::string escapedBytes(const std::string& bytes, std::size_t maxBytes) {
+  std::string out;
+  for (std::size_t i = 0; i < bytes.size() && i < maxBytes; ++i) {
+    const auto c = static_cast<unsigned char>(bytes[i]);
+    out += c >= 0x20 && c < 0x7F ? std::string(1, char(c)) : fmt::format("\\x{:02x}", c);
+  }
+  return bytes.size() > maxBytes ? out + "..." : out;
+}
+
 /// Bytes of one PLY scalar property type (0 when unknown).
 int plyTypeBytes(const std::string& t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
@@ -117,7 +128,7 @@ void checkPlyHeader(const std::string& head, std::uint64_t fileSize, const std::
                                                     "end_header"};
     if (!key.empty() && !kKeywords.count(key))
       throw Error(fmt::format("{}: line {} of the PLY header starts with '{}', not a PLY keyword (format, comment, "
-                              "obj_info, element, property, end_header)", name, lineNumber, oneLine(key, 40)));
+                              "obj_info, element, property, end_header)", name, lineNumber, escapedBytes(key, 40)));
     if (key == "format") w >> format;
     else if (key == "element") {
       PlyElement e;

@@ -48,17 +48,6 @@ void checkOffHeader(const std::string& head, std::uint64_t fileSize, const std::
   }
 }
 
-/// The first @a maxBytes of @a bytes for a message: printable ASCII as it is, any other byte as \xNN (a message
-/// must stay valid UTF-8 on one line: Python's exceptions decode it).
-std::string escapedBytes(const std::string& bytes, std::size_t maxBytes) {
-  std::string out;
-  for (std::size_t i = 0; i < bytes.size() && i < maxBytes; ++i) {
-    const auto c = static_cast<unsigned char>(bytes[i]);
-    out += c >= 0x20 && c < 0x7F ? std::string(1, char(c)) : fmt::format("\\x{:02x}", c);
-  }
-  return bytes.size() > maxBytes ? out + "..." : out;
-}
-
 /// Bytes of one PLY scalar property type (0 when unknown).
 int plyTypeBytes(const std::string& t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;

@@ -1,5 +1,7 @@
 #include "util/Text.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 
@@ -21,6 +23,15 @@ std::string oneLine(const std::string& message, std::size_t maxChars) {
   }
   while (!out.empty() && out.back() == ' ') out.pop_back();
   return out;
+}
+
+std::string escapedBytes(const std::string& bytes, std::size_t maxBytes) {
+  std::string out;
+  for (std::size_t i = 0; i < bytes.size() && i < maxBytes; ++i) {
+    const auto c = static_cast<unsigned char>(bytes[i]);
+    out += c >= 0x20 && c < 0x7F ? std::string(1, char(c)) : fmt::format("\\x{:02x}", c);
+  }
+  return bytes.size() > maxBytes ? out + "..." : out;
 }
 
 } // namespace rtsdf

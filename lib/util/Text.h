@@ -13,4 +13,8 @@ std::string toLower(std::string s);
 ///        spaces, runs of spaces collapse, and text past @a maxChars is replaced by "...".
 std::string oneLine(const std::string& message, std::size_t maxChars = 200);
 
+/// @brief Raw bytes from a file for a message: printable ASCII as it is, any other byte as \xNN, past @a maxBytes
+///        cut to "...". Unlike oneLine, the result is valid UTF-8 whatever the bytes (Python decodes messages).
+std::string escapedBytes(const std::string& bytes, std::size_t maxBytes);
+
 } // namespace rtsdf

@@ -10,6 +10,7 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   # The gpu layer's own (VulkanContext's smoke test).
   "fill.comp                      gpu/shared/fill.comp"
   # The coarse SDF.
+  "voxelize_clear.comp            sdf/coarse/voxelize_clear.comp"
   "voxelize_chunks.comp           sdf/coarse/voxelize_chunks.comp"
   "voxelize.comp                  sdf/coarse/voxelize.comp"
   "jump_flood.comp                sdf/coarse/jump_flood.comp"

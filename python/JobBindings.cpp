@@ -149,6 +149,7 @@ py::dict frameStatsDict(const FrameStats& st) {
   d["upsampled_voxels"] = st.upsampledFineVoxels; // the dense fine voxels the upsampling wrote (0: it did not run)
   d["coarse_rebuilt_voxels"] = st.coarseRebuiltVoxels; // the coarse voxels the coarse SDF's build wrote (0: none)
   d["mask_visited_voxels"] = st.maskVisitedVoxels;     // the coarse voxels the mask's compaction visited (0: none)
+  d["coarse_voxelized_voxels"] = st.coarseVoxelizedVoxels; // the coarse voxels whose seeds were voxelized (0: none)
   d["skipped_passes"] = st.skippedPasses;
   d["host_ms"] = st.hostMs;
   d["wall_ms"] = st.wallMs;

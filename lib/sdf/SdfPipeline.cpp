@@ -263,6 +263,7 @@ FrameStats SdfPipeline::finishFrame() {
     stats.coarseRebuiltVoxels = !mPlan.coarse                     ? 0
                                 : mFields->lastCoarseOverChange() ? regionVoxels(mFields->readCoarseRegion())
                                                                   : mCoarseSpec.voxelCount();
+    stats.coarseVoxelizedVoxels = mPlan.coarse ? mFields->lastCoarseVoxelized() : 0;
     stats.deviceBytes = mMemory.deviceBytes + BrickPool::deviceBytesFor(mPool->capacity());
     if (mPlan.mask) mPool->noteFrame(counts.activeBricks, counts.overflowBricks);
   });

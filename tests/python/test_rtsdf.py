@@ -177,12 +177,13 @@ def test_a_moving_instance_rebuilds_the_coarse_sdf_and_visits_the_mask_only_wher
     pipe = rtsdf.Pipeline(scene, frames=3, fps=30.0, coarse=48, fine=96, refine="closest", rays=0)
     first = pipe.frame(0.0)
     grid = first["coarse_rebuilt_voxels"]
-    assert grid > 0 and first["mask_visited_voxels"] == grid
+    assert grid > 0 and first["mask_visited_voxels"] == grid and first["coarse_voxelized_voxels"] == grid
     for t in (1 / 30, 2 / 30):
         moving = pipe.frame(t)
-        # Measured: 39% of the grid rebuilt, 14-18% visited by the mask.
+        # Measured: 39% of the grid rebuilt, 14-18% visited by the mask, 0.9% voxelized (the teapot's swept box).
         assert moving["moved_instances"] == 1
         assert 0 < moving["coarse_rebuilt_voxels"] < grid / 2 and 0 < moving["mask_visited_voxels"] < grid / 4
+        assert 0 < moving["coarse_voxelized_voxels"] < moving["coarse_rebuilt_voxels"]
 
 
 def test_cascades_above_level_0_refine_near_the_view_given():

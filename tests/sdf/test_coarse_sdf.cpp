@@ -76,7 +76,8 @@ protected:
     std::uint32_t cpuCount = 0;
     for (std::size_t t = 0; t + 2 < corners.size(); t += 3) {
       auto place = [&](std::size_t i) { return gpu::shared::toVoxelSpace(glm::vec3(corners[i]), p.originInvH); };
-      cpuCount += gpu::shared::voxelRangeChunks(place(t), place(t + 1), place(t + 2), spec.dims, chunkVoxels) >
+      cpuCount += gpu::shared::voxelRangeChunks(place(t), place(t + 1), place(t + 2), glm::ivec3(p.clipLo),
+                                                   glm::ivec3(p.clipHi), chunkVoxels) >
                   gpu::shared::kVoxelizeFirstChunks;
     }
     return {gpuCount, cpuCount};
@@ -464,6 +465,96 @@ TEST_F(CoarseSdfGpu, HugeTrianglesAreVoxelizedCompletely) {
   CoarseSdfSettings shortest;
   shortest.chunkVoxels = 8; // below 16: refused, naming the setting's value
   EXPECT_THROW(builder().build(quad, spec, shortest), Error);
+}
+
+// A build over a change voxelizes the change box alone and keeps the seeds outside it. Two bunnies on a ground quad
+// that spans the grid (a triangle range clipped to the box), the second moved by 3.4 voxels: the box holds its seeds
+// before and after (two voxels of margin, as movedSeedBox gives). The distances after the build over the change are
+// the full build's of the moved scene bit for bit, and its seeds (the voxels at distance -beta) are voxelizeCpu's
+// there; with a GPU's 64-voxel chunks and a CPU device's 4096. A change box off the scene changes nothing; one
+// partly outside the grid is refused.
+TEST_F(CoarseSdfGpu, ABuildOverAChangeVoxelizesItsBoxAloneAndEqualsAFullBuild) {
+  const SceneGeometry geo = sceneGeometry("bunny.json");
+  std::vector<glm::vec4> corners = triangleCorners(geo);
+  const Bounds& b = geo.bounds;
+  const double w = b.maxExtent();
+  const float g = float(b.min.y - 0.05 * w);
+  const glm::vec4 q0(float(b.min.x - 2 * w), g, float(b.min.z - w), 1), q1(float(b.max.x + 2 * w), g, float(b.min.z - w), 1),
+      q2(float(b.max.x + 2 * w), g, float(b.max.z + w), 1), q3(float(b.min.x - 2 * w), g, float(b.max.z + w), 1);
+  const std::uint32_t bunnyTriangles = std::uint32_t(corners.size() / 3);
+  corners.insert(corners.end(), {q0, q1, q2, q0, q2, q3});
+  Bounds all = b;
+  all.add(b.min - glm::dvec3(1.5 * w, 0.1 * w, 0.5 * w));
+  all.add(b.max + glm::dvec3(1.5 * w, 0.1 * w, 0.5 * w));
+  const GridSpec spec = GridSpec::fromBounds(all, 96, 0.02);
+  // Instance 0: the ground; 1: a bunny where it is; 2: a bunny to its right, at offset @a x.
+  auto place = [&](double x) {
+    std::vector<gpu::shared::VoxelizeInstance> inst(3, identityInstance(bunnyTriangles));
+    inst[0].firstTriangle = bunnyTriangles;
+    inst[0].triangleCount = 2;
+    inst[1].firstInstanceTriangle = 2;
+    inst[2].firstInstanceTriangle = 2 + bunnyTriangles;
+    inst[2].objectToFrame[0].w = float(x);
+    return inst;
+  };
+  const double x0 = 0.8 * w, x1 = x0 + 3.4 * spec.voxelSize;
+  // The moving bunny's voxels before and after, with two voxels of margin, clamped to the grid.
+  const glm::dvec3 lo = (b.min + glm::dvec3(x0, 0, 0) - spec.origin) / spec.voxelSize - 2.0;
+  const glm::dvec3 hi = (b.max + glm::dvec3(x1, 0, 0) - spec.origin) / spec.voxelSize + 2.0;
+  const CoarseVoxelBox change{glm::max(glm::ivec3(glm::floor(lo)), glm::ivec3(0)),
+                              glm::min(glm::ivec3(glm::floor(hi)), spec.dims - 1)};
+  ASSERT_FALSE(change.empty());
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  gpu::Buffer cornerBuf, before, after;
+  gpu::reserveAndUpload(*sCtx, cornerBuf, corners.data(), corners.size() * sizeof(glm::vec4), usage, "corners");
+  const auto instBefore = place(x0), instAfter = place(x1);
+  gpu::reserveAndUpload(*sCtx, before, instBefore.data(), instBefore.size() * sizeof(instBefore[0]), usage, "inst");
+  gpu::reserveAndUpload(*sCtx, after, instAfter.data(), instAfter.size() * sizeof(instAfter[0]), usage, "inst");
+  const std::uint32_t tris = 2 + 2 * bunnyTriangles; // every instance's
+  const InstancedTriangles sceneBefore{cornerBuf, before, 3, tris}, sceneAfter{cornerBuf, after, 3, tris};
+  const std::size_t n = spec.voxelCount();
+  const std::vector<std::uint32_t> seeds = voxelizeCpu(placeInstanceCorners(corners, instAfter), spec);
+  for (const std::uint32_t chunk : {gpu::shared::kVoxelizeChunkVoxelsGpu, gpu::shared::kVoxelizeChunkVoxelsCpu}) {
+    SCOPED_TRACE(::testing::Message() << chunk << " voxels a chunk");
+    CoarseSdfSettings s;
+    s.keepTransform = true;
+    s.chunkVoxels = chunk;
+    CoarseSdfBuilder& cb = builder();
+    auto run = [&](const InstancedTriangles& t, const CoarseVoxelBox* box) {
+      gpu::CommandBuffer cmd(*sCtx);
+      const float beta = cb.record(cmd.handle(), nullptr, t, spec, s, box);
+      cmd.submitAndWait();
+      std::vector<float> d(n);
+      gpu::download(*sCtx, cb.distanceBuffer(), d.data(), n * 4);
+      return std::make_pair(d, beta);
+    };
+    run(sceneBefore, nullptr);
+    const auto [overChange, beta] = run(sceneAfter, &change);
+    ASSERT_TRUE(cb.lastBuiltOverChange());
+    EXPECT_EQ(cb.lastVoxelizedVoxels(), regionVoxels(change));
+    EXPECT_LT(cb.lastVoxelizedVoxels(), n / 4) << "the box is a part of the grid";
+    const std::vector<float> full = run(sceneAfter, nullptr).first;
+    EXPECT_EQ(cb.lastVoxelizedVoxels(), n);
+    std::size_t differ = 0, seedDiff = 0, seedCount = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      differ += std::memcmp(&overChange[i], &full[i], 4) != 0;
+      seedDiff += (overChange[i] == -beta) != (seeds[i] != kNoSeed);
+      seedCount += seeds[i] != kNoSeed;
+    }
+    EXPECT_EQ(differ, 0u) << "voxels whose distance differs from the full build's";
+    EXPECT_EQ(seedDiff, 0u) << "of " << seedCount << " seeds";
+    // A small change box where nothing moved: the field stays as it was.
+    const CoarseVoxelBox corner{glm::ivec3(0), glm::ivec3(1)};
+    const std::vector<float> same = run(sceneAfter, &corner).first;
+    EXPECT_EQ(std::memcmp(same.data(), full.data(), n * 4), 0);
+    EXPECT_EQ(cb.lastVoxelizedVoxels(), 8u);
+  }
+  const VoxelizePass pass(*sCtx);
+  gpu::shared::VoxelizeParams p = voxelizeParams(spec, tris);
+  p.clipHi.x = spec.dims.x; // one past the grid
+  gpu::CommandBuffer cmd(*sCtx);
+  EXPECT_THROW(pass.execute(cmd.handle(), nullptr, {sceneAfter}, {cornerBuf, cornerBuf, cornerBuf, cornerBuf}, {p}),
+               Error);
 }
 
 // The pipeline's frames voxelize mesh-space triangles placed by their instances' transforms on the GPU: its

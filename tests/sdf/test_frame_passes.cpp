@@ -223,12 +223,12 @@ TEST_F(FramePasses, AMovingInstanceUpsamplesOnlyWhereTheCoarseSdfChanged) {
   }
 }
 
-// Where only an instance moved, the coarse SDF is built over what its seeds can reach: the region CoarseRegionPass
-// gives is its CPU copy's on the block bounds before the frame and the moved boxes' seed box, holds every coarse voxel
-// whose value changed (against the two fields read back) and is a part of the grid; every voxel's bound of its
-// squared seed distance holds. (That the field equals a full build bit for bit is
+// Where only an instance moved, the coarse SDF is built over what its seeds can reach: the seeds are voxelized in the
+// moved boxes' seed box alone; the region CoarseRegionPass gives is its CPU copy's on the block bounds before the frame
+// and that box, holds every coarse voxel whose value changed (against the two fields read back) and is a part of the
+// grid; every voxel's bound of its squared seed distance holds. (That the field equals a full build bit for bit is
 // SkippingFramesEqualAFullRebuildOnTheOrbitingTeapot's; a region too small fails CoarseSdfGpu's
-// ExactEdtOverAChangeEqualsBruteForce.)
+// ExactEdtOverAChangeEqualsBruteForce, a box voxelized wrong its ABuildOverAChangeVoxelizesItsBoxAloneAndEqualsAFullBuild.)
 TEST_F(FramePasses, AMovingInstanceRebuildsTheCoarseSdfOnlyWhereItsSeedsReach) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
   Bounds bounds;
@@ -237,7 +237,9 @@ TEST_F(FramePasses, AMovingInstanceRebuildsTheCoarseSdfOnlyWhereItsSeedsReach) {
   const PipelineProbe probe(pipe);
   const glm::ivec3 dims = pipe.coarseSpec().dims;
   const std::uint64_t all = pipe.coarseSpec().voxelCount();
-  EXPECT_EQ(pipe.runFrame(0.0).coarseRebuiltVoxels, all) << "the first frame builds the whole grid";
+  const FrameStats first = pipe.runFrame(0.0);
+  EXPECT_EQ(first.coarseRebuiltVoxels, all) << "the first frame builds the whole grid";
+  EXPECT_EQ(first.coarseVoxelizedVoxels, all);
   EXPECT_FALSE(probe.coarseOverChange());
   for (int f = 1; f < 4; ++f) {
     SCOPED_TRACE(::testing::Message() << "frame " << f + 1);
@@ -253,6 +255,7 @@ TEST_F(FramePasses, AMovingInstanceRebuildsTheCoarseSdfOnlyWhereItsSeedsReach) {
     EXPECT_EQ(glm::ivec3(glm::uvec3(region.lo)), cpu.lo);
     EXPECT_EQ(glm::ivec3(glm::uvec3(region.hi)), cpu.hi);
     EXPECT_EQ(st.coarseRebuiltVoxels, regionVoxels(region));
+    EXPECT_EQ(st.coarseVoxelizedVoxels, regionVoxels(change)) << "the seeds are voxelized in the moved boxes alone";
     EXPECT_LT(st.coarseRebuiltVoxels, all / 2) << "the teapot reaches a part of the room";
     std::size_t changed = 0, outside = 0;
     for (int z = 0; z < dims.z; ++z)

@@ -128,6 +128,7 @@ FrameStats sumFrameStats(const std::vector<FrameStats>& levels) {
     sum.nearHalfKept += f.nearHalfKept;
     sum.upsampledFineVoxels += f.upsampledFineVoxels;
     sum.coarseRebuiltVoxels += f.coarseRebuiltVoxels;
+    sum.coarseVoxelizedVoxels += f.coarseVoxelizedVoxels;
     sum.maskVisitedVoxels += f.maskVisitedVoxels;
     sum.activeBricks += f.activeBricks;
     sum.overflowBricks += f.overflowBricks;

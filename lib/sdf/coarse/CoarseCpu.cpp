@@ -25,6 +25,8 @@ VoxelizeParams voxelizeParams(const GridSpec& spec, std::uint32_t triangleCount)
   VoxelizeParams p{};
   p.originInvH = glm::vec4(glm::vec3(spec.origin), float(1.0 / spec.voxelSize));
   p.dims = glm::ivec4(spec.dims, 0);
+  p.clipLo = glm::ivec4(0);
+  p.clipHi = glm::ivec4(spec.dims - 1, 0);
   p.triangleCount = triangleCount;
   p.chunkSize = kVoxelizeChunkVoxelsCpu; // the GPU's: CoarseSdfBuilder picks it per device
   return p;
@@ -52,7 +54,7 @@ std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, co
       const vec3 t0 = toVoxelSpace(glm::vec3(corners[3 * t]), params.originInvH);
       const vec3 t1 = toVoxelSpace(glm::vec3(corners[3 * t + 1]), params.originInvH);
       const vec3 t2 = toVoxelSpace(glm::vec3(corners[3 * t + 2]), params.originInvH);
-      const ivec3 lo = voxelRangeLo(t0, t1, t2), hi = voxelRangeHi(t0, t1, t2, spec.dims);
+      const ivec3 lo = voxelRangeLo(t0, t1, t2, ivec3(params.clipLo)), hi = voxelRangeHi(t0, t1, t2, ivec3(params.clipHi));
       for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
           for (int x = lo.x; x <= hi.x; ++x)

@@ -95,10 +95,12 @@ const uint kNoSeed = 0xFFFFFFFFu;
 /// Seeds pack their voxel coordinates in 10 bits per axis: grids up to 1024 voxels per axis.
 const int kMaxSeedAxis = 1024;
 
-/// Push constants of voxelize_chunks.comp and voxelize.comp.
+/// Push constants of voxelize_clear.comp, voxelize_chunks.comp and voxelize.comp.
 struct VoxelizeParams {
   vec4 originInvH;     // xyz: corner of voxel (0,0,0) in the instances' frame, w: 1 / voxel size
   ivec4 dims;          // xyz: voxels per axis
+  ivec4 clipLo;        // xyz: the box of voxels the pass writes, inclusive: the whole grid (0 .. dims - 1), or in a
+  ivec4 clipHi;        //      build over a change its box (the seeds outside it are the last build's); empty: lo > hi
   uint triangleCount;  // every instance's triangles together
   uint chunkSize;      // voxels of a triangle's range handled by one invocation (keeps loops short)
   uint instanceCount;
@@ -236,13 +238,14 @@ RTSDF_FN bool triangleOverlapsBox(vec3 v0, vec3 v1, vec3 v2, float h) {
   return true;
 }
 
-/// The voxels whose boxes may touch a triangle with voxel-space corners t0..t2 (clamped to the grid):
-/// one voxel of margin around the bounds, the overlap test decides.
-RTSDF_FN ivec3 voxelRangeLo(vec3 t0, vec3 t1, vec3 t2) {
-  return max(ivec3(floor(min(t0, min(t1, t2)))) - ivec3(1), ivec3(0));
+/// The voxels whose boxes may touch a triangle with voxel-space corners t0..t2, clamped to the box @a clipLo..clipHi
+/// (inclusive; the grid's 0 .. dims - 1 or a part of it): one voxel of margin around the bounds, the overlap test
+/// decides. Empty (a component of lo above hi) where the triangle's range misses the box.
+RTSDF_FN ivec3 voxelRangeLo(vec3 t0, vec3 t1, vec3 t2, ivec3 clipLo) {
+  return max(ivec3(floor(min(t0, min(t1, t2)))) - ivec3(1), clipLo);
 }
-RTSDF_FN ivec3 voxelRangeHi(vec3 t0, vec3 t1, vec3 t2, ivec3 dims) {
-  return min(ivec3(floor(max(t0, max(t1, t2)))) + ivec3(1), dims - ivec3(1));
+RTSDF_FN ivec3 voxelRangeHi(vec3 t0, vec3 t1, vec3 t2, ivec3 clipHi) {
+  return min(ivec3(floor(max(t0, max(t1, t2)))) + ivec3(1), clipHi);
 }
 
 /// A mesh-space point in the instances' frame: rows r0..r2 of a 3x4 matrix, the sums in one fixed order
@@ -254,9 +257,10 @@ RTSDF_FN vec3 transformToFrame(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
   return vec3(x, y, z);
 }
 
-/// The chunks of @a chunkSize voxels that the range of the triangle with voxel-space corners t0..t2 needs.
-RTSDF_FN uint voxelRangeChunks(vec3 t0, vec3 t1, vec3 t2, ivec3 dims, uint chunkSize) {
-  ivec3 n = voxelRangeHi(t0, t1, t2, dims) - voxelRangeLo(t0, t1, t2) + ivec3(1);
+/// The chunks of @a chunkSize voxels that the range of the triangle with voxel-space corners t0..t2 needs inside the
+/// box @a clipLo..clipHi.
+RTSDF_FN uint voxelRangeChunks(vec3 t0, vec3 t1, vec3 t2, ivec3 clipLo, ivec3 clipHi, uint chunkSize) {
+  ivec3 n = voxelRangeHi(t0, t1, t2, clipHi) - voxelRangeLo(t0, t1, t2, clipLo) + ivec3(1);
   if (n.x <= 0 || n.y <= 0 || n.z <= 0) return 0u;
   uint voxels = uint(n.x) * uint(n.y) * uint(n.z); // at most 1024^3: fits
   return (voxels + chunkSize - 1u) / chunkSize;

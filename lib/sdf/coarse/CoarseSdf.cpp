@@ -17,19 +17,22 @@ using namespace gpu::shared;
 
 VoxelizePass::VoxelizePass(const gpu::VulkanContext& ctx)
     : ComputePass(ctx, "voxelize.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)),
-      mChunks(ctx, "voxelize_chunks.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)) {}
+      mChunks(ctx, "voxelize_chunks.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)),
+      mClear(ctx, "voxelize_clear.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)) {}
+
+std::uint64_t VoxelizePass::clipVoxels(const VoxelizeParams& shader) {
+  if (glm::any(glm::greaterThan(glm::ivec3(shader.clipLo), glm::ivec3(shader.clipHi)))) return 0;
+  const glm::u64vec3 n = glm::u64vec3(glm::ivec3(shader.clipHi) - glm::ivec3(shader.clipLo) + 1);
+  return n.x * n.y * n.z;
+}
 
 void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
+  const glm::ivec3 lo(params.shader.clipLo), hi(params.shader.clipHi), dims(params.shader.dims);
+  const bool clipEmpty = clipVoxels(params.shader) == 0;
+  if (!clipEmpty && (glm::any(glm::lessThan(lo, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(hi, dims))))
+    throw Error("VoxelizePass: the clip box lies partly outside the grid");
   gpu::ProfileScope scope(profiler, cmd, kName);
-  vkCmdFillBuffer(cmd, out.seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
-  // The first dispatch's x: one invocation per triangle; every other count is raised by voxelize_chunks.comp from 0
-  // (no triangle touches the grid, none listed).
-  std::array<std::uint32_t, kVoxelizeDispatchWords> words{};
-  words[kVoxelizeDispatchFirst] = gpu::groupsFor(params.shader.triangleCount, 64);
-  gpu::recordUpload(cmd, out.dispatch, words.data(), sizeof(words));
-  gpu::computeBarrier(cmd);
-  if (!params.shader.triangleCount) return;
   std::array<gpu::Binding, kVoxelizeBindingCount> b;
   b[kVoxelizeBindingCorners] = &in.triangles.corners;
   b[kVoxelizeBindingInstances] = &in.triangles.instances;
@@ -37,6 +40,20 @@ void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   b[kVoxelizeBindingDispatch] = &out.dispatch;
   b[kVoxelizeBindingPlaced] = &out.placed;
   b[kVoxelizeBindingLarge] = &out.large;
+  // The clip box's seeds reset: the whole buffer at once, or one invocation per voxel of a part.
+  if (clipVoxels(params.shader) == std::uint64_t(dims.x) * dims.y * dims.z)
+    vkCmdFillBuffer(cmd, out.seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
+  else if (!clipEmpty)
+    mClear.dispatch(cmd, b, &params.shader,
+                    {gpu::groupsFor(hi.x - lo.x + 1, RTSDF_JFA_GROUP_X), gpu::groupsFor(hi.y - lo.y + 1, RTSDF_JFA_GROUP_Y),
+                     gpu::groupsFor(hi.z - lo.z + 1, RTSDF_JFA_GROUP_Z)});
+  // The first dispatch's x: one invocation per triangle; every other count is raised by voxelize_chunks.comp from 0
+  // (no triangle touches the clip box, none listed).
+  std::array<std::uint32_t, kVoxelizeDispatchWords> words{};
+  words[kVoxelizeDispatchFirst] = gpu::groupsFor(params.shader.triangleCount, 64);
+  gpu::recordUpload(cmd, out.dispatch, words.data(), sizeof(words));
+  gpu::computeBarrier(cmd);
+  if (!params.shader.triangleCount || clipEmpty) return;
   mChunks.dispatch(cmd, b, &params.shader, {words[kVoxelizeDispatchFirst], 1, 1});
   gpu::computeBarrier(cmd);
   VoxelizeParams shader = params.shader;
@@ -284,7 +301,13 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
   const bool exact = !isJumpFlooding(p.flood.variant);
   const gpu::Buffer& nearest = exact ? (p.keep ? mNearest : mSeedsB)
                                      : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
-  mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced, mLarge}, p.voxelize);
+  // Over what changed: the triangles' seeds inside the change box alone (those outside it are the last build's).
+  VoxelizePass::Params voxelize = p.voxelize;
+  if (change) {
+    voxelize.shader.clipLo = glm::ivec4(change->lo, 0);
+    voxelize.shader.clipHi = glm::ivec4(change->hi, 0);
+  }
+  mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced, mLarge}, voxelize);
   // Over what changed: the region from the last build's block bounds, before this build raises them.
   if (change) mRegionPass.execute(cmd, nullptr, {mBlockMax}, {mRegion}, {p.flood.dims, *change});
   if (exact)
@@ -311,6 +334,7 @@ float CoarseSdfBuilder::record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
   const bool sameGrid = mKeptDims == spec.dims && mKeptOrigin == spec.origin && mKeptVoxel == spec.voxelSize &&
                         mKeptBeta == p.beta;
   mLastOverChange = change && p.keep && sameGrid;
+  mLastVoxelized = mLastOverChange ? regionVoxels(*change) : spec.voxelCount();
   recordPasses(cmd, profiler, triangles, p, mLastOverChange ? change : nullptr);
   keepGrid(p.keep, spec, p.beta);
   return p.beta;

@@ -31,10 +31,13 @@ struct InstancedTriangles {
 };
 
 /// @brief VoxelizePass: conservative triangle/voxel overlap. Output: seeds (kNoSeed, or the voxel's own packed
-///        coordinate where a triangle touches its box). Three dispatches: voxelize_chunks.comp places every triangle
-///        in voxel space, counts the chunks (params.shader.chunkSize voxels) of its range and lists the triangles
-///        with more than kVoxelizeFirstChunks in @a large; voxelize.comp runs indirectly from @a dispatch, over the
-///        others, then over the listed ones. The host neither transforms nor scans a triangle.
+///        coordinate where a triangle touches its box) inside the clip box params.shader.clipLo..clipHi: the whole
+///        grid, or in a build over a change the box outside which the seeds are the last build's (those stay). The
+///        box's seeds are reset (a fill of the whole buffer, or voxelize_clear.comp over a part); voxelize_chunks.comp
+///        places every triangle in voxel space, counts the chunks (params.shader.chunkSize voxels) of its range inside
+///        the box and lists the triangles with more than kVoxelizeFirstChunks in @a large; voxelize.comp runs
+///        indirectly from @a dispatch, over the others, then over the listed ones. The host neither transforms nor
+///        scans a triangle.
 class VoxelizePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "VoxelizePass";
@@ -51,8 +54,12 @@ public:
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 
+  /// @brief The voxels of the clip box of @a shader (0 where it is empty).
+  static std::uint64_t clipVoxels(const gpu::shared::VoxelizeParams& shader);
+
 private:
   gpu::ComputePipeline mChunks; // voxelize_chunks.comp
+  gpu::ComputePipeline mClear;  // voxelize_clear.comp
 };
 
 /// @brief JumpFloodPass: 3D jump flooding, ping-ponging between the seeds and a scratch buffer. The nearest
@@ -221,6 +228,9 @@ public:
                const GridSpec& spec, const CoarseSdfSettings& settings, const CoarseVoxelBox* change = nullptr);
   /// @brief Whether the last record() built over what changed (its change was taken).
   bool lastBuiltOverChange() const { return mLastOverChange; }
+  /// @brief The voxels whose seeds the last record() voxelized: the grid's, or where it built over what changed
+  ///        those of the change box.
+  std::uint64_t lastVoxelizedVoxels() const { return mLastVoxelized; }
   /// @brief Read back the region of the last record() over what changed. Its command buffer must be finished.
   gpu::shared::CoarseRegion readRegion() const;
   /// @brief Read back the block bounds of the squared seed distances (RTSDF_COARSE_BLOCK^3 voxels per block, x
@@ -260,6 +270,7 @@ private:
   double mKeptVoxel = 0.0;
   float mKeptBeta = 0.0f;
   bool mLastOverChange = false;
+  std::uint64_t mLastVoxelized = 0;
   VoxelizePass mVoxelize;
   JumpFloodPass mJumpFlood;
   ExactEdtPass mExactEdt;

@@ -1,10 +1,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// VoxelizePass, second and third dispatches: every voxel whose box a triangle touches becomes a seed (its own packed
-// coordinate). One invocation per (triangle as voxelize_chunks.comp placed it, chunk of chunkSize voxels of its
-// voxel range), dispatched indirectly from voxelize_chunks.comp's counts (kVoxelizeDispatchWords): with largePass 0,
-// invocation x is triangle x, left to the other dispatch where it has more than kVoxelizeFirstChunks chunks; with
-// largePass 1, the x-th listed triangle. The chunk is z * groups along y + y. Empty voxels keep kNoSeed.
+// VoxelizePass, the two indirect dispatches after voxelize_chunks.comp: every voxel of the clip box whose box a
+// triangle touches becomes a seed (its own packed coordinate). One invocation per (triangle as voxelize_chunks.comp
+// placed it, chunk of chunkSize voxels of its voxel range inside the clip box), dispatched indirectly from
+// voxelize_chunks.comp's counts (kVoxelizeDispatchWords): with largePass 0, invocation x is triangle x, left to the
+// other dispatch where it has more than kVoxelizeFirstChunks chunks; with largePass 1, the x-th listed triangle. The
+// chunk is z * groups along y + y. Empty voxels keep kNoSeed (reset before: the whole buffer, or voxelize_clear.comp).
 // Loops stay short on purpose: lavapipe cut off a single loop of ~100k iterations (lost writes), and an invocation
 // that strided through several chunks lost writes too, so each runs at most one chunk.
 #include "sdf/coarse/CoarseParams.h"
@@ -25,8 +26,8 @@ void main() {
   }
   if (g >= params.triangleCount) return;
   vec3 t0 = placed[3u * g].xyz, t1 = placed[3u * g + 1u].xyz, t2 = placed[3u * g + 2u].xyz;
-  ivec3 lo = voxelRangeLo(t0, t1, t2);
-  ivec3 n = voxelRangeHi(t0, t1, t2, params.dims.xyz) - lo + ivec3(1);
+  ivec3 lo = voxelRangeLo(t0, t1, t2, params.clipLo.xyz);
+  ivec3 n = voxelRangeHi(t0, t1, t2, params.clipHi.xyz) - lo + ivec3(1);
   int total = (n.x > 0 && n.y > 0 && n.z > 0) ? n.x * n.y * n.z : 0;
   if (chunk * params.chunkSize >= uint(total)) return;
   if (params.largePass == 0u && uint(total) > kVoxelizeFirstChunks * params.chunkSize) return; // listed

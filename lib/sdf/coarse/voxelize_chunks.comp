@@ -1,10 +1,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// VoxelizePass, first dispatch: places every instance triangle in voxel space (once: voxelize.comp's many
-// invocations per triangle read it) and fills voxelize.comp's two indirect dispatches (kVoxelizeDispatchWords), so
-// the host never scans the triangles: a triangle of at most kVoxelizeFirstChunks chunks is the first's, which runs
-// as many chunks of every triangle as the most of those needs; one with more is listed, and the second runs the
-// listed triangles' chunks (along y at most maxChunkGroups, layers of them along z), as many as the most needs.
+// VoxelizePass, the dispatch before voxelize.comp's: places every instance triangle in voxel space (once:
+// voxelize.comp's many invocations per triangle read it), counts the chunks of its range inside the clip box, and
+// fills voxelize.comp's two indirect dispatches (kVoxelizeDispatchWords), so the host never scans the triangles: a
+// triangle of at most kVoxelizeFirstChunks chunks is the first's, which runs as many chunks of every triangle as the
+// most of those needs; one with more is listed, and the second runs the listed triangles' chunks (along y at most
+// maxChunkGroups, layers of them along z), as many as the most needs. A triangle whose range misses the box: none.
 #include "voxelize_instances.glsl"
 
 layout(local_size_x = 64) in;
@@ -28,7 +29,7 @@ void main() {
     placed[3u * g] = vec4(t0, 0.0);
     placed[3u * g + 1u] = vec4(t1, 0.0);
     placed[3u * g + 2u] = vec4(t2, 0.0);
-    uint chunks = voxelRangeChunks(t0, t1, t2, params.dims.xyz, params.chunkSize);
+    uint chunks = voxelRangeChunks(t0, t1, t2, params.clipLo.xyz, params.clipHi.xyz, params.chunkSize);
     if (chunks > kVoxelizeFirstChunks) {
       // Listed: a group of 64 more for the second dispatch with every 64th.
       uint n = atomicAdd(words[kVoxelizeLargeCount], 1u);

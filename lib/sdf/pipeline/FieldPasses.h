@@ -42,6 +42,8 @@ public:
                     const CoarseVoxelBox* change = nullptr);
   /// @brief Whether the last recordCoarse built over what changed.
   bool lastCoarseOverChange() const { return mCoarse.lastBuiltOverChange(); }
+  /// The coarse voxels whose seeds the last coarse build voxelized.
+  std::uint64_t lastCoarseVoxelized() const { return mCoarse.lastVoxelizedVoxels(); }
   /// @brief Read back the region of the last recordCoarse over what changed. The frame must be finished.
   gpu::shared::CoarseRegion readCoarseRegion() const { return mCoarse.readRegion(); }
   /// @brief Read back the coarse SDF's block bounds (CoarseSdfBuilder::readBlockMax). The frame must be finished.

@@ -35,6 +35,9 @@ struct FrameStats {
   /// Coarse voxels whose distance the coarse SDF's build wrote this frame: the whole grid, or where only instances
   /// moved the region their seeds can reach (CoarseRegionPass); 0 where it did not run.
   std::uint64_t coarseRebuiltVoxels = 0;
+  /// Coarse voxels whose seeds VoxelizePass wrote this frame: the whole grid, or where only instances moved the box
+  /// of their seeds (movedSeedBox: the seeds elsewhere are the last build's); 0 where it did not run.
+  std::uint64_t coarseVoxelizedVoxels = 0;
   /// Coarse voxels the mask's compaction visited this frame: the whole grid, or where its inputs changed only near
   /// moving instances those whose decisions can change (MaskRegionPass); 0 where it did not run.
   std::uint64_t maskVisitedVoxels = 0;

@@ -65,12 +65,22 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
   mMotion = std::make_unique<InstanceMotion>(ctx, scene, motionReach());
   mPool = std::make_unique<BrickPool>(ctx, mFineSpec);
   mRecorder = std::make_unique<FrameRecorder>(ctx);
-  gpu::CommandBuffer cmd(ctx);
+  restartHistory();
+}
+
+void SdfPipeline::restartHistory() {
+  waitForFrame();
+  gpu::CommandBuffer cmd(mCtx);
   mPool->recordClear(cmd.handle());
   mMask->recordClear(cmd.handle());
   mFields->recordClear(cmd.handle());
   mMotion->recordClear(cmd.handle());
   cmd.submitAndWait();
+  mBvh->forgetUpload();
+  mFrame = 0;
+  mMaskFrame = 0;
+  mPoolReset = mScrolled = mViewChanged = false; // a first frame runs everything over every voxel
+  mRecordingInterrupted = false;
 }
 
 Bounds SdfPipeline::motionReach() const {
@@ -179,10 +189,12 @@ FrameStats SdfPipeline::runFrame(double time) {
 
 void SdfPipeline::submitFrame(double time) {
   mRecorder->wait(); // one frame in flight: the previous one's buffers are this one's
+  if (mRecordingInterrupted) restartHistory();
   preparePool(time);
   const auto t0 = FrameRecorder::Clock::now();
   // The host's work grows with the instances only: the GPU places their triangles.
   mMotion->checkPlacement(time);
+  mRecordingInterrupted = true; // until submitted: a throw from here on leaves the host's state ahead of the GPU's
   ++mFrame;
   FrameStats stats;
   stats.time = time;
@@ -222,6 +234,10 @@ void SdfPipeline::submitFrame(double time) {
     const CoarseVoxelBox change = movedSeedBox(mMotion->lastBoxes(), mCoarseSpec.inFrame(frameOrigin()));
     mFields->recordCoarse(cmd, profiler, *mBvh, mPlan.coarseOverChange ? &change : nullptr);
   }
+  if (mFailNextRecording) {
+    mFailNextRecording = false;
+    throw Error("SdfPipeline: a failure injected into the frame's recording (PipelineFaults)");
+  }
   if (mPlan.mask) {
     // The band out of the view's reach is written again everywhere where bricks may have taken new slots anywhere,
     // else where the coarse SDF changed (outOfViewRewritten).
@@ -241,6 +257,7 @@ void SdfPipeline::submitFrame(double time) {
   gpu::computeBarrier(cmd);
   if (mPlan.mask) mMask->recordCountsReadback(cmd, *mPool);
   mRecorder->submit(stats, t0);
+  mRecordingInterrupted = false;
 }
 
 FrameStats SdfPipeline::finishFrame() {

@@ -79,7 +79,9 @@ public:
   FrameStats runFrame(double time);
   /// @brief Record and submit the frame at @a time seconds without waiting for the GPU (a frame loop's call: the
   ///        host is free until the next frame). Waits first for the previous frame if it is still running (one
-  ///        frame in flight: frames share their buffers); that frame's statistics are then lost.
+  ///        frame in flight: frames share their buffers); that frame's statistics are then lost. A frame whose
+  ///        recording threw (a device out of memory, say) ran nothing on the GPU while the parts' host state moved
+  ///        on: the next frame starts the pipeline's history over, as its first frame does.
   /// @throw Error when an instance leaves the supported coordinates at @a time (checkInstancePlacement).
   void submitFrame(double time);
   /// @brief Wait for the submitted frame and return its statistics (counts and pass times read back).
@@ -151,7 +153,8 @@ public:
   const GpuSceneBvh& bvh() const { return *mBvh; }
 
 private:
-  friend class PipelineProbe; // the parts' state, read back for tests
+  friend class PipelineProbe;  // the parts' state, read back for tests
+  friend class PipelineFaults; // a failure injected into a frame's recording, for tests
   /// Wait for a submitted frame (the read-backs need its results).
   void waitForFrame() const;
   /// Before a frame at @a time: the pool sized by the first frame's band (PipelineSettings::poolBricks where given),
@@ -166,6 +169,9 @@ private:
   /// The world box an instance's motion must meet to change the fields (InstanceMotion's reach): the fine grid
   /// grown by the band and the mask's reach pad.
   Bounds motionReach() const;
+  /// Every part's buffers cleared as at construction, and the frame counts to 0: the next frame is a first frame
+  /// (every pass over every voxel, the pool sized again).
+  void restartHistory();
   const gpu::VulkanContext& mCtx;
   PipelineSettings mSettings;
   PipelineMemory mMemory;   ///< the estimate checked at construction (the pool is added when sized)
@@ -177,6 +183,11 @@ private:
   bool mPoolReset = false; ///< the pool was (re)allocated since the last frame was recorded
   bool mScrolled = false;  ///< the grids scrolled since the last frame was recorded
   bool mViewChanged = false; ///< the view's reach changed since the last frame was recorded
+  /// A frame's recording began and was not submitted: the parts' host state (the motion's last time, the kept
+  /// transform, the mask's boxes, the frame counts) ran ahead of the GPU's buffers, so the next frame restarts.
+  bool mRecordingInterrupted = false;
+  /// Tests (PipelineFaults): throw Error in the next frame's recording, after its coarse SDF is recorded.
+  bool mFailNextRecording = false;
   std::optional<ViewReach> mView; ///< setViewReach's
   FramePlan mPlan;         ///< the passes the last frame ran
   std::unique_ptr<GpuSceneBvh> mBvh;

@@ -13,6 +13,7 @@
 #include "sdf/pipeline/InstanceMotion.h"
 #include "sdf/pipeline/PipelineProbe.h"
 #include "sdf/refine/RefinePasses.h"
+#include "util/Error.h"
 
 #include <gtest/gtest.h>
 
@@ -382,5 +383,34 @@ TEST_F(FramePasses, AnInstanceMovingOffFasterThanTheSearchSlackLeavesNoGhost) {
     }
     EXPECT_GT(compared, 1000u) << "t = " << t;
     EXPECT_LT(largest, 0.01) << "voxels off the exact field at t = " << t;
+  }
+}
+
+// A frame whose recording throws (injected after its coarse SDF is recorded: the motion's last time, the kept
+// transform, the BVH's uploaded time and the frame count moved on while nothing ran) leaves the next frame to start
+// over: that frame (the failed moment again) and the ones after it equal, bit for bit, a new pipeline's from that
+// moment on. Without the restart the next frame built nothing (the moment's motion counted as done) over the
+// instance transforms of the frame before.
+TEST_F(FramePasses, AFrameWhoseRecordingThrowsLeavesTheNextToStartOver) {
+  const Scene scene = loadScene(test::dataPath("scenes/default.json"));
+  Bounds bounds;
+  for (int f = 0; f < 7; ++f) bounds.add(buildSceneGeometry(scene, f / kFps).bounds);
+  const PipelineSettings s = closestAt(40, 80, 1);
+  SdfPipeline pipe(*sCtx, scene, bounds, s);
+  pipe.runFrame(0.0);
+  pipe.runFrame(1 / kFps);
+  PipelineFaults(pipe).failNextRecording();
+  EXPECT_THROW(pipe.submitFrame(2 / kFps), Error);
+  SdfPipeline fresh(*sCtx, scene, bounds, s);
+  const PipelineProbe pa(pipe), pb(fresh);
+  for (int f = 2; f < 6; ++f) {
+    SCOPED_TRACE(::testing::Message() << "frame at " << f << " / 30 s");
+    const FrameStats a = pipe.runFrame(f / kFps), b = fresh.runFrame(f / kFps);
+    EXPECT_EQ(a.skippedPasses, b.skippedPasses);
+    EXPECT_EQ(a.refinedFineVoxels, b.refinedFineVoxels);
+    EXPECT_EQ(a.poolBricks, b.poolBricks);
+    EXPECT_EQ(differing(pipe.coarseField(), fresh.coarseField()), 0u) << "coarse voxels differ";
+    EXPECT_EQ(pa.refinedVoxels(), pb.refinedVoxels());
+    EXPECT_EQ(differing(pipe.fineField(), fresh.fineField()), 0u) << "fine voxels differ";
   }
 }

@@ -51,4 +51,17 @@ private:
   const SdfPipeline& mPipe;
 };
 
+/// @brief Failures injected into one SdfPipeline, for tests of what a frame does after one. The pipeline must outlive
+///        it.
+class PipelineFaults {
+public:
+  explicit PipelineFaults(SdfPipeline& pipeline) : mPipe(pipeline) {}
+  /// @brief The next submitFrame() throws Error after recording its coarse SDF, its other passes unrecorded and
+  ///        nothing submitted (as a device out of memory would leave it).
+  void failNextRecording() { mPipe.mFailNextRecording = true; }
+
+private:
+  SdfPipeline& mPipe;
+};
+
 } // namespace rtsdf

@@ -29,6 +29,8 @@ public:
   ///        order it after the earlier passes that read the top level and before the later ones. The host's work
   ///        grows with the instances only.
   void recordUpdate(VkCommandBuffer cmd, double time);
+  /// @brief The next update uploads whatever its time: a recorded update was never submitted (its frame threw).
+  void forgetUpload() { mHaveTop = false; }
   /// @brief Every instance's triangles for VoxelizePass, placed by the transforms of the last update.
   InstancedTriangles instancedTriangles() const;
   /// @brief The host copy of instancedTriangles()'s instances (for the CPU copy, placeInstanceCorners).

@@ -91,6 +91,16 @@ void countMoves(const CascadeMove& move, CascadeRow& r) {
   r.levelsRebuilt = int(move.rebuilt.size());
 }
 
+/// The frame's counts of @a stats (every level's, summed) into @a r.
+void countVoxels(const FrameStats& stats, CascadeRow& r) {
+  r.refinedVoxels = stats.refinedFineVoxels;
+  r.keptVoxels = stats.movedKeptVoxels;
+  r.voxelizedVoxels = stats.coarseVoxelizedVoxels;
+  r.rebuiltVoxels = stats.coarseRebuiltVoxels;
+  r.maskVisitedVoxels = stats.maskVisitedVoxels;
+  r.upsampledVoxels = stats.upsampledFineVoxels;
+}
+
 /// One run: the levels built around the camera at spec.start, then options.frames frames at 30 fps.
 /// The image's width over height the levels' view reach assumes: the shaded size, else the render command's default.
 double viewAspect(const BenchOptions& o) {
@@ -124,8 +134,7 @@ void runOne(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& bou
     const FrameStats stats = sumFrameStats(set.runFrame(r.time));
     r.wallMs = msSince(t0);
     r.gpuMs = passSum(stats.passMs);
-    r.refinedVoxels = stats.refinedFineVoxels;
-    r.keptVoxels = stats.movedKeptVoxels;
+    countVoxels(stats, r);
     r.deviceMiB = double(ctx.deviceBytesInUse()) / (1024.0 * 1024.0); // what the levels hold: the set alone is on ctx
     r.passMs = stats.passMs;
     spdlog::info("{} {} {}: frame {}, {} level(s) moved ({} rebuilt), wall {:.1f} ms, GPU {:.1f} ms", r.scene,
@@ -167,8 +176,7 @@ void runShaded(const gpu::VulkanContext& ctx, const Scene& scene, const Bounds& 
     r.wallMs = msSince(t0);
     countMoves(frame.cascadeMove, r);
     r.gpuMs = passSum(frame.passMs);
-    r.refinedVoxels = frame.sdf.refinedFineVoxels;
-    r.keptVoxels = frame.sdf.movedKeptVoxels;
+    countVoxels(frame.sdf, r);
     r.deviceMiB = double(ctx.deviceBytesInUse()) / (1024.0 * 1024.0);
     r.passMs = frame.passMs;
     spdlog::info("{} {} {}: frame {}, {} level(s) moved, wall {:.1f} ms, GPU {:.2f} ms", r.scene, r.camera, r.build,
@@ -228,11 +236,13 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
 }
 
 std::string cascadeCsv(const CascadeRun& run) {
-  std::string csv = "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,wall_ms,refined_voxels,device_mib,kept_voxels\n";
+  std::string csv = "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,wall_ms,"
+                    "refined_voxels,device_mib,kept_voxels,coarse_voxelized,coarse_rebuilt,mask_visited,upsampled\n";
   for (const CascadeRow& r : run.rows)
-    csv += fmt::format("{},{},{},{},{:.4f},{:.3f},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.1f},{}\n", r.scene, r.camera,
-                       r.build, r.frame, r.time, r.speed, r.levelsMoved, r.levelsRecut, r.levelsRebuilt, r.moveMs, r.gpuMs, r.wallMs, r.refinedVoxels,
-                       r.deviceMiB, r.keptVoxels);
+    csv += fmt::format("{},{},{},{},{:.4f},{:.3f},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.1f},{},{},{},{},{}\n", r.scene,
+                       r.camera, r.build, r.frame, r.time, r.speed, r.levelsMoved, r.levelsRecut, r.levelsRebuilt,
+                       r.moveMs, r.gpuMs, r.wallMs, r.refinedVoxels, r.deviceMiB, r.keptVoxels, r.voxelizedVoxels,
+                       r.rebuiltVoxels, r.maskVisitedVoxels, r.upsampledVoxels);
   return csv;
 }
 
@@ -277,6 +287,36 @@ BuildSummary summarize(const CascadeRun& run, const std::string& scene, const st
   return b;
 }
 
+/// The voxels each part touched, every level, means of frames 2..N: one column per camera and build.
+std::string touchedTable(const CascadeRun& run, const std::string& scene, const std::vector<std::string>& cameras,
+                         const std::vector<std::string>& builds) {
+  using Count = std::uint64_t CascadeRow::*;
+  const std::pair<const char*, Count> parts[] = {
+      {"coarse voxels voxelized (VoxelizePass)", &CascadeRow::voxelizedVoxels},
+      {"coarse voxels rebuilt (ExactEdtPass's z lines, CoarseDistancePass)", &CascadeRow::rebuiltVoxels},
+      {"coarse voxels the mask visited (MaskCompactPass)", &CascadeRow::maskVisitedVoxels},
+      {"fine voxels upsampled (UpsamplePass)", &CascadeRow::upsampledVoxels},
+      {"fine voxels refined", &CascadeRow::refinedVoxels}};
+  std::string md = "\nVoxels each part touched, every level, means of frames 2..N:\n\n| voxels |";
+  std::string rule = "|---|";
+  for (const std::string& camera : cameras)
+    for (const std::string& build : builds) {
+      md += fmt::format(" {} {} |", camera, build);
+      rule += "---|";
+    }
+  md += "\n" + rule + "\n";
+  for (const auto& [name, count] : parts) {
+    md += fmt::format("| {} |", name);
+    for (const std::string& camera : cameras)
+      for (const std::string& build : builds)
+        md += fmt::format(" {:.0f} |", meanAfterFirst(select(run, scene, camera, build), [&](const CascadeRow& r) {
+                            return double(r.*count);
+                          }));
+    md += "\n";
+  }
+  return md;
+}
+
 std::string sceneReport(const CascadeRun& run, const std::string& scene) {
   std::vector<std::string> cameras, builds, passes;
   const auto addOnce = [](std::vector<std::string>& v, const std::string& s) {
@@ -319,6 +359,7 @@ std::string sceneReport(const CascadeRun& run, const std::string& scene) {
                           }));
     md += "\n";
   }
+  md += touchedTable(run, scene, cameras, builds);
   md += "\nEach level at the incremental run's last frame against the exact field of that moment (its band; above level "
         "0, the voxels within the view's reach, --cascade-view-margin):\n\n"
         "| camera | level | fine voxel | mean abs error (voxels) | max (voxels) | wrong sign |\n|---|---|---|---|---|---|\n";

@@ -29,6 +29,9 @@ struct CascadeRow {
   double wallMs = 0.0;             ///< moveTo and runFrame, call to return
   std::uint64_t refinedVoxels = 0; ///< fine voxels refined this frame, every level
   std::uint64_t keptVoxels = 0;    ///< of those, listed for a moving instance and kept unwalked (movedKeptVoxels)
+  /// Voxels each part touched this frame, every level (FrameStats): the coarse voxels voxelized, rebuilt (the
+  /// distances written) and visited by the mask's compaction, and the fine voxels upsampled.
+  std::uint64_t voxelizedVoxels = 0, rebuiltVoxels = 0, maskVisitedVoxels = 0, upsampledVoxels = 0;
   double deviceMiB = 0.0;          ///< the device memory every level holds, as allocated (VulkanContext::deviceBytesInUse)
   PassTimes passMs;                ///< GPU time per pass, every level's
 };
@@ -58,7 +61,7 @@ CascadeRun runCascadeSuite(const BenchOptions& options, const JobControl& contro
 std::string cascadeReport(const BenchOptions& options, const CascadeRun& run);
 
 /// @brief One CSV line per frame: `scene,camera,build,frame,time,speed,levels_moved,move_ms,gpu_ms,wall_ms,
-///        refined_voxels,device_mib,kept_voxels`.
+///        refined_voxels,device_mib,kept_voxels,coarse_voxelized,coarse_rebuilt,mask_visited,upsampled`.
 std::string cascadeCsv(const CascadeRun& run);
 
 } // namespace rtsdf::bench

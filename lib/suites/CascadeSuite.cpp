@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <numeric>
 
 namespace rtsdf::bench {
@@ -287,34 +288,44 @@ BuildSummary summarize(const CascadeRun& run, const std::string& scene, const st
   return b;
 }
 
-/// The voxels each part touched, every level, means of frames 2..N: one column per camera and build.
-std::string touchedTable(const CascadeRun& run, const std::string& scene, const std::vector<std::string>& cameras,
-                         const std::vector<std::string>& builds) {
-  using Count = std::uint64_t CascadeRow::*;
-  const std::pair<const char*, Count> parts[] = {
-      {"coarse voxels voxelized (VoxelizePass)", &CascadeRow::voxelizedVoxels},
-      {"coarse voxels rebuilt (ExactEdtPass's z lines, CoarseDistancePass)", &CascadeRow::rebuiltVoxels},
-      {"coarse voxels the mask visited (MaskCompactPass)", &CascadeRow::maskVisitedVoxels},
-      {"fine voxels upsampled (UpsamplePass)", &CascadeRow::upsampledVoxels},
-      {"fine voxels refined", &CascadeRow::refinedVoxels}};
-  std::string md = "\nVoxels each part touched, every level, means of frames 2..N:\n\n| voxels |";
-  std::string rule = "|---|";
+/// A table of means of frames 2..N, one column per camera and build: a row per (name, value of a frame), each mean
+/// printed with @a decimals.
+using FrameValue = std::function<double(const CascadeRow&)>;
+std::string meansTable(const CascadeRun& run, const std::string& scene, const std::vector<std::string>& cameras,
+                       const std::vector<std::string>& builds, const std::string& corner,
+                       const std::vector<std::pair<std::string, FrameValue>>& rows, int decimals) {
+  std::string md = "| " + corner + " |", rule = "|---|";
   for (const std::string& camera : cameras)
     for (const std::string& build : builds) {
       md += fmt::format(" {} {} |", camera, build);
       rule += "---|";
     }
   md += "\n" + rule + "\n";
-  for (const auto& [name, count] : parts) {
-    md += fmt::format("| {} |", name);
+  for (const auto& [name, value] : rows) {
+    md += "| " + name + " |";
     for (const std::string& camera : cameras)
       for (const std::string& build : builds)
-        md += fmt::format(" {:.0f} |", meanAfterFirst(select(run, scene, camera, build), [&](const CascadeRow& r) {
-                            return double(r.*count);
-                          }));
+        md += fmt::format(" {:.{}f} |", meanAfterFirst(select(run, scene, camera, build), value), decimals);
     md += "\n";
   }
   return md;
+}
+
+/// The voxels each part touched, every level, means of frames 2..N.
+std::string touchedTable(const CascadeRun& run, const std::string& scene, const std::vector<std::string>& cameras,
+                         const std::vector<std::string>& builds) {
+  const auto count = [](std::uint64_t CascadeRow::*field) {
+    return FrameValue([field](const CascadeRow& r) { return double(r.*field); });
+  };
+  return "\nVoxels each part touched, every level, means of frames 2..N:\n\n" +
+         meansTable(run, scene, cameras, builds, "voxels",
+                    {{"coarse voxels voxelized (VoxelizePass)", count(&CascadeRow::voxelizedVoxels)},
+                     {"coarse voxels rebuilt (ExactEdtPass's z lines, CoarseDistancePass)",
+                      count(&CascadeRow::rebuiltVoxels)},
+                     {"coarse voxels the mask visited (MaskCompactPass)", count(&CascadeRow::maskVisitedVoxels)},
+                     {"fine voxels upsampled (UpsamplePass)", count(&CascadeRow::upsampledVoxels)},
+                     {"fine voxels refined", count(&CascadeRow::refinedVoxels)}},
+                    0);
 }
 
 std::string sceneReport(const CascadeRun& run, const std::string& scene) {
@@ -342,23 +353,11 @@ std::string sceneReport(const CascadeRun& run, const std::string& scene) {
     for (const std::string& build : builds) // the shaded frames: the levels and the shading, one GPU frame
       if (build != "incremental" && build != "full rebuild") md += summarize(run, scene, camera, build).row;
   }
-  md += "\nGPU time by pass, every level, means of frames 2..N (0 where a frame skipped the pass):\n\n| pass |";
-  std::string rule = "|---|";
-  for (const std::string& camera : cameras)
-    for (const std::string& build : builds) {
-      md += fmt::format(" {} {} |", camera, build);
-      rule += "---|";
-    }
-  md += "\n" + rule + "\n";
-  for (const std::string& pass : passes) {
-    md += "| " + pass + " |";
-    for (const std::string& camera : cameras)
-      for (const std::string& build : builds)
-        md += fmt::format(" {:.2f} |", meanAfterFirst(select(run, scene, camera, build), [&](const CascadeRow& r) {
-                            return passTotal(r.passMs, pass);
-                          }));
-    md += "\n";
-  }
+  std::vector<std::pair<std::string, FrameValue>> passRows;
+  for (const std::string& pass : passes)
+    passRows.emplace_back(pass, [pass](const CascadeRow& r) { return passTotal(r.passMs, pass); });
+  md += "\nGPU time by pass, every level, means of frames 2..N (0 where a frame skipped the pass):\n\n" +
+        meansTable(run, scene, cameras, builds, "pass", passRows, 2);
   md += touchedTable(run, scene, cameras, builds);
   md += "\nEach level at the incremental run's last frame against the exact field of that moment (its band; above level "
         "0, the voxels within the view's reach, --cascade-view-margin):\n\n"

@@ -237,8 +237,9 @@ CascadeRun runCascadeSuite(const BenchOptions& o, const JobControl& control) {
 }
 
 std::string cascadeCsv(const CascadeRun& run) {
-  std::string csv = "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,wall_ms,"
-                    "refined_voxels,device_mib,kept_voxels,coarse_voxelized,coarse_rebuilt,mask_visited,upsampled\n";
+  std::string csv = "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,"
+                    "wall_ms,refined_voxels,device_mib,kept_voxels,coarse_voxelized,coarse_rebuilt,mask_visited,"
+                    "upsampled\n";
   for (const CascadeRow& r : run.rows)
     csv += fmt::format("{},{},{},{},{:.4f},{:.3f},{},{},{},{:.3f},{:.3f},{:.3f},{},{:.1f},{},{},{},{},{}\n", r.scene,
                        r.camera, r.build, r.frame, r.time, r.speed, r.levelsMoved, r.levelsRecut, r.levelsRebuilt,

@@ -339,7 +339,8 @@ TEST(Cli, BenchCascadeSuiteFollowsTheCameraPathAgainstAFullRebuild) {
   std::string header, line;
   std::getline(csv, header);
   EXPECT_EQ(header, "scene,camera,build,frame,time,speed,levels_moved,levels_recut,levels_rebuilt,move_ms,gpu_ms,"
-                    "wall_ms,refined_voxels,device_mib,kept_voxels,coarse_voxelized,coarse_rebuilt,mask_visited,upsampled");
+                    "wall_ms,refined_voxels,device_mib,kept_voxels,coarse_voxelized,coarse_rebuilt,mask_visited,"
+                    "upsampled");
   struct Row {
     std::string camera, build;
     int frame = 0, moved = 0;

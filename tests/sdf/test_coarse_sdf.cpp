@@ -479,8 +479,9 @@ TEST_F(CoarseSdfGpu, ABuildOverAChangeVoxelizesItsBoxAloneAndEqualsAFullBuild) {
   const Bounds& b = geo.bounds;
   const double w = b.maxExtent();
   const float g = float(b.min.y - 0.05 * w);
-  const glm::vec4 q0(float(b.min.x - 2 * w), g, float(b.min.z - w), 1), q1(float(b.max.x + 2 * w), g, float(b.min.z - w), 1),
-      q2(float(b.max.x + 2 * w), g, float(b.max.z + w), 1), q3(float(b.min.x - 2 * w), g, float(b.max.z + w), 1);
+  const float gx0 = float(b.min.x - 2 * w), gx1 = float(b.max.x + 2 * w);
+  const float gz0 = float(b.min.z - w), gz1 = float(b.max.z + w);
+  const glm::vec4 q0(gx0, g, gz0, 1), q1(gx1, g, gz0, 1), q2(gx1, g, gz1, 1), q3(gx0, g, gz1, 1);
   const std::uint32_t bunnyTriangles = std::uint32_t(corners.size() / 3);
   corners.insert(corners.end(), {q0, q1, q2, q0, q2, q3});
   Bounds all = b;

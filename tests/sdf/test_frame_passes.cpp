@@ -229,7 +229,8 @@ TEST_F(FramePasses, AMovingInstanceUpsamplesOnlyWhereTheCoarseSdfChanged) {
 // and that box, holds every coarse voxel whose value changed (against the two fields read back) and is a part of the
 // grid; every voxel's bound of its squared seed distance holds. (That the field equals a full build bit for bit is
 // SkippingFramesEqualAFullRebuildOnTheOrbitingTeapot's; a region too small fails CoarseSdfGpu's
-// ExactEdtOverAChangeEqualsBruteForce, a box voxelized wrong its ABuildOverAChangeVoxelizesItsBoxAloneAndEqualsAFullBuild.)
+// ExactEdtOverAChangeEqualsBruteForce, a box voxelized wrong its
+// ABuildOverAChangeVoxelizesItsBoxAloneAndEqualsAFullBuild.)
 TEST_F(FramePasses, AMovingInstanceRebuildsTheCoarseSdfOnlyWhereItsSeedsReach) {
   const Scene scene = loadScene(test::dataPath("scenes/default.json"));
   Bounds bounds;

@@ -54,7 +54,8 @@ std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, co
       const vec3 t0 = toVoxelSpace(glm::vec3(corners[3 * t]), params.originInvH);
       const vec3 t1 = toVoxelSpace(glm::vec3(corners[3 * t + 1]), params.originInvH);
       const vec3 t2 = toVoxelSpace(glm::vec3(corners[3 * t + 2]), params.originInvH);
-      const ivec3 lo = voxelRangeLo(t0, t1, t2, ivec3(params.clipLo)), hi = voxelRangeHi(t0, t1, t2, ivec3(params.clipHi));
+      const ivec3 lo = voxelRangeLo(t0, t1, t2, ivec3(params.clipLo));
+      const ivec3 hi = voxelRangeHi(t0, t1, t2, ivec3(params.clipHi));
       for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
           for (int x = lo.x; x <= hi.x; ++x)

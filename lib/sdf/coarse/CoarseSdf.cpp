@@ -45,7 +45,8 @@ void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
     vkCmdFillBuffer(cmd, out.seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
   else if (!clipEmpty)
     mClear.dispatch(cmd, b, &params.shader,
-                    {gpu::groupsFor(hi.x - lo.x + 1, RTSDF_JFA_GROUP_X), gpu::groupsFor(hi.y - lo.y + 1, RTSDF_JFA_GROUP_Y),
+                    {gpu::groupsFor(hi.x - lo.x + 1, RTSDF_JFA_GROUP_X),
+                     gpu::groupsFor(hi.y - lo.y + 1, RTSDF_JFA_GROUP_Y),
                      gpu::groupsFor(hi.z - lo.z + 1, RTSDF_JFA_GROUP_Z)});
   // The first dispatch's x: one invocation per triangle; every other count is raised by voxelize_chunks.comp from 0
   // (no triangle touches the clip box, none listed).

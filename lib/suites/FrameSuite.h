@@ -30,12 +30,15 @@ struct FrameRow {
   std::uint64_t overflowBricks = 0;  ///< bricks under the band that found no slot (the next frame regrows the pool)
   double deviceMiB = 0.0;            ///< the device memory the pipeline holds, as allocated
                                      ///< (AnimateFrame::deviceBytesAllocated)
+  /// Voxels each part touched (FrameStats): the coarse voxels voxelized, rebuilt (the distances written) and visited
+  /// by the mask's compaction, and the dense fine voxels upsampled.
+  std::uint64_t voxelizedVoxels = 0, rebuiltVoxels = 0, maskVisitedVoxels = 0, upsampledVoxels = 0;
   PassTimes passMs;                  ///< GPU time per pass (the passes a frame skipped are absent)
 };
 
 /// @brief The frame suite's CSV: the header `frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,
-///        mean_abs_error_voxels,wrong_sign_pct,peak_mib,time,active_bricks,pool_bricks,overflow_bricks,device_mib` and
-///        one line per row.
+///        mean_abs_error_voxels,wrong_sign_pct,peak_mib,time,active_bricks,pool_bricks,overflow_bricks,device_mib,
+///        coarse_voxelized,coarse_rebuilt,mask_visited,upsampled` and one line per row.
 std::string frameCsv(const std::vector<FrameRow>& rows);
 
 /// @brief Run the frame suite of @a options (options.scenes: one scene; options.frameSize, frames, refine,

@@ -272,13 +272,14 @@ TEST(Cli, BenchFrameSuiteWritesOneCsvRowPerFrame) {
     std::string header, line;
     std::getline(csv, header);
     EXPECT_EQ(header, "frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,mean_abs_error_voxels,wrong_sign_pct,"
-                      "peak_mib,time,active_bricks,pool_bricks,overflow_bricks,device_mib");
+                      "peak_mib,time,active_bricks,pool_bricks,overflow_bricks,device_mib,coarse_voxelized,"
+                      "coarse_rebuilt,mask_visited,upsampled");
     std::vector<std::vector<double>> rows;
     while (std::getline(csv, line)) {
       std::vector<double> v;
       std::stringstream cells(line);
       for (std::string cell; std::getline(cells, cell, ',');) v.push_back(std::strtod(cell.c_str(), nullptr));
-      ASSERT_EQ(v.size(), 14u) << line;
+      ASSERT_EQ(v.size(), 18u) << line;
       rows.push_back(v);
     }
     ASSERT_EQ(rows.size(), 3u);
@@ -307,6 +308,11 @@ TEST(Cli, BenchFrameSuiteWritesOneCsvRowPerFrame) {
       EXPECT_TRUE(v[11] >= v[10] && v[11] == std::floor(1.5 * rows[0][10]) + 64.0) << line;
       EXPECT_EQ(v[12], 0.0) << line;
       EXPECT_GT(v[13], 1.0) << line; // device MiB
+      // Voxels touched: the first frame (and every frame of a full recompute) builds the whole coarse grid; a frame
+      // where the teapot moved voxelizes its seed box alone; a still frame builds nothing.
+      if (c.full || i == 0) EXPECT_TRUE(v[14] > 0.0 && v[15] == v[14] && v[16] == v[14]) << line;
+      else if (still) EXPECT_TRUE(v[14] == 0.0 && v[15] == 0.0) << line;
+      else EXPECT_TRUE(v[14] > 0.0 && v[14] < 0.1 * rows[0][14] && v[15] >= v[14]) << line;
     }
   }
 }

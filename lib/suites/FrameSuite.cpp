@@ -49,11 +49,11 @@ std::string passMedians(const std::vector<FrameRow>& rows) {
 
 std::string frameCsv(const std::vector<FrameRow>& rows) {
   std::string csv = "frame,host_ms,gpu_ms,wall_ms,mask_voxels,refined_voxels,mean_abs_error_voxels,wrong_sign_pct,"
-                    "peak_mib,time,active_bricks,pool_bricks,overflow_bricks,device_mib,coarse_voxelized,coarse_rebuilt,"
-                    "mask_visited,upsampled\n";
+                    "peak_mib,time,active_bricks,pool_bricks,overflow_bricks,device_mib,coarse_voxelized,"
+                    "coarse_rebuilt,mask_visited,upsampled\n";
   for (const FrameRow& r : rows)
-    csv += fmt::format("{},{:.4f},{:.4f},{:.4f},{},{},{:.6f},{:.6f},{:.1f},{:.6g},{},{},{},{:.1f},{},{},{},{}\n", r.frame,
-                       r.hostMs, r.gpuMs, r.wallMs, r.maskVoxels, r.refinedVoxels, r.meanAbsErrorVoxels,
+    csv += fmt::format("{},{:.4f},{:.4f},{:.4f},{},{},{:.6f},{:.6f},{:.1f},{:.6g},{},{},{},{:.1f},{},{},{},{}\n",
+                       r.frame, r.hostMs, r.gpuMs, r.wallMs, r.maskVoxels, r.refinedVoxels, r.meanAbsErrorVoxels,
                        r.wrongSignPct, r.peakMiB, r.time, r.activeBricks, r.poolBricks, r.overflowBricks, r.deviceMiB,
                        r.voxelizedVoxels, r.rebuiltVoxels, r.maskVisitedVoxels, r.upsampledVoxels);
   return csv;

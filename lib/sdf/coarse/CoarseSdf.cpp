@@ -20,17 +20,12 @@ VoxelizePass::VoxelizePass(const gpu::VulkanContext& ctx)
       mChunks(ctx, "voxelize_chunks.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)),
       mClear(ctx, "voxelize_clear.comp", kVoxelizeBindingCount, sizeof(VoxelizeParams)) {}
 
-std::uint64_t VoxelizePass::clipVoxels(const VoxelizeParams& shader) {
-  if (glm::any(glm::greaterThan(glm::ivec3(shader.clipLo), glm::ivec3(shader.clipHi)))) return 0;
-  const glm::u64vec3 n = glm::u64vec3(glm::ivec3(shader.clipHi) - glm::ivec3(shader.clipLo) + 1);
-  return n.x * n.y * n.z;
-}
-
 void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
-  const glm::ivec3 lo(params.shader.clipLo), hi(params.shader.clipHi), dims(params.shader.dims);
-  const bool clipEmpty = clipVoxels(params.shader) == 0;
-  if (!clipEmpty && (glm::any(glm::lessThan(lo, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(hi, dims))))
+  const CoarseVoxelBox clip{glm::ivec3(params.shader.clipLo), glm::ivec3(params.shader.clipHi)};
+  const glm::ivec3 dims(params.shader.dims);
+  const bool clipEmpty = clip.empty();
+  if (!clipEmpty && (glm::any(glm::lessThan(clip.lo, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(clip.hi, dims))))
     throw Error("VoxelizePass: the clip box lies partly outside the grid");
   gpu::ProfileScope scope(profiler, cmd, kName);
   std::array<gpu::Binding, kVoxelizeBindingCount> b;
@@ -41,13 +36,14 @@ void VoxelizePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
   b[kVoxelizeBindingPlaced] = &out.placed;
   b[kVoxelizeBindingLarge] = &out.large;
   // The clip box's seeds reset: the whole buffer at once, or one invocation per voxel of a part.
-  if (clipVoxels(params.shader) == std::uint64_t(dims.x) * dims.y * dims.z)
+  if (regionVoxels(clip) == std::uint64_t(dims.x) * dims.y * dims.z)
     vkCmdFillBuffer(cmd, out.seeds.handle(), 0, VK_WHOLE_SIZE, kNoSeed);
-  else if (!clipEmpty)
+  else if (!clipEmpty) {
+    const glm::ivec3 n = clip.hi - clip.lo + 1;
     mClear.dispatch(cmd, b, &params.shader,
-                    {gpu::groupsFor(hi.x - lo.x + 1, RTSDF_JFA_GROUP_X),
-                     gpu::groupsFor(hi.y - lo.y + 1, RTSDF_JFA_GROUP_Y),
-                     gpu::groupsFor(hi.z - lo.z + 1, RTSDF_JFA_GROUP_Z)});
+                    {gpu::groupsFor(n.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(n.y, RTSDF_JFA_GROUP_Y),
+                     gpu::groupsFor(n.z, RTSDF_JFA_GROUP_Z)});
+  }
   // The first dispatch's x: one invocation per triangle; every other count is raised by voxelize_chunks.comp from 0
   // (no triangle touches the clip box, none listed).
   std::array<std::uint32_t, kVoxelizeDispatchWords> words{};

@@ -54,9 +54,6 @@ public:
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 
-  /// @brief The voxels of the clip box of @a shader (0 where it is empty).
-  static std::uint64_t clipVoxels(const gpu::shared::VoxelizeParams& shader);
-
 private:
   gpu::ComputePipeline mChunks; // voxelize_chunks.comp
   gpu::ComputePipeline mClear;  // voxelize_clear.comp

@@ -278,7 +278,7 @@ FrameStats SdfPipeline::finishFrame() {
                                                         : mFineSpec.voxelCount();
     stats.maskVisitedVoxels = mPlan.mask && mSettings.band > 0.0 ? regionVoxels(mMask->lastRegion()) : 0;
     stats.coarseRebuiltVoxels = !mPlan.coarse                     ? 0
-                                : mFields->lastCoarseOverChange() ? regionVoxels(mFields->readCoarseRegion())
+                                : mFields->lastCoarseOverChange() ? mFields->readCoarseRegion().counts.z
                                                                   : mCoarseSpec.voxelCount();
     stats.coarseVoxelizedVoxels = mPlan.coarse ? mFields->lastCoarseVoxelized() : 0;
     stats.deviceBytes = mMemory.deviceBytes + BrickPool::deviceBytesFor(mPool->capacity());

@@ -92,7 +92,7 @@ protected:
     gpu::reserve(*sCtx, b, seeds.size() * 4, usage, gpu::Buffer::Memory::Device, "scratch");
     gpu::reserve(*sCtx, region, sizeof(gpu::shared::CoarseRegion), usage, gpu::Buffer::Memory::Device, "region");
     gpu::CommandBuffer cmd(*sCtx);
-    pass.execute(cmd.handle(), nullptr, {a, region}, {b}, {dims});
+    pass.execute(cmd.handle(), nullptr, {a, region, region}, {b}, {dims});
     cmd.submitAndWait();
     std::vector<std::uint32_t> out(seeds.size());
     gpu::download(*sCtx, b, out.data(), out.size() * 4);
@@ -106,6 +106,7 @@ protected:
     std::vector<std::uint32_t> nearest, blockMaxBefore;
     std::vector<float> distance;
     gpu::shared::CoarseRegion region{};
+    std::vector<std::uint32_t> blocks, columns; ///< the region's lists, ascending
   };
   static OverChange buildOverChange(const std::vector<std::uint32_t>& before, const std::vector<std::uint32_t>& after,
                                     const glm::ivec3& dims, const CoarseVoxelBox& change) {
@@ -116,7 +117,7 @@ protected:
     const std::size_t bytes = before.size() * 4;
     const glm::uvec3 bd(gpu::shared::coarseBlockDims(dims));
     const std::size_t blocks = std::size_t(bd.x) * bd.y * bd.z;
-    gpu::Buffer seeds, scratch, planes, nearest, distance, changed, blockMax, region;
+    gpu::Buffer seeds, scratch, planes, nearest, distance, changed, blockMax, region, lists;
     gpu::reserveAndUpload(*sCtx, seeds, before.data(), bytes, usage, "seeds");
     for (gpu::Buffer* b : {&scratch, &planes, &nearest, &distance})
       gpu::reserve(*sCtx, *b, bytes, usage, gpu::Buffer::Memory::Device, "transform");
@@ -124,6 +125,8 @@ protected:
     gpu::reserve(*sCtx, blockMax, blocks * 4, usage, gpu::Buffer::Memory::Device, "block bounds");
     gpu::reserve(*sCtx, region, sizeof(gpu::shared::CoarseRegion), usage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                  gpu::Buffer::Memory::Device, "region");
+    const std::size_t listWords = gpu::shared::coarseRegionListWords(dims);
+    gpu::reserve(*sCtx, lists, listWords * 4, usage, gpu::Buffer::Memory::Device, "region lists");
     gpu::shared::CoarseDistanceParams dp{};
     dp.dims = glm::ivec4(dims, 0);
     dp.voxelSize = 0.5f;
@@ -134,8 +137,8 @@ protected:
       gpu::CommandBuffer cmd(*sCtx);
       vkCmdFillBuffer(cmd.handle(), blockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
       vkCmdFillBuffer(cmd.handle(), changed.handle(), 0, VK_WHOLE_SIZE, 0u);
-      edt.execute(cmd.handle(), nullptr, {seeds, region}, {scratch, &planes, &nearest}, {dims});
-      distancePass.execute(cmd.handle(), nullptr, {nearest, region}, {distance, changed, blockMax}, dp);
+      edt.execute(cmd.handle(), nullptr, {seeds, region, lists}, {scratch, &planes, &nearest}, {dims});
+      distancePass.execute(cmd.handle(), nullptr, {nearest, region, lists}, {distance, changed, blockMax}, dp);
       cmd.submitAndWait();
     }
     OverChange out;
@@ -144,10 +147,10 @@ protected:
     upload(*sCtx, seeds, after.data(), bytes);
     {
       gpu::CommandBuffer cmd(*sCtx);
-      regionPass.execute(cmd.handle(), nullptr, {blockMax}, {region}, {dims, change});
-      edt.execute(cmd.handle(), nullptr, {seeds, region}, {scratch, &planes, &nearest}, {dims, &change});
+      regionPass.execute(cmd.handle(), nullptr, {blockMax}, {region, lists}, {dims, change});
+      edt.execute(cmd.handle(), nullptr, {seeds, region, lists}, {scratch, &planes, &nearest}, {dims, &change});
       dp.flags = gpu::shared::kCoarseDistanceRegionOnly | gpu::shared::kCoarseDistanceKeepBounds;
-      distancePass.execute(cmd.handle(), nullptr, {nearest, region}, {distance, changed, blockMax}, dp);
+      distancePass.execute(cmd.handle(), nullptr, {nearest, region, lists}, {distance, changed, blockMax}, dp);
       cmd.submitAndWait();
     }
     out.nearest.resize(before.size());
@@ -155,6 +158,15 @@ protected:
     gpu::download(*sCtx, nearest, out.nearest.data(), bytes);
     gpu::download(*sCtx, distance, out.distance.data(), bytes);
     gpu::download(*sCtx, region, &out.region, sizeof(out.region));
+    std::vector<std::uint32_t> words(listWords);
+    gpu::download(*sCtx, lists, words.data(), listWords * 4);
+    const std::size_t columns = gpu::shared::coarseRegionColumnCount(dims);
+    out.columns.assign(words.begin() + std::ptrdiff_t(columns),
+                       words.begin() + std::ptrdiff_t(columns + out.region.counts.y));
+    out.blocks.assign(words.begin() + std::ptrdiff_t(2 * columns),
+                      words.begin() + std::ptrdiff_t(2 * columns + out.region.counts.x));
+    std::sort(out.columns.begin(), out.columns.end());
+    std::sort(out.blocks.begin(), out.blocks.end());
     return out;
   }
 
@@ -391,10 +403,11 @@ TEST_F(CoarseSdfGpu, ExactEdtOverAChangeEqualsBruteForce) {
     std::size_t differ = 0;
     for (std::size_t i = 0; i < n; ++i) differ += std::memcmp(&cpu[i], &gpu.distance[i], 4) != 0;
     EXPECT_EQ(differ, 0u) << "distances not those of the CPU copy";
-    const CoarseVoxelBox cpuRegion = coarseRegionCpu(gpu.blockMaxBefore, dims, c.box);
-    EXPECT_EQ(glm::ivec3(glm::uvec3(gpu.region.lo)), cpuRegion.lo);
-    EXPECT_EQ(glm::ivec3(glm::uvec3(gpu.region.hi)), cpuRegion.hi);
-    const std::uint64_t covered = regionVoxels(gpu.region);
+    const CoarseRegionLists cpuRegion = coarseRegionCpu(gpu.blockMaxBefore, dims, c.box);
+    EXPECT_EQ(gpu.blocks, cpuRegion.blocks);
+    EXPECT_EQ(gpu.columns, cpuRegion.columns);
+    EXPECT_EQ(gpu.region.counts.z, cpuRegion.voxels);
+    const std::uint64_t covered = gpu.region.counts.z;
     std::printf("%s: region %llu of %zu voxels\n", c.name, static_cast<unsigned long long>(covered), n);
     if (c.seedsBefore >= n / 40) EXPECT_LT(covered, n / 2) << "dense seeds: the change reaches a part of the grid";
   }
@@ -404,7 +417,38 @@ TEST_F(CoarseSdfGpu, ExactEdtOverAChangeEqualsBruteForce) {
   gpu::reserve(*sCtx, buf, 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device, "unused");
   const CoarseVoxelBox outside{{0, 0, -1}, {3, 3, 3}};
   gpu::CommandBuffer cmd(*sCtx);
-  EXPECT_THROW(edt.execute(cmd.handle(), nullptr, {buf, buf}, {buf, &buf, &buf}, {dims, &outside}), Error);
+  EXPECT_THROW(edt.execute(cmd.handle(), nullptr, {buf, buf, buf}, {buf, &buf, &buf}, {dims, &outside}), Error);
+}
+
+// A build over a change whose region lists more blocks than one row of CoarseDistancePass's groups holds
+// (kCoarseRegionGroupsX groups of RTSDF_COARSE_REGION_BLOCKS_PER_GROUP blocks): an empty grid gaining seeds reaches
+// every block, and every voxel's nearest seed and distance are the CPU copy's.
+TEST_F(CoarseSdfGpu, ABuildOverAChangeListingMoreBlocksThanARowOfGroupsEqualsTheCpuCopy) {
+  const glm::ivec3 dims(1024, 64, 68);
+  const glm::ivec3 bd = gpu::shared::coarseBlockDims(dims);
+  const std::size_t blocks = std::size_t(bd.x) * bd.y * bd.z;
+  ASSERT_GT(blocks, std::size_t(gpu::shared::kCoarseRegionGroupsX) * RTSDF_COARSE_REGION_BLOCKS_PER_GROUP);
+  const std::size_t n = std::size_t(dims.x) * dims.y * dims.z;
+  std::vector<std::uint32_t> before(n, kNoSeed), after(n, kNoSeed);
+  const CoarseVoxelBox box{{500, 30, 30}, {510, 36, 40}};
+  std::mt19937 rng(3);
+  for (int i = 0; i < 20; ++i) {
+    const glm::ivec3 p = box.lo + glm::ivec3(int(rng() % 11), int(rng() % 7), int(rng() % 11));
+    after[(std::size_t(p.z) * dims.y + p.y) * dims.x + p.x] = gpu::shared::packSeed(p);
+  }
+  const OverChange gpu = buildOverChange(before, after, dims, box);
+  EXPECT_EQ(gpu.region.counts.x, blocks) << "an empty grid: every block is reached";
+  EXPECT_EQ(gpu.region.counts.y, std::uint32_t(bd.x * bd.y));
+  EXPECT_EQ(gpu.region.counts.z, n);
+  EXPECT_GT(gpu.region.distanceGroups.y, 1u) << "the groups fill more than one row";
+  const std::vector<std::uint32_t> cpu = exactEdtNearestCpu(after, dims);
+  std::size_t wrong = 0;
+  for (std::size_t i = 0; i < n; ++i) wrong += gpu.nearest[i] != cpu[i];
+  EXPECT_EQ(wrong, 0u) << "voxels whose nearest seed is not the CPU copy's";
+  const std::vector<float> distance = coarseDistanceCpu(cpu, dims, 0.5f, 0.25f, 99.0f);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < n; ++i) differ += std::memcmp(&distance[i], &gpu.distance[i], 4) != 0;
+  EXPECT_EQ(differ, 0u) << "distances not those of the CPU copy";
 }
 
 TEST_F(CoarseSdfGpu, NonCubicThinEmptyAndBoundaryGrids) {

@@ -25,16 +25,19 @@ const uint kJumpFloodBindingCount = 2u;
 const uint kExactEdtBindingSrc = 0u;            // nearest seeds of the previous axis (or the seeds)
 const uint kExactEdtBindingDst = 1u;            // nearest seeds after this axis; also the line's scratch stack
 const uint kExactEdtBindingRegion = 2u;         // CoarseRegion (read where ExactEdtParams::fromRegion)
-const uint kExactEdtBindingCount = 3u;
+const uint kExactEdtBindingLists = 3u;          // the region's lists (its columns read where fromRegion)
+const uint kExactEdtBindingCount = 4u;
 const uint kCoarseDistanceBindingNearest = 0u;  // nearest seed per voxel
 const uint kCoarseDistanceBindingDistance = 1u; // c per voxel (read: the last build's, then written)
 const uint kCoarseDistanceBindingChanged = 2u;  // ChangedBox: grown to hold every voxel whose c changed
 const uint kCoarseDistanceBindingBlockMax = 3u; // uint per block: at least the largest squared seed distance in it
 const uint kCoarseDistanceBindingRegion = 4u;   // CoarseRegion (read with kCoarseDistanceRegionOnly)
-const uint kCoarseDistanceBindingCount = 5u;
+const uint kCoarseDistanceBindingLists = 5u;    // the region's lists (its blocks read with kCoarseDistanceRegionOnly)
+const uint kCoarseDistanceBindingCount = 6u;
 const uint kCoarseRegionBindingBlockMax = 0u;   // the last build's block bounds (read)
-const uint kCoarseRegionBindingRegion = 1u;     // CoarseRegion (grown, then its dispatches written)
-const uint kCoarseRegionBindingCount = 2u;
+const uint kCoarseRegionBindingRegion = 1u;     // CoarseRegion (counted, then its dispatches written)
+const uint kCoarseRegionBindingLists = 2u;      // the region's lists (coarseRegionListWords; column marks zeroed first)
+const uint kCoarseRegionBindingCount = 3u;
 
 /// The box of the coarse voxels whose value a build changed (coarse_distance.comp compares each voxel's new c with
 /// the last build's, bit for bit): lo.xyz and hi.xyz inclusive; empty while lo.x > hi.x (reset to kChangedBoxEmpty).
@@ -48,21 +51,27 @@ const uint kChangedBoxEmptyLo = 0xFFFFFFFFu; // the reset value of lo (hi is res
 /// changed, box S, a voxel's nearest seed can change only if S lies within its old seed distance D (a nearer new
 /// seed lies in S; a removed nearest one did). CoarseDistancePass keeps, per block of RTSDF_COARSE_BLOCK^3 voxels, an
 /// upper bound of D^2 in the block (kCoarseDistanceBindingBlockMax: raised as voxels change, reset by a full build),
-/// and CoarseRegionPass grows the region, the box of the blocks that S lies within that bound of; the z lines of
-/// ExactEdtPass and CoarseDistancePass then run over the region alone, from indirect dispatches it writes.
+/// and CoarseRegionPass lists the region, the blocks that S lies within that bound of, and the columns of blocks
+/// (along z) holding one; ExactEdtPass's z lines then run over the listed columns and CoarseDistancePass over the
+/// listed blocks alone, from indirect dispatches it writes. (The blocks' bounding box was most of a level where cars
+/// far apart moved: open air's long seed distances reach a cone of blocks above each car.)
 #define RTSDF_COARSE_BLOCK 4
 /// Work-group size of coarse_region.comp (one invocation per block).
 #define RTSDF_COARSE_REGION_GROUP 64
 
-/// The region of a build over what changed: lo.xyz and hi.xyz inclusive (empty while lo.x > hi.x, reset to
-/// kChangedBoxEmptyLo and 0), and the indirect dispatches of ExactEdtPass's z lines (x over the region's x, y over its
-/// y) and of CoarseDistancePass over it (RTSDF_JFA_GROUP_* groups); no groups (x = 0) for an empty region.
+/// The region of a build over what changed: counts.x blocks and counts.y block columns listed (coarseRegionListWords),
+/// counts.z the voxels of the listed blocks; and the indirect dispatches of ExactEdtPass's z lines (one invocation per
+/// line of a listed column) and of CoarseDistancePass (RTSDF_COARSE_REGION_BLOCKS_PER_GROUP listed blocks per group,
+/// the groups in rows of kCoarseRegionGroupsX); no groups (x = 0) for an empty region.
 struct CoarseRegion {
-  uvec4 lo;
-  uvec4 hi;
+  uvec4 counts;
   uvec4 edtGroups;
   uvec4 distanceGroups;
 };
+/// CoarseDistancePass over listed blocks: a work group (RTSDF_JFA_GROUP_X * Y * Z invocations) takes this many.
+#define RTSDF_COARSE_REGION_BLOCKS_PER_GROUP 2
+/// The groups of an indirect dispatch over listed blocks per row along x (every device allows 65535).
+const uint kCoarseRegionGroupsX = 32768u;
 
 /// Push constants of coarse_region.comp.
 struct CoarseRegionParams {
@@ -70,7 +79,7 @@ struct CoarseRegionParams {
   ivec4 changeLo; // xyz: box S, inclusive (empty where any lo > hi)
   ivec4 changeHi;
 };
-#define RTSDF_COARSE_REGION_GROW 0     // one invocation per block: the region grown by the blocks S reaches
+#define RTSDF_COARSE_REGION_GROW 0     // one invocation per block: those S reaches listed
 #define RTSDF_COARSE_REGION_DISPATCH 1 // one invocation: the region's indirect dispatches
 
 /// Blocks per axis of a grid of @a dims voxels.
@@ -78,6 +87,18 @@ RTSDF_FN ivec3 coarseBlockDims(ivec3 dims) { return (dims + ivec3(RTSDF_COARSE_B
 RTSDF_FN uint coarseBlockIndex(ivec3 v, ivec3 blockDims) {
   ivec3 b = v / RTSDF_COARSE_BLOCK;
   return uint((b.z * blockDims.y + b.y) * blockDims.x + b.x);
+}
+
+/// The region's lists in one buffer of words: [0, C) a mark per block column (bx + by * blocks along x; zeroed before
+/// a region is listed), [C, 2C) the listed columns, [2C, 2C + B) the listed blocks (coarseBlockIndex), where C and B
+/// are the grid's block columns and blocks. Both lists in no particular order.
+RTSDF_FN uint coarseRegionColumnCount(ivec3 dims) {
+  ivec3 bd = coarseBlockDims(dims);
+  return uint(bd.x * bd.y);
+}
+RTSDF_FN uint coarseRegionListWords(ivec3 dims) {
+  ivec3 bd = coarseBlockDims(dims);
+  return 2u * uint(bd.x * bd.y) + uint(bd.x * bd.y * bd.z);
 }
 
 /// Whether box @a changeLo..changeHi (S) lies within the seed distance of some voxel of the block with voxels @a lo..hi
@@ -159,7 +180,7 @@ struct JumpFloodParams {
 struct ExactEdtParams {
   ivec4 dims;
   int axis;            // 0: lines along x (indexed by y, z); 1: along y (x, z); 2: along z (x, y)
-  int fromRegion;      // 1: the lines (a, b) of the CoarseRegion's box (z lines only); 0: those of @a lines
+  int fromRegion;      // 1: the z lines of the CoarseRegion's listed columns (z lines only); 0: those of @a lines
   int pad0, pad1;
   ivec4 lines;         // the lines run: a in [x, z), b in [y, w)
 };
@@ -172,7 +193,7 @@ struct CoarseDistanceParams {
   float emptyDistance; // value where no seed exists at all (empty scene)
   uint flags;          // kCoarseDistanceRegionOnly | kCoarseDistanceKeepBounds
 };
-/// CoarseDistanceParams::flags: the voxels of the CoarseRegion's box only (dispatched from its distanceGroups); the
+/// CoarseDistanceParams::flags: the voxels of the CoarseRegion's listed blocks only (from its distanceGroups); the
 /// block bounds raised (a build that keeps its transform for builds over a change; others skip the work).
 const uint kCoarseDistanceRegionOnly = 1u;
 const uint kCoarseDistanceKeepBounds = 2u;

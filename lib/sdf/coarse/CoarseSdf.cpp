@@ -115,6 +115,7 @@ void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
     b[kExactEdtBindingSrc] = stages[axis];
     b[kExactEdtBindingDst] = stages[axis + 1];
     b[kExactEdtBindingRegion] = &in.region;
+    b[kExactEdtBindingLists] = &in.lists;
     if (p.fromRegion)
       mPipeline.dispatchIndirect(cmd, b, &p, in.region, offsetof(CoarseRegion, edtGroups));
     else if (p.lines.w > p.lines.y)
@@ -126,8 +127,9 @@ void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
 void CoarseRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                                const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
-  const CoarseRegion empty{glm::uvec4(kChangedBoxEmptyLo), glm::uvec4(0u), glm::uvec4(0u), glm::uvec4(0u)};
+  const CoarseRegion empty{};
   gpu::recordUpload(cmd, out.region, &empty, sizeof(empty));
+  vkCmdFillBuffer(cmd, out.lists.handle(), 0, std::uint64_t(coarseRegionColumnCount(params.dims)) * 4, 0u);
   gpu::computeBarrier(cmd);
   CoarseRegionParams p{};
   p.dims = glm::ivec4(params.dims, RTSDF_COARSE_REGION_GROW);
@@ -136,6 +138,7 @@ void CoarseRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
   std::array<gpu::Binding, kCoarseRegionBindingCount> b;
   b[kCoarseRegionBindingBlockMax] = &in.blockMax;
   b[kCoarseRegionBindingRegion] = &out.region;
+  b[kCoarseRegionBindingLists] = &out.lists;
   // One invocation per block: at most 65535 groups along x (every device's limit), the rest along y.
   const glm::u64vec3 blocks(coarseBlockDims(params.dims));
   const std::uint32_t groups = gpu::groupsFor(blocks.x * blocks.y * blocks.z, RTSDF_COARSE_REGION_GROUP);
@@ -147,20 +150,25 @@ void CoarseRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
   gpu::computeBarrier(cmd); // its dispatches are read as indirect commands
 }
 
-CoarseVoxelBox coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
-                               const CoarseVoxelBox& change) {
+CoarseRegionLists coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
+                                  const CoarseVoxelBox& change) {
   const glm::ivec3 bd = coarseBlockDims(dims);
-  CoarseVoxelBox region{glm::ivec3(std::numeric_limits<int>::max()), glm::ivec3(-1)};
+  CoarseRegionLists region;
+  std::vector<bool> columnListed(std::size_t(bd.x) * bd.y, false);
   for (int z = 0; z < bd.z; ++z)
     for (int y = 0; y < bd.y; ++y)
       for (int x = 0; x < bd.x; ++x) {
         const glm::ivec3 lo = glm::ivec3(x, y, z) * RTSDF_COARSE_BLOCK;
         const glm::ivec3 hi = glm::min(lo + glm::ivec3(RTSDF_COARSE_BLOCK - 1), dims - 1);
-        if (!coarseBlockReached(lo, hi, change.lo, change.hi, blockMax.at(std::size_t((z * bd.y + y) * bd.x + x))))
-          continue;
-        region.lo = glm::min(region.lo, lo);
-        region.hi = glm::max(region.hi, hi);
+        const auto block = std::uint32_t((z * bd.y + y) * bd.x + x);
+        if (!coarseBlockReached(lo, hi, change.lo, change.hi, blockMax.at(block))) continue;
+        region.blocks.push_back(block);
+        const glm::u64vec3 n = glm::u64vec3(hi - lo + 1);
+        region.voxels += n.x * n.y * n.z;
+        columnListed[std::size_t(y) * bd.x + x] = true;
       }
+  for (std::size_t c = 0; c < columnListed.size(); ++c)
+    if (columnListed[c]) region.columns.push_back(std::uint32_t(c));
   return region;
 }
 
@@ -173,6 +181,7 @@ void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
   b[kCoarseDistanceBindingChanged] = &out.changed;
   b[kCoarseDistanceBindingBlockMax] = &out.blockMax;
   b[kCoarseDistanceBindingRegion] = &in.region;
+  b[kCoarseDistanceBindingLists] = &in.lists;
   if (params.flags & kCoarseDistanceRegionOnly)
     mPipeline.dispatchIndirect(cmd, b, &params, in.region, offsetof(CoarseRegion, distanceGroups));
   else
@@ -207,6 +216,9 @@ namespace {
 
 // The first dispatch's chunks fit along y on every device and within any maxChunkGroups a caller may set.
 static_assert(kVoxelizeFirstChunks <= kVoxelizeMinChunkGroups);
+// coarse_distance.comp over listed blocks: a work group holds RTSDF_COARSE_REGION_BLOCKS_PER_GROUP whole blocks.
+static_assert(RTSDF_JFA_GROUP_X * RTSDF_JFA_GROUP_Y * RTSDF_JFA_GROUP_Z ==
+              RTSDF_COARSE_REGION_BLOCKS_PER_GROUP * RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK);
 
 /// CoarseSdfSettings::chunkVoxels resolved for a device and a grid of @a voxels.
 std::uint32_t voxelizeChunkVoxels(const CoarseSdfSettings& settings, bool cpuDevice, std::uint64_t voxels) {
@@ -265,6 +277,8 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& t
   // Host memory: a frame's statistics read it mapped (readRegion), without a copy.
   gpu::reserve(mCtx, mRegion, sizeof(CoarseRegion), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                Buffer::Memory::Host, "coarse SDF region");
+  gpu::reserve(mCtx, mRegionLists, std::uint64_t(coarseRegionListWords(dims)) * 4,
+               storage, Buffer::Memory::Device, "coarse SDF region lists");
   p.keep = settings.keepTransform && settings.method == CoarseMethod::Edt;
   if (p.keep) {
     gpu::reserve(mCtx, mPlanes, voxels * 4, storage, Buffer::Memory::Device, "transform planes (kept)");
@@ -306,9 +320,9 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
   }
   mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced, mLarge}, voxelize);
   // Over what changed: the region from the last build's block bounds, before this build raises them.
-  if (change) mRegionPass.execute(cmd, nullptr, {mBlockMax}, {mRegion}, {p.flood.dims, *change});
+  if (change) mRegionPass.execute(cmd, nullptr, {mBlockMax}, {mRegion, mRegionLists}, {p.flood.dims, *change});
   if (exact)
-    mExactEdt.execute(cmd, profiler, {mSeedsA, mRegion},
+    mExactEdt.execute(cmd, profiler, {mSeedsA, mRegion, mRegionLists},
                       {mSeedsB, p.keep ? &mPlanes : nullptr, p.keep ? &mNearest : nullptr}, {p.flood.dims, change});
   else
     mJumpFlood.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, p.flood);
@@ -320,7 +334,8 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
   gpu::computeBarrier(cmd);
   CoarseDistanceParams distance = p.distance;
   distance.flags = (change ? kCoarseDistanceRegionOnly : 0u) | (p.keep ? kCoarseDistanceKeepBounds : 0u);
-  mDistance.execute(cmd, profiler, {nearest, mRegion}, {mDistanceBuf, mChangedBox, mBlockMax}, distance);
+  mDistance.execute(cmd, profiler, {nearest, mRegion, mRegionLists}, {mDistanceBuf, mChangedBox, mBlockMax},
+                    distance);
   return nearest;
 }
 
@@ -348,6 +363,21 @@ gpu::shared::CoarseRegion CoarseSdfBuilder::readRegion() const {
   CoarseRegion r{};
   if (mRegion) std::memcpy(&r, mRegion.mapped(), sizeof(r));
   return r;
+}
+
+CoarseRegionLists CoarseSdfBuilder::readRegionLists(const glm::ivec3& dims) const {
+  const CoarseRegion r = readRegion();
+  std::vector<std::uint32_t> words(coarseRegionListWords(dims));
+  download(mCtx, mRegionLists, words.data(), words.size() * 4);
+  const std::size_t columns = coarseRegionColumnCount(dims);
+  CoarseRegionLists out;
+  out.columns.assign(words.begin() + std::ptrdiff_t(columns), words.begin() + std::ptrdiff_t(columns + r.counts.y));
+  out.blocks.assign(words.begin() + std::ptrdiff_t(2 * columns),
+                    words.begin() + std::ptrdiff_t(2 * columns + r.counts.x));
+  std::sort(out.columns.begin(), out.columns.end());
+  std::sort(out.blocks.begin(), out.blocks.end());
+  out.voxels = r.counts.z;
+  return out;
 }
 
 std::vector<std::uint32_t> CoarseSdfBuilder::readBlockMax(const glm::ivec3& dims) const {

@@ -91,14 +91,15 @@ struct CoarseVoxelBox {
 ///        -> scratch, y: scratch -> seeds, z: seeds -> scratch (the result). With them (kept from build to build):
 ///        x: seeds -> scratch, y: scratch -> planes, z: planes -> nearest; and then Params::change may restrict the
 ///        build to what a change of seeds inside that box reaches: the x and y lines of the planes z crossing it (the
-///        planes elsewhere hold the same seeds), and the z lines of the CoarseRegion in @a region (CoarseRegionPass,
-///        dispatched indirectly). @a region is bound in any case.
+///        planes elsewhere hold the same seeds), and the z lines of the columns the CoarseRegion in @a region lists
+///        in @a lists (CoarseRegionPass; dispatched indirectly). @a region and @a lists are bound in any case.
 class ExactEdtPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "ExactEdtPass";
   struct Inputs {
     const gpu::Buffer& seeds;  ///< overwritten by the y pass unless @a planes is given
     const gpu::Buffer& region; ///< gpu::shared::CoarseRegion, read with Params::change
+    const gpu::Buffer& lists;  ///< its lists (coarseRegionListWords), read with Params::change
   };
   struct Outputs {
     const gpu::Buffer& scratch;             ///< the x pass's output; the nearest seeds unless @a nearest is given
@@ -118,14 +119,15 @@ public:
                const Params& params) const;
 };
 
-/// @brief CoarseRegionPass: the region a change of seeds inside box @a change can reach (gpu::shared::CoarseRegion:
-///        the blocks that coarseBlockReached says the box lies within their seed distance, by @a blockMax of the
-///        last build) and its indirect dispatches, written into @a region (reset first).
+/// @brief CoarseRegionPass: the region a change of seeds inside box @a change can reach: the blocks that
+///        coarseBlockReached says the box lies within their seed distance, by @a blockMax of the last build, and
+///        their columns of blocks, listed in @a lists (coarseRegionListWords words) and counted in @a region
+///        (gpu::shared::CoarseRegion, reset first) with the indirect dispatches over them.
 class CoarseRegionPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "CoarseRegionPass";
   struct Inputs { const gpu::Buffer& blockMax; };
-  struct Outputs { const gpu::Buffer& region; };
+  struct Outputs { const gpu::Buffer& region, & lists; };
   struct Params {
     glm::ivec3 dims{0};
     CoarseVoxelBox change;
@@ -137,12 +139,19 @@ public:
                const Params& params) const;
 };
 
-/// @brief CPU copy of CoarseRegionPass: the region (lo, hi inclusive; empty: lo > hi) of @a change on a grid of
-///        @a dims with the block bounds @a blockMax.
-CoarseVoxelBox coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
-                               const CoarseVoxelBox& change);
+/// @brief CoarseRegionPass's region as the CPU copy gives it: its lists in ascending order, and its voxels.
+struct CoarseRegionLists {
+  std::vector<std::uint32_t> blocks;  ///< coarseBlockIndex of each listed block
+  std::vector<std::uint32_t> columns; ///< bx + by * blocks along x of each column holding a listed block
+  std::uint64_t voxels = 0;           ///< the listed blocks' voxels
+};
 
-/// @brief The voxels of region @a r's box (0 when empty): a CoarseRegion or a MaskRegion.
+/// @brief CPU copy of CoarseRegionPass: the region of @a change on a grid of @a dims with the block bounds
+///        @a blockMax.
+CoarseRegionLists coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
+                                  const CoarseVoxelBox& change);
+
+/// @brief The voxels of region @a r's box (0 when empty): a CoarseVoxelBox or a MaskRegion.
 template <class Region> std::uint64_t regionVoxels(const Region& r) {
   if (r.lo.x > r.hi.x || r.lo.y > r.hi.y || r.lo.z > r.hi.z) return 0;
   const glm::u64vec3 n = glm::u64vec3(r.hi) - glm::u64vec3(r.lo) + glm::u64vec3(1);
@@ -153,11 +162,12 @@ template <class Region> std::uint64_t regionVoxels(const Region& r) {
 ///        from what @a distance held (gpu::shared::ChangedBox, grown: the caller resets it), and per block of
 ///        RTSDF_COARSE_BLOCK^3 voxels, with kCoarseDistanceKeepBounds, @a blockMax raised to at least each voxel's
 ///        squared seed distance (the caller zeroes it for a full build). With kCoarseDistanceRegionOnly, over the
-///        CoarseRegion in @a region alone (dispatched indirectly); @a region and @a blockMax are bound in any case.
+///        blocks the CoarseRegion in @a region lists in @a lists alone (dispatched indirectly); @a region, @a lists
+///        and @a blockMax are bound in any case.
 class CoarseDistancePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "CoarseDistancePass";
-  struct Inputs { const gpu::Buffer& nearest, & region; };
+  struct Inputs { const gpu::Buffer& nearest, & region, & lists; };
   struct Outputs { const gpu::Buffer& distance, & changed, & blockMax; };
   using Params = gpu::shared::CoarseDistanceParams;
   explicit CoarseDistancePass(const gpu::VulkanContext& ctx)
@@ -230,6 +240,9 @@ public:
   std::uint64_t lastVoxelizedVoxels() const { return mLastVoxelized; }
   /// @brief Read back the region of the last record() over what changed. Its command buffer must be finished.
   gpu::shared::CoarseRegion readRegion() const;
+  /// @brief Read back the lists of that region (in ascending order) and its voxels, on a grid of @a dims. Its command
+  ///        buffer must be finished.
+  CoarseRegionLists readRegionLists(const glm::ivec3& dims) const;
   /// @brief Read back the block bounds of the squared seed distances (RTSDF_COARSE_BLOCK^3 voxels per block, x
   ///        fastest) of a grid of @a dims as the last record() on it left them. Its command buffer must be finished.
   std::vector<std::uint32_t> readBlockMax(const glm::ivec3& dims) const;
@@ -261,6 +274,7 @@ private:
   const gpu::VulkanContext& mCtx;
   gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mLarge, mSeedsA, mSeedsB, mDistanceBuf, mChangedBox;
   gpu::Buffer mBlockMax, mRegion; ///< the block bounds (CoarseDistancePass) and the region of a build over changes
+  gpu::Buffer mRegionLists;       ///< the region's lists (coarseRegionListWords)
   gpu::Buffer mPlanes, mNearest;  ///< kept transform (CoarseSdfSettings::keepTransform)
   glm::ivec3 mKeptDims{-1};       ///< the grid the kept transform and block bounds are of; -1: none
   glm::dvec3 mKeptOrigin{0.0};

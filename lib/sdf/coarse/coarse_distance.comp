@@ -5,8 +5,9 @@
 // region that changed (UpsamplePass). A bound is raised atomically only where this voxel lies beyond it as last read:
 // the box only grows, so a stale read costs an atomic, never a voxel left out (no barrier or shared memory, which
 // made the pass 4.6 times slower on lavapipe). In a build that keeps its transform, each voxel raises its block's bound
-// of the squared seed distance where it exceeds it (coarseBlockReached's input; a full build reset the bounds). A build over what changed runs over the
-// CoarseRegion's box alone: elsewhere no voxel's nearest seed changed.
+// of the squared seed distance where it exceeds it (coarseBlockReached's input; a full build reset the bounds). A
+// build over what changed runs over the CoarseRegion's listed blocks alone, RTSDF_COARSE_REGION_BLOCKS_PER_GROUP a
+// group: elsewhere no voxel's nearest seed changed.
 #include "sdf/coarse/CoarseParams.h"
 
 layout(local_size_x = RTSDF_JFA_GROUP_X, local_size_y = RTSDF_JFA_GROUP_Y, local_size_z = RTSDF_JFA_GROUP_Z) in;
@@ -16,16 +17,31 @@ layout(std430, binding = kCoarseDistanceBindingDistance) buffer Distance { float
 layout(std430, binding = kCoarseDistanceBindingChanged) buffer Changed { ChangedBox changed; };
 layout(std430, binding = kCoarseDistanceBindingBlockMax) buffer BlockMax { uint blockMax[]; };
 layout(std430, binding = kCoarseDistanceBindingRegion) readonly buffer Region { CoarseRegion region; };
+layout(std430, binding = kCoarseDistanceBindingLists) readonly buffer Lists { uint lists[]; };
+
+// The voxel this invocation computes, or false where it computes none.
+bool voxelOf(ivec3 dims, out ivec3 p) {
+  if ((params.flags & kCoarseDistanceRegionOnly) == 0u) {
+    p = ivec3(gl_GlobalInvocationID);
+    return all(lessThan(p, dims));
+  }
+  const uint perBlock = uint(RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK);
+  uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  uint k = group * uint(RTSDF_COARSE_REGION_BLOCKS_PER_GROUP) + gl_LocalInvocationIndex / perBlock;
+  if (k >= region.counts.x) return false;
+  ivec3 bd = coarseBlockDims(dims);
+  int b = int(lists[2u * coarseRegionColumnCount(dims) + k]);
+  int v = int(gl_LocalInvocationIndex % perBlock);
+  ivec3 local = ivec3(v % RTSDF_COARSE_BLOCK, v / RTSDF_COARSE_BLOCK % RTSDF_COARSE_BLOCK,
+                      v / (RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK));
+  p = ivec3(b % bd.x, b / bd.x % bd.y, b / (bd.x * bd.y)) * RTSDF_COARSE_BLOCK + local;
+  return all(lessThan(p, dims));
+}
 
 void main() {
-  ivec3 p = ivec3(gl_GlobalInvocationID);
   ivec3 dims = params.dims.xyz;
-  ivec3 end = dims;
-  if ((params.flags & kCoarseDistanceRegionOnly) != 0u) {
-    p += ivec3(region.lo.xyz);
-    end = min(end, ivec3(region.hi.xyz) + ivec3(1));
-  }
-  if (any(greaterThanEqual(p, end))) return;
+  ivec3 p;
+  if (!voxelOf(dims, p)) return;
   int i = (p.z * dims.y + p.y) * dims.x + p.x;
   uint s = nearest[i];
   uint d2 = s == kNoSeed ? 0xFFFFFFFFu : uint(distance2(p, unpackSeed(s)));

@@ -1,31 +1,32 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // CoarseRegionPass: the region of a coarse build over what changed (CoarseRegion). GROW, one invocation per block:
-// a block that box S lies within its bound of the seed distance (coarseBlockReached) grows the region, raising a
-// bound atomically only where the block lies beyond it as last read (as coarse_distance.comp grows its ChangedBox).
-// DISPATCH, one invocation: the indirect dispatches of ExactEdtPass's z lines and CoarseDistancePass over the region.
+// a block that box S lies within its bound of the seed distance (coarseBlockReached) is listed, counted with its
+// voxels, and its column of blocks listed by the first of its blocks to mark it (the marks zeroed by the host).
+// DISPATCH, one invocation: the indirect dispatches of ExactEdtPass's z lines over the listed columns and of
+// CoarseDistancePass over the listed blocks.
 #include "sdf/coarse/CoarseParams.h"
 
 layout(local_size_x = RTSDF_COARSE_REGION_GROUP) in;
 layout(push_constant) uniform Push { CoarseRegionParams params; };
 layout(std430, binding = kCoarseRegionBindingBlockMax) readonly buffer BlockMax { uint blockMax[]; };
 layout(std430, binding = kCoarseRegionBindingRegion) buffer Region { CoarseRegion region; };
+layout(std430, binding = kCoarseRegionBindingLists) buffer Lists { uint lists[]; };
 
 uint groupsFor(uint n, uint size) { return (n + size - 1u) / size; }
+
+void writeDispatches() {
+  const uint linesPerColumn = uint(RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK);
+  region.edtGroups = uvec4(groupsFor(region.counts.y * linesPerColumn, RTSDF_EDT_GROUP_X), 1u, 1u, 0u);
+  uint groups = groupsFor(region.counts.x, RTSDF_COARSE_REGION_BLOCKS_PER_GROUP);
+  uint rowX = min(groups, kCoarseRegionGroupsX);
+  region.distanceGroups = groups == 0u ? uvec4(0u, 1u, 1u, 0u) : uvec4(rowX, groupsFor(groups, rowX), 1u, 0u);
+}
 
 void main() {
   ivec3 dims = params.dims.xyz;
   if (params.dims.w == RTSDF_COARSE_REGION_DISPATCH) {
-    if (gl_GlobalInvocationID.x != 0u) return;
-    if (region.lo.x > region.hi.x) {
-      region.edtGroups = uvec4(0u, 1u, 1u, 0u);
-      region.distanceGroups = uvec4(0u, 1u, 1u, 0u);
-      return;
-    }
-    uvec3 n = region.hi.xyz - region.lo.xyz + uvec3(1u);
-    region.edtGroups = uvec4(groupsFor(n.x, RTSDF_EDT_GROUP_X), n.y, 1u, 0u);
-    region.distanceGroups = uvec4(groupsFor(n.x, RTSDF_JFA_GROUP_X), groupsFor(n.y, RTSDF_JFA_GROUP_Y),
-                                  groupsFor(n.z, RTSDF_JFA_GROUP_Z), 0u);
+    if (gl_GlobalInvocationID.x == 0u) writeDispatches();
     return;
   }
   ivec3 bd = coarseBlockDims(dims);
@@ -35,8 +36,10 @@ void main() {
   ivec3 lo = cell * RTSDF_COARSE_BLOCK;
   ivec3 hi = min(lo + ivec3(RTSDF_COARSE_BLOCK - 1), dims - ivec3(1));
   if (!coarseBlockReached(lo, hi, params.changeLo.xyz, params.changeHi.xyz, blockMax[b])) return;
-  for (int a = 0; a < 3; ++a) {
-    if (uint(lo[a]) < region.lo[a]) atomicMin(region.lo[a], uint(lo[a]));
-    if (uint(hi[a]) > region.hi[a]) atomicMax(region.hi[a], uint(hi[a]));
-  }
+  uint columns = coarseRegionColumnCount(dims);
+  lists[2u * columns + atomicAdd(region.counts.x, 1u)] = b;
+  ivec3 n = hi - lo + ivec3(1);
+  atomicAdd(region.counts.z, uint(n.x * n.y * n.z));
+  uint column = uint(cell.y * bd.x + cell.x);
+  if (atomicExchange(lists[column], 1u) == 0u) lists[columns + atomicAdd(region.counts.y, 1u)] = column;
 }

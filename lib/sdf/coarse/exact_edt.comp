@@ -8,7 +8,8 @@
 // seed, the same rule as exactEdtNearestCpu() (sdf/coarse/CoarseCpu.cpp) and jump flooding.
 // The envelope's stack lives in the line's own output slots (slot k <= the position being written), so there is
 // no private array; every loop runs at most 2n iterations (n <= 1024). A dispatch runs the lines (a, b) of a box:
-// all of an axis in a full build, those a change can reach in a build over what changed (CoarseRegion).
+// all of an axis in a full build; in a build over what changed, the z lines of the columns of blocks a change can
+// reach (the CoarseRegion's listed columns, RTSDF_COARSE_BLOCK^2 lines each).
 #include "sdf/coarse/CoarseParams.h"
 
 layout(local_size_x = RTSDF_EDT_GROUP_X) in;
@@ -16,6 +17,7 @@ layout(push_constant) uniform Push { ExactEdtParams params; };
 layout(std430, binding = kExactEdtBindingSrc) readonly buffer Src { uint src[]; };
 layout(std430, binding = kExactEdtBindingDst) buffer Dst { uint dst[]; };
 layout(std430, binding = kExactEdtBindingRegion) readonly buffer Region { CoarseRegion region; };
+layout(std430, binding = kExactEdtBindingLists) readonly buffer Lists { uint lists[]; };
 
 ivec3 gDims;
 ivec3 gStart;
@@ -26,13 +28,29 @@ int gStride;
 // Height of the parabola at line position s (its input seed exists).
 int heightAt(int s) { return distance2(gStart + s * gStep, unpackSeed(src[gBase + s * gStride])); }
 
+// The line (a, b) this invocation runs, or false where it runs none.
+bool lineOf(int axis, out int a, out int b) {
+  if (params.fromRegion != 0) { // invocation i: line i % 16 of listed column i / 16 (z lines)
+    const uint perColumn = uint(RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK);
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= region.counts.y * perColumn) return false;
+    uint column = lists[coarseRegionColumnCount(gDims) + i / perColumn], line = i % perColumn;
+    int blocksX = coarseBlockDims(gDims).x;
+    a = int(column) % blocksX * RTSDF_COARSE_BLOCK + int(line) % RTSDF_COARSE_BLOCK;
+    b = int(column) / blocksX * RTSDF_COARSE_BLOCK + int(line) / RTSDF_COARSE_BLOCK;
+    return a < gDims.x && b < gDims.y;
+  }
+  ivec4 lines = params.lines;
+  a = lines.x + int(gl_GlobalInvocationID.x);
+  b = lines.y + int(gl_GlobalInvocationID.y);
+  return a < min(lines.z, axis == 0 ? gDims.y : gDims.x) && b < min(lines.w, axis == 2 ? gDims.y : gDims.z);
+}
+
 void main() {
   gDims = params.dims.xyz;
   int axis = params.axis;
-  ivec4 lines = params.fromRegion != 0 ? ivec4(region.lo.x, region.lo.y, region.hi.x + 1u, region.hi.y + 1u)
-                                      : params.lines;
-  int a = lines.x + int(gl_GlobalInvocationID.x), b = lines.y + int(gl_GlobalInvocationID.y);
-  if (a >= min(lines.z, axis == 0 ? gDims.y : gDims.x) || b >= min(lines.w, axis == 2 ? gDims.y : gDims.z)) return;
+  int a, b;
+  if (!lineOf(axis, a, b)) return;
   gStart = edtLineStart(axis, a, b);
   gStep = ivec3(axis == 0 ? 1 : 0, axis == 1 ? 1 : 0, axis == 2 ? 1 : 0);
   gBase = (gStart.z * gDims.y + gStart.y) * gDims.x + gStart.x;

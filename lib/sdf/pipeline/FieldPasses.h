@@ -46,6 +46,7 @@ public:
   std::uint64_t lastCoarseVoxelized() const { return mCoarse.lastVoxelizedVoxels(); }
   /// @brief Read back the region of the last recordCoarse over what changed. The frame must be finished.
   gpu::shared::CoarseRegion readCoarseRegion() const { return mCoarse.readRegion(); }
+  CoarseRegionLists readCoarseRegionLists() const { return mCoarse.readRegionLists(mCoarseSpec.dims); }
   /// @brief Read back the coarse SDF's block bounds (CoarseSdfBuilder::readBlockMax). The frame must be finished.
   std::vector<std::uint32_t> readCoarseBlockMax() const { return mCoarse.readBlockMax(mCoarseSpec.dims); }
   /// @brief The refinement's and upsampling's parameters for frame number @a frame with the brick pool @a pool and

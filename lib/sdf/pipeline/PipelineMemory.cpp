@@ -1,5 +1,6 @@
 #include "sdf/pipeline/PipelineMemory.h"
 
+#include "sdf/coarse/CoarseParams.h"
 #include "sdf/pipeline/BrickPool.h"
 #include "sdf/pipeline/FramePlan.h"
 #include "sdf/refine/RefineParams.h"
@@ -57,9 +58,10 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   const std::uint64_t nearHalfList =
       s.mode == RefineMode::Closest ? (1 + std::uint64_t(gpu::shared::kWindingExactCapacity)) * 16 : 0;
   // A pipeline that builds the coarse SDF over what changed keeps the transform's planes and nearest seeds; every
-  // one keeps a bound per block of 64 coarse voxels.
+  // one keeps a bound per block of 64 coarse voxels, and the lists of a region (a word per block, two per column).
   const std::uint64_t keptTransform = coarseBuiltOverChanges(s) ? 2 * coarseBuf : 0;
-  m.deviceBytes = 6 * coarseBuf + keptTransform + coarseBuf / 64 + fineBuf +
+  const std::uint64_t regionLists = std::uint64_t(gpu::shared::coarseRegionListWords(glm::ivec3(m.coarse.dims))) * 4;
+  m.deviceBytes = 6 * coarseBuf + keptTransform + coarseBuf / 64 + regionLists + fineBuf +
                   std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
                   scene.meshTriangles * (64 + 64 + 48 + 3 * 4) + scene.instanceTriangles * (48 + 4) +
                   scene.instances * (64 + 4 + 112 + 64 + 8 + 32) + nearHalfList + 4096;

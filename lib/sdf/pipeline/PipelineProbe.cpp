@@ -49,9 +49,9 @@ std::vector<std::uint32_t> PipelineProbe::coarseBlockMax() const {
   return mPipe.mFields->readCoarseBlockMax();
 }
 
-gpu::shared::CoarseRegion PipelineProbe::coarseRegion() const {
+CoarseRegionLists PipelineProbe::coarseRegion() const {
   mPipe.waitForFrame();
-  return mPipe.mFields->readCoarseRegion();
+  return mPipe.mFields->readCoarseRegionLists();
 }
 
 gpu::shared::MaskRegion PipelineProbe::lastMaskRegion() const {

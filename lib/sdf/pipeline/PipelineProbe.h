@@ -4,6 +4,7 @@
 ///        (the brick pool's slots and values, the refinement's history and list, the mask's parameters and moved
 ///        boxes). Kept out of SdfPipeline.h so that its users see no gpu::shared types.
 #include "sdf/coarse/CoarseParams.h"
+#include "sdf/coarse/CoarseSdf.h"
 #include "sdf/mask/MaskParams.h"
 #include "sdf/refine/RefineParams.h"
 #include "sdf/SdfPipeline.h"
@@ -40,9 +41,9 @@ public:
   const std::vector<gpu::shared::MovedBox>& lastMovedBoxes() const;
   /// @brief The coarse SDF's block bounds as the last frame left them (CoarseSdfBuilder::readBlockMax).
   std::vector<std::uint32_t> coarseBlockMax() const;
-  /// @brief The region of the last coarse build over what changed (CoarseSdfBuilder::readRegion), and whether the
-  ///        last frame's coarse build was one.
-  gpu::shared::CoarseRegion coarseRegion() const;
+  /// @brief The region of the last coarse build over what changed (CoarseSdfBuilder::readRegionLists), and whether
+  ///        the last frame's coarse build was one.
+  CoarseRegionLists coarseRegion() const;
   bool coarseOverChange() const;
   /// @brief The coarse voxels the last run of the mask visited (GpuRayMask::lastRegion).
   gpu::shared::MaskRegion lastMaskRegion() const;

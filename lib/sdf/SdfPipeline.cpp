@@ -122,6 +122,10 @@ void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::
   mMask->recordScroll(cmd.handle(), grids.first, grids.second, *shift, scratch, mGridShift.get());
   mFields->recordScroll(cmd.handle(), grids.first, grids.second, fineShift, scratch);
   mPool->recordScroll(cmd.handle(), fineShift / RTSDF_BRICK, scratch, mGridShift.get());
+  if (mFailNextScroll) {
+    mFailNextScroll = false;
+    throw Error("SdfPipeline: a failure injected into the scroll (PipelineFaults)");
+  }
   cmd.submitAndWait();
   mMemory = memory;
   mCoarseSpec = mMemory.coarse = grids.first;

@@ -99,7 +99,8 @@ public:
   ///        levelSceneMargin of their boxes: the voxels kept lie in the old box, so no instance in one scene and not
   ///        the other comes within the band of them, and they keep their values.
   /// @throw Error when @a grids are not a scroll of the grids (scrollShift) or @a scratch is too small; as the
-  ///        constructor when @a recut's triangles do not fit.
+  ///        constructor when @a recut's triangles do not fit (all checked before anything moves). A failure after
+  ///        them (the device's) leaves the pipeline's buffers partly moved: build a new one (CascadeSet does).
   void scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::Buffer& scratch, const Scene* recut = nullptr);
   /// @brief From the next frame on, refine only the band within @a reach (world units; null: the whole band, as
   ///        built): the band voxels out of it keep the coarse SDF upsampled (no walk, no brick of their own) until
@@ -188,6 +189,8 @@ private:
   bool mRecordingInterrupted = false;
   /// Tests (PipelineFaults): throw Error in the next frame's recording, after its coarse SDF is recorded.
   bool mFailNextRecording = false;
+  /// Tests (PipelineFaults): throw Error in the next scroll, after its shifts are recorded, before the submit.
+  bool mFailNextScroll = false;
   std::optional<ViewReach> mView; ///< setViewReach's
   FramePlan mPlan;         ///< the passes the last frame ran
   std::unique_ptr<GpuSceneBvh> mBvh;

@@ -11,6 +11,7 @@
 #include "reference/ExactSdf.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
+#include "sdf/cascade/CascadeFaults.h"
 #include "sdf/cascade/CascadeSet.h"
 #include "sdf/pipeline/GridShift.h"
 #include "util/Error.h"
@@ -132,6 +133,62 @@ TEST_F(CascadeSetGpu, ACameraMoveScrollsOnlyTheLevelsWhoseBoxMoved) {
     EXPECT_LT(largestDifference(set.level(i).fineField(), fresh.level(i).fineField()) / voxel, 1e-3);
     EXPECT_LT(largestDifference(set.level(i).coarseField(), fresh.level(i).coarseField()) / voxel, 1e-3);
   }
+}
+
+// Each level of @a set equals the level of a set built fresh around @a camera at @a time (float rounding aside).
+void expectLevelsEqualFresh(const gpu::VulkanContext& ctx, const CascadeSet& set, const Scene& scene,
+                            const glm::dvec3& camera, const PipelineSettings& s, double time) {
+  CascadeSet fresh(ctx, scene, CascadeLayout::around(camera, set.layout().shape), s);
+  fresh.runFrame(time);
+  for (int i = 0; i < set.levels(); ++i) {
+    SCOPED_TRACE("level " + std::to_string(i));
+    ASSERT_EQ(set.level(i).fineSpec().origin, fresh.level(i).fineSpec().origin);
+    const double voxel = set.level(i).fineSpec().voxelSize;
+    EXPECT_LT(largestDifference(set.level(i).fineField(), fresh.level(i).fineField()) / voxel, 1e-3);
+    EXPECT_LT(largestDifference(set.level(i).coarseField(), fresh.level(i).coarseField()) / voxel, 1e-3);
+  }
+}
+
+// A move whose scroll fails (level 0's, after its shifts are recorded) loses that level and the level after it that
+// was to move; the level that was not to move is kept. A lost level is refused, and the next frame builds it again:
+// every level then equals a fresh set's. A move whose rebuild fails (a jump past the grids' width) loses the levels
+// from it on that were to move; the next move lists them as rebuilt, and they equal a fresh set's.
+TEST_F(CascadeSetGpu, AMoveThatFailsLosesTheLevelsItLeftHalfMovedUntilTheyAreBuiltAgain) {
+  const Scene scene = room();
+  const PipelineSettings s = threeLevels();
+  const CascadeShape shape = cascadeShapeFor(buildSceneGeometry(scene).bounds, s);
+  const double move1 = shape.coarseVoxel(1) * shape.moveCells;
+  const glm::dvec3 start = glm::dvec3(0.0, 1.0, 0.0) * shape.coarseVoxel(2) * double(shape.moveCells);
+  CascadeSet set(*sCtx, scene, CascadeLayout::around(start, shape), s);
+  set.runFrame(0.0);
+  const glm::dvec3 next = start + glm::dvec3(0.8 * move1, 0, 0); // moves levels 0 and 1, not 2
+  const std::vector<glm::i64vec3> shift = CascadeLayout::around(next, shape).shiftSince(set.layout());
+  ASSERT_NE(shift[0], glm::i64vec3(0));
+  ASSERT_NE(shift[1], glm::i64vec3(0));
+  ASSERT_EQ(shift[2], glm::i64vec3(0));
+  CascadeFaults(set).failNextScroll(0);
+  EXPECT_THROW(set.moveTo(next), Error);
+  EXPECT_THROW(set.level(0), Error);
+  EXPECT_THROW(set.levelScene(1), Error);
+  EXPECT_NO_THROW(set.level(2)) << "a level that was not to move is kept";
+  set.runFrame(1 / 30.0);
+  expectLevelsEqualFresh(*sCtx, set, scene, next, s, 1 / 30.0);
+
+  const glm::dvec3 far = next + glm::dvec3(2.5, 0, 0);
+  const std::vector<glm::i64vec3> jump = CascadeLayout::around(far, shape).shiftSince(set.layout());
+  std::vector<int> lost;
+  for (int i = 0; i < set.levels(); ++i)
+    if (jump[std::size_t(i)] != glm::i64vec3(0)) lost.push_back(i);
+  ASSERT_FALSE(lost.empty());
+  ASSERT_EQ(lost[0], 0);
+  CascadeFaults(set).failNextBuild();
+  EXPECT_THROW(set.moveTo(far), Error);
+  for (int i : lost) EXPECT_THROW(set.level(i), Error) << "level " << i;
+  const CascadeMove again = set.moveTo(far);
+  EXPECT_TRUE(again.moved.empty()) << "the layout is already there";
+  EXPECT_EQ(again.rebuilt, lost);
+  set.runFrame(2 / 30.0);
+  expectLevelsEqualFresh(*sCtx, set, scene, far, s, 2 / 30.0);
 }
 
 // A camera walking, then driving, along a diagonal that also climbs and turns back, while the teapot orbits: after

@@ -3,6 +3,9 @@
 #include "sdf/cascade/CascadeScene.h"
 #include "sdf/pipeline/GridShift.h"
 
+#include "util/Error.h"
+
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -62,10 +65,29 @@ void CascadeSet::applyView(int i, SdfPipeline& level) const {
 void CascadeSet::setView(const Camera& camera, double aspect) {
   viewReachOf(camera, aspect, 0.0); // throws on a camera without a view direction
   mView = std::make_pair(camera, aspect);
-  for (int i = 1; i < levels(); ++i) applyView(i, *mLevels[std::size_t(i)].pipeline);
+  for (int i = 1; i < levels(); ++i) // a lost level takes the view when it is built again
+    if (!mLevels[std::size_t(i)].lost) applyView(i, *mLevels[std::size_t(i)].pipeline);
+}
+
+void CascadeSet::rebuildLostLevels(std::vector<int>* rebuilt) {
+  for (int i = 0; i < levels(); ++i) {
+    Level& level = mLevels[std::size_t(i)];
+    if (!level.lost) continue;
+    level = freshLevel(i); // a level that fails again stays lost (and holds nothing)
+    if (rebuilt) rebuilt->push_back(i);
+  }
+}
+
+CascadeSet::Level CascadeSet::freshLevel(int i) {
+  if (mFailNextBuild) {
+    mFailNextBuild = false;
+    throw Error(fmt::format("CascadeSet: a failure injected into building level {} (CascadeFaults)", i));
+  }
+  return buildLevel(i);
 }
 
 std::vector<FrameStats> CascadeSet::runFrame(double time) {
+  rebuildLostLevels(nullptr);
   std::vector<FrameStats> stats;
   for (Level& level : mLevels) stats.push_back(level.pipeline->runFrame(time));
   return stats;
@@ -99,19 +121,47 @@ CascadeMove CascadeSet::moveTo(const glm::dvec3& camera, const glm::dvec3& lookA
   mLayout = next;
   CascadeMove move;
   for (int i = 0; i < levels(); ++i) {
-    if (shift[std::size_t(i)] == glm::i64vec3(0)) continue;
-    move.moved.push_back(i);
-    bool recut = false;
-    if (scrollLevel(i, recut)) {
-      if (recut) move.recut.push_back(i);
-      continue;
+    const bool lost = mLevels[std::size_t(i)].lost;
+    if (shift[std::size_t(i)] == glm::i64vec3(0) && !lost) continue;
+    if (!lost) move.moved.push_back(i);
+    try {
+      bool recut = false;
+      if (!lost && scrollLevel(i, recut)) {
+        if (recut) move.recut.push_back(i);
+        continue;
+      }
+      Level& level = mLevels[std::size_t(i)];
+      level = Level{}; // the old level's buffers go before the new one's are made
+      level = freshLevel(i);
+      move.rebuilt.push_back(i);
+    } catch (...) {
+      // This level's buffers may be partly moved, and the levels after it are not where the layout now puts them:
+      // they are built again, from scratch, before the set is used next (runFrame, moveTo).
+      for (int j = i; j < levels(); ++j)
+        if (j == i || shift[std::size_t(j)] != glm::i64vec3(0)) loseLevel(j);
+      throw;
     }
-    Level& level = mLevels[std::size_t(i)];
-    level = Level{}; // the old level's buffers go before the new one's are made
-    level = buildLevel(i);
-    move.rebuilt.push_back(i);
   }
   return move;
+}
+
+void CascadeSet::loseLevel(int i) {
+  Level& level = mLevels[std::size_t(i)];
+  level = Level{}; // its buffers go now: a device out of memory may need them for the rebuild
+  level.lost = true;
+}
+
+const SdfPipeline& CascadeSet::level(int i) const {
+  const Level& level = mLevels.at(std::size_t(i));
+  if (level.lost)
+    throw Error(fmt::format("CascadeSet: level {} was lost by a move that failed; it is built again by the next "
+                            "runFrame or moveTo", i));
+  return *level.pipeline;
+}
+
+const Scene& CascadeSet::levelScene(int i) const {
+  level(i); // throws for a lost level
+  return *mLevels[std::size_t(i)].scene;
 }
 
 FrameStats sumFrameStats(const std::vector<FrameStats>& levels) {

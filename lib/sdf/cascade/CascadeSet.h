@@ -38,10 +38,16 @@ public:
   CascadeSet(const CascadeSet&) = delete;
   CascadeSet& operator=(const CascadeSet&) = delete;
 
-  /// @brief One frame of every level at @a time seconds, finest first; their statistics.
+  /// @brief One frame of every level at @a time seconds, finest first; their statistics. Levels lost by a move
+  ///        that failed are built again first.
+  /// @throw Error as SdfPipeline::runFrame, and as the constructor for a lost level built again.
   std::vector<FrameStats> runFrame(double time);
   /// @brief Centre the levels on @a camera (level i on camera + lookAhead 2^i, CascadeLayout::around); a level
   ///        whose snapped box changed scrolls, or is rebuilt (its history lost) where it cannot (see the class).
+  ///        Levels lost by a move that failed are built again (listed as rebuilt, not as moved).
+  /// @throw Error where a level's scroll or rebuild fails (the device's): that level, and the levels after it that
+  ///        were to move, are lost (their buffers released; level() refuses them) until the next runFrame or moveTo
+  ///        builds them again where the layout then puts them. The layout is the new one in any case.
   CascadeMove moveTo(const glm::dvec3& camera, const glm::dvec3& lookAhead = glm::dvec3(0.0));
   /// @brief From the next frame on, levels above 0 refine only the band near @a camera's view: within
   ///        PipelineSettings::cascadeViewMargin of their coarse voxels of the cone holding the image at @a aspect
@@ -50,9 +56,11 @@ public:
   /// @throw Error as viewReachOf.
   void setView(const Camera& camera, double aspect);
   int levels() const { return int(mLevels.size()); }
-  const SdfPipeline& level(int i) const { return *mLevels.at(std::size_t(i)).pipeline; }
+  /// @throw Error for a level lost by a move that failed (see moveTo).
+  const SdfPipeline& level(int i) const;
   /// @brief The instances level @a i places (levelScene).
-  const Scene& levelScene(int i) const { return *mLevels.at(std::size_t(i)).scene; }
+  /// @throw Error as level().
+  const Scene& levelScene(int i) const;
   const CascadeLayout& layout() const { return mLayout; }
   /// @brief The estimate checked at construction.
   const CascadeMemory& memory() const { return mMemory; }
@@ -62,9 +70,17 @@ private:
     std::unique_ptr<Scene> scene; ///< outlives its pipeline, which keeps a reference
     std::unique_ptr<SdfPipeline> pipeline;
     Bounds sceneBox; ///< the box the scene was cut around (the level's box when it was built)
+    bool lost = false; ///< a move failed on it: nothing held, built again before the set is used next
   };
+  friend class CascadeFaults; // failures injected into moves, for tests
   /// Level @a i of the layout: its part of the scene and its pipeline (limited to the view where one is set).
   Level buildLevel(int i) const;
+  /// buildLevel, where no failure is injected (CascadeFaults).
+  Level freshLevel(int i);
+  /// Release level @a i and mark it lost (moveTo's failures).
+  void loseLevel(int i);
+  /// Build every lost level again (where the layout puts it), appending their indices to @a rebuilt if given.
+  void rebuildLostLevels(std::vector<int>* rebuilt);
   /// Limit level @a i's refinement to the view set (setView), if any, for i > 0.
   void applyView(int i, SdfPipeline& level) const;
   /// Level @a i's part of the scene around its box in the layout (levelScene with levelCutMargin).
@@ -80,6 +96,7 @@ private:
   std::vector<Level> mLevels;
   gpu::Buffer mScrollScratch; ///< shared by the levels' scrolls (SdfPipeline::scroll), one at a time
   std::optional<std::pair<Camera, double>> mView; ///< setView's camera and aspect
+  bool mFailNextBuild = false; ///< tests (CascadeFaults): the next level built in a move or again throws Error
 };
 
 /// @brief One frame's statistics over every level: counts, bytes and times summed, passes listed level after level

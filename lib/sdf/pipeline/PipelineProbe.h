@@ -60,6 +60,8 @@ public:
   /// @brief The next submitFrame() throws Error after recording its coarse SDF, its other passes unrecorded and
   ///        nothing submitted (as a device out of memory would leave it).
   void failNextRecording() { mPipe.mFailNextRecording = true; }
+  /// @brief The next scroll() throws Error after recording its shifts, nothing submitted (its checks passed).
+  void failNextScroll() { mPipe.mFailNextScroll = true; }
 
 private:
   SdfPipeline& mPipe;

@@ -160,11 +160,13 @@ protected:
     gpu::download(*sCtx, region, &out.region, sizeof(out.region));
     std::vector<std::uint32_t> words(listWords);
     gpu::download(*sCtx, lists, words.data(), listWords * 4);
-    const std::size_t columns = gpu::shared::coarseRegionColumnCount(dims);
-    out.columns.assign(words.begin() + std::ptrdiff_t(columns),
-                       words.begin() + std::ptrdiff_t(columns + out.region.counts.y));
-    out.blocks.assign(words.begin() + std::ptrdiff_t(2 * columns),
-                      words.begin() + std::ptrdiff_t(2 * columns + out.region.counts.x));
+    const auto columnsAt = std::ptrdiff_t(gpu::shared::coarseRegionColumnsAt(dims));
+    const auto blocksAt = std::ptrdiff_t(gpu::shared::coarseRegionBlocksAt(dims));
+    EXPECT_EQ(words[0], out.region.counts.x) << "the host's copy of the counts";
+    EXPECT_EQ(words[1], out.region.counts.y);
+    EXPECT_EQ(words[2], out.region.counts.z);
+    out.columns.assign(words.begin() + columnsAt, words.begin() + columnsAt + std::ptrdiff_t(out.region.counts.y));
+    out.blocks.assign(words.begin() + blocksAt, words.begin() + blocksAt + std::ptrdiff_t(out.region.counts.x));
     std::sort(out.columns.begin(), out.columns.end());
     std::sort(out.blocks.begin(), out.blocks.end());
     return out;

@@ -24,19 +24,17 @@ const uint kJumpFloodBindingDst = 1u;           // nearest seeds after this step
 const uint kJumpFloodBindingCount = 2u;
 const uint kExactEdtBindingSrc = 0u;            // nearest seeds of the previous axis (or the seeds)
 const uint kExactEdtBindingDst = 1u;            // nearest seeds after this axis; also the line's scratch stack
-const uint kExactEdtBindingRegion = 2u;         // CoarseRegion (read where ExactEdtParams::fromRegion)
-const uint kExactEdtBindingLists = 3u;          // the region's lists (its columns read where fromRegion)
-const uint kExactEdtBindingCount = 4u;
+const uint kExactEdtBindingLists = 2u;          // the region's lists (its columns read where fromRegion)
+const uint kExactEdtBindingCount = 3u;
 const uint kCoarseDistanceBindingNearest = 0u;  // nearest seed per voxel
 const uint kCoarseDistanceBindingDistance = 1u; // c per voxel (read: the last build's, then written)
 const uint kCoarseDistanceBindingChanged = 2u;  // ChangedBox: grown to hold every voxel whose c changed
 const uint kCoarseDistanceBindingBlockMax = 3u; // uint per block: at least the largest squared seed distance in it
-const uint kCoarseDistanceBindingRegion = 4u;   // CoarseRegion (read with kCoarseDistanceRegionOnly)
-const uint kCoarseDistanceBindingLists = 5u;    // the region's lists (its blocks read with kCoarseDistanceRegionOnly)
-const uint kCoarseDistanceBindingCount = 6u;
+const uint kCoarseDistanceBindingLists = 4u;    // the region's lists (its blocks read with kCoarseDistanceRegionOnly)
+const uint kCoarseDistanceBindingCount = 5u;
 const uint kCoarseRegionBindingBlockMax = 0u;   // the last build's block bounds (read)
-const uint kCoarseRegionBindingRegion = 1u;     // CoarseRegion (counted, then its dispatches written)
-const uint kCoarseRegionBindingLists = 2u;      // the region's lists (coarseRegionListWords; column marks zeroed first)
+const uint kCoarseRegionBindingRegion = 1u;     // CoarseRegion (written: the counts and dispatches)
+const uint kCoarseRegionBindingLists = 2u;      // the region's lists (coarseRegionListWords), counted and listed
 const uint kCoarseRegionBindingCount = 3u;
 
 /// The box of the coarse voxels whose value a build changed (coarse_distance.comp compares each voxel's new c with
@@ -59,10 +57,12 @@ const uint kChangedBoxEmptyLo = 0xFFFFFFFFu; // the reset value of lo (hi is res
 /// Work-group size of coarse_region.comp (one invocation per block).
 #define RTSDF_COARSE_REGION_GROUP 64
 
-/// The region of a build over what changed: counts.x blocks and counts.y block columns listed (coarseRegionListWords),
-/// counts.z the voxels of the listed blocks; and the indirect dispatches of ExactEdtPass's z lines (one invocation per
-/// line of a listed column) and of CoarseDistancePass (RTSDF_COARSE_REGION_BLOCKS_PER_GROUP listed blocks per group,
-/// the groups in rows of kCoarseRegionGroupsX); no groups (x = 0) for an empty region.
+/// The region of a build over what changed: counts.x blocks and counts.y block columns listed (coarseRegionListWords,
+/// whose counts these are, copied), counts.z the voxels of the listed blocks; and the indirect dispatches of
+/// ExactEdtPass's z lines (one invocation per line of a listed column) and of CoarseDistancePass
+/// (RTSDF_COARSE_REGION_BLOCKS_PER_GROUP listed blocks per group, the groups in rows of kCoarseRegionGroupsX); no
+/// groups (x = 0) for an empty region. In host memory (a frame's statistics read it), written by one invocation:
+/// the lists' counting atomics stay in device memory.
 struct CoarseRegion {
   uvec4 counts;
   uvec4 edtGroups;
@@ -89,16 +89,23 @@ RTSDF_FN uint coarseBlockIndex(ivec3 v, ivec3 blockDims) {
   return uint((b.z * blockDims.y + b.y) * blockDims.x + b.x);
 }
 
-/// The region's lists in one buffer of words: [0, C) a mark per block column (bx + by * blocks along x; zeroed before
-/// a region is listed), [C, 2C) the listed columns, [2C, 2C + B) the listed blocks (coarseBlockIndex), where C and B
-/// are the grid's block columns and blocks. Both lists in no particular order.
+/// The region's lists in one buffer of words: [0, 4) the counts (as CoarseRegion::counts), [4, 4 + C) a mark per
+/// block column (bx + by * blocks along x), [4 + C, 4 + 2C) the listed columns, [4 + 2C, 4 + 2C + B) the listed
+/// blocks (coarseBlockIndex), where C and B are the grid's block columns and blocks; the counts and marks zeroed
+/// before a region is listed (coarseRegionZeroedWords). Both lists in no particular order.
 RTSDF_FN uint coarseRegionColumnCount(ivec3 dims) {
   ivec3 bd = coarseBlockDims(dims);
   return uint(bd.x * bd.y);
 }
+const uint kCoarseRegionCountWords = 4u;
+RTSDF_FN uint coarseRegionColumnsAt(ivec3 dims) { return kCoarseRegionCountWords + coarseRegionColumnCount(dims); }
+RTSDF_FN uint coarseRegionBlocksAt(ivec3 dims) {
+  return kCoarseRegionCountWords + 2u * coarseRegionColumnCount(dims);
+}
+RTSDF_FN uint coarseRegionZeroedWords(ivec3 dims) { return coarseRegionColumnsAt(dims); }
 RTSDF_FN uint coarseRegionListWords(ivec3 dims) {
   ivec3 bd = coarseBlockDims(dims);
-  return 2u * uint(bd.x * bd.y) + uint(bd.x * bd.y * bd.z);
+  return coarseRegionBlocksAt(dims) + uint(bd.x * bd.y * bd.z);
 }
 
 /// Whether box @a changeLo..changeHi (S) lies within the seed distance of some voxel of the block with voxels @a lo..hi

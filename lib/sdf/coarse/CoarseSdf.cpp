@@ -114,7 +114,6 @@ void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
     std::array<gpu::Binding, kExactEdtBindingCount> b;
     b[kExactEdtBindingSrc] = stages[axis];
     b[kExactEdtBindingDst] = stages[axis + 1];
-    b[kExactEdtBindingRegion] = &in.region;
     b[kExactEdtBindingLists] = &in.lists;
     if (p.fromRegion)
       mPipeline.dispatchIndirect(cmd, b, &p, in.region, offsetof(CoarseRegion, edtGroups));
@@ -127,9 +126,7 @@ void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
 void CoarseRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                                const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
-  const CoarseRegion empty{};
-  gpu::recordUpload(cmd, out.region, &empty, sizeof(empty));
-  vkCmdFillBuffer(cmd, out.lists.handle(), 0, std::uint64_t(coarseRegionColumnCount(params.dims)) * 4, 0u);
+  vkCmdFillBuffer(cmd, out.lists.handle(), 0, std::uint64_t(coarseRegionZeroedWords(params.dims)) * 4, 0u);
   gpu::computeBarrier(cmd);
   CoarseRegionParams p{};
   p.dims = glm::ivec4(params.dims, RTSDF_COARSE_REGION_GROW);
@@ -180,7 +177,6 @@ void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
   b[kCoarseDistanceBindingDistance] = &out.distance;
   b[kCoarseDistanceBindingChanged] = &out.changed;
   b[kCoarseDistanceBindingBlockMax] = &out.blockMax;
-  b[kCoarseDistanceBindingRegion] = &in.region;
   b[kCoarseDistanceBindingLists] = &in.lists;
   if (params.flags & kCoarseDistanceRegionOnly)
     mPipeline.dispatchIndirect(cmd, b, &params, in.region, offsetof(CoarseRegion, distanceGroups));
@@ -369,11 +365,11 @@ CoarseRegionLists CoarseSdfBuilder::readRegionLists(const glm::ivec3& dims) cons
   const CoarseRegion r = readRegion();
   std::vector<std::uint32_t> words(coarseRegionListWords(dims));
   download(mCtx, mRegionLists, words.data(), words.size() * 4);
-  const std::size_t columns = coarseRegionColumnCount(dims);
+  const auto columnsAt = std::ptrdiff_t(coarseRegionColumnsAt(dims));
+  const auto blocksAt = std::ptrdiff_t(coarseRegionBlocksAt(dims));
   CoarseRegionLists out;
-  out.columns.assign(words.begin() + std::ptrdiff_t(columns), words.begin() + std::ptrdiff_t(columns + r.counts.y));
-  out.blocks.assign(words.begin() + std::ptrdiff_t(2 * columns),
-                    words.begin() + std::ptrdiff_t(2 * columns + r.counts.x));
+  out.columns.assign(words.begin() + columnsAt, words.begin() + columnsAt + std::ptrdiff_t(r.counts.y));
+  out.blocks.assign(words.begin() + blocksAt, words.begin() + blocksAt + std::ptrdiff_t(r.counts.x));
   std::sort(out.columns.begin(), out.columns.end());
   std::sort(out.blocks.begin(), out.blocks.end());
   out.voxels = r.counts.z;

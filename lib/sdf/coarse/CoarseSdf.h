@@ -91,14 +91,14 @@ struct CoarseVoxelBox {
 ///        -> scratch, y: scratch -> seeds, z: seeds -> scratch (the result). With them (kept from build to build):
 ///        x: seeds -> scratch, y: scratch -> planes, z: planes -> nearest; and then Params::change may restrict the
 ///        build to what a change of seeds inside that box reaches: the x and y lines of the planes z crossing it (the
-///        planes elsewhere hold the same seeds), and the z lines of the columns the CoarseRegion in @a region lists
-///        in @a lists (CoarseRegionPass; dispatched indirectly). @a region and @a lists are bound in any case.
+///        planes elsewhere hold the same seeds), and the z lines of the columns listed in @a lists (CoarseRegionPass;
+///        dispatched indirectly from @a region). @a lists is bound in any case.
 class ExactEdtPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "ExactEdtPass";
   struct Inputs {
     const gpu::Buffer& seeds;  ///< overwritten by the y pass unless @a planes is given
-    const gpu::Buffer& region; ///< gpu::shared::CoarseRegion, read with Params::change
+    const gpu::Buffer& region; ///< gpu::shared::CoarseRegion: the indirect dispatch with Params::change
     const gpu::Buffer& lists;  ///< its lists (coarseRegionListWords), read with Params::change
   };
   struct Outputs {
@@ -162,8 +162,8 @@ template <class Region> std::uint64_t regionVoxels(const Region& r) {
 ///        from what @a distance held (gpu::shared::ChangedBox, grown: the caller resets it), and per block of
 ///        RTSDF_COARSE_BLOCK^3 voxels, with kCoarseDistanceKeepBounds, @a blockMax raised to at least each voxel's
 ///        squared seed distance (the caller zeroes it for a full build). With kCoarseDistanceRegionOnly, over the
-///        blocks the CoarseRegion in @a region lists in @a lists alone (dispatched indirectly); @a region, @a lists
-///        and @a blockMax are bound in any case.
+///        blocks listed in @a lists alone (dispatched indirectly from @a region); @a lists and @a blockMax are
+///        bound in any case.
 class CoarseDistancePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "CoarseDistancePass";

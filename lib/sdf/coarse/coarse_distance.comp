@@ -16,8 +16,7 @@ layout(std430, binding = kCoarseDistanceBindingNearest) readonly buffer Nearest 
 layout(std430, binding = kCoarseDistanceBindingDistance) buffer Distance { float distance[]; };
 layout(std430, binding = kCoarseDistanceBindingChanged) buffer Changed { ChangedBox changed; };
 layout(std430, binding = kCoarseDistanceBindingBlockMax) buffer BlockMax { uint blockMax[]; };
-layout(std430, binding = kCoarseDistanceBindingRegion) readonly buffer Region { CoarseRegion region; };
-layout(std430, binding = kCoarseDistanceBindingLists) readonly buffer Lists { uint lists[]; };
+layout(std430, binding = kCoarseDistanceBindingLists) readonly buffer Lists { uvec4 counts; uint lists[]; };
 
 // The voxel this invocation computes, or false where it computes none.
 bool voxelOf(ivec3 dims, out ivec3 p) {
@@ -28,9 +27,9 @@ bool voxelOf(ivec3 dims, out ivec3 p) {
   const uint perBlock = uint(RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK);
   uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
   uint k = group * uint(RTSDF_COARSE_REGION_BLOCKS_PER_GROUP) + gl_LocalInvocationIndex / perBlock;
-  if (k >= region.counts.x) return false;
+  if (k >= counts.x) return false;
   ivec3 bd = coarseBlockDims(dims);
-  int b = int(lists[2u * coarseRegionColumnCount(dims) + k]);
+  int b = int(lists[coarseRegionBlocksAt(dims) - kCoarseRegionCountWords + k]);
   int v = int(gl_LocalInvocationIndex % perBlock);
   ivec3 local = ivec3(v % RTSDF_COARSE_BLOCK, v / RTSDF_COARSE_BLOCK % RTSDF_COARSE_BLOCK,
                       v / (RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK));

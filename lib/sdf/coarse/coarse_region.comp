@@ -2,23 +2,25 @@
 #extension GL_GOOGLE_include_directive : require
 // CoarseRegionPass: the region of a coarse build over what changed (CoarseRegion). GROW, one invocation per block:
 // a block that box S lies within its bound of the seed distance (coarseBlockReached) is listed, counted with its
-// voxels, and its column of blocks listed by the first of its blocks to mark it (the marks zeroed by the host).
-// DISPATCH, one invocation: the indirect dispatches of ExactEdtPass's z lines over the listed columns and of
-// CoarseDistancePass over the listed blocks.
+// voxels, and its column of blocks listed by the first of its blocks to mark it (the counts and marks zeroed by the
+// host; all in the lists' device buffer). DISPATCH, one invocation: the counts copied into the CoarseRegion (host
+// memory) with the indirect dispatches of ExactEdtPass's z lines over the listed columns and of CoarseDistancePass
+// over the listed blocks.
 #include "sdf/coarse/CoarseParams.h"
 
 layout(local_size_x = RTSDF_COARSE_REGION_GROUP) in;
 layout(push_constant) uniform Push { CoarseRegionParams params; };
 layout(std430, binding = kCoarseRegionBindingBlockMax) readonly buffer BlockMax { uint blockMax[]; };
-layout(std430, binding = kCoarseRegionBindingRegion) buffer Region { CoarseRegion region; };
-layout(std430, binding = kCoarseRegionBindingLists) buffer Lists { uint lists[]; };
+layout(std430, binding = kCoarseRegionBindingRegion) writeonly buffer Region { CoarseRegion region; };
+layout(std430, binding = kCoarseRegionBindingLists) buffer Lists { uvec4 counts; uint lists[]; };
 
 uint groupsFor(uint n, uint size) { return (n + size - 1u) / size; }
 
 void writeDispatches() {
   const uint linesPerColumn = uint(RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK);
-  region.edtGroups = uvec4(groupsFor(region.counts.y * linesPerColumn, RTSDF_EDT_GROUP_X), 1u, 1u, 0u);
-  uint groups = groupsFor(region.counts.x, RTSDF_COARSE_REGION_BLOCKS_PER_GROUP);
+  region.counts = counts;
+  region.edtGroups = uvec4(groupsFor(counts.y * linesPerColumn, RTSDF_EDT_GROUP_X), 1u, 1u, 0u);
+  uint groups = groupsFor(counts.x, RTSDF_COARSE_REGION_BLOCKS_PER_GROUP);
   uint rowX = min(groups, kCoarseRegionGroupsX);
   region.distanceGroups = groups == 0u ? uvec4(0u, 1u, 1u, 0u) : uvec4(rowX, groupsFor(groups, rowX), 1u, 0u);
 }
@@ -36,10 +38,12 @@ void main() {
   ivec3 lo = cell * RTSDF_COARSE_BLOCK;
   ivec3 hi = min(lo + ivec3(RTSDF_COARSE_BLOCK - 1), dims - ivec3(1));
   if (!coarseBlockReached(lo, hi, params.changeLo.xyz, params.changeHi.xyz, blockMax[b])) return;
-  uint columns = coarseRegionColumnCount(dims);
-  lists[2u * columns + atomicAdd(region.counts.x, 1u)] = b;
+  // lists[] starts after the counts (word w of the buffer is lists[w - kCoarseRegionCountWords]): the marks first.
+  const uint base = kCoarseRegionCountWords;
+  lists[coarseRegionBlocksAt(dims) - base + atomicAdd(counts.x, 1u)] = b;
   ivec3 n = hi - lo + ivec3(1);
-  atomicAdd(region.counts.z, uint(n.x * n.y * n.z));
+  atomicAdd(counts.z, uint(n.x * n.y * n.z));
   uint column = uint(cell.y * bd.x + cell.x);
-  if (atomicExchange(lists[column], 1u) == 0u) lists[columns + atomicAdd(region.counts.y, 1u)] = column;
+  if (atomicExchange(lists[column], 1u) == 0u)
+    lists[coarseRegionColumnsAt(dims) - base + atomicAdd(counts.y, 1u)] = column;
 }

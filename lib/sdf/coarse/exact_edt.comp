@@ -16,8 +16,7 @@ layout(local_size_x = RTSDF_EDT_GROUP_X) in;
 layout(push_constant) uniform Push { ExactEdtParams params; };
 layout(std430, binding = kExactEdtBindingSrc) readonly buffer Src { uint src[]; };
 layout(std430, binding = kExactEdtBindingDst) buffer Dst { uint dst[]; };
-layout(std430, binding = kExactEdtBindingRegion) readonly buffer Region { CoarseRegion region; };
-layout(std430, binding = kExactEdtBindingLists) readonly buffer Lists { uint lists[]; };
+layout(std430, binding = kExactEdtBindingLists) readonly buffer Lists { uvec4 counts; uint lists[]; };
 
 ivec3 gDims;
 ivec3 gStart;
@@ -33,8 +32,9 @@ bool lineOf(int axis, out int a, out int b) {
   if (params.fromRegion != 0) { // invocation i: line i % 16 of listed column i / 16 (z lines)
     const uint perColumn = uint(RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK);
     uint i = gl_GlobalInvocationID.x;
-    if (i >= region.counts.y * perColumn) return false;
-    uint column = lists[coarseRegionColumnCount(gDims) + i / perColumn], line = i % perColumn;
+    if (i >= counts.y * perColumn) return false;
+    uint column = lists[coarseRegionColumnsAt(gDims) - kCoarseRegionCountWords + i / perColumn];
+    uint line = i % perColumn;
     int blocksX = coarseBlockDims(gDims).x;
     a = int(column) % blocksX * RTSDF_COARSE_BLOCK + int(line) % RTSDF_COARSE_BLOCK;
     b = int(column) / blocksX * RTSDF_COARSE_BLOCK + int(line) / RTSDF_COARSE_BLOCK;

@@ -107,9 +107,12 @@ void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
     p.axis = axis;
     const int na = axis == 0 ? dims.y : dims.x, nb = axis == 2 ? dims.y : dims.z;
     p.lines = glm::ivec4(0, 0, na, nb);
-    // Over what changed: the x and y lines of the planes z the change crosses; the z lines of the region.
-    if (params.change && axis < 2) p.lines = glm::ivec4(0, params.change->lo.z, na, params.change->hi.z + 1);
-    p.fromRegion = params.change && axis == 2 ? 1 : 0;
+    // Over what changed: the x lines crossing the change (the x pass's output elsewhere is the last build's, kept in
+    // the scratch), the y lines of the planes z it crosses, the z lines of the region's columns.
+    const CoarseVoxelBox* c = params.change;
+    if (c && axis == 0) p.lines = glm::ivec4(c->lo.y, c->lo.z, c->hi.y + 1, c->hi.z + 1);
+    if (c && axis == 1) p.lines = glm::ivec4(0, c->lo.z, na, c->hi.z + 1);
+    p.fromRegion = c && axis == 2 ? 1 : 0;
     gpu::computeBarrier(cmd); // the previous axis (or pass) wrote src
     std::array<gpu::Binding, kExactEdtBindingCount> b;
     b[kExactEdtBindingSrc] = stages[axis];
@@ -117,8 +120,10 @@ void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
     b[kExactEdtBindingLists] = &in.lists;
     if (p.fromRegion)
       mPipeline.dispatchIndirect(cmd, b, &p, in.region, offsetof(CoarseRegion, edtGroups));
-    else if (p.lines.w > p.lines.y)
-      mPipeline.dispatch(cmd, b, &p, {gpu::groupsFor(na, RTSDF_EDT_GROUP_X), std::uint32_t(p.lines.w - p.lines.y), 1});
+    else if (p.lines.z > p.lines.x && p.lines.w > p.lines.y)
+      mPipeline.dispatch(cmd, b, &p,
+                         {gpu::groupsFor(std::uint32_t(p.lines.z - p.lines.x), RTSDF_EDT_GROUP_X),
+                          std::uint32_t(p.lines.w - p.lines.y), 1});
   }
   gpu::computeBarrier(cmd);
 }

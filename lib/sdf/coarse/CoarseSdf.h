@@ -89,10 +89,11 @@ struct CoarseVoxelBox {
 /// @brief ExactEdtPass: the exact nearest seed per voxel by a separable feature transform, one dispatch per axis, one
 ///        invocation per grid line. Any dims up to kMaxSeedAxis per axis. Without @a planes and @a nearest: x: seeds
 ///        -> scratch, y: scratch -> seeds, z: seeds -> scratch (the result). With them (kept from build to build):
-///        x: seeds -> scratch, y: scratch -> planes, z: planes -> nearest; and then Params::change may restrict the
-///        build to what a change of seeds inside that box reaches: the x and y lines of the planes z crossing it (the
-///        planes elsewhere hold the same seeds), and the z lines of the columns listed in @a lists (CoarseRegionPass;
-///        dispatched indirectly from @a region). @a lists is bound in any case.
+///        x: seeds -> scratch, y: scratch -> planes, z: planes -> nearest, all three kept; and then Params::change
+///        may restrict the build to what a change of seeds inside that box reaches: the x lines crossing it (the
+///        others keep their output in @a scratch), the y lines of the planes z crossing it (the planes elsewhere hold
+///        the same seeds), and the z lines of the columns listed in @a lists (CoarseRegionPass; dispatched
+///        indirectly from @a region). @a lists is bound in any case.
 class ExactEdtPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "ExactEdtPass";
@@ -102,7 +103,8 @@ public:
     const gpu::Buffer& lists;  ///< its lists (coarseRegionListWords), read with Params::change
   };
   struct Outputs {
-    const gpu::Buffer& scratch;             ///< the x pass's output; the nearest seeds unless @a nearest is given
+    const gpu::Buffer& scratch;             ///< the x pass's output (kept with @a planes and @a nearest); the
+                                            ///< nearest seeds unless @a nearest is given
     const gpu::Buffer* planes = nullptr;    ///< the y pass's output, kept (the nearest seed in each plane z)
     const gpu::Buffer* nearest = nullptr;   ///< the nearest seeds, kept
   };

@@ -172,6 +172,19 @@ protected:
     return out;
   }
 
+  /// A build over a change left @a nearest (found apart from it) and the CPU copy's distances of them, bit for bit,
+  /// with buildOverChange's distance parameters.
+  static void expectNearestAndDistances(const OverChange& gpu, const std::vector<std::uint32_t>& nearest,
+                                        const glm::ivec3& dims) {
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < nearest.size(); ++i) wrong += gpu.nearest[i] != nearest[i];
+    EXPECT_EQ(wrong, 0u) << "voxels whose nearest seed is not the one found apart";
+    const std::vector<float> cpu = coarseDistanceCpu(nearest, dims, 0.5f, 0.25f, 99.0f);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < cpu.size(); ++i) differ += std::memcmp(&cpu[i], &gpu.distance[i], 4) != 0;
+    EXPECT_EQ(differ, 0u) << "distances not those of the CPU copy";
+  }
+
   static inline std::unique_ptr<CoarseSdfBuilder> sBuilder;
   friend struct CoarseTag;
 };
@@ -398,13 +411,7 @@ TEST_F(CoarseSdfGpu, ExactEdtOverAChangeEqualsBruteForce) {
       const glm::ivec3 q(int(i % dims.x), int((i / dims.x) % dims.y), int(i / (std::size_t(dims.x) * dims.y)));
       for (std::uint32_t p : points) brute[i] = gpu::shared::nearerSeed(q, brute[i], p);
     });
-    std::size_t wrong = 0;
-    for (std::size_t i = 0; i < n; ++i) wrong += gpu.nearest[i] != brute[i];
-    EXPECT_EQ(wrong, 0u) << "voxels whose nearest seed is not the brute force's";
-    const std::vector<float> cpu = coarseDistanceCpu(brute, dims, 0.5f, 0.25f, 99.0f);
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < n; ++i) differ += std::memcmp(&cpu[i], &gpu.distance[i], 4) != 0;
-    EXPECT_EQ(differ, 0u) << "distances not those of the CPU copy";
+    expectNearestAndDistances(gpu, brute, dims);
     const CoarseRegionLists cpuRegion = coarseRegionCpu(gpu.blockMaxBefore, dims, c.box);
     EXPECT_EQ(gpu.blocks, cpuRegion.blocks);
     EXPECT_EQ(gpu.columns, cpuRegion.columns);
@@ -443,14 +450,7 @@ TEST_F(CoarseSdfGpu, ABuildOverAChangeListingMoreBlocksThanARowOfGroupsEqualsThe
   EXPECT_EQ(gpu.region.counts.y, std::uint32_t(bd.x * bd.y));
   EXPECT_EQ(gpu.region.counts.z, n);
   EXPECT_GT(gpu.region.distanceGroups.y, 1u) << "the groups fill more than one row";
-  const std::vector<std::uint32_t> cpu = exactEdtNearestCpu(after, dims);
-  std::size_t wrong = 0;
-  for (std::size_t i = 0; i < n; ++i) wrong += gpu.nearest[i] != cpu[i];
-  EXPECT_EQ(wrong, 0u) << "voxels whose nearest seed is not the CPU copy's";
-  const std::vector<float> distance = coarseDistanceCpu(cpu, dims, 0.5f, 0.25f, 99.0f);
-  std::size_t differ = 0;
-  for (std::size_t i = 0; i < n; ++i) differ += std::memcmp(&distance[i], &gpu.distance[i], 4) != 0;
-  EXPECT_EQ(differ, 0u) << "distances not those of the CPU copy";
+  expectNearestAndDistances(gpu, exactEdtNearestCpu(after, dims), dims);
 }
 
 TEST_F(CoarseSdfGpu, NonCubicThinEmptyAndBoundaryGrids) {

@@ -88,6 +88,11 @@ RTSDF_FN uint coarseBlockIndex(ivec3 v, ivec3 blockDims) {
   ivec3 b = v / RTSDF_COARSE_BLOCK;
   return uint((b.z * blockDims.y + b.y) * blockDims.x + b.x);
 }
+/// The cell at linear index @a i of a grid of @a dims cells, x fastest (a block among coarseBlockDims, a voxel in one).
+RTSDF_FN ivec3 linearCell(uint i, ivec3 dims) {
+  int k = int(i);
+  return ivec3(k % dims.x, k / dims.x % dims.y, k / (dims.x * dims.y));
+}
 
 /// The region's lists in one buffer of words: [0, 4) the counts (as CoarseRegion::counts), [4, 4 + C) a mark per
 /// block column (bx + by * blocks along x), [4 + C, 4 + 2C) the listed columns, [4 + 2C, 4 + 2C + B) the listed

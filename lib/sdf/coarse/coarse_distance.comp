@@ -29,11 +29,9 @@ bool voxelOf(ivec3 dims, out ivec3 p) {
   uint k = group * uint(RTSDF_COARSE_REGION_BLOCKS_PER_GROUP) + gl_LocalInvocationIndex / perBlock;
   if (k >= counts.x) return false;
   ivec3 bd = coarseBlockDims(dims);
-  int b = int(lists[coarseRegionBlocksAt(dims) - kCoarseRegionCountWords + k]);
-  int v = int(gl_LocalInvocationIndex % perBlock);
-  ivec3 local = ivec3(v % RTSDF_COARSE_BLOCK, v / RTSDF_COARSE_BLOCK % RTSDF_COARSE_BLOCK,
-                      v / (RTSDF_COARSE_BLOCK * RTSDF_COARSE_BLOCK));
-  p = ivec3(b % bd.x, b / bd.x % bd.y, b / (bd.x * bd.y)) * RTSDF_COARSE_BLOCK + local;
+  uint b = lists[coarseRegionBlocksAt(dims) - kCoarseRegionCountWords + k];
+  ivec3 local = linearCell(gl_LocalInvocationIndex % perBlock, ivec3(RTSDF_COARSE_BLOCK));
+  p = linearCell(b, bd) * RTSDF_COARSE_BLOCK + local;
   return all(lessThan(p, dims));
 }
 

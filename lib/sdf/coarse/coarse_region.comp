@@ -34,7 +34,7 @@ void main() {
   ivec3 bd = coarseBlockDims(dims);
   uint b = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   if (b >= uint(bd.x * bd.y * bd.z)) return;
-  ivec3 cell = ivec3(int(b) % bd.x, int(b) / bd.x % bd.y, int(b) / (bd.x * bd.y));
+  ivec3 cell = linearCell(b, bd);
   ivec3 lo = cell * RTSDF_COARSE_BLOCK;
   ivec3 hi = min(lo + ivec3(RTSDF_COARSE_BLOCK - 1), dims - ivec3(1));
   if (!coarseBlockReached(lo, hi, params.changeLo.xyz, params.changeHi.xyz, blockMax[b])) return;

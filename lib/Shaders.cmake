@@ -17,6 +17,7 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   "exact_edt.comp                 sdf/coarse/exact_edt.comp"
   "coarse_distance.comp           sdf/coarse/coarse_distance.comp"
   "coarse_region.comp             sdf/coarse/coarse_region.comp"
+  "seed_shift.comp                sdf/coarse/seed_shift.comp"
   # The scene BVH's queries (tests).
   "bvh_query.comp                 sdf/scenebvh/bvh_query.comp"
   # The refinement: UpsamplePass's two kernels, RayRefinePass, ClosestRefinePass::Variant's eight shaders

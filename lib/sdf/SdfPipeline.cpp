@@ -59,6 +59,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
                                                         "the coarse one", mCoarseSpec.describe(),
                                                         mFineSpec.describe()));
   mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, frameOrigin());
+  placeSeedsOnLattice();
   mFields = std::make_unique<FieldPasses>(ctx, mCoarseSpec, mFineSpec, mSettings, parts,
                                           ClosestRefinePass::Variant{s.rays > 0, cellSearch, cpuShaders});
   mMask = std::make_unique<GpuRayMask>(ctx, mCoarseSpec, mFineSpec, mSettings, parts.total());
@@ -120,7 +121,7 @@ void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::
     mGridShift = std::make_unique<GridShiftPass>(mCtx);
   gpu::CommandBuffer cmd(mCtx);
   mMask->recordScroll(cmd.handle(), grids.first, grids.second, *shift, scratch, mGridShift.get());
-  mFields->recordScroll(cmd.handle(), grids.first, grids.second, fineShift, scratch);
+  mFields->recordScroll(cmd.handle(), grids, *shift, scratch, recut != nullptr);
   mPool->recordScroll(cmd.handle(), fineShift / RTSDF_BRICK, scratch, mGridShift.get());
   if (mFailNextScroll) {
     mFailNextScroll = false;
@@ -132,12 +133,19 @@ void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::
   mFineSpec = mMemory.fine = grids.second;
   if (recut) {
     mBvh = std::make_unique<GpuSceneBvh>(mCtx, *recut, frameOrigin());
+    placeSeedsOnLattice();
     mMotion->setScene(*recut);
   } else {
     mBvh->setFrameOrigin(frameOrigin());
   }
   mMotion->setReach(motionReach());
   mScrolled = true;
+}
+
+void SdfPipeline::placeSeedsOnLattice() {
+  // A grid on the world's seed lattice (a cascade level's) voxelizes from the world's origin: each voxel's seed is
+  // then decided by its world voxel alone, so those a scroll keeps equal a full build's (CoarseSdfSettings).
+  if (seedLatticeCell(mCoarseSpec)) mBvh->setSeedOrigin(glm::dvec3(0.0));
 }
 
 SdfPipeline::~SdfPipeline() {
@@ -234,9 +242,10 @@ void SdfPipeline::submitFrame(double time) {
   stats.skippedPasses = skippedPasses(mPlan, mSettings);
   stats.fieldChanged = mPlan.coarse || mPlan.refine || mPlan.upsample;
   if (mPlan.coarse) {
-    // Only instances moved: the coarse SDF over what their seeds reach.
+    // Only instances moved: the coarse SDF over what their seeds reach. After a scroll, their seeds and those that
+    // entered are voxelized, then the whole transform runs.
     const CoarseVoxelBox change = movedSeedBox(mMotion->lastBoxes(), mCoarseSpec.inFrame(frameOrigin()));
-    mFields->recordCoarse(cmd, profiler, *mBvh, mPlan.coarseOverChange ? &change : nullptr);
+    mFields->recordCoarse(cmd, profiler, *mBvh, mPlan.coarseMovedSeeds ? &change : nullptr);
   }
   if (mFailNextRecording) {
     mFailNextRecording = false;

@@ -90,8 +90,10 @@ public:
   /// @brief Move the grids to @a grids, the same grids scrolled by whole bricks (scrollShift; a cascade level that
   ///        follows the camera), keeping what the pipeline knows: the refinement's history, the bricks and their
   ///        values, the dense fine SDF, shifted through @a scratch (at least as large as the dense fine SDF and the
-  ///        coarse refinement state). The next frame rebuilds the coarse SDF and refines only the band voxels new to
-  ///        it (those that entered, or that a surface entering made part of it), with those moving instances reach:
+  ///        coarse refinement state), and the coarse seeds. The next frame voxelizes only the coarse voxels that
+  ///        entered (and the moving instances' box; all of them with @a recut), transforms the whole coarse grid, and
+  ///        refines only the band voxels new to it (those that entered, or that a surface entering made part of it),
+  ///        with those moving instances reach:
   ///        what a pipeline built on @a grids would have, up to the float rounding of its frame (frameOrigin moves).
   ///        Waits for a frame in flight.
   /// @param recut where given, the pipeline's scene from now on (it must outlive the pipeline): the same world cut
@@ -173,6 +175,9 @@ private:
   /// Every part's buffers cleared as at construction, and the frame counts to 0: the next frame is a first frame
   /// (every pass over every voxel, the pool sized again).
   void restartHistory();
+  /// Where the coarse grid lies on the world's seed lattice (seedLatticeCell), the BVH places the voxelization's
+  /// triangles from the world's origin (GpuSceneBvh::setSeedOrigin).
+  void placeSeedsOnLattice();
   const gpu::VulkanContext& mCtx;
   PipelineSettings mSettings;
   PipelineMemory mMemory;   ///< the estimate checked at construction (the pool is added when sized)

@@ -14,6 +14,7 @@
 #include "sdf/cascade/CascadeFaults.h"
 #include "sdf/cascade/CascadeSet.h"
 #include "sdf/pipeline/GridShift.h"
+#include "sdf/pipeline/PipelineProbe.h"
 #include "util/Error.h"
 
 #include <gtest/gtest.h>
@@ -205,7 +206,7 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
   CascadeSet set(*sCtx, scene, CascadeLayout::around(camera, shape), s);
   set.runFrame(0.0);
   int scrolls = 0, recuts = 0, rebuilds = 0;
-  std::uint64_t scrolledRefined = 0, freshRefined = 0;
+  std::uint64_t scrolledRefined = 0, freshRefined = 0, scrolledVoxelized = 0, freshVoxelized = 0;
   double worst = 0.0;
   for (int f = 1; f <= 14; ++f) {
     const double speed = f < 8 ? 0.03 : 0.09;
@@ -227,6 +228,8 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
       EXPECT_LT(fine, 1e-3);
       EXPECT_LT(coarse, 1e-3);
       worst = std::max({worst, fine, coarse});
+      // The seeds a scroll kept and those voxelized where the level entered are a full build's, bit for bit.
+      EXPECT_EQ(PipelineProbe(set.level(i)).coarseSeeds(), PipelineProbe(fresh.level(i)).coarseSeeds());
       const bool scrolled = std::count(move.moved.begin(), move.moved.end(), i) &&
                             !std::count(move.rebuilt.begin(), move.rebuilt.end(), i);
       if (scrolled) {
@@ -234,16 +237,22 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
         scrolledRefined += stats[std::size_t(i)].refinedFineVoxels;
         freshRefined += freshStats[std::size_t(i)].refinedFineVoxels;
       }
+      if (scrolled && !std::count(move.recut.begin(), move.recut.end(), i)) {
+        scrolledVoxelized += stats[std::size_t(i)].coarseVoxelizedVoxels;
+        freshVoxelized += freshStats[std::size_t(i)].coarseVoxelizedVoxels;
+      }
     }
   }
   EXPECT_GE(scrolls, 8);
   EXPECT_EQ(rebuilds, 0);
   EXPECT_GE(recuts, 1) << "the driving camera drifts past level 0's slack";
-  // Only what entered is refined (the moving teapot's reach aside).
+  // Only what entered is refined (the moving teapot's reach aside), and voxelized where the scene was not cut again.
   EXPECT_LT(double(scrolledRefined), 0.5 * double(freshRefined));
-  std::printf("%d scrolls (%d with the scene cut again), %d rebuilds; largest difference from fresh levels %.2e fine voxels; scrolled levels "
-              "refined %.3f of the voxels fresh ones did\n", scrolls, recuts, rebuilds, worst,
-              double(scrolledRefined) / double(freshRefined));
+  EXPECT_LT(double(scrolledVoxelized), 0.5 * double(freshVoxelized));
+  std::printf("%d scrolls (%d with the scene cut again), %d rebuilds; largest difference from fresh levels %.2e fine "
+              "voxels; scrolled levels refined %.3f of the voxels fresh ones did and voxelized %.3f\n", scrolls, recuts,
+              rebuilds, worst, double(scrolledRefined) / double(freshRefined),
+              double(scrolledVoxelized) / double(freshVoxelized));
 }
 
 // Kept sparse (only the bricks on the GPU, no dense fine SDF), a scrolled level keeps its bricks' values in their

@@ -636,6 +636,200 @@ TEST_F(CoarseSdfGpu, InstancedTrianglesEqualTheCpuReference) {
   }
 }
 
+namespace {
+
+/// Axis-aligned rectangles (two triangles each) on the faces of the lattice of voxel @a h, where a frame's rounding
+/// decides which side touches them: a floor at y = 0, a wall at x = 7h, a slab at z = -3h, and a tilted quad.
+std::vector<glm::vec4> latticeFaceQuads(double h) {
+  std::vector<glm::vec4> c;
+  auto quad = [&](glm::dvec3 a, glm::dvec3 b, glm::dvec3 d) { // a, a + b, a + b + d, a + d
+    const glm::vec4 p0(glm::vec3(a), 1), p1(glm::vec3(a + b), 1), p2(glm::vec3(a + b + d), 1), p3(glm::vec3(a + d), 1);
+    c.insert(c.end(), {p0, p1, p2, p0, p2, p3});
+  };
+  quad({-30 * h, 0, -30 * h}, {60 * h, 0, 0}, {0, 0, 60 * h});
+  quad({7 * h, 0, -20 * h}, {0, 12 * h, 0}, {0, 0, 30 * h});
+  quad({-25 * h, 2 * h, -3 * h}, {40 * h, 0, 0}, {0, 9 * h, 0});
+  quad({-9 * h, 1 * h, 4 * h}, {11 * h, 5 * h, 0}, {0, 2 * h, 13 * h});
+  return c;
+}
+
+} // namespace
+
+// A grid on the world's seed lattice (a cascade level) voxelizes each voxel by its world cell alone: after a scroll
+// the seeds kept (SeedShiftPass) and those voxelized where the grid entered equal a full build of the moved grid bit
+// for bit, and so do the distances, though the triangles lie on voxel faces where a frame's rounding decides; only
+// the voxels that entered are voxelized; the seeds equal the CPU copy's, and are conservative and tight against the
+// rectangles' exact overlap with each voxel (in double).
+TEST_F(CoarseSdfGpu, SeedsOnTheWorldLatticeScrollWithTheGridAndEqualAFullBuild) {
+  const double h = 0.05; // not a binary fraction: the rounding differs from frame to frame
+  const std::vector<glm::vec4> corners = latticeFaceQuads(h);
+  const auto tris = std::uint32_t(corners.size() / 3);
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  gpu::Buffer cornerBuf, instBuf, scratch;
+  gpu::reserveAndUpload(*sCtx, cornerBuf, corners.data(), corners.size() * sizeof(glm::vec4), usage, "corners");
+  const gpu::shared::VoxelizeInstance identity = identityInstance(tris);
+  gpu::reserveAndUpload(*sCtx, instBuf, &identity, sizeof(identity), usage, "instance");
+  const InstancedTriangles world{cornerBuf, instBuf, 1, tris};
+  const glm::ivec3 dims(37, 22, 33);
+  auto gridAt = [&](const glm::ivec3& cell) {
+    GridSpec g;
+    g.dims = dims;
+    g.voxelSize = h;
+    g.origin = glm::dvec3(cell) * h;
+    return g;
+  };
+  gpu::reserve(*sCtx, scratch, std::uint64_t(dims.x) * dims.y * dims.z * 4, usage, gpu::Buffer::Memory::Device,
+               "scratch");
+  CoarseSdfBuilder scrolled(*sCtx), fresh(*sCtx);
+  CoarseSdfSettings s;
+  s.keepTransform = true;
+  auto record = [&](CoarseSdfBuilder& b, const glm::ivec3& cell, const glm::ivec3* shift) {
+    s.seedLatticeCell = cell;
+    gpu::CommandBuffer cmd(*sCtx);
+    if (shift) b.recordScroll(cmd.handle(), *shift, scratch, false);
+    b.record(cmd.handle(), nullptr, world, gridAt(cell), s);
+    cmd.submitAndWait();
+  };
+  glm::ivec3 cell(-20, -3, -18);
+  ASSERT_EQ(seedLatticeCell(gridAt(cell)), cell);
+  record(scrolled, cell, nullptr);
+  EXPECT_EQ(scrolled.readSeeds(dims), voxelizeCpu(corners, gridAt(cell), cell));
+  for (const glm::ivec3 shift : {glm::ivec3(3, 0, 0), glm::ivec3(0, 2, 0), glm::ivec3(0, 0, -4), glm::ivec3(-2, -1, 5),
+                                 glm::ivec3(0, 40, 0), glm::ivec3(0, -40, 0)}) {
+    SCOPED_TRACE(::testing::Message() << "shift " << shift.x << "," << shift.y << "," << shift.z);
+    cell += shift;
+    record(scrolled, cell, &shift);
+    record(fresh, cell, nullptr);
+    std::uint64_t entered = 0;
+    for (const CoarseVoxelBox& b : boxesOutside(dims, keptByShift(dims, shift))) entered += regionVoxels(b);
+    EXPECT_EQ(scrolled.lastVoxelizedVoxels(), entered);
+    if (glm::all(glm::lessThan(glm::abs(shift), dims))) EXPECT_LT(entered, std::uint64_t(dims.x) * dims.y * dims.z / 2);
+    const std::vector<std::uint32_t> seeds = scrolled.readSeeds(dims);
+    EXPECT_EQ(seeds, fresh.readSeeds(dims));
+    EXPECT_EQ(seeds, voxelizeCpu(corners, gridAt(cell), cell));
+    std::vector<float> a(seeds.size()), b(seeds.size());
+    gpu::download(*sCtx, scrolled.distanceBuffer(), a.data(), a.size() * 4);
+    gpu::download(*sCtx, fresh.distanceBuffer(), b.data(), b.size() * 4);
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * 4), 0);
+  }
+  // Conservative and tight: every voxel a rectangle overlaps by more than 1e-4 voxels is a seed, and every seed
+  // comes within 1e-4 voxels of one (closed form, in double: the voxel box against each rectangle's box).
+  const GridSpec g = gridAt(cell);
+  const std::vector<std::uint32_t> seeds = scrolled.readSeeds(dims);
+  std::size_t count = 0;
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y)
+      for (int x = 0; x < dims.x; ++x) {
+        const glm::dvec3 lo = g.origin + glm::dvec3(x, y, z) * h, hi = lo + h;
+        double nearest = HUGE_VAL; // the largest per-axis gap to the nearest rectangle (negative: overlap depth)
+        for (std::size_t t = 0; t + 5 < 18; t += 6) { // the three axis-aligned rectangles
+          glm::dvec3 rlo(HUGE_VAL), rhi(-HUGE_VAL);
+          for (std::size_t k = t; k < t + 6; ++k) {
+            rlo = glm::min(rlo, glm::dvec3(glm::vec3(corners[k])));
+            rhi = glm::max(rhi, glm::dvec3(glm::vec3(corners[k])));
+          }
+          const glm::dvec3 gap = glm::max(rlo - hi, lo - rhi);
+          nearest = std::min(nearest, std::max({gap.x, gap.y, gap.z}) / h);
+        }
+        const bool seed = seeds[g.linear(x, y, z)] != kNoSeed;
+        count += seed;
+        if (nearest < -1e-4) {
+          ASSERT_TRUE(seed) << x << "," << y << "," << z;
+        } else if (nearest > 1e-4 && seed) { // a seed of the tilted quad alone: within half a diagonal of it
+          const glm::vec3 c(0.5 * (lo + hi));
+          double d = HUGE_VAL;
+          for (std::size_t k = 18; k < 24; k += 3)
+            d = std::min(d, std::sqrt(double(distanceSquaredToTriangle(c, glm::vec3(corners[k]),
+                                                                       glm::vec3(corners[k + 1]),
+                                                                       glm::vec3(corners[k + 2])))));
+          ASSERT_LE(d / h, 0.5 * std::sqrt(3.0) + 1e-4) << x << "," << y << "," << z;
+        }
+      }
+  EXPECT_GT(count, 1000u);
+}
+
+// SeedShiftPass moves seeds as its CPU copy does, and the copy is what a grid voxelized after the move holds: the
+// seeds packed at their new voxels, none where they entered.
+TEST_F(CoarseSdfGpu, SeedShiftPassEqualsItsCpuCopy) {
+  const glm::ivec3 dims(13, 9, 6);
+  std::vector<std::uint32_t> seeds(std::size_t(dims.x) * dims.y * dims.z, kNoSeed);
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y)
+      for (int x = 0; x < dims.x; ++x)
+        if (gpu::shared::pcgHash(std::uint32_t((z * dims.y + y) * dims.x + x)) % 3 == 0)
+          seeds[std::size_t((z * dims.y + y) * dims.x + x)] = gpu::shared::packSeed({x, y, z});
+  const SeedShiftPass pass(*sCtx);
+  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  for (const glm::ivec3 shift : {glm::ivec3(0), glm::ivec3(4, 0, 0), glm::ivec3(-3, 2, 1), glm::ivec3(0, 0, -6)}) {
+    gpu::Buffer source, target;
+    gpu::reserveAndUpload(*sCtx, source, seeds.data(), seeds.size() * 4, usage, "source");
+    gpu::reserve(*sCtx, target, seeds.size() * 4, usage, gpu::Buffer::Memory::Device, "seeds");
+    gpu::CommandBuffer cmd(*sCtx);
+    pass.execute(cmd.handle(), nullptr, {source}, {target}, {glm::ivec4(dims, 0), glm::ivec4(shift, 0)});
+    cmd.submitAndWait();
+    std::vector<std::uint32_t> out(seeds.size());
+    gpu::download(*sCtx, target, out.data(), out.size() * 4);
+    const std::vector<std::uint32_t> cpu = shiftSeedsCpu(seeds, dims, shift);
+    EXPECT_EQ(out, cpu);
+    std::size_t moved = 0;
+    for (int z = 0; z < dims.z; ++z)
+      for (int y = 0; y < dims.y; ++y)
+        for (int x = 0; x < dims.x; ++x) {
+          const glm::ivec3 from = glm::ivec3(x, y, z) + shift;
+          const bool inside = glm::all(glm::greaterThanEqual(from, glm::ivec3(0))) &&
+                              glm::all(glm::lessThan(from, dims));
+          const std::uint32_t expected =
+              inside && seeds[std::size_t((from.z * dims.y + from.y) * dims.x + from.x)] != kNoSeed
+                  ? gpu::shared::packSeed({x, y, z})
+                  : kNoSeed;
+          moved += expected != kNoSeed;
+          ASSERT_EQ(cpu[std::size_t((z * dims.y + y) * dims.x + x)], expected);
+        }
+    if (glm::all(glm::lessThan(glm::abs(shift), dims))) EXPECT_GT(moved, 20u);
+    else EXPECT_EQ(moved, 0u) << "moved beyond the grid";
+  }
+  const gpu::Buffer small(*sCtx, 64, usage, gpu::Buffer::Memory::Device, "small");
+  gpu::CommandBuffer cmd(*sCtx);
+  EXPECT_THROW(pass.execute(cmd.handle(), nullptr, {small}, {small}, {glm::ivec4(dims, 0), glm::ivec4(0)}), Error);
+}
+
+// The voxels outside a kept box are covered once by boxesOutside's boxes, and keptByShift keeps exactly the voxels
+// whose source lies in the grid; a grid is on the world's lattice only where its corner is a whole number of voxels.
+TEST(SeedLattice, BoxesOutsideCoverTheRestOnceAndTheLatticeNeedsAWholeCorner) {
+  const glm::ivec3 dims(7, 5, 6);
+  for (const glm::ivec3 shift : {glm::ivec3(0), glm::ivec3(2, 0, 0), glm::ivec3(-1, 3, -2), glm::ivec3(0, 0, 6),
+                                 glm::ivec3(9, 0, 0)}) {
+    const CoarseVoxelBox kept = keptByShift(dims, shift);
+    std::vector<int> covered(std::size_t(dims.x) * dims.y * dims.z, 0);
+    std::vector<CoarseVoxelBox> boxes = boxesOutside(dims, kept);
+    EXPECT_LE(boxes.size(), 6u);
+    if (!kept.empty()) boxes.push_back(kept);
+    for (const CoarseVoxelBox& b : boxes)
+      for (int z = b.lo.z; z <= b.hi.z; ++z)
+        for (int y = b.lo.y; y <= b.hi.y; ++y)
+          for (int x = b.lo.x; x <= b.hi.x; ++x) ++covered[std::size_t((z * dims.y + y) * dims.x + x)];
+    for (int z = 0; z < dims.z; ++z)
+      for (int y = 0; y < dims.y; ++y)
+        for (int x = 0; x < dims.x; ++x) {
+          EXPECT_EQ(covered[std::size_t((z * dims.y + y) * dims.x + x)], 1) << x << "," << y << "," << z;
+          const glm::ivec3 from = glm::ivec3(x, y, z) + shift;
+          const bool inside = glm::all(glm::greaterThanEqual(from, glm::ivec3(0))) && glm::all(glm::lessThan(from, dims));
+          const bool inKept = !kept.empty() && glm::all(glm::greaterThanEqual(glm::ivec3(x, y, z), kept.lo)) &&
+                              glm::all(glm::lessThanEqual(glm::ivec3(x, y, z), kept.hi));
+          EXPECT_EQ(inKept, inside);
+        }
+  }
+  GridSpec g;
+  g.dims = dims;
+  g.voxelSize = 0.05;
+  g.origin = glm::dvec3(-20, 3, 7) * 0.05;
+  EXPECT_EQ(seedLatticeCell(g), glm::ivec3(-20, 3, 7));
+  g.origin.y += 1e-9;
+  EXPECT_FALSE(seedLatticeCell(g).has_value()) << "a corner off the lattice";
+  g.origin = glm::dvec3(double(kSeedLatticeCells), 0, 0) * 0.05;
+  EXPECT_FALSE(seedLatticeCell(g).has_value()) << "too far for float cells";
+}
+
 TEST_F(CoarseSdfGpu, SeedsAreConservativeAndTight) {
   // A voxel is a seed exactly when a triangle touches its box: so every voxel holding a surface point is a
   // seed, and every seed's centre lies within half a voxel diagonal of the surface.

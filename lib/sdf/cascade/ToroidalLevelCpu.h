@@ -2,8 +2,9 @@
 /// @file ToroidalLevelCpu.h
 /// @brief The CPU reference of a cascade level's toroidal (wrap-around) update: when the camera moves the level by m
 ///        coarse voxels, only the slabs that entered are voxelized and only the voxels whose clamped distance can have
-///        changed are transformed again, in place. The GPU passes do not work this way yet; this is the rule they
-///        must follow and the test they must pass (equal to a full rebuild, voxel for voxel).
+///        changed are transformed again, in place. The GPU voxelizes so (a scrolled level's seeds move with it:
+///        CoarseSdfBuilder::recordScroll) but transforms its whole grid again; this is the rule its transform must
+///        follow and the test it must pass (equal to a full rebuild, voxel for voxel).
 #include "sdf/cascade/CascadeLayout.h"
 
 #include <glm/glm.hpp>

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace rtsdf {
 using namespace gpu::shared;
@@ -21,9 +22,14 @@ std::size_t lin(const glm::ivec3& p, const glm::ivec3& d) {
 }
 } // namespace
 
-VoxelizeParams voxelizeParams(const GridSpec& spec, std::uint32_t triangleCount) {
+VoxelizeParams voxelizeParams(const GridSpec& spec, std::uint32_t triangleCount,
+                              const std::optional<glm::ivec3>& latticeCell) {
   VoxelizeParams p{};
-  p.originInvH = glm::vec4(glm::vec3(spec.origin), float(1.0 / spec.voxelSize));
+  const glm::ivec3 cell = latticeCell.value_or(glm::ivec3(0));
+  // The lattice's corner in the spec's frame: exactly 0 where the spec's corner is that many of its voxels from it.
+  const glm::dvec3 latticeOrigin = spec.origin - glm::dvec3(cell) * spec.voxelSize;
+  p.originInvH = glm::vec4(glm::vec3(latticeOrigin), float(1.0 / spec.voxelSize));
+  p.cornerCell = glm::ivec4(cell, 0);
   p.dims = glm::ivec4(spec.dims, 0);
   p.clipLo = glm::ivec4(0);
   p.clipHi = glm::ivec4(spec.dims - 1, 0);
@@ -43,10 +49,12 @@ std::vector<glm::vec4> placeInstanceCorners(const std::vector<glm::vec4>& corner
   return out;
 }
 
-std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec) {
+std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec,
+                                       const std::optional<glm::ivec3>& latticeCell) {
   checkDims(spec.dims);
   const std::size_t tris = corners.size() / 3;
-  const VoxelizeParams params = voxelizeParams(spec, std::uint32_t(tris));
+  const VoxelizeParams params = voxelizeParams(spec, std::uint32_t(tris), latticeCell);
+  const ivec3 corner(params.cornerCell);
   std::vector<std::uint32_t> seeds(spec.voxelCount(), kNoSeed);
   // Writes race only with writes of the same value (a voxel's own packed coordinate).
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tris), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -54,18 +62,35 @@ std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, co
       const vec3 t0 = toVoxelSpace(glm::vec3(corners[3 * t]), params.originInvH);
       const vec3 t1 = toVoxelSpace(glm::vec3(corners[3 * t + 1]), params.originInvH);
       const vec3 t2 = toVoxelSpace(glm::vec3(corners[3 * t + 2]), params.originInvH);
-      const ivec3 lo = voxelRangeLo(t0, t1, t2, ivec3(params.clipLo));
-      const ivec3 hi = voxelRangeHi(t0, t1, t2, ivec3(params.clipHi));
+      const ivec3 lo = voxelRangeLo(t0, t1, t2, ivec3(params.clipLo) + corner);
+      const ivec3 hi = voxelRangeHi(t0, t1, t2, ivec3(params.clipHi) + corner);
       for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y)
           for (int x = lo.x; x <= hi.x; ++x)
             if (voxelOverlaps(ivec3(x, y, z), t0, t1, t2)) {
-              auto* slot = reinterpret_cast<std::atomic<std::uint32_t>*>(&seeds[lin({x, y, z}, spec.dims)]);
-              slot->store(packSeed(ivec3(x, y, z)), std::memory_order_relaxed);
+              const ivec3 v = ivec3(x, y, z) - corner;
+              auto* slot = reinterpret_cast<std::atomic<std::uint32_t>*>(&seeds[lin(v, spec.dims)]);
+              slot->store(packSeed(v), std::memory_order_relaxed);
             }
     }
   });
   return seeds;
+}
+
+std::vector<std::uint32_t> shiftSeedsCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims,
+                                         const glm::ivec3& shift) {
+  checkDims(dims);
+  if (seeds.size() != std::size_t(dims.x) * dims.y * dims.z)
+    throw Error("shiftSeedsCpu: the seeds are not the grid's");
+  std::vector<std::uint32_t> out(seeds.size(), kNoSeed);
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y)
+      for (int x = 0; x < dims.x; ++x) {
+        const ivec3 v(x, y, z), from = v + shift;
+        if (glm::any(glm::lessThan(from, ivec3(0))) || glm::any(glm::greaterThanEqual(from, dims))) continue;
+        if (seeds[lin(from, dims)] != kNoSeed) out[lin(v, dims)] = packSeed(v);
+      }
+  return out;
 }
 
 std::vector<std::uint32_t> jumpFloodCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims,

@@ -8,21 +8,32 @@
 #include "sdf/coarse/CoarseMethod.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace rtsdf {
 
-/// @brief The grid as the GPU sees it (float origin and 1/h).
-gpu::shared::VoxelizeParams voxelizeParams(const GridSpec& spec, std::uint32_t triangleCount);
+/// @brief The grid as the GPU sees it (float origin and 1/h). With @a latticeCell, the triangles are placed in the
+///        cells of the lattice of the grid's voxel size whose cell @a latticeCell is the grid's voxel (0,0,0)
+///        (CoarseSdfSettings::seedLatticeCell); without, the grid is its own lattice.
+gpu::shared::VoxelizeParams voxelizeParams(const GridSpec& spec, std::uint32_t triangleCount,
+                                           const std::optional<glm::ivec3>& latticeCell = std::nullopt);
 
 /// @brief The triangles' corners in the instances' frame, each placed as the GPU places it (transformToFrame):
 ///        the CPU copy of VoxelizePass's input. @a corners: 3 per mesh triangle, in its mesh's space.
 std::vector<glm::vec4> placeInstanceCorners(const std::vector<glm::vec4>& corners,
                                             const std::vector<gpu::shared::VoxelizeInstance>& instances);
 
-/// @brief Seeds of the triangles (3 world-space corners each, w ignored): kNoSeed or the voxel's packed
-///        coordinate, x fastest. @note Dims must be at most kMaxSeedAxis per axis.
-std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec);
+/// @brief Seeds of the triangles (3 corners each in @a spec's frame, w ignored): kNoSeed or the voxel's packed
+///        coordinate, x fastest, on the lattice voxelizeParams() places them in. @note Dims must be at most
+///        kMaxSeedAxis per axis.
+std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec,
+                                       const std::optional<glm::ivec3>& latticeCell = std::nullopt);
+
+/// @brief The copy of SeedShiftPass: @a seeds of a grid of @a dims after it scrolled by @a shift voxels (voxel v
+///        takes v + shift's seed, packed at v; kNoSeed where v + shift lies outside the grid).
+std::vector<std::uint32_t> shiftSeedsCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims,
+                                         const glm::ivec3& shift);
 
 /// @brief Jump flooding of @a seeds (TBB): the nearest seed found per voxel, or kNoSeed if there are none.
 std::vector<std::uint32_t> jumpFloodCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims,

@@ -36,6 +36,9 @@ const uint kCoarseRegionBindingBlockMax = 0u;   // the last build's block bounds
 const uint kCoarseRegionBindingRegion = 1u;     // CoarseRegion (written: the counts and dispatches)
 const uint kCoarseRegionBindingLists = 2u;      // the region's lists (coarseRegionListWords), counted and listed
 const uint kCoarseRegionBindingCount = 3u;
+const uint kSeedShiftBindingSource = 0u;        // the seeds before the scroll (a copy: read)
+const uint kSeedShiftBindingSeeds = 1u;         // the seeds moved by the shift, packed at their new voxels (written)
+const uint kSeedShiftBindingCount = 2u;
 
 /// The box of the coarse voxels whose value a build changed (coarse_distance.comp compares each voxel's new c with
 /// the last build's, bit for bit): lo.xyz and hi.xyz inclusive; empty while lo.x > hi.x (reset to kChangedBoxEmpty).
@@ -130,7 +133,7 @@ const int kMaxSeedAxis = 1024;
 
 /// Push constants of voxelize_clear.comp, voxelize_chunks.comp and voxelize.comp.
 struct VoxelizeParams {
-  vec4 originInvH;     // xyz: corner of voxel (0,0,0) in the instances' frame, w: 1 / voxel size
+  vec4 originInvH;     // xyz: corner of lattice cell (0,0,0) in the instances' frame, w: 1 / voxel size
   ivec4 dims;          // xyz: voxels per axis
   ivec4 clipLo;        // xyz: the box of voxels the pass writes, inclusive: the whole grid (0 .. dims - 1), or in a
   ivec4 clipHi;        //      build over a change its box (the seeds outside it are the last build's); empty: lo > hi
@@ -140,6 +143,9 @@ struct VoxelizeParams {
   uint maxChunkGroups; // the most groups voxelize.comp runs along y (<= kVoxelizeMaxChunkGroups)
   uint largePass;      // voxelize.comp: 0 the triangles not listed, 1 the listed ones (kVoxelizeBindingLarge)
   uint pad0, pad1, pad2;
+  ivec4 cornerCell;    // xyz: the lattice cell of the grid's voxel (0,0,0): 0 where the lattice is the grid's own; a
+                       // cascade level's is the world's (CoarseSdfSettings::seedLatticeCell), so that a voxel's seed
+                       // depends on its world voxel alone, wherever the grid lies
 };
 
 /// VoxelizePass in two indirect dispatches, so that one large triangle (a level's ground spans the grid: hundreds of
@@ -176,6 +182,13 @@ const uint kVoxelizeMinChunkGroups = 8u;
 /// 256, 1024 and 4096, 64 was the fastest there and 4096 on lavapipe (docs/results.md).
 const uint kVoxelizeChunkVoxelsCpu = 4096u;
 const uint kVoxelizeChunkVoxelsGpu = 64u;
+
+/// Push constants of seed_shift.comp: the seeds of a grid that scrolled by @a shift voxels (voxel v takes the seed
+/// of v + shift, packed as v's own), the voxels that entered none.
+struct SeedShiftParams {
+  ivec4 dims;
+  ivec4 shift;
+};
 
 /// Push constants of jump_flood.comp.
 struct JumpFloodParams {

@@ -151,6 +151,54 @@ void CoarseRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
   gpu::computeBarrier(cmd); // its dispatches are read as indirect commands
 }
 
+std::vector<CoarseVoxelBox> boxesOutside(const glm::ivec3& dims, const CoarseVoxelBox& kept) {
+  const CoarseVoxelBox grid{glm::ivec3(0), dims - 1};
+  if (kept.empty()) return grid.empty() ? std::vector<CoarseVoxelBox>{} : std::vector<CoarseVoxelBox>{grid};
+  std::vector<CoarseVoxelBox> boxes;
+  // Axis by axis: the slabs below and above the kept box, then the rest narrowed to its range on that axis.
+  CoarseVoxelBox rest = grid;
+  for (int a = 0; a < 3; ++a) {
+    CoarseVoxelBox below = rest, above = rest;
+    below.hi[a] = kept.lo[a] - 1;
+    above.lo[a] = kept.hi[a] + 1;
+    for (const CoarseVoxelBox& b : {below, above})
+      if (!b.empty()) boxes.push_back(b);
+    rest.lo[a] = kept.lo[a];
+    rest.hi[a] = kept.hi[a];
+  }
+  return boxes;
+}
+
+std::optional<glm::ivec3> seedLatticeCell(const GridSpec& coarse) {
+  const glm::dvec3 cells = glm::round(coarse.origin / coarse.voxelSize);
+  // The triangles' cell coordinates are floats: within 2^17 cells of the lattice's origin they keep 1/64 of a voxel.
+  const glm::dvec3 farthest = glm::abs(cells) + glm::dvec3(coarse.dims);
+  if (glm::any(glm::greaterThan(farthest, glm::dvec3(kSeedLatticeCells)))) return std::nullopt;
+  if (cells * coarse.voxelSize != coarse.origin) return std::nullopt;
+  return glm::ivec3(cells);
+}
+
+CoarseVoxelBox keptByShift(const glm::ivec3& dims, const glm::ivec3& shift) {
+  // v + shift in [0, dims): v in [-shift, dims - shift) within the grid.
+  return {glm::max(-shift, glm::ivec3(0)), glm::min(dims - 1 - shift, dims - 1)};
+}
+
+void SeedShiftPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                            const Params& params) const {
+  const glm::ivec3 dims(params.dims);
+  const VkDeviceSize bytes = VkDeviceSize(dims.x) * VkDeviceSize(dims.y) * VkDeviceSize(dims.z) * 4;
+  if (in.source.size() < bytes || out.seeds.size() < bytes)
+    throw Error(fmt::format("SeedShiftPass: a grid of {} bytes, a source of {} and seeds of {}", bytes,
+                            in.source.size(), out.seeds.size()));
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kSeedShiftBindingCount> b;
+  b[kSeedShiftBindingSource] = &in.source;
+  b[kSeedShiftBindingSeeds] = &out.seeds;
+  mPipeline.dispatch(cmd, b, &params,
+                     {gpu::groupsFor(dims.x, RTSDF_JFA_GROUP_X), gpu::groupsFor(dims.y, RTSDF_JFA_GROUP_Y),
+                      gpu::groupsFor(dims.z, RTSDF_JFA_GROUP_Z)});
+}
+
 CoarseRegionLists coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
                                   const CoarseVoxelBox& change) {
   const glm::ivec3 bd = coarseBlockDims(dims);
@@ -195,7 +243,7 @@ void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
 float emptySceneDistance(const GridSpec& spec) { return float(glm::length(glm::dvec3(spec.dims)) * spec.voxelSize); }
 
 CoarseSdfBuilder::CoarseSdfBuilder(const gpu::VulkanContext& ctx)
-    : mCtx(ctx), mVoxelize(ctx), mJumpFlood(ctx), mExactEdt(ctx), mRegionPass(ctx), mDistance(ctx), mProfiler(ctx) {}
+    : mCtx(ctx), mVoxelize(ctx), mSeedShift(ctx), mJumpFlood(ctx), mExactEdt(ctx), mRegionPass(ctx), mDistance(ctx), mProfiler(ctx) {}
 
 VoxelizeInstance identityInstance(std::uint32_t triangleCount) {
   VoxelizeInstance inst{};
@@ -250,7 +298,7 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& t
     throw Error("coarse SDF: triangles without an instance to place them");
   const std::uint64_t voxels = spec.voxelCount();
   Prepared p;
-  p.voxelize.shader = voxelizeParams(spec, triangles.triangleCount);
+  p.voxelize.shader = voxelizeParams(spec, triangles.triangleCount, settings.seedLatticeCell);
   p.voxelize.shader.instanceCount = triangles.instanceCount;
   if (settings.maxChunkGroups < kVoxelizeMinChunkGroups || settings.maxChunkGroups > kVoxelizeMaxChunkGroups)
     throw Error(fmt::format("coarse SDF: {} chunk groups are outside [{}, {}]", settings.maxChunkGroups,
@@ -308,17 +356,13 @@ InstancedTriangles CoarseSdfBuilder::uploadWorldCorners(const std::vector<glm::v
 
 const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler,
                                                   const InstancedTriangles& triangles, const Prepared& p,
-                                                  const CoarseVoxelBox* change) const {
+                                                  const CoarseVoxelBox* change,
+                                                  const std::vector<CoarseVoxelBox>& boxes) const {
   const bool exact = !isJumpFlooding(p.flood.variant);
   const gpu::Buffer& nearest = exact ? (p.keep ? mNearest : mSeedsB)
                                      : JumpFloodPass::result({mSeedsA}, {mSeedsB}, p.flood);
-  // Over what changed: the triangles' seeds inside the change box alone (those outside it are the last build's).
-  VoxelizePass::Params voxelize = p.voxelize;
-  if (change) {
-    voxelize.shader.clipLo = glm::ivec4(change->lo, 0);
-    voxelize.shader.clipHi = glm::ivec4(change->hi, 0);
-  }
-  mVoxelize.execute(cmd, profiler, {triangles}, {mSeedsA, mDispatch, mPlaced, mLarge}, voxelize);
+  // Over what changed (or after a scroll): the triangles' seeds inside the boxes alone (the rest are kept).
+  recordVoxelize(cmd, profiler, triangles, p, boxes);
   // Over what changed: the region from the last build's block bounds, before this build raises them.
   if (change) mRegionPass.execute(cmd, nullptr, {mBlockMax}, {mRegion, mRegionLists}, {p.flood.dims, *change});
   if (exact)
@@ -339,24 +383,95 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
   return nearest;
 }
 
+void CoarseSdfBuilder::recordVoxelize(VkCommandBuffer cmd, gpu::GpuProfiler* profiler,
+                                      const InstancedTriangles& triangles, const Prepared& p,
+                                      const std::vector<CoarseVoxelBox>& boxes) const {
+  const VoxelizePass::Outputs out{mSeedsA, mDispatch, mPlaced, mLarge};
+  if (boxes.empty()) {
+    mVoxelize.execute(cmd, profiler, {triangles}, out, p.voxelize);
+    return;
+  }
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    if (i) { // the last box's indirect dispatches read the words this one uploads, and its seeds are cleared again
+      VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+      b.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+      b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+      vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &b, 0,
+                           nullptr, 0, nullptr);
+    }
+    VoxelizePass::Params voxelize = p.voxelize;
+    voxelize.shader.clipLo = glm::ivec4(boxes[i].lo, 0);
+    voxelize.shader.clipHi = glm::ivec4(boxes[i].hi, 0);
+    mVoxelize.execute(cmd, profiler, {triangles}, out, voxelize);
+  }
+}
+
+std::vector<CoarseVoxelBox> CoarseSdfBuilder::voxelizeBoxes(const GridSpec& spec, const CoarseSdfSettings& settings,
+                                                            const Prepared& p, const CoarseVoxelBox* change,
+                                                            bool& overChange) {
+  // The kept seeds, transform, distances and block bounds must be of this grid and beta, from a build that kept them.
+  const bool sameCorner = mKeptCell ? mKeptCell == settings.seedLatticeCell
+                                    : !settings.seedLatticeCell && mKeptOrigin == spec.origin;
+  const bool sameGrid = mKeptDims == spec.dims && sameCorner && mKeptVoxel == spec.voxelSize && mKeptBeta == p.beta;
+  const bool seedsKept = p.keep && sameGrid && !mSeedsKept.empty();
+  overChange = change && seedsKept && !mScrolled;
+  std::vector<CoarseVoxelBox> boxes;
+  if (seedsKept && mScrolled) { // the seeds that entered, and those of the change box
+    boxes = boxesOutside(spec.dims, mSeedsKept);
+    if (change && !change->empty()) boxes.push_back(*change);
+  } else if (overChange) {
+    boxes = {*change};
+  }
+  mLastVoxelized = boxes.empty() ? spec.voxelCount() : 0; // none: the whole grid
+  for (const CoarseVoxelBox& b : boxes) mLastVoxelized += regionVoxels(b);
+  return boxes;
+}
+
 float CoarseSdfBuilder::record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                                const GridSpec& spec, const CoarseSdfSettings& settings, const CoarseVoxelBox* change) {
   const Prepared p = prepare(triangles, spec, settings);
-  // The kept transform, distances and block bounds must be of this grid and beta, from a build that kept them.
-  const bool sameGrid = mKeptDims == spec.dims && mKeptOrigin == spec.origin && mKeptVoxel == spec.voxelSize &&
-                        mKeptBeta == p.beta;
-  mLastOverChange = change && p.keep && sameGrid;
-  mLastVoxelized = mLastOverChange ? regionVoxels(*change) : spec.voxelCount();
-  recordPasses(cmd, profiler, triangles, p, mLastOverChange ? change : nullptr);
-  keepGrid(p.keep, spec, p.beta);
+  bool overChange = false;
+  const std::vector<CoarseVoxelBox> boxes = voxelizeBoxes(spec, settings, p, change, overChange);
+  recordPasses(cmd, profiler, triangles, p, overChange ? change : nullptr, boxes);
+  mLastOverChange = overChange;
+  keepGrid(p.keep, spec, settings, p.beta);
   return p.beta;
 }
 
-void CoarseSdfBuilder::keepGrid(bool keep, const GridSpec& spec, float beta) {
+void CoarseSdfBuilder::recordScroll(VkCommandBuffer cmd, const glm::ivec3& shift, const gpu::Buffer& scratch,
+                                    bool sceneChanged) {
+  const glm::ivec3 dims = mKeptDims;
+  // Only seeds decided by their lattice cell are kept: decided in the grid's old frame, they could differ.
+  if (sceneChanged || !mKeptCell || glm::any(glm::lessThan(dims, glm::ivec3(1))) || mSeedsKept.empty()) {
+    mSeedsKept = {};
+    return;
+  }
+  const VkDeviceSize bytes = VkDeviceSize(dims.x) * VkDeviceSize(dims.y) * VkDeviceSize(dims.z) * 4;
+  if (scratch.size() < bytes)
+    throw Error(fmt::format("coarse SDF: a scroll scratch of {} bytes, {} needed", scratch.size(), bytes));
+  gpu::computeBarrier(cmd); // the scratch may still be read by another shift
+  const VkBufferCopy whole{0, 0, bytes};
+  vkCmdCopyBuffer(cmd, mSeedsA.handle(), scratch.handle(), 1, &whole);
+  gpu::computeBarrier(cmd);
+  mSeedShift.execute(cmd, nullptr, {scratch}, {mSeedsA}, {glm::ivec4(dims, 0), glm::ivec4(shift, 0)});
+  gpu::computeBarrier(cmd);
+  // A voxel keeps its seed where v + shift was kept.
+  const CoarseVoxelBox moved{mSeedsKept.lo - shift, mSeedsKept.hi - shift};
+  const CoarseVoxelBox inGrid = keptByShift(dims, shift);
+  mSeedsKept = {glm::max(moved.lo, inGrid.lo), glm::min(moved.hi, inGrid.hi)};
+  *mKeptCell += shift; // the corner moved by the shift
+  mScrolled = true;
+}
+
+void CoarseSdfBuilder::keepGrid(bool keep, const GridSpec& spec, const CoarseSdfSettings& settings, float beta) {
   mKeptDims = keep ? spec.dims : glm::ivec3(-1);
   mKeptOrigin = spec.origin;
+  mKeptCell = settings.seedLatticeCell;
   mKeptVoxel = spec.voxelSize;
   mKeptBeta = beta;
+  mSeedsKept = keep ? CoarseVoxelBox{glm::ivec3(0), spec.dims - 1} : CoarseVoxelBox{};
+  mScrolled = false;
 }
 
 gpu::shared::CoarseRegion CoarseSdfBuilder::readRegion() const {
@@ -384,6 +499,12 @@ std::vector<std::uint32_t> CoarseSdfBuilder::readBlockMax(const glm::ivec3& dims
   const glm::u64vec3 blocks(coarseBlockDims(dims));
   std::vector<std::uint32_t> out(blocks.x * blocks.y * blocks.z);
   download(mCtx, mBlockMax, out.data(), out.size() * 4);
+  return out;
+}
+
+std::vector<std::uint32_t> CoarseSdfBuilder::readSeeds(const glm::ivec3& dims) const {
+  std::vector<std::uint32_t> out(std::size_t(dims.x) * dims.y * dims.z);
+  download(mCtx, mSeedsA, out.data(), out.size() * 4);
   return out;
 }
 
@@ -415,7 +536,7 @@ CoarseSdf CoarseSdfBuilder::build(const InstancedTriangles& triangles, const Gri
   gpu::CommandBuffer cmd(mCtx);
   mProfiler.reset(cmd.handle());
   const gpu::Buffer& nearest = recordPasses(cmd.handle(), &mProfiler, triangles, p);
-  keepGrid(p.keep, spec, p.beta);
+  keepGrid(p.keep, spec, settings, p.beta);
   mLastOverChange = false;
   cmd.submitAndWait();
   out.passMs = mProfiler.results();

@@ -13,6 +13,7 @@
 #include "util/PassTimes.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -160,6 +161,31 @@ template <class Region> std::uint64_t regionVoxels(const Region& r) {
   return n.x * n.y * n.z;
 }
 
+/// @brief The disjoint boxes that cover the voxels of a grid of @a dims outside @a kept (a box inside the grid, or
+///        empty: then the whole grid), at most six: the slabs along x beyond it, then along y within its x range,
+///        then along z within its x and y ranges. After a scroll they are the voxels that entered.
+std::vector<CoarseVoxelBox> boxesOutside(const glm::ivec3& dims, const CoarseVoxelBox& kept);
+
+/// @brief The voxels of a grid of @a dims that keep their seeds when it scrolls by @a shift voxels (voxel v takes
+///        v + shift's): those for which v + shift lies in the grid; empty where the shift is the grid's size or more.
+CoarseVoxelBox keptByShift(const glm::ivec3& dims, const glm::ivec3& shift);
+
+/// @brief SeedShiftPass (seed_shift.comp): the seeds of a grid that scrolled by whole voxels, moved: voxel v takes
+///        a seed (its own packed coordinate) where v + shift lay in the grid and held one, else kNoSeed. @a source
+///        is a copy of the seeds before (it must not alias them).
+class SeedShiftPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "SeedShiftPass";
+  struct Inputs { const gpu::Buffer& source; };
+  struct Outputs { const gpu::Buffer& seeds; };
+  using Params = gpu::shared::SeedShiftParams;
+  explicit SeedShiftPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "seed_shift.comp", gpu::shared::kSeedShiftBindingCount, sizeof(Params)) {}
+  /// @throw Error when a buffer is smaller than the grid.
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
 /// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel, the box of the voxels whose c differs
 ///        from what @a distance held (gpu::shared::ChangedBox, grown: the caller resets it), and per block of
 ///        RTSDF_COARSE_BLOCK^3 voxels, with kCoarseDistanceKeepBounds, @a blockMax raised to at least each voxel's
@@ -196,7 +222,21 @@ struct CoarseSdfSettings {
   /// Keep the exact transform's planes and nearest seeds in buffers of their own (8 more bytes per voxel; Edt only),
   /// so that a later record() on the same grid can build over what changed.
   bool keepTransform = false;
+  /// Where given: the grid's corner is this cell of the lattice of its voxel size from its frame's origin (the
+  /// spec's origin is that many voxels from it: seedLatticeCell()), and the triangles are placed from that origin,
+  /// so that each voxel's seed is decided by its lattice cell alone wherever the grid lies: the seeds a scroll keeps
+  /// (recordScroll) equal a full build's. None: the grid is its own lattice (its corner the cell 0).
+  std::optional<glm::ivec3> seedLatticeCell;
 };
+
+/// @brief The cells of a seed lattice a grid may reach from its origin (seedLatticeCell): there the triangles'
+///        float cell coordinates keep 1/64 of a voxel.
+inline constexpr int kSeedLatticeCells = 1 << 17;
+
+/// @brief The cell of the lattice of @a coarse's voxel size from the world's origin that @a coarse's corner is, where
+///        it is one exactly (a cascade level's corner is: CascadeLayout snaps it) and the grid lies within
+///        kSeedLatticeCells of that origin; none otherwise.
+std::optional<glm::ivec3> seedLatticeCell(const GridSpec& coarse);
 
 /// @brief A coarse SDF read back from the GPU, with the time of each pass.
 struct CoarseSdf {
@@ -233,12 +273,22 @@ public:
   ///        (ExactEdtPass, CoarseRegionPass) with the same result bit for bit; taken only where the last record() was
   ///        an Edt build with keepTransform on the same grid (dims, origin, voxel size) with the same beta, and so are
   ///        these settings (else: a full build). The triangles outside @a change must be the last record()'s.
+  ///        After recordScroll(), the seeds it moved are kept whatever @a change is: the triangles are voxelized only
+  ///        where they entered and inside @a change, and the transform and the distances run over the whole grid.
   float record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                const GridSpec& spec, const CoarseSdfSettings& settings, const CoarseVoxelBox* change = nullptr);
+  /// @brief Record the move of the kept seeds of a grid that scrolled by @a shift voxels (the voxel at v takes what
+  ///        v + shift held: SeedShiftPass, through @a scratch), so that the next record() on the grid voxelizes only
+  ///        the voxels that entered. Nothing is recorded, and the next record() builds whole, where the last one kept
+  ///        no transform or @a sceneChanged (the triangles changed other than by the scroll). The kept seeds were
+  ///        decided in the grid's old frame: a triangle within float rounding of a voxel's face may be decided there
+  ///        otherwise than a fresh build would, as conservatively.
+  /// @throw Error when @a scratch is smaller than the seeds.
+  void recordScroll(VkCommandBuffer cmd, const glm::ivec3& shift, const gpu::Buffer& scratch, bool sceneChanged);
   /// @brief Whether the last record() built over what changed (its change was taken).
   bool lastBuiltOverChange() const { return mLastOverChange; }
   /// @brief The voxels whose seeds the last record() voxelized: the grid's, or where it built over what changed
-  ///        those of the change box.
+  ///        those of the change box, or after a scroll those that entered and the change box's.
   std::uint64_t lastVoxelizedVoxels() const { return mLastVoxelized; }
   /// @brief Read back the region of the last record() over what changed. Its command buffer must be finished.
   gpu::shared::CoarseRegion readRegion() const;
@@ -248,6 +298,9 @@ public:
   /// @brief Read back the block bounds of the squared seed distances (RTSDF_COARSE_BLOCK^3 voxels per block, x
   ///        fastest) of a grid of @a dims as the last record() on it left them. Its command buffer must be finished.
   std::vector<std::uint32_t> readBlockMax(const glm::ivec3& dims) const;
+  /// @brief Read back the seeds (VoxelizePass's output, x fastest) of a grid of @a dims as the last record() or
+  ///        recordScroll() left them: meaningful where it kept its transform. Its command buffer must be finished.
+  std::vector<std::uint32_t> readSeeds(const glm::ivec3& dims) const;
   /// @brief The last build's coarse SDF on the GPU (x fastest), valid until the next build: later passes
   ///        read it in place instead of uploading the read-back copy again.
   const gpu::Buffer& distanceBuffer() const { return mDistanceBuf; }
@@ -267,12 +320,22 @@ private:
   Prepared prepare(const InstancedTriangles& triangles, const GridSpec& spec, const CoarseSdfSettings& settings);
   /// Upload world-space corners as one instance with the identity transform.
   InstancedTriangles uploadWorldCorners(const std::vector<glm::vec4>& corners);
-  /// Remember the grid and beta the last record() built on, with whether its transform was kept (@a keep).
-  void keepGrid(bool keep, const GridSpec& spec, float beta);
-  /// Record voxelize, transform and distance (over what changed inside @a change, where given); returns the buffer
-  /// that holds the nearest seeds.
+  /// Remember the grid, its lattice cell and beta the last record() built on, with whether its transform was kept
+  /// (@a keep).
+  void keepGrid(bool keep, const GridSpec& spec, const CoarseSdfSettings& settings, float beta);
+  /// Record voxelize (over @a boxes; none: the whole grid), transform and distance (over what changed inside
+  /// @a change, where given); returns the buffer that holds the nearest seeds.
   const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
-                                  const Prepared& p, const CoarseVoxelBox* change = nullptr) const;
+                                  const Prepared& p, const CoarseVoxelBox* change = nullptr,
+                                  const std::vector<CoarseVoxelBox>& boxes = {}) const;
+  /// Record VoxelizePass over each of @a boxes in turn (none: the whole grid).
+  void recordVoxelize(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
+                      const Prepared& p, const std::vector<CoarseVoxelBox>& boxes) const;
+  /// The boxes record() voxelizes (none: the whole grid) and whether it may build over @a change; sets
+  /// mLastVoxelized.
+  std::vector<CoarseVoxelBox> voxelizeBoxes(const GridSpec& spec, const CoarseSdfSettings& settings, const Prepared& p,
+                                            const CoarseVoxelBox* change,
+                                            bool& overChange);
   const gpu::VulkanContext& mCtx;
   gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mLarge, mSeedsA, mSeedsB, mDistanceBuf, mChangedBox;
   gpu::Buffer mBlockMax, mRegion; ///< the block bounds (CoarseDistancePass) and the region of a build over changes
@@ -280,11 +343,17 @@ private:
   gpu::Buffer mPlanes, mNearest;  ///< kept transform (CoarseSdfSettings::keepTransform)
   glm::ivec3 mKeptDims{-1};       ///< the grid the kept transform and block bounds are of; -1: none
   glm::dvec3 mKeptOrigin{0.0};
+  std::optional<glm::ivec3> mKeptCell; ///< its seedLatticeCell (then its origin is not compared)
   double mKeptVoxel = 0.0;
   float mKeptBeta = 0.0f;
+  /// The voxels of the kept grid whose seeds are the scene's (the whole grid after a build that kept its transform,
+  /// what stayed in the grid after recordScroll; empty: none).
+  CoarseVoxelBox mSeedsKept;
+  bool mScrolled = false; ///< recordScroll() moved the seeds since the last build: the kept transform is stale
   bool mLastOverChange = false;
   std::uint64_t mLastVoxelized = 0;
   VoxelizePass mVoxelize;
+  SeedShiftPass mSeedShift;
   JumpFloodPass mJumpFlood;
   ExactEdtPass mExactEdt;
   CoarseRegionPass mRegionPass;

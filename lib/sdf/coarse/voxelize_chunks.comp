@@ -29,7 +29,9 @@ void main() {
     placed[3u * g] = vec4(t0, 0.0);
     placed[3u * g + 1u] = vec4(t1, 0.0);
     placed[3u * g + 2u] = vec4(t2, 0.0);
-    uint chunks = voxelRangeChunks(t0, t1, t2, params.clipLo.xyz, params.clipHi.xyz, params.chunkSize);
+    ivec3 corner = params.cornerCell.xyz; // the clip box as lattice cells
+    uint chunks =
+        voxelRangeChunks(t0, t1, t2, params.clipLo.xyz + corner, params.clipHi.xyz + corner, params.chunkSize);
     if (chunks > kVoxelizeFirstChunks) {
       // Listed: a group of 64 more for the second dispatch with every 64th.
       uint n = atomicAdd(words[kVoxelizeLargeCount], 1u);

@@ -46,16 +46,21 @@ void FieldPasses::recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
   cs.method = mSettings.coarseMethod;
   cs.beta = mSettings.beta;
   cs.keepTransform = coarseBuiltOverChanges(mSettings);
-  // Every GPU pass measures from the fine grid's corner (SdfPipeline::frameOrigin()).
-  mCoarse.record(cmd, profiler, bvh.instancedTriangles(), mCoarseSpec.inFrame(mFineSpec.origin), cs, change);
+  // Every GPU pass measures from the fine grid's corner (SdfPipeline::frameOrigin()), but the voxelization of a grid
+  // on the world's seed lattice from the world's origin (SdfPipeline::placeSeedsOnLattice).
+  const glm::dvec3 seedOrigin = bvh.seedOrigin();
+  if (seedOrigin == glm::dvec3(0.0)) cs.seedLatticeCell = seedLatticeCell(mCoarseSpec);
+  mCoarse.record(cmd, profiler, bvh.instancedTriangles(), mCoarseSpec.inFrame(seedOrigin), cs, change);
 }
 
-void FieldPasses::recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine,
-                               const glm::ivec3& fineShift, const gpu::Buffer& scratch) {
-  mCoarseSpec = coarse;
-  mFineSpec = fine;
+void FieldPasses::recordScroll(VkCommandBuffer cmd, const std::pair<GridSpec, GridSpec>& grids,
+                               const glm::ivec3& shift, const gpu::Buffer& scratch, bool sceneChanged) {
+  const glm::ivec3 fineShift = shift * (grids.second.dims / grids.first.dims);
+  mCoarseSpec = grids.first;
+  mFineSpec = grids.second;
+  mCoarse.recordScroll(cmd, shift, scratch, sceneChanged);
   // Loose: the voxels that entered are refined (new to the band) or upsampled by the next frame, whatever they hold.
-  if (mFine) recordGridShift(cmd, mFine, scratch, gridShiftPlanLoose(fine.dims, 4, fineShift), 0u);
+  if (mFine) recordGridShift(cmd, mFine, scratch, gridShiftPlanLoose(mFineSpec.dims, 4, fineShift), 0u);
 }
 
 RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& pool, std::uint32_t movedBoxes) const {

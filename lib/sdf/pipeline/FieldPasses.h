@@ -16,6 +16,7 @@
 #include "sdf/pipeline/GpuRayMask.h"
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace rtsdf {
@@ -49,6 +50,8 @@ public:
   CoarseRegionLists readCoarseRegionLists() const { return mCoarse.readRegionLists(mCoarseSpec.dims); }
   /// @brief Read back the coarse SDF's block bounds (CoarseSdfBuilder::readBlockMax). The frame must be finished.
   std::vector<std::uint32_t> readCoarseBlockMax() const { return mCoarse.readBlockMax(mCoarseSpec.dims); }
+  /// @brief Read back the coarse seeds (CoarseSdfBuilder::readSeeds). The frame must be finished.
+  std::vector<std::uint32_t> readCoarseSeeds() const { return mCoarse.readSeeds(mCoarseSpec.dims); }
   /// @brief The refinement's and upsampling's parameters for frame number @a frame with the brick pool @a pool and
   ///        @a movedBoxes boxes of moving instances (at most RTSDF_MAX_MOVED_BOXES).
   gpu::shared::RefineParams refineParams(std::uint32_t frame, const BrickPool& pool,
@@ -70,12 +73,13 @@ public:
   /// @brief The coarse SDF's ChangedBox on the GPU, as the last recordCoarse left it.
   const gpu::Buffer& changedBoxBuffer() const;
 
-  /// @brief The grids moved to @a coarse and @a fine, @a fineShift fine voxels from where they were
-  ///        (SdfPipeline::scroll): record the dense fine SDF's shift through @a scratch (recordGridShift of
-  ///        gridShiftPlanLoose: the voxels that entered hold their neighbours' values until the next frame refines or
-  ///        upsamples them).
-  void recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine, const glm::ivec3& fineShift,
-                    const gpu::Buffer& scratch);
+  /// @brief The grids moved to @a grids (coarse, fine), @a shift coarse voxels from where they were
+  ///        (SdfPipeline::scroll): record, through @a scratch, the coarse seeds' move (CoarseSdfBuilder::recordScroll:
+  ///        none where @a sceneChanged, the level's part of the scene cut again) and the dense fine SDF's shift
+  ///        (recordGridShift of gridShiftPlanLoose: the voxels that entered hold their neighbours' values until the
+  ///        next frame refines or upsamples them).
+  void recordScroll(VkCommandBuffer cmd, const std::pair<GridSpec, GridSpec>& grids, const glm::ivec3& shift,
+                    const gpu::Buffer& scratch, bool sceneChanged);
   /// @brief Whether the fine SDF is kept dense (FineStorage::Dense).
   bool dense() const { return bool(mFine); }
   const gpu::Buffer& coarseBuffer() const { return mCoarse.distanceBuffer(); }

@@ -16,7 +16,8 @@ FramePlan planFrame(const FrameChanges& c, const PipelineSettings& s) {
   plan.refine = plan.mask;
   plan.upsample = s.fineStorage == FineStorage::Dense && (plan.coarse || c.poolReset);
   plan.upsampleChanged = plan.upsample && c.moved && !c.scrolled && !c.poolReset;
-  plan.coarseOverChange = c.moved && !c.scrolled && coarseBuiltOverChanges(s);
+  plan.coarseMovedSeeds = c.moved && coarseBuiltOverChanges(s);
+  plan.coarseOverChange = plan.coarseMovedSeeds && !c.scrolled;
   plan.maskOverChange = plan.mask && !c.poolReset && !c.scrolled && !c.viewChanged && !c.viewLimited &&
                         settleFramesFor(s) > 0 && refreshPeriodFor(s) == 0;
   return plan;

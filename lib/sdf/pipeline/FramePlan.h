@@ -31,6 +31,9 @@ struct FramePlan {
   /// The coarse SDF is built over what the moving instances' seeds can reach (CoarseSdfBuilder::record with their
   /// box): only instances moved, and coarseBuiltOverChanges.
   bool coarseOverChange = false;
+  /// The moving instances' seeds are voxelized in their box alone: coarseOverChange, or where the grids also scrolled
+  /// (CoarseSdfBuilder keeps the seeds that stayed in the grid and voxelizes those that entered and the box).
+  bool coarseMovedSeeds = false;
   /// The mask visits only the coarse voxels whose decisions can change (MaskRegionPass, kMaskRegionOnly): the
   /// grids, the pool and the view are as they were, no view limits the band, and settled voxels stay settled
   /// (settleFrames > 0, no refresh period).

@@ -36,7 +36,8 @@ struct FrameStats {
   /// moved the region their seeds can reach (CoarseRegionPass); 0 where it did not run.
   std::uint64_t coarseRebuiltVoxels = 0;
   /// Coarse voxels whose seeds VoxelizePass wrote this frame: the whole grid, or where only instances moved the box
-  /// of their seeds (movedSeedBox: the seeds elsewhere are the last build's); 0 where it did not run.
+  /// of their seeds (movedSeedBox: the seeds elsewhere are the last build's), or after a scroll the voxels that
+  /// entered and that box (CoarseSdfBuilder::recordScroll); 0 where it did not run.
   std::uint64_t coarseVoxelizedVoxels = 0;
   /// Coarse voxels the mask's compaction visited this frame: the whole grid, or where its inputs changed only near
   /// moving instances those whose decisions can change (MaskRegionPass); 0 where it did not run.

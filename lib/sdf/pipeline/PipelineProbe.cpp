@@ -49,6 +49,11 @@ std::vector<std::uint32_t> PipelineProbe::coarseBlockMax() const {
   return mPipe.mFields->readCoarseBlockMax();
 }
 
+std::vector<std::uint32_t> PipelineProbe::coarseSeeds() const {
+  mPipe.waitForFrame();
+  return mPipe.mFields->readCoarseSeeds();
+}
+
 CoarseRegionLists PipelineProbe::coarseRegion() const {
   mPipe.waitForFrame();
   return mPipe.mFields->readCoarseRegionLists();

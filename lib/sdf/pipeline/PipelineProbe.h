@@ -41,6 +41,9 @@ public:
   const std::vector<gpu::shared::MovedBox>& lastMovedBoxes() const;
   /// @brief The coarse SDF's block bounds as the last frame left them (CoarseSdfBuilder::readBlockMax).
   std::vector<std::uint32_t> coarseBlockMax() const;
+  /// @brief The coarse seeds as the last frame or scroll left them (CoarseSdfBuilder::readSeeds): VoxelizePass's
+  ///        output where the pipeline keeps its transform (coarseBuiltOverChanges).
+  std::vector<std::uint32_t> coarseSeeds() const;
   /// @brief The region of the last coarse build over what changed (CoarseSdfBuilder::readRegionLists), and whether
   ///        the last frame's coarse build was one.
   CoarseRegionLists coarseRegion() const;

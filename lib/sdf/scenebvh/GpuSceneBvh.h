@@ -13,6 +13,7 @@
 #include "sdf/scenebvh/OpenPieces.h"
 
 #include <array>
+#include <optional>
 
 namespace rtsdf {
 
@@ -31,8 +32,17 @@ public:
   void recordUpdate(VkCommandBuffer cmd, double time);
   /// @brief The next update uploads whatever its time: a recorded update was never submitted (its frame threw).
   void forgetUpload() { mHaveTop = false; }
-  /// @brief Every instance's triangles for VoxelizePass, placed by the transforms of the last update.
+  /// @brief Every instance's triangles for VoxelizePass, placed by the transforms of the last update, measured from
+  ///        seedOrigin().
   InstancedTriangles instancedTriangles() const;
+  /// @brief The world point instancedTriangles() measures from: the frame origin unless setSeedOrigin() gave another.
+  glm::dvec3 seedOrigin() const { return mSeedOrigin.value_or(mFrameOrigin); }
+  /// @brief From the next update on, place the voxelization's triangles from @a origin (the world's origin for a
+  ///        grid on the world's seed lattice: CoarseSdfSettings::seedLatticeCell); none: from the frame origin.
+  void setSeedOrigin(const std::optional<glm::dvec3>& origin) {
+    mSeedOrigin = origin;
+    mHaveTop = false;
+  }
   /// @brief The host copy of instancedTriangles()'s instances (for the CPU copy, placeInstanceCorners).
   const std::vector<gpu::shared::VoxelizeInstance>& voxelizeInstances() const { return mVoxelizeInstances; }
   /// @brief Put the six buffers bvh_traverse.glsl reads at their bindings (kBvhBinding*) of a pass's set.
@@ -77,6 +87,7 @@ private:
   const gpu::VulkanContext& mCtx;
   const Scene& mScene;
   glm::dvec3 mFrameOrigin;
+  std::optional<glm::dvec3> mSeedOrigin; ///< setSeedOrigin
   MeshBvhs mMeshes;
   InstanceBvh mTop;
   double mTime = 0.0;

@@ -121,7 +121,7 @@ void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::
     mGridShift = std::make_unique<GridShiftPass>(mCtx);
   gpu::CommandBuffer cmd(mCtx);
   mMask->recordScroll(cmd.handle(), grids.first, grids.second, *shift, scratch, mGridShift.get());
-  mFields->recordScroll(cmd.handle(), grids, *shift, scratch, recut != nullptr);
+  mFields->recordScroll(cmd.handle(), grids, *shift, scratch, recut != nullptr, mGridShift.get());
   mPool->recordScroll(cmd.handle(), fineShift / RTSDF_BRICK, scratch, mGridShift.get());
   if (mFailNextScroll) {
     mFailNextScroll = false;

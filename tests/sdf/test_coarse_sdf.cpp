@@ -147,8 +147,9 @@ protected:
     upload(*sCtx, seeds, after.data(), bytes);
     {
       gpu::CommandBuffer cmd(*sCtx);
-      regionPass.execute(cmd.handle(), nullptr, {blockMax}, {region, lists}, {dims, change});
-      edt.execute(cmd.handle(), nullptr, {seeds, region, lists}, {scratch, &planes, &nearest}, {dims, &change});
+      const std::vector<CoarseVoxelBox> changes{change};
+      regionPass.execute(cmd.handle(), nullptr, {blockMax}, {region, lists}, {dims, changes});
+      edt.execute(cmd.handle(), nullptr, {seeds, region, lists}, {scratch, &planes, &nearest}, {dims, &changes});
       dp.flags = gpu::shared::kCoarseDistanceRegionOnly | gpu::shared::kCoarseDistanceKeepBounds;
       distancePass.execute(cmd.handle(), nullptr, {nearest, region, lists}, {distance, changed, blockMax}, dp);
       cmd.submitAndWait();
@@ -420,13 +421,18 @@ TEST_F(CoarseSdfGpu, ExactEdtOverAChangeEqualsBruteForce) {
     std::printf("%s: region %llu of %zu voxels\n", c.name, static_cast<unsigned long long>(covered), n);
     if (c.seedsBefore >= n / 40) EXPECT_LT(covered, n / 2) << "dense seeds: the change reaches a part of the grid";
   }
-  // A box of changed seeds partly outside the grid is refused before anything is recorded.
+  // A build over a change without the kept transform, or with more boxes than the region takes, is refused before
+  // anything is recorded. (A box may lie beyond the grid: the seeds a scroll took out of it.)
   const ExactEdtPass edt(*sCtx);
+  const CoarseRegionPass regionPass(*sCtx);
   gpu::Buffer buf;
   gpu::reserve(*sCtx, buf, 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::Buffer::Memory::Device, "unused");
-  const CoarseVoxelBox outside{{0, 0, -1}, {3, 3, 3}};
+  const std::vector<CoarseVoxelBox> outside{{{0, 0, -1}, {3, 3, 3}}};
   gpu::CommandBuffer cmd(*sCtx);
-  EXPECT_THROW(edt.execute(cmd.handle(), nullptr, {buf, buf, buf}, {buf, &buf, &buf}, {dims, &outside}), Error);
+  EXPECT_THROW(edt.execute(cmd.handle(), nullptr, {buf, buf, buf}, {buf}, {dims, &outside}), Error);
+  EXPECT_THROW(regionPass.execute(cmd.handle(), nullptr, {buf}, {buf, buf},
+                                  {dims, std::vector<CoarseVoxelBox>(RTSDF_COARSE_MAX_CHANGES + 1, outside[0])}),
+               Error);
 }
 
 // A build over a change whose region lists more blocks than one row of CoarseDistancePass's groups holds
@@ -658,8 +664,9 @@ std::vector<glm::vec4> latticeFaceQuads(double h) {
 // A grid on the world's seed lattice (a cascade level) voxelizes each voxel by its world cell alone: after a scroll
 // the seeds kept (SeedShiftPass) and those voxelized where the grid entered equal a full build of the moved grid bit
 // for bit, and so do the distances, though the triangles lie on voxel faces where a frame's rounding decides; only
-// the voxels that entered are voxelized; the seeds equal the CPU copy's, and are conservative and tight against the
-// rectangles' exact overlap with each voxel (in double).
+// the voxels that entered are voxelized, and after a shift by whole blocks the transform runs only over what the
+// seeds that entered and left reach (its kept buffers moved); the seeds equal the CPU copy's, and are conservative and
+// tight against the rectangles' exact overlap with each voxel (in double).
 TEST_F(CoarseSdfGpu, SeedsOnTheWorldLatticeScrollWithTheGridAndEqualAFullBuild) {
   const double h = 0.05; // not a binary fraction: the rounding differs from frame to frame
   const std::vector<glm::vec4> corners = latticeFaceQuads(h);
@@ -694,7 +701,10 @@ TEST_F(CoarseSdfGpu, SeedsOnTheWorldLatticeScrollWithTheGridAndEqualAFullBuild) 
   ASSERT_EQ(seedLatticeCell(gridAt(cell)), cell);
   record(scrolled, cell, nullptr);
   EXPECT_EQ(scrolled.readSeeds(dims), voxelizeCpu(corners, gridAt(cell), cell));
-  for (const glm::ivec3 shift : {glm::ivec3(3, 0, 0), glm::ivec3(0, 2, 0), glm::ivec3(0, 0, -4), glm::ivec3(-2, -1, 5),
+  const std::uint64_t voxels = std::uint64_t(dims.x) * dims.y * dims.z;
+  int overScroll = 0;
+  for (const glm::ivec3 shift : {glm::ivec3(3, 0, 0), glm::ivec3(0, 2, 0), glm::ivec3(0, 0, -4), glm::ivec3(4, 0, 0),
+                                 glm::ivec3(-2, -1, 5), glm::ivec3(0, 0, 8), glm::ivec3(-4, 4, 0), glm::ivec3(0, -4, 0),
                                  glm::ivec3(0, 40, 0), glm::ivec3(0, -40, 0)}) {
     SCOPED_TRACE(::testing::Message() << "shift " << shift.x << "," << shift.y << "," << shift.z);
     cell += shift;
@@ -703,7 +713,19 @@ TEST_F(CoarseSdfGpu, SeedsOnTheWorldLatticeScrollWithTheGridAndEqualAFullBuild) 
     std::uint64_t entered = 0;
     for (const CoarseVoxelBox& b : boxesOutside(dims, keptByShift(dims, shift))) entered += regionVoxels(b);
     EXPECT_EQ(scrolled.lastVoxelizedVoxels(), entered);
-    if (glm::all(glm::lessThan(glm::abs(shift), dims))) EXPECT_LT(entered, std::uint64_t(dims.x) * dims.y * dims.z / 2);
+    const bool within = glm::all(glm::lessThan(glm::abs(shift), dims));
+    if (within) EXPECT_LT(entered, voxels / 2);
+    // Whole blocks after a build that followed no other scroll: the transform runs over what the seeds that entered
+    // and left reach (the region of scrollChanges), the rest moved with the grid.
+    const bool whole = glm::all(glm::equal(shift % RTSDF_COARSE_BLOCK, glm::ivec3(0)));
+    EXPECT_EQ(scrolled.lastBuiltOverChange(), whole && within);
+    if (scrolled.lastBuiltOverChange()) {
+      ++overScroll;
+      // Along one axis the boxes are slabs at the faces (54-85% of this sparse scene's grid is within its seed
+      // distances of them); along two they span the grid, as here.
+      const int axes = (shift.x != 0) + (shift.y != 0) + (shift.z != 0);
+      if (axes == 1) EXPECT_LT(scrolled.readRegion().counts.z, voxels * 9 / 10) << "voxels transformed again";
+    }
     const std::vector<std::uint32_t> seeds = scrolled.readSeeds(dims);
     EXPECT_EQ(seeds, fresh.readSeeds(dims));
     EXPECT_EQ(seeds, voxelizeCpu(corners, gridAt(cell), cell));
@@ -712,6 +734,7 @@ TEST_F(CoarseSdfGpu, SeedsOnTheWorldLatticeScrollWithTheGridAndEqualAFullBuild) 
     gpu::download(*sCtx, fresh.distanceBuffer(), b.data(), b.size() * 4);
     EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * 4), 0);
   }
+  EXPECT_EQ(overScroll, 5);
   // Conservative and tight: every voxel a rectangle overlaps by more than 1e-4 voxels is a seed, and every seed
   // comes within 1e-4 voxels of one (closed form, in double: the voxel box against each rectangle's box).
   const GridSpec g = gridAt(cell);

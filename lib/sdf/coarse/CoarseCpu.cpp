@@ -88,7 +88,11 @@ std::vector<std::uint32_t> shiftSeedsCpu(const std::vector<std::uint32_t>& seeds
       for (int x = 0; x < dims.x; ++x) {
         const ivec3 v(x, y, z), from = v + shift;
         if (glm::any(glm::lessThan(from, ivec3(0))) || glm::any(glm::greaterThanEqual(from, dims))) continue;
-        if (seeds[lin(from, dims)] != kNoSeed) out[lin(v, dims)] = packSeed(v);
+        const std::uint32_t seed = seeds[lin(from, dims)];
+        if (seed == kNoSeed) continue;
+        const ivec3 u = unpackSeed(seed) - shift;
+        if (glm::all(glm::greaterThanEqual(u, ivec3(0))) && glm::all(glm::lessThan(u, dims)))
+          out[lin(v, dims)] = packSeed(u);
       }
   return out;
 }

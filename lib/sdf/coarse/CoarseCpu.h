@@ -30,8 +30,9 @@ std::vector<glm::vec4> placeInstanceCorners(const std::vector<glm::vec4>& corner
 std::vector<std::uint32_t> voxelizeCpu(const std::vector<glm::vec4>& corners, const GridSpec& spec,
                                        const std::optional<glm::ivec3>& latticeCell = std::nullopt);
 
-/// @brief The copy of SeedShiftPass: @a seeds of a grid of @a dims after it scrolled by @a shift voxels (voxel v
-///        takes v + shift's seed, packed at v; kNoSeed where v + shift lies outside the grid).
+/// @brief The copy of SeedShiftPass: @a seeds (or nearest seeds) of a grid of @a dims after it scrolled by @a shift
+///        voxels (voxel v takes v + shift's, a seed u becoming u - shift; kNoSeed where v + shift or u - shift lies
+///        outside the grid).
 std::vector<std::uint32_t> shiftSeedsCpu(const std::vector<std::uint32_t>& seeds, const glm::ivec3& dims,
                                          const glm::ivec3& shift);
 

@@ -77,10 +77,13 @@ struct CoarseRegion {
 const uint kCoarseRegionGroupsX = 32768u;
 
 /// Push constants of coarse_region.comp.
+/// The most boxes of changed seeds one build over a change takes (a scroll's entered and left seeds and the moving
+/// instances' box).
+#define RTSDF_COARSE_MAX_CHANGES 3
 struct CoarseRegionParams {
   ivec4 dims;     // xyz: voxels per axis; w: the phase (RTSDF_COARSE_REGION_GROW or RTSDF_COARSE_REGION_DISPATCH)
-  ivec4 changeLo; // xyz: box S, inclusive (empty where any lo > hi)
-  ivec4 changeHi;
+  ivec4 changeLo[RTSDF_COARSE_MAX_CHANGES]; // xyz: the boxes S, inclusive (empty where any lo > hi); they may lie
+  ivec4 changeHi[RTSDF_COARSE_MAX_CHANGES]; // beyond the grid (the seeds a scroll took out of it)
 };
 #define RTSDF_COARSE_REGION_GROW 0     // one invocation per block: those S reaches listed
 #define RTSDF_COARSE_REGION_DISPATCH 1 // one invocation: the region's indirect dispatches
@@ -183,8 +186,8 @@ const uint kVoxelizeMinChunkGroups = 8u;
 const uint kVoxelizeChunkVoxelsCpu = 4096u;
 const uint kVoxelizeChunkVoxelsGpu = 64u;
 
-/// Push constants of seed_shift.comp: the seeds of a grid that scrolled by @a shift voxels (voxel v takes the seed
-/// of v + shift, packed as v's own), the voxels that entered none.
+/// Push constants of seed_shift.comp: the seeds or nearest seeds of a grid that scrolled by @a shift voxels (voxel v
+/// takes what v + shift held, a seed u moved to u - shift), none where the voxel entered or the seed left the grid.
 struct SeedShiftParams {
   ivec4 dims;
   ivec4 shift;

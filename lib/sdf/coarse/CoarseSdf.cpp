@@ -1,6 +1,7 @@
 #include "sdf/coarse/CoarseSdf.h"
 
 #include "sdf/coarse/CoarseCpu.h"
+#include "sdf/pipeline/GridShift.h"
 #include "util/Error.h"
 
 #include <fmt/format.h>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 
 namespace rtsdf {
 using namespace gpu::shared;
@@ -89,12 +91,8 @@ const gpu::Buffer& JumpFloodPass::result(const Inputs& in, const Outputs& out, c
 void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
   const bool keep = out.planes && out.nearest;
-  if (params.change && !keep)
+  if (params.changes && !keep)
     throw Error("ExactEdtPass: a build over what changed needs the planes and nearest seeds of the build before");
-  if (params.change && !params.change->empty() &&
-      (glm::any(glm::lessThan(params.change->lo, glm::ivec3(0))) ||
-       glm::any(glm::greaterThanEqual(params.change->hi, params.dims))))
-    throw Error("ExactEdtPass: the box of changed seeds lies partly outside the grid");
   gpu::ProfileScope scope(profiler, cmd, kName);
   const glm::ivec3 dims = params.dims;
   // Each axis reads the one before's output: seeds, x, y (planes), z (nearest).
@@ -105,37 +103,55 @@ void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
     p.dims = glm::ivec4(dims, 0);
     p.axis = axis;
     const int na = axis == 0 ? dims.y : dims.x, nb = axis == 2 ? dims.y : dims.z;
-    p.lines = glm::ivec4(0, 0, na, nb);
-    // Over what changed: the x lines crossing the change (the x pass's output elsewhere is the last build's, kept in
-    // the scratch), the y lines of the planes z it crosses, the z lines of the region's columns.
-    const CoarseVoxelBox* c = params.change;
-    if (c && axis == 0) p.lines = glm::ivec4(c->lo.y, c->lo.z, c->hi.y + 1, c->hi.z + 1);
-    if (c && axis == 1) p.lines = glm::ivec4(0, c->lo.z, na, c->hi.z + 1);
-    p.fromRegion = c && axis == 2 ? 1 : 0;
+    // Over what changed: the x lines crossing a change box (the x pass's output elsewhere is the last build's, kept
+    // in the scratch), the y lines of the planes z one crosses (a box beyond the grid, seeds that left it, crosses
+    // the lines and planes it spans), the z lines of the region's columns. Lines in two boxes run twice, alike.
+    std::vector<glm::ivec4> runs{glm::ivec4(0, 0, na, nb)};
+    if (params.changes && axis < 2) {
+      runs.clear();
+      for (const CoarseVoxelBox& c : *params.changes) {
+        if (c.empty()) continue;
+        const glm::ivec4 lines = axis == 0 ? glm::ivec4(c.lo.y, c.lo.z, c.hi.y + 1, c.hi.z + 1)
+                                           : glm::ivec4(0, c.lo.z, na, c.hi.z + 1);
+        runs.push_back(glm::clamp(lines, glm::ivec4(0), glm::ivec4(na, nb, na, nb)));
+      }
+    }
+    p.fromRegion = params.changes && axis == 2 ? 1 : 0;
     gpu::computeBarrier(cmd); // the previous axis (or pass) wrote src
     std::array<gpu::Binding, kExactEdtBindingCount> b;
     b[kExactEdtBindingSrc] = stages[axis];
     b[kExactEdtBindingDst] = stages[axis + 1];
     b[kExactEdtBindingLists] = &in.lists;
-    if (p.fromRegion)
+    if (p.fromRegion) {
       mPipeline.dispatchIndirect(cmd, b, &p, in.region, offsetof(CoarseRegion, edtGroups));
-    else if (p.lines.z > p.lines.x && p.lines.w > p.lines.y)
-      mPipeline.dispatch(cmd, b, &p,
-                         {gpu::groupsFor(std::uint32_t(p.lines.z - p.lines.x), RTSDF_EDT_GROUP_X),
-                          std::uint32_t(p.lines.w - p.lines.y), 1});
+      continue;
+    }
+    for (const glm::ivec4& lines : runs) {
+      p.lines = lines;
+      if (lines.z > lines.x && lines.w > lines.y)
+        mPipeline.dispatch(cmd, b, &p,
+                           {gpu::groupsFor(std::uint32_t(lines.z - lines.x), RTSDF_EDT_GROUP_X),
+                            std::uint32_t(lines.w - lines.y), 1});
+    }
   }
   gpu::computeBarrier(cmd);
 }
 
 void CoarseRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                                const Params& params) const {
+  if (params.changes.size() > RTSDF_COARSE_MAX_CHANGES)
+    throw Error(fmt::format("CoarseRegionPass: {} change boxes, at most {}", params.changes.size(),
+                            RTSDF_COARSE_MAX_CHANGES));
   gpu::ProfileScope scope(profiler, cmd, kName);
   vkCmdFillBuffer(cmd, out.lists.handle(), 0, std::uint64_t(coarseRegionZeroedWords(params.dims)) * 4, 0u);
   gpu::computeBarrier(cmd);
   CoarseRegionParams p{};
   p.dims = glm::ivec4(params.dims, RTSDF_COARSE_REGION_GROW);
-  p.changeLo = glm::ivec4(params.change.lo, 0);
-  p.changeHi = glm::ivec4(params.change.hi, 0);
+  for (int k = 0; k < RTSDF_COARSE_MAX_CHANGES; ++k) { // the boxes not given are empty
+    const CoarseVoxelBox c = std::size_t(k) < params.changes.size() ? params.changes[std::size_t(k)] : CoarseVoxelBox{};
+    p.changeLo[k] = glm::ivec4(c.lo, 0);
+    p.changeHi[k] = glm::ivec4(c.hi, 0);
+  }
   std::array<gpu::Binding, kCoarseRegionBindingCount> b;
   b[kCoarseRegionBindingBlockMax] = &in.blockMax;
   b[kCoarseRegionBindingRegion] = &out.region;
@@ -152,7 +168,10 @@ void CoarseRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
 }
 
 std::vector<CoarseVoxelBox> boxesOutside(const glm::ivec3& dims, const CoarseVoxelBox& kept) {
-  const CoarseVoxelBox grid{glm::ivec3(0), dims - 1};
+  return boxesOutside(CoarseVoxelBox{glm::ivec3(0), dims - 1}, kept);
+}
+
+std::vector<CoarseVoxelBox> boxesOutside(const CoarseVoxelBox& grid, const CoarseVoxelBox& kept) {
   if (kept.empty()) return grid.empty() ? std::vector<CoarseVoxelBox>{} : std::vector<CoarseVoxelBox>{grid};
   std::vector<CoarseVoxelBox> boxes;
   // Axis by axis: the slabs below and above the kept box, then the rest narrowed to its range on that axis.
@@ -178,6 +197,19 @@ std::optional<glm::ivec3> seedLatticeCell(const GridSpec& coarse) {
   return glm::ivec3(cells);
 }
 
+std::vector<CoarseVoxelBox> scrollChanges(const glm::ivec3& dims, const glm::ivec3& shift) {
+  const CoarseVoxelBox grid{glm::ivec3(0), dims - 1};
+  auto bound = [](const std::vector<CoarseVoxelBox>& boxes) {
+    CoarseVoxelBox b{glm::ivec3(std::numeric_limits<int>::max()), glm::ivec3(std::numeric_limits<int>::min())};
+    for (const CoarseVoxelBox& c : boxes) b = {glm::min(b.lo, c.lo), glm::max(b.hi, c.hi)};
+    return boxes.empty() ? CoarseVoxelBox{} : b;
+  };
+  // The old grid's voxels in the new one's coordinates: those outside it held the seeds that left.
+  const CoarseVoxelBox old{-shift, dims - 1 - shift};
+  const CoarseVoxelBox stayed{glm::max(old.lo, grid.lo), glm::min(old.hi, grid.hi)};
+  return {bound(boxesOutside(grid, stayed)), bound(boxesOutside(old, stayed))};
+}
+
 CoarseVoxelBox keptByShift(const glm::ivec3& dims, const glm::ivec3& shift) {
   // v + shift in [0, dims): v in [-shift, dims - shift) within the grid.
   return {glm::max(-shift, glm::ivec3(0)), glm::min(dims - 1 - shift, dims - 1)};
@@ -201,6 +233,11 @@ void SeedShiftPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
 
 CoarseRegionLists coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
                                   const CoarseVoxelBox& change) {
+  return coarseRegionCpu(blockMax, dims, std::vector<CoarseVoxelBox>{change});
+}
+
+CoarseRegionLists coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
+                                  const std::vector<CoarseVoxelBox>& changes) {
   const glm::ivec3 bd = coarseBlockDims(dims);
   CoarseRegionLists region;
   std::vector<bool> columnListed(std::size_t(bd.x) * bd.y, false);
@@ -210,7 +247,10 @@ CoarseRegionLists coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, co
         const glm::ivec3 lo = glm::ivec3(x, y, z) * RTSDF_COARSE_BLOCK;
         const glm::ivec3 hi = glm::min(lo + glm::ivec3(RTSDF_COARSE_BLOCK - 1), dims - 1);
         const auto block = std::uint32_t((z * bd.y + y) * bd.x + x);
-        if (!coarseBlockReached(lo, hi, change.lo, change.hi, blockMax.at(block))) continue;
+        const bool reached = std::any_of(changes.begin(), changes.end(), [&](const CoarseVoxelBox& c) {
+          return coarseBlockReached(lo, hi, c.lo, c.hi, blockMax.at(block));
+        });
+        if (!reached) continue;
         region.blocks.push_back(block);
         const glm::u64vec3 n = glm::u64vec3(hi - lo + 1);
         region.voxels += n.x * n.y * n.z;
@@ -356,7 +396,7 @@ InstancedTriangles CoarseSdfBuilder::uploadWorldCorners(const std::vector<glm::v
 
 const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler,
                                                   const InstancedTriangles& triangles, const Prepared& p,
-                                                  const CoarseVoxelBox* change,
+                                                  const std::vector<CoarseVoxelBox>* changes,
                                                   const std::vector<CoarseVoxelBox>& boxes) const {
   const bool exact = !isJumpFlooding(p.flood.variant);
   const gpu::Buffer& nearest = exact ? (p.keep ? mNearest : mSeedsB)
@@ -364,20 +404,20 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
   // Over what changed (or after a scroll): the triangles' seeds inside the boxes alone (the rest are kept).
   recordVoxelize(cmd, profiler, triangles, p, boxes);
   // Over what changed: the region from the last build's block bounds, before this build raises them.
-  if (change) mRegionPass.execute(cmd, nullptr, {mBlockMax}, {mRegion, mRegionLists}, {p.flood.dims, *change});
+  if (changes) mRegionPass.execute(cmd, nullptr, {mBlockMax}, {mRegion, mRegionLists}, {p.flood.dims, *changes});
   if (exact)
     mExactEdt.execute(cmd, profiler, {mSeedsA, mRegion, mRegionLists},
-                      {mSeedsB, p.keep ? &mPlanes : nullptr, p.keep ? &mNearest : nullptr}, {p.flood.dims, change});
+                      {mSeedsB, p.keep ? &mPlanes : nullptr, p.keep ? &mNearest : nullptr}, {p.flood.dims, changes});
   else
     mJumpFlood.execute(cmd, profiler, {mSeedsA}, {mSeedsB}, p.flood);
   // The box starts empty; the pass grows it over the voxels whose value changed. A full build that keeps its
   // transform raises the block bounds from zero (others leave them: no build over a change follows them).
   static const ChangedBox kEmpty{glm::uvec4(kChangedBoxEmptyLo), glm::uvec4(0u)};
   gpu::recordUpload(cmd, mChangedBox, &kEmpty, sizeof(kEmpty));
-  if (p.keep && !change) vkCmdFillBuffer(cmd, mBlockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
+  if (p.keep && !changes) vkCmdFillBuffer(cmd, mBlockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::computeBarrier(cmd);
   CoarseDistanceParams distance = p.distance;
-  distance.flags = (change ? kCoarseDistanceRegionOnly : 0u) | (p.keep ? kCoarseDistanceKeepBounds : 0u);
+  distance.flags = (changes ? kCoarseDistanceRegionOnly : 0u) | (p.keep ? kCoarseDistanceKeepBounds : 0u);
   mDistance.execute(cmd, profiler, {nearest, mRegion, mRegionLists}, {mDistanceBuf, mChangedBox, mBlockMax},
                     distance);
   return nearest;
@@ -407,59 +447,77 @@ void CoarseSdfBuilder::recordVoxelize(VkCommandBuffer cmd, gpu::GpuProfiler* pro
   }
 }
 
-std::vector<CoarseVoxelBox> CoarseSdfBuilder::voxelizeBoxes(const GridSpec& spec, const CoarseSdfSettings& settings,
-                                                            const Prepared& p, const CoarseVoxelBox* change,
-                                                            bool& overChange) {
+CoarseSdfBuilder::BuildPlan CoarseSdfBuilder::planBuild(const GridSpec& spec, const CoarseSdfSettings& settings,
+                                                        const Prepared& p, const CoarseVoxelBox* change) {
   // The kept seeds, transform, distances and block bounds must be of this grid and beta, from a build that kept them.
   const bool sameCorner = mKeptCell ? mKeptCell == settings.seedLatticeCell
                                     : !settings.seedLatticeCell && mKeptOrigin == spec.origin;
   const bool sameGrid = mKeptDims == spec.dims && sameCorner && mKeptVoxel == spec.voxelSize && mKeptBeta == p.beta;
-  const bool seedsKept = p.keep && sameGrid && !mSeedsKept.empty();
-  overChange = change && seedsKept && !mScrolled;
-  std::vector<CoarseVoxelBox> boxes;
-  if (seedsKept && mScrolled) { // the seeds that entered, and those of the change box
-    boxes = boxesOutside(spec.dims, mSeedsKept);
-    if (change && !change->empty()) boxes.push_back(*change);
-  } else if (overChange) {
-    boxes = {*change};
+  BuildPlan plan;
+  if (p.keep && sameGrid && !mSeedsKept.empty()) {
+    if (mScrolled) { // the seeds that entered, and those of the change box
+      plan.voxelize = boxesOutside(spec.dims, mSeedsKept);
+      if (change && !change->empty()) plan.voxelize.push_back(*change);
+      plan.changes = mScrollChanges;
+      if (plan.changes && change && !change->empty()) plan.changes->push_back(*change);
+    } else if (change) {
+      plan.voxelize = {*change};
+      plan.changes = std::vector<CoarseVoxelBox>{*change};
+    }
   }
-  mLastVoxelized = boxes.empty() ? spec.voxelCount() : 0; // none: the whole grid
-  for (const CoarseVoxelBox& b : boxes) mLastVoxelized += regionVoxels(b);
-  return boxes;
+  mLastVoxelized = plan.voxelize.empty() ? spec.voxelCount() : 0; // none: the whole grid
+  for (const CoarseVoxelBox& b : plan.voxelize) mLastVoxelized += regionVoxels(b);
+  return plan;
 }
 
 float CoarseSdfBuilder::record(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                                const GridSpec& spec, const CoarseSdfSettings& settings, const CoarseVoxelBox* change) {
   const Prepared p = prepare(triangles, spec, settings);
-  bool overChange = false;
-  const std::vector<CoarseVoxelBox> boxes = voxelizeBoxes(spec, settings, p, change, overChange);
-  recordPasses(cmd, profiler, triangles, p, overChange ? change : nullptr, boxes);
-  mLastOverChange = overChange;
+  const BuildPlan plan = planBuild(spec, settings, p, change);
+  recordPasses(cmd, profiler, triangles, p, plan.changes ? &*plan.changes : nullptr, plan.voxelize);
+  mLastOverChange = plan.changes.has_value();
   keepGrid(p.keep, spec, settings, p.beta);
   return p.beta;
 }
 
+void CoarseSdfBuilder::recordSeedShift(VkCommandBuffer cmd, const gpu::Buffer& buffer, const glm::ivec3& shift,
+                                       const gpu::Buffer& scratch) const {
+  const glm::ivec3 dims = mKeptDims;
+  const VkDeviceSize bytes = VkDeviceSize(dims.x) * VkDeviceSize(dims.y) * VkDeviceSize(dims.z) * 4;
+  if (scratch.size() < bytes)
+    throw Error(fmt::format("coarse SDF: a scroll scratch of {} bytes, {} needed", scratch.size(), bytes));
+  gpu::computeBarrier(cmd); // the scratch may still be read by another shift
+  const VkBufferCopy whole{0, 0, bytes};
+  vkCmdCopyBuffer(cmd, buffer.handle(), scratch.handle(), 1, &whole);
+  gpu::computeBarrier(cmd);
+  mSeedShift.execute(cmd, nullptr, {scratch}, {buffer}, {glm::ivec4(dims, 0), glm::ivec4(shift, 0)});
+  gpu::computeBarrier(cmd);
+}
+
 void CoarseSdfBuilder::recordScroll(VkCommandBuffer cmd, const glm::ivec3& shift, const gpu::Buffer& scratch,
-                                    bool sceneChanged) {
+                                    bool sceneChanged, const GridShiftPass* gridShift) {
   const glm::ivec3 dims = mKeptDims;
   // Only seeds decided by their lattice cell are kept: decided in the grid's old frame, they could differ.
   if (sceneChanged || !mKeptCell || glm::any(glm::lessThan(dims, glm::ivec3(1))) || mSeedsKept.empty()) {
     mSeedsKept = {};
     return;
   }
-  const VkDeviceSize bytes = VkDeviceSize(dims.x) * VkDeviceSize(dims.y) * VkDeviceSize(dims.z) * 4;
-  if (scratch.size() < bytes)
-    throw Error(fmt::format("coarse SDF: a scroll scratch of {} bytes, {} needed", scratch.size(), bytes));
-  gpu::computeBarrier(cmd); // the scratch may still be read by another shift
-  const VkBufferCopy whole{0, 0, bytes};
-  vkCmdCopyBuffer(cmd, mSeedsA.handle(), scratch.handle(), 1, &whole);
-  gpu::computeBarrier(cmd);
-  mSeedShift.execute(cmd, nullptr, {scratch}, {mSeedsA}, {glm::ivec4(dims, 0), glm::ivec4(shift, 0)});
-  gpu::computeBarrier(cmd);
+  recordSeedShift(cmd, mSeedsA, shift, scratch);
+  // The transform moves too where the shift is whole blocks (the block bounds move with them) and the last build
+  // followed no other scroll: the next one runs over what the seeds that entered and those that left reach.
+  const bool blocksWhole = glm::all(glm::equal(shift % RTSDF_COARSE_BLOCK, glm::ivec3(0)));
+  const CoarseVoxelBox kept = keptByShift(dims, shift);
+  if (blocksWhole && !mScrolled && !kept.empty()) {
+    for (const gpu::Buffer* b : {&mSeedsB, &mPlanes, &mNearest}) recordSeedShift(cmd, *b, shift, scratch);
+    recordGridShift(cmd, gridShift, mDistanceBuf, scratch, dims, 4, shift, 0u);
+    recordGridShift(cmd, gridShift, mBlockMax, scratch, coarseBlockDims(dims), 4, shift / RTSDF_COARSE_BLOCK, 0u);
+    mScrollChanges = scrollChanges(dims, shift);
+  } else {
+    mScrollChanges.reset();
+  }
   // A voxel keeps its seed where v + shift was kept.
   const CoarseVoxelBox moved{mSeedsKept.lo - shift, mSeedsKept.hi - shift};
-  const CoarseVoxelBox inGrid = keptByShift(dims, shift);
-  mSeedsKept = {glm::max(moved.lo, inGrid.lo), glm::min(moved.hi, inGrid.hi)};
+  mSeedsKept = {glm::max(moved.lo, kept.lo), glm::min(moved.hi, kept.hi)};
   *mKeptCell += shift; // the corner moved by the shift
   mScrolled = true;
 }
@@ -472,6 +530,7 @@ void CoarseSdfBuilder::keepGrid(bool keep, const GridSpec& spec, const CoarseSdf
   mKeptBeta = beta;
   mSeedsKept = keep ? CoarseVoxelBox{glm::ivec3(0), spec.dims - 1} : CoarseVoxelBox{};
   mScrolled = false;
+  mScrollChanges.reset();
 }
 
 gpu::shared::CoarseRegion CoarseSdfBuilder::readRegion() const {

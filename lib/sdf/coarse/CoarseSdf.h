@@ -20,6 +20,8 @@
 
 namespace rtsdf {
 
+class GridShiftPass; // sdf/pipeline/GridShift.h
+
 // The passes have the shape of gpu/ComputePass.h; buffers are bound at the indices sdf/coarse/CoarseParams.h names.
 
 /// @brief Triangles placed by instance transforms on the GPU: what VoxelizePass reads. A list of world-space
@@ -90,10 +92,10 @@ struct CoarseVoxelBox {
 /// @brief ExactEdtPass: the exact nearest seed per voxel by a separable feature transform, one dispatch per axis, one
 ///        invocation per grid line. Any dims up to kMaxSeedAxis per axis. Without @a planes and @a nearest: x: seeds
 ///        -> scratch, y: scratch -> seeds, z: seeds -> scratch (the result). With them (kept from build to build):
-///        x: seeds -> scratch, y: scratch -> planes, z: planes -> nearest, all three kept; and then Params::change
-///        may restrict the build to what a change of seeds inside that box reaches: the x lines crossing it (the
-///        others keep their output in @a scratch), the y lines of the planes z crossing it (the planes elsewhere hold
-///        the same seeds), and the z lines of the columns listed in @a lists (CoarseRegionPass; dispatched
+///        x: seeds -> scratch, y: scratch -> planes, z: planes -> nearest, all three kept; and then Params::changes
+///        may restrict the build to what a change of seeds inside those boxes reaches: the x lines crossing one (the
+///        others keep their output in @a scratch), the y lines of the planes z crossing one (the planes elsewhere
+///        hold the same seeds), and the z lines of the columns listed in @a lists (CoarseRegionPass; dispatched
 ///        indirectly from @a region). @a lists is bound in any case.
 class ExactEdtPass : gpu::ComputePass {
 public:
@@ -111,19 +113,19 @@ public:
   };
   struct Params {
     glm::ivec3 dims{0};
-    /// Where given: the box outside which the seeds are those of the build before, which wrote @a planes and
-    /// @a nearest on the same grid.
-    const CoarseVoxelBox* change = nullptr;
+    /// Where given: the boxes outside which the seeds are those of the build before, which wrote @a planes and
+    /// @a nearest on the same grid (or moved them as its grid scrolled: a box beyond the grid holds seeds that left).
+    const std::vector<CoarseVoxelBox>* changes = nullptr;
   };
   explicit ExactEdtPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "exact_edt.comp", gpu::shared::kExactEdtBindingCount, sizeof(gpu::shared::ExactEdtParams)) {}
-  /// @throw Error where Params::change is given without @a planes and @a nearest.
+  /// @throw Error where Params::changes is given without @a planes and @a nearest.
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 };
 
-/// @brief CoarseRegionPass: the region a change of seeds inside box @a change can reach: the blocks that
-///        coarseBlockReached says the box lies within their seed distance, by @a blockMax of the last build, and
+/// @brief CoarseRegionPass: the region a change of seeds inside boxes @a changes can reach: the blocks that
+///        coarseBlockReached says a box lies within their seed distance, by @a blockMax of the last build, and
 ///        their columns of blocks, listed in @a lists (coarseRegionListWords words) and counted in @a region
 ///        (gpu::shared::CoarseRegion, reset first) with the indirect dispatches over them.
 class CoarseRegionPass : gpu::ComputePass {
@@ -133,11 +135,12 @@ public:
   struct Outputs { const gpu::Buffer& region, & lists; };
   struct Params {
     glm::ivec3 dims{0};
-    CoarseVoxelBox change;
+    std::vector<CoarseVoxelBox> changes; ///< at most RTSDF_COARSE_MAX_CHANGES; they may lie beyond the grid
   };
   explicit CoarseRegionPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "coarse_region.comp", gpu::shared::kCoarseRegionBindingCount,
                     sizeof(gpu::shared::CoarseRegionParams)) {}
+  /// @throw Error with more than RTSDF_COARSE_MAX_CHANGES boxes.
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 };
@@ -149,8 +152,11 @@ struct CoarseRegionLists {
   std::uint64_t voxels = 0;           ///< the listed blocks' voxels
 };
 
-/// @brief CPU copy of CoarseRegionPass: the region of @a change on a grid of @a dims with the block bounds
+/// @brief CPU copy of CoarseRegionPass: the region of @a changes on a grid of @a dims with the block bounds
 ///        @a blockMax.
+CoarseRegionLists coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
+                                  const std::vector<CoarseVoxelBox>& changes);
+/// @brief The same for one box.
 CoarseRegionLists coarseRegionCpu(const std::vector<std::uint32_t>& blockMax, const glm::ivec3& dims,
                                   const CoarseVoxelBox& change);
 
@@ -166,13 +172,22 @@ template <class Region> std::uint64_t regionVoxels(const Region& r) {
 ///        then along z within its x and y ranges. After a scroll they are the voxels that entered.
 std::vector<CoarseVoxelBox> boxesOutside(const glm::ivec3& dims, const CoarseVoxelBox& kept);
 
+/// @brief The same outside @a kept within the box @a grid (which may lie anywhere).
+std::vector<CoarseVoxelBox> boxesOutside(const CoarseVoxelBox& grid, const CoarseVoxelBox& kept);
+
 /// @brief The voxels of a grid of @a dims that keep their seeds when it scrolls by @a shift voxels (voxel v takes
 ///        v + shift's): those for which v + shift lies in the grid; empty where the shift is the grid's size or more.
 CoarseVoxelBox keptByShift(const glm::ivec3& dims, const glm::ivec3& shift);
 
-/// @brief SeedShiftPass (seed_shift.comp): the seeds of a grid that scrolled by whole voxels, moved: voxel v takes
-///        a seed (its own packed coordinate) where v + shift lay in the grid and held one, else kNoSeed. @a source
-///        is a copy of the seeds before (it must not alias them).
+/// @brief The change boxes of a build after a grid of @a dims scrolled by @a shift voxels, in the new grid's voxels:
+///        the box of the voxels that entered, and the box of the old voxels that left it (beyond the grid), whose
+///        seeds left with them (the voxels whose nearest seed was one are those that box reaches).
+std::vector<CoarseVoxelBox> scrollChanges(const glm::ivec3& dims, const glm::ivec3& shift);
+
+/// @brief SeedShiftPass (seed_shift.comp): the seeds or nearest seeds of a grid that scrolled by whole voxels,
+///        moved: voxel v takes what v + shift held, a packed seed u becoming u - shift, kNoSeed where v + shift or
+///        u - shift lies outside the grid (a seed buffer's seeds are their own voxels: they move with them). @a source
+///        is a copy of the buffer before (it must not alias it).
 class SeedShiftPass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "SeedShiftPass";
@@ -279,12 +294,16 @@ public:
                const GridSpec& spec, const CoarseSdfSettings& settings, const CoarseVoxelBox* change = nullptr);
   /// @brief Record the move of the kept seeds of a grid that scrolled by @a shift voxels (the voxel at v takes what
   ///        v + shift held: SeedShiftPass, through @a scratch), so that the next record() on the grid voxelizes only
-  ///        the voxels that entered. Nothing is recorded, and the next record() builds whole, where the last one kept
-  ///        no transform or @a sceneChanged (the triangles changed other than by the scroll). The kept seeds were
-  ///        decided in the grid's old frame: a triangle within float rounding of a voxel's face may be decided there
-  ///        otherwise than a fresh build would, as conservatively.
+  ///        the voxels that entered. Where the shift is whole blocks (RTSDF_COARSE_BLOCK) and the last record()
+  ///        followed no other scroll, the kept transform, distances and block bounds move too (SeedShiftPass;
+  ///        recordGridShift by @a gridShift, or transfers where null), and the next record() transforms only what
+  ///        the seeds that entered and those that left reach (scrollChanges, with its change box), bit for bit as a
+  ///        full build. Nothing is recorded, and the next record() builds whole, where the last one kept no transform
+  ///        on the seed lattice (CoarseSdfSettings::seedLatticeCell: seeds decided in the grid's old frame could
+  ///        differ from a full build's) or @a sceneChanged (the triangles changed other than by the scroll).
   /// @throw Error when @a scratch is smaller than the seeds.
-  void recordScroll(VkCommandBuffer cmd, const glm::ivec3& shift, const gpu::Buffer& scratch, bool sceneChanged);
+  void recordScroll(VkCommandBuffer cmd, const glm::ivec3& shift, const gpu::Buffer& scratch, bool sceneChanged,
+                    const GridShiftPass* gridShift = nullptr);
   /// @brief Whether the last record() built over what changed (its change was taken).
   bool lastBuiltOverChange() const { return mLastOverChange; }
   /// @brief The voxels whose seeds the last record() voxelized: the grid's, or where it built over what changed
@@ -324,18 +343,24 @@ private:
   /// (@a keep).
   void keepGrid(bool keep, const GridSpec& spec, const CoarseSdfSettings& settings, float beta);
   /// Record voxelize (over @a boxes; none: the whole grid), transform and distance (over what changed inside
-  /// @a change, where given); returns the buffer that holds the nearest seeds.
+  /// @a changes, where given); returns the buffer that holds the nearest seeds.
   const gpu::Buffer& recordPasses(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
-                                  const Prepared& p, const CoarseVoxelBox* change = nullptr,
+                                  const Prepared& p, const std::vector<CoarseVoxelBox>* changes = nullptr,
                                   const std::vector<CoarseVoxelBox>& boxes = {}) const;
+  /// Record SeedShiftPass on @a buffer (a grid of the kept dims) through @a scratch.
+  void recordSeedShift(VkCommandBuffer cmd, const gpu::Buffer& buffer, const glm::ivec3& shift,
+                       const gpu::Buffer& scratch) const;
   /// Record VoxelizePass over each of @a boxes in turn (none: the whole grid).
   void recordVoxelize(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const InstancedTriangles& triangles,
                       const Prepared& p, const std::vector<CoarseVoxelBox>& boxes) const;
-  /// The boxes record() voxelizes (none: the whole grid) and whether it may build over @a change; sets
-  /// mLastVoxelized.
-  std::vector<CoarseVoxelBox> voxelizeBoxes(const GridSpec& spec, const CoarseSdfSettings& settings, const Prepared& p,
-                                            const CoarseVoxelBox* change,
-                                            bool& overChange);
+  /// What record() voxelizes (none: the whole grid) and the change boxes its transform runs over (none: whole).
+  struct BuildPlan {
+    std::vector<CoarseVoxelBox> voxelize;
+    std::optional<std::vector<CoarseVoxelBox>> changes;
+  };
+  /// The plan of a record() with @a change; sets mLastVoxelized.
+  BuildPlan planBuild(const GridSpec& spec, const CoarseSdfSettings& settings, const Prepared& p,
+                      const CoarseVoxelBox* change);
   const gpu::VulkanContext& mCtx;
   gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mLarge, mSeedsA, mSeedsB, mDistanceBuf, mChangedBox;
   gpu::Buffer mBlockMax, mRegion; ///< the block bounds (CoarseDistancePass) and the region of a build over changes
@@ -349,7 +374,9 @@ private:
   /// The voxels of the kept grid whose seeds are the scene's (the whole grid after a build that kept its transform,
   /// what stayed in the grid after recordScroll; empty: none).
   CoarseVoxelBox mSeedsKept;
-  bool mScrolled = false; ///< recordScroll() moved the seeds since the last build: the kept transform is stale
+  bool mScrolled = false; ///< recordScroll() moved the seeds since the last build
+  /// The change boxes a scroll left the next build (scrollChanges), where it moved the transform too.
+  std::optional<std::vector<CoarseVoxelBox>> mScrollChanges;
   bool mLastOverChange = false;
   std::uint64_t mLastVoxelized = 0;
   VoxelizePass mVoxelize;

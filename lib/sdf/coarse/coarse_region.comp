@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // CoarseRegionPass: the region of a coarse build over what changed (CoarseRegion). GROW, one invocation per block:
-// a block that box S lies within its bound of the seed distance (coarseBlockReached) is listed, counted with its
+// a block that one of the boxes S lies within its bound of the seed distance (coarseBlockReached) is listed, counted with its
 // voxels, and its column of blocks listed by the first of its blocks to mark it (the counts and marks zeroed by the
 // host; all in the lists' device buffer). DISPATCH, one invocation: the counts copied into the CoarseRegion (host
 // memory) with the indirect dispatches of ExactEdtPass's z lines over the listed columns and of CoarseDistancePass
@@ -37,7 +37,10 @@ void main() {
   ivec3 cell = linearCell(b, bd);
   ivec3 lo = cell * RTSDF_COARSE_BLOCK;
   ivec3 hi = min(lo + ivec3(RTSDF_COARSE_BLOCK - 1), dims - ivec3(1));
-  if (!coarseBlockReached(lo, hi, params.changeLo.xyz, params.changeHi.xyz, blockMax[b])) return;
+  bool reached = false;
+  for (int k = 0; k < RTSDF_COARSE_MAX_CHANGES; ++k)
+    reached = reached || coarseBlockReached(lo, hi, params.changeLo[k].xyz, params.changeHi[k].xyz, blockMax[b]);
+  if (!reached) return;
   // lists[] starts after the counts (word w of the buffer is lists[w - kCoarseRegionCountWords]): the marks first.
   const uint base = kCoarseRegionCountWords;
   lists[coarseRegionBlocksAt(dims) - base + atomicAdd(counts.x, 1u)] = b;

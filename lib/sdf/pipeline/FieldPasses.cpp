@@ -54,11 +54,12 @@ void FieldPasses::recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
 }
 
 void FieldPasses::recordScroll(VkCommandBuffer cmd, const std::pair<GridSpec, GridSpec>& grids,
-                               const glm::ivec3& shift, const gpu::Buffer& scratch, bool sceneChanged) {
+                               const glm::ivec3& shift, const gpu::Buffer& scratch, bool sceneChanged,
+                               const GridShiftPass* gridShift) {
   const glm::ivec3 fineShift = shift * (grids.second.dims / grids.first.dims);
   mCoarseSpec = grids.first;
   mFineSpec = grids.second;
-  mCoarse.recordScroll(cmd, shift, scratch, sceneChanged);
+  mCoarse.recordScroll(cmd, shift, scratch, sceneChanged, gridShift);
   // Loose: the voxels that entered are refined (new to the band) or upsampled by the next frame, whatever they hold.
   if (mFine) recordGridShift(cmd, mFine, scratch, gridShiftPlanLoose(mFineSpec.dims, 4, fineShift), 0u);
 }

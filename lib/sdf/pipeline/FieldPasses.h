@@ -74,12 +74,13 @@ public:
   const gpu::Buffer& changedBoxBuffer() const;
 
   /// @brief The grids moved to @a grids (coarse, fine), @a shift coarse voxels from where they were
-  ///        (SdfPipeline::scroll): record, through @a scratch, the coarse seeds' move (CoarseSdfBuilder::recordScroll:
-  ///        none where @a sceneChanged, the level's part of the scene cut again) and the dense fine SDF's shift
+  ///        (SdfPipeline::scroll): record, through @a scratch, the coarse seeds' and transform's move
+  ///        (CoarseSdfBuilder::recordScroll with @a gridShift: none where @a sceneChanged, the level's part of the
+  ///        scene cut again) and the dense fine SDF's shift
   ///        (recordGridShift of gridShiftPlanLoose: the voxels that entered hold their neighbours' values until the
   ///        next frame refines or upsamples them).
   void recordScroll(VkCommandBuffer cmd, const std::pair<GridSpec, GridSpec>& grids, const glm::ivec3& shift,
-                    const gpu::Buffer& scratch, bool sceneChanged);
+                    const gpu::Buffer& scratch, bool sceneChanged, const GridShiftPass* gridShift);
   /// @brief Whether the fine SDF is kept dense (FineStorage::Dense).
   bool dense() const { return bool(mFine); }
   const gpu::Buffer& coarseBuffer() const { return mCoarse.distanceBuffer(); }

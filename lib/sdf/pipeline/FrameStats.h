@@ -33,7 +33,8 @@ struct FrameStats {
   /// coarse voxels whose value changed (UpsampleRegionPass); 0 where it did not run.
   std::uint64_t upsampledFineVoxels = 0;
   /// Coarse voxels whose distance the coarse SDF's build wrote this frame: the whole grid, or where only instances
-  /// moved the region their seeds can reach (CoarseRegionPass); 0 where it did not run.
+  /// moved the region their seeds can reach (CoarseRegionPass), or after a scroll by whole blocks the region the
+  /// seeds that entered and left reach, with theirs; 0 where it did not run.
   std::uint64_t coarseRebuiltVoxels = 0;
   /// Coarse voxels whose seeds VoxelizePass wrote this frame: the whole grid, or where only instances moved the box
   /// of their seeds (movedSeedBox: the seeds elsewhere are the last build's), or after a scroll the voxels that

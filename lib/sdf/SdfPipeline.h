@@ -90,9 +90,10 @@ public:
   /// @brief Move the grids to @a grids, the same grids scrolled by whole bricks (scrollShift; a cascade level that
   ///        follows the camera), keeping what the pipeline knows: the refinement's history, the bricks and their
   ///        values, the dense fine SDF, shifted through @a scratch (at least as large as the dense fine SDF and the
-  ///        coarse refinement state), and the coarse seeds. The next frame voxelizes only the coarse voxels that
-  ///        entered (and the moving instances' box; all of them with @a recut), transforms the whole coarse grid, and
-  ///        refines only the band voxels new to it (those that entered, or that a surface entering made part of it),
+  ///        coarse refinement state), and the coarse seeds and transform. The next frame voxelizes only the coarse
+  ///        voxels that entered (and the moving instances' box; all of them with @a recut), transforms only what they
+  ///        and the seeds that left reach (CoarseSdfBuilder::recordScroll: else the whole grid), and refines only the
+  ///        band voxels new to it (those that entered, or that a surface entering made part of it),
   ///        with those moving instances reach:
   ///        what a pipeline built on @a grids would have, up to the float rounding of its frame (frameOrigin moves).
   ///        Waits for a frame in flight.

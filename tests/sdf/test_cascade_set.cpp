@@ -254,7 +254,8 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
   EXPECT_LT(double(scrolledVoxelized), 0.5 * double(freshVoxelized));
   EXPECT_LT(scrolledRebuilt, freshRebuilt) << "the transform over what the seeds that entered and left reach";
   std::printf("%d scrolls (%d with the scene cut again), %d rebuilds; largest difference from fresh levels %.2e fine "
-              "voxels; scrolled levels refined %.3f of the voxels fresh ones did, voxelized %.3f and transformed %.3f\n",
+              "voxels; scrolled levels refined %.3f of the voxels fresh ones did, voxelized %.3f and transformed "
+              "%.3f\n",
               scrolls, recuts, rebuilds, worst, double(scrolledRefined) / double(freshRefined),
               double(scrolledVoxelized) / double(freshVoxelized), double(scrolledRebuilt) / double(freshRebuilt));
 }

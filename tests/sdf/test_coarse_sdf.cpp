@@ -836,7 +836,8 @@ TEST(SeedLattice, BoxesOutsideCoverTheRestOnceAndTheLatticeNeedsAWholeCorner) {
         for (int x = 0; x < dims.x; ++x) {
           EXPECT_EQ(covered[std::size_t((z * dims.y + y) * dims.x + x)], 1) << x << "," << y << "," << z;
           const glm::ivec3 from = glm::ivec3(x, y, z) + shift;
-          const bool inside = glm::all(glm::greaterThanEqual(from, glm::ivec3(0))) && glm::all(glm::lessThan(from, dims));
+          const bool inside =
+              glm::all(glm::greaterThanEqual(from, glm::ivec3(0))) && glm::all(glm::lessThan(from, dims));
           const bool inKept = !kept.empty() && glm::all(glm::greaterThanEqual(glm::ivec3(x, y, z), kept.lo)) &&
                               glm::all(glm::lessThanEqual(glm::ivec3(x, y, z), kept.hi));
           EXPECT_EQ(inKept, inside);
@@ -851,6 +852,36 @@ TEST(SeedLattice, BoxesOutsideCoverTheRestOnceAndTheLatticeNeedsAWholeCorner) {
   EXPECT_FALSE(seedLatticeCell(g).has_value()) << "a corner off the lattice";
   g.origin = glm::dvec3(double(kSeedLatticeCells), 0, 0) * 0.05;
   EXPECT_FALSE(seedLatticeCell(g).has_value()) << "too far for float cells";
+}
+
+// ExactEdtPass's line runs for several change boxes cover every line of each box and no more lines than the boxes
+// together (a scroll's two slabs, which span the same lines, run once).
+TEST(ExactEdt, MergedLineRunsCoverTheBoxesLinesAndNoMore) {
+  auto area = [](const glm::ivec4& r) { return std::int64_t(std::max(r.z - r.x, 0)) * std::max(r.w - r.y, 0); };
+  const std::vector<glm::ivec4> slabs{{0, 0, 32, 32}, {0, 0, 32, 32}, {3, 4, 9, 9}};
+  EXPECT_EQ(mergeLineRuns(slabs), std::vector<glm::ivec4>(1, glm::ivec4(0, 0, 32, 32)));
+  const std::vector<glm::ivec4> apart{{0, 0, 32, 4}, {0, 28, 32, 32}};
+  EXPECT_EQ(mergeLineRuns(apart).size(), 2u) << "two slabs apart stay apart";
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> at(0, 20);
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<glm::ivec4> runs;
+    for (int k = 0; k < 1 + trial % 3; ++k) {
+      const int x0 = at(rng), y0 = at(rng);
+      runs.emplace_back(x0, y0, x0 + at(rng) % 8, y0 + at(rng) % 8);
+    }
+    const std::vector<glm::ivec4> merged = mergeLineRuns(runs);
+    std::int64_t before = 0, after = 0;
+    for (const glm::ivec4& r : runs) before += area(r);
+    for (const glm::ivec4& r : merged) after += area(r);
+    EXPECT_LE(after, before);
+    for (const glm::ivec4& r : runs)
+      for (int a = r.x; a < r.z; ++a)
+        for (int b = r.y; b < r.w; ++b)
+          ASSERT_TRUE(std::any_of(merged.begin(), merged.end(), [&](const glm::ivec4& m) {
+            return a >= m.x && a < m.z && b >= m.y && b < m.w;
+          })) << "line " << a << "," << b << " of trial " << trial;
+  }
 }
 
 TEST_F(CoarseSdfGpu, SeedsAreConservativeAndTight) {

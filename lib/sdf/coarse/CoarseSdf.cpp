@@ -88,6 +88,27 @@ const gpu::Buffer& JumpFloodPass::result(const Inputs& in, const Outputs& out, c
   return jumpFloodSteps(params.dims, params.variant).size() % 2 ? out.scratch : in.seeds;
 }
 
+std::vector<glm::ivec4> mergeLineRuns(std::vector<glm::ivec4> runs) {
+  auto area = [](const glm::ivec4& r) { return std::int64_t(std::max(r.z - r.x, 0)) * std::max(r.w - r.y, 0); };
+  // Two runs become their bounding run where it holds no more lines than the two (they overlap or touch; a line
+  // outside both recomputes what it holds from current seeds): a scroll's two slabs span the same lines, and a line
+  // run twice costs twice.
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t i = 0; i < runs.size() && !merged; ++i)
+      for (std::size_t j = i + 1; j < runs.size() && !merged; ++j) {
+        const glm::ivec4 a = runs[i], b = runs[j];
+        const glm::ivec4 bound(glm::min(a.x, b.x), glm::min(a.y, b.y), glm::max(a.z, b.z), glm::max(a.w, b.w));
+        if (area(a) == 0 || area(b) == 0 || area(bound) <= area(a) + area(b)) {
+          runs[i] = area(a) == 0 ? b : area(b) == 0 ? a : bound;
+          runs.erase(runs.begin() + std::ptrdiff_t(j));
+          merged = true;
+        }
+      }
+  }
+  return runs;
+}
+
 void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                            const Params& params) const {
   const bool keep = out.planes && out.nearest;
@@ -115,6 +136,7 @@ void ExactEdtPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, cons
                                            : glm::ivec4(0, c.lo.z, na, c.hi.z + 1);
         runs.push_back(glm::clamp(lines, glm::ivec4(0), glm::ivec4(na, nb, na, nb)));
       }
+      runs = mergeLineRuns(std::move(runs));
     }
     p.fromRegion = params.changes && axis == 2 ? 1 : 0;
     gpu::computeBarrier(cmd); // the previous axis (or pass) wrote src
@@ -283,7 +305,8 @@ void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
 float emptySceneDistance(const GridSpec& spec) { return float(glm::length(glm::dvec3(spec.dims)) * spec.voxelSize); }
 
 CoarseSdfBuilder::CoarseSdfBuilder(const gpu::VulkanContext& ctx)
-    : mCtx(ctx), mVoxelize(ctx), mSeedShift(ctx), mJumpFlood(ctx), mExactEdt(ctx), mRegionPass(ctx), mDistance(ctx), mProfiler(ctx) {}
+    : mCtx(ctx), mVoxelize(ctx), mSeedShift(ctx), mJumpFlood(ctx), mExactEdt(ctx), mRegionPass(ctx), mDistance(ctx),
+      mProfiler(ctx) {}
 
 VoxelizeInstance identityInstance(std::uint32_t triangleCount) {
   VoxelizeInstance inst{};

@@ -124,6 +124,11 @@ public:
                const Params& params) const;
 };
 
+/// @brief Runs of grid lines (a in [x, z), b in [y, w)) that cover @a runs' lines: two merged into their bounding run
+///        wherever it holds no more lines than the two, so that ExactEdtPass runs no line twice where the boxes of a
+///        change share them (a line outside every box costs its time, nothing else: its seeds are current).
+std::vector<glm::ivec4> mergeLineRuns(std::vector<glm::ivec4> runs);
+
 /// @brief CoarseRegionPass: the region a change of seeds inside boxes @a changes can reach: the blocks that
 ///        coarseBlockReached says a box lies within their seed distance, by @a blockMax of the last build, and
 ///        their columns of blocks, listed in @a lists (coarseRegionListWords words) and counted in @a region

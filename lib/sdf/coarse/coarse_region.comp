@@ -1,11 +1,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // CoarseRegionPass: the region of a coarse build over what changed (CoarseRegion). GROW, one invocation per block:
-// a block that one of the boxes S lies within its bound of the seed distance (coarseBlockReached) is listed, counted with its
-// voxels, and its column of blocks listed by the first of its blocks to mark it (the counts and marks zeroed by the
-// host; all in the lists' device buffer). DISPATCH, one invocation: the counts copied into the CoarseRegion (host
-// memory) with the indirect dispatches of ExactEdtPass's z lines over the listed columns and of CoarseDistancePass
-// over the listed blocks.
+// a block that one of the boxes S lies within its bound of the seed distance (coarseBlockReached) is listed, counted
+// with its voxels, and its column of blocks listed by the first of its blocks to mark it (the counts and marks zeroed
+// by the host; all in the lists' device buffer). DISPATCH, one invocation: the counts copied into the CoarseRegion
+// (host memory) with the indirect dispatches of ExactEdtPass's z lines over the listed columns and of
+// CoarseDistancePass over the listed blocks.
 #include "sdf/coarse/CoarseParams.h"
 
 layout(local_size_x = RTSDF_COARSE_REGION_GROUP) in;

@@ -2,11 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // VoxelizePass, the two indirect dispatches after voxelize_chunks.comp: every voxel of the clip box whose box a
 // triangle touches becomes a seed (its own packed coordinate). The triangles are placed in the cells of a lattice
-// whose cell params.cornerCell is the grid's voxel (0,0,0), and each cell tested alone. One invocation per (triangle as voxelize_chunks.comp
-// placed it, chunk of chunkSize voxels of its voxel range inside the clip box), dispatched indirectly from
-// voxelize_chunks.comp's counts (kVoxelizeDispatchWords): with largePass 0, invocation x is triangle x, left to the
-// other dispatch where it has more than kVoxelizeFirstChunks chunks; with largePass 1, the x-th listed triangle. The
-// chunk is z * groups along y + y. Empty voxels keep kNoSeed (reset before: the whole buffer, or voxelize_clear.comp).
+// whose cell params.cornerCell is the grid's voxel (0,0,0), and each cell is tested alone. One invocation per
+// (triangle as voxelize_chunks.comp placed it, chunk of chunkSize voxels of its voxel range inside the clip box),
+// dispatched indirectly from voxelize_chunks.comp's counts (kVoxelizeDispatchWords): with largePass 0, invocation x
+// is triangle x, left to the other dispatch where it has more than kVoxelizeFirstChunks chunks; with largePass 1, the
+// x-th listed triangle. The chunk is z * groups along y + y. Empty voxels keep kNoSeed (reset before: the whole buffer, or voxelize_clear.comp).
 // Loops stay short on purpose: lavapipe cut off a single loop of ~100k iterations (lost writes), and an invocation
 // that strided through several chunks lost writes too, so each runs at most one chunk.
 #include "sdf/coarse/CoarseParams.h"

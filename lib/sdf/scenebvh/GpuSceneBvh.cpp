@@ -71,7 +71,8 @@ void GpuSceneBvh::recordUpdate(VkCommandBuffer cmd, double time) {
     for (std::size_t i = 0; i < mTop.instances.size(); ++i) {
       glm::dmat4 m = mScene.instances[i].matrixAt(time);
       m[3] -= glm::dvec4(*mSeedOrigin, 0.0);
-      for (int r = 0; r < 3; ++r) mVoxelizeInstances[i].objectToFrame[r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
+      for (int r = 0; r < 3; ++r)
+        mVoxelizeInstances[i].objectToFrame[r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
     }
   gpu::computeBarrier(cmd); // earlier passes (of this or an earlier submission) are done reading
   gpu::recordUpload(cmd, mTlasNodes, mTop.nodes.data(), mTop.nodes.size() * sizeof(gpu::shared::BvhNode));

@@ -531,7 +531,11 @@ void CoarseSdfBuilder::recordScroll(VkCommandBuffer cmd, const glm::ivec3& shift
   const bool blocksWhole = glm::all(glm::equal(shift % RTSDF_COARSE_BLOCK, glm::ivec3(0)));
   const CoarseVoxelBox kept = keptByShift(dims, shift);
   if (blocksWhole && !mScrolled && !kept.empty()) {
-    for (const gpu::Buffer* b : {&mSeedsB, &mPlanes, &mNearest}) recordSeedShift(cmd, *b, shift, scratch);
+    // The x pass's output is rewritten whole after a move along x (the two slabs cross every x line), the planes after
+    // one along x or y (the slabs cross every plane z): those are not moved.
+    if (shift.x == 0) recordSeedShift(cmd, mSeedsB, shift, scratch);
+    if (shift.x == 0 && shift.y == 0) recordSeedShift(cmd, mPlanes, shift, scratch);
+    recordSeedShift(cmd, mNearest, shift, scratch);
     recordGridShift(cmd, gridShift, mDistanceBuf, scratch, dims, 4, shift, 0u);
     recordGridShift(cmd, gridShift, mBlockMax, scratch, coarseBlockDims(dims), 4, shift / RTSDF_COARSE_BLOCK, 0u);
     mScrollChanges = scrollChanges(dims, shift);

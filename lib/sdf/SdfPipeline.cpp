@@ -3,6 +3,7 @@
 #include "grid/VdbIO.h"
 
 #include "sdf/cascade/CascadeScene.h"
+#include "sdf/coarse/CoarseScroll.h"
 #include "sdf/cascade/SingleBoxCheck.h"
 #include "sdf/refine/RefineCpu.h"
 #include "sdf/pipeline/BrickPool.h"

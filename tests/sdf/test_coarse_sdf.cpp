@@ -9,6 +9,7 @@
 #include "reference/TriangleDistance.h"
 #include "scene/SceneGeometry.h"
 #include "scene/SceneLoader.h"
+#include "sdf/coarse/CoarseScroll.h"
 #include "sdf/coarse/CoarseSdf.h"
 #include "sdf/scenebvh/GpuSceneBvh.h"
 #include "util/Error.h"

@@ -172,23 +172,6 @@ template <class Region> std::uint64_t regionVoxels(const Region& r) {
   return n.x * n.y * n.z;
 }
 
-/// @brief The disjoint boxes that cover the voxels of a grid of @a dims outside @a kept (a box inside the grid, or
-///        empty: then the whole grid), at most six: the slabs along x beyond it, then along y within its x range,
-///        then along z within its x and y ranges. After a scroll they are the voxels that entered.
-std::vector<CoarseVoxelBox> boxesOutside(const glm::ivec3& dims, const CoarseVoxelBox& kept);
-
-/// @brief The same outside @a kept within the box @a grid (which may lie anywhere).
-std::vector<CoarseVoxelBox> boxesOutside(const CoarseVoxelBox& grid, const CoarseVoxelBox& kept);
-
-/// @brief The voxels of a grid of @a dims that keep their seeds when it scrolls by @a shift voxels (voxel v takes
-///        v + shift's): those for which v + shift lies in the grid; empty where the shift is the grid's size or more.
-CoarseVoxelBox keptByShift(const glm::ivec3& dims, const glm::ivec3& shift);
-
-/// @brief The change boxes of a build after a grid of @a dims scrolled by @a shift voxels, in the new grid's voxels:
-///        the box of the voxels that entered, and the box of the old voxels that left it (beyond the grid), whose
-///        seeds left with them (the voxels whose nearest seed was one are those that box reaches).
-std::vector<CoarseVoxelBox> scrollChanges(const glm::ivec3& dims, const glm::ivec3& shift);
-
 /// @brief SeedShiftPass (seed_shift.comp): the seeds or nearest seeds of a grid that scrolled by whole voxels,
 ///        moved: voxel v takes what v + shift held, a packed seed u becoming u - shift, kNoSeed where v + shift or
 ///        u - shift lies outside the grid (a seed buffer's seeds are their own voxels: they move with them). @a source
@@ -248,15 +231,6 @@ struct CoarseSdfSettings {
   /// (recordScroll) equal a full build's. None: the grid is its own lattice (its corner the cell 0).
   std::optional<glm::ivec3> seedLatticeCell;
 };
-
-/// @brief The cells of a seed lattice a grid may reach from its origin (seedLatticeCell): there the triangles'
-///        float cell coordinates keep 1/64 of a voxel.
-inline constexpr int kSeedLatticeCells = 1 << 17;
-
-/// @brief The cell of the lattice of @a coarse's voxel size from the world's origin that @a coarse's corner is, where
-///        it is one exactly (a cascade level's corner is: CascadeLayout snaps it) and the grid lies within
-///        kSeedLatticeCells of that origin; none otherwise.
-std::optional<glm::ivec3> seedLatticeCell(const GridSpec& coarse);
 
 /// @brief A coarse SDF read back from the GPU, with the time of each pass.
 struct CoarseSdf {

@@ -1,5 +1,6 @@
 #include "sdf/pipeline/FieldPasses.h"
 
+#include "sdf/coarse/CoarseScroll.h"
 #include "sdf/pipeline/FramePlan.h"
 #include "sdf/pipeline/GridShift.h"
 

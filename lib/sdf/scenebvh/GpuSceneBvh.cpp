@@ -65,15 +65,15 @@ void GpuSceneBvh::update(double time) {
 void GpuSceneBvh::recordUpdate(VkCommandBuffer cmd, double time) {
   if (mHaveTop && time == mTime) return;
   mTop = buildInstanceBvh(mScene, mMeshes, time, mFrameOrigin);
-  for (std::size_t i = 0; i < mTop.instances.size(); ++i)
-    for (int r = 0; r < 3; ++r) mVoxelizeInstances[i].objectToFrame[r] = mTop.instances[i].objectToWorld[r];
-  if (mSeedOrigin) // as buildInstanceBvh rounds its rows, from the seeds' origin
-    for (std::size_t i = 0; i < mTop.instances.size(); ++i) {
-      glm::dmat4 m = mScene.instances[i].matrixAt(time);
-      m[3] -= glm::dvec4(*mSeedOrigin, 0.0);
-      for (int r = 0; r < 3; ++r)
-        mVoxelizeInstances[i].objectToFrame[r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
+  for (std::size_t i = 0; i < mTop.instances.size(); ++i) {
+    if (!mSeedOrigin) { // the top level's rows
+      for (int r = 0; r < 3; ++r) mVoxelizeInstances[i].objectToFrame[r] = mTop.instances[i].objectToWorld[r];
+      continue;
     }
+    glm::dmat4 m = mScene.instances[i].matrixAt(time); // as buildInstanceBvh rounds its rows, from the seeds' origin
+    m[3] -= glm::dvec4(*mSeedOrigin, 0.0);
+    for (int r = 0; r < 3; ++r) mVoxelizeInstances[i].objectToFrame[r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
+  }
   gpu::computeBarrier(cmd); // earlier passes (of this or an earlier submission) are done reading
   gpu::recordUpload(cmd, mTlasNodes, mTop.nodes.data(), mTop.nodes.size() * sizeof(gpu::shared::BvhNode));
   gpu::recordUpload(cmd, mTlasSlots, mTop.slots.data(), mTop.slots.size() * 4);

@@ -20,11 +20,14 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   "seed_shift.comp                sdf/coarse/seed_shift.comp"
   # The scene BVH's queries (tests).
   "bvh_query.comp                 sdf/scenebvh/bvh_query.comp"
-  # The refinement: UpsamplePass's two kernels, RayRefinePass, ClosestRefinePass::Variant's eight shaders
-  # (sign from rays or the closest side, search per voxel or per cell, the BVH walk for GPUs or CPU devices).
+  # The refinement: UpsamplePass's two kernels and its kernel over listed blocks (UpsampleBlocksPass lists them),
+  # RayRefinePass, ClosestRefinePass::Variant's eight shaders (sign from rays or the closest side, search per voxel
+  # or per cell, the BVH walk for GPUs or CPU devices).
   "refine_upsample.comp           sdf/refine/refine_upsample_main.glsl  RTSDF_UPSAMPLE_RUN=RTSDF_UPSAMPLE_RUN_LENGTH"
   "refine_upsample_voxel.comp     sdf/refine/refine_upsample_main.glsl  RTSDF_UPSAMPLE_RUN=1"
-  "upsample_region.comp           sdf/refine/upsample_region.comp"
+  "refine_upsample_blocks.comp    sdf/refine/refine_upsample_main.glsl  RTSDF_UPSAMPLE_RUN=RTSDF_UPSAMPLE_RUN_LENGTH
+                                  RTSDF_UPSAMPLE_BLOCKS=1"
+  "upsample_blocks.comp           sdf/refine/upsample_blocks.comp"
   "refine_rays.comp               sdf/refine/refine_main.glsl  RTSDF_REFINE_MODE=RTSDF_REFINE_RAYS"
   "refine_closest.comp            sdf/refine/refine_main.glsl  ${closest}
                                   RTSDF_CELL_SEARCH=0 RTSDF_SIGN_RAYS=1 RTSDF_POINT_WALK_WHILE_WHILE=0"

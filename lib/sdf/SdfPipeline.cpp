@@ -228,6 +228,7 @@ void SdfPipeline::submitFrame(double time) {
   changes.moved = moved > 0;
   changes.poolReset = mPoolReset;
   changes.scrolled = mScrolled;
+  changes.scrollMovedCoarse = mScrolled && mFields->scrollMovedCoarse();
   changes.viewChanged = mViewChanged;
   changes.viewLimited = mView.has_value();
   // Listed for a walk: the band voxels out of the view's reach written again are listed too, and a run skipped keeps
@@ -287,9 +288,7 @@ FrameStats SdfPipeline::finishFrame() {
     stats.activeBricks = counts.activeBricks;
     stats.overflowBricks = counts.overflowBricks;
     stats.poolBricks = mPool->capacity();
-    stats.upsampledFineVoxels = !mPlan.upsample ? 0
-                                : mPlan.upsampleChanged ? mFields->lastRegionVoxels()
-                                                        : mFineSpec.voxelCount();
+    stats.upsampledFineVoxels = mFields->lastUpsampledVoxels();
     stats.maskVisitedVoxels = mPlan.mask && mSettings.band > 0.0 ? regionVoxels(mMask->lastRegion()) : 0;
     stats.coarseRebuiltVoxels = !mPlan.coarse                     ? 0
                                 : mFields->lastCoarseOverChange() ? mFields->readCoarseRegion().counts.z

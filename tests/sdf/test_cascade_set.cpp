@@ -207,7 +207,7 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
   set.runFrame(0.0);
   int scrolls = 0, recuts = 0, rebuilds = 0;
   std::uint64_t scrolledRefined = 0, freshRefined = 0, scrolledVoxelized = 0, freshVoxelized = 0;
-  std::uint64_t scrolledRebuilt = 0, freshRebuilt = 0;
+  std::uint64_t scrolledRebuilt = 0, freshRebuilt = 0, scrolledUpsampled = 0, freshUpsampled = 0;
   double worst = 0.0;
   for (int f = 1; f <= 14; ++f) {
     const double speed = f < 8 ? 0.03 : 0.09;
@@ -243,6 +243,8 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
         freshVoxelized += freshStats[std::size_t(i)].coarseVoxelizedVoxels;
         scrolledRebuilt += stats[std::size_t(i)].coarseRebuiltVoxels;
         freshRebuilt += freshStats[std::size_t(i)].coarseRebuiltVoxels;
+        scrolledUpsampled += stats[std::size_t(i)].upsampledFineVoxels;
+        freshUpsampled += freshStats[std::size_t(i)].upsampledFineVoxels;
       }
     }
   }
@@ -253,11 +255,14 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
   EXPECT_LT(double(scrolledRefined), 0.5 * double(freshRefined));
   EXPECT_LT(double(scrolledVoxelized), 0.5 * double(freshVoxelized));
   EXPECT_LT(scrolledRebuilt, freshRebuilt) << "the transform over what the seeds that entered and left reach";
+  EXPECT_LT(double(scrolledUpsampled), 0.8 * double(freshUpsampled))
+      << "the upsampling over the blocks that what changed, entered and the faces left behind reach";
   std::printf("%d scrolls (%d with the scene cut again), %d rebuilds; largest difference from fresh levels %.2e fine "
-              "voxels; scrolled levels refined %.3f of the voxels fresh ones did, voxelized %.3f and transformed "
-              "%.3f\n",
+              "voxels; scrolled levels refined %.3f of the voxels fresh ones did, voxelized %.3f, transformed "
+              "%.3f and upsampled %.3f\n",
               scrolls, recuts, rebuilds, worst, double(scrolledRefined) / double(freshRefined),
-              double(scrolledVoxelized) / double(freshVoxelized), double(scrolledRebuilt) / double(freshRebuilt));
+              double(scrolledVoxelized) / double(freshVoxelized), double(scrolledRebuilt) / double(freshRebuilt),
+              double(scrolledUpsampled) / double(freshUpsampled));
 }
 
 // Kept sparse (only the bricks on the GPU, no dense fine SDF), a scrolled level keeps its bricks' values in their

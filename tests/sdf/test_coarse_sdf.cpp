@@ -11,6 +11,8 @@
 #include "scene/SceneLoader.h"
 #include "sdf/coarse/CoarseScroll.h"
 #include "sdf/coarse/CoarseSdf.h"
+#include "sdf/refine/RefineCpu.h"
+#include "sdf/refine/RefinePasses.h"
 #include "sdf/scenebvh/GpuSceneBvh.h"
 #include "util/Error.h"
 
@@ -102,10 +104,11 @@ protected:
 
   /// What a build over a change computes from its passes alone: ExactEdtPass (kept) and CoarseDistancePass over
   /// @a before, then CoarseRegionPass with @a change, ExactEdtPass and CoarseDistancePass over what @a after changed
-  /// in it. Also returns the block bounds the first build left, and the region.
+  /// in it. Also returns the block bounds and distances the first build left, the region, and the second build's
+  /// changed-block marks.
   struct OverChange {
-    std::vector<std::uint32_t> nearest, blockMaxBefore;
-    std::vector<float> distance;
+    std::vector<std::uint32_t> nearest, blockMaxBefore, changedBlocks;
+    std::vector<float> distance, distanceBefore;
     gpu::shared::CoarseRegion region{};
     std::vector<std::uint32_t> blocks, columns; ///< the region's lists, ascending
   };
@@ -118,12 +121,13 @@ protected:
     const std::size_t bytes = before.size() * 4;
     const glm::uvec3 bd(gpu::shared::coarseBlockDims(dims));
     const std::size_t blocks = std::size_t(bd.x) * bd.y * bd.z;
-    gpu::Buffer seeds, scratch, planes, nearest, distance, changed, blockMax, region, lists;
+    gpu::Buffer seeds, scratch, planes, nearest, distance, changed, blockMax, region, lists, marks;
     gpu::reserveAndUpload(*sCtx, seeds, before.data(), bytes, usage, "seeds");
     for (gpu::Buffer* b : {&scratch, &planes, &nearest, &distance})
       gpu::reserve(*sCtx, *b, bytes, usage, gpu::Buffer::Memory::Device, "transform");
     gpu::reserve(*sCtx, changed, sizeof(gpu::shared::ChangedBox), usage, gpu::Buffer::Memory::Device, "changed");
     gpu::reserve(*sCtx, blockMax, blocks * 4, usage, gpu::Buffer::Memory::Device, "block bounds");
+    gpu::reserve(*sCtx, marks, blocks * 4, usage, gpu::Buffer::Memory::Device, "changed blocks");
     gpu::reserve(*sCtx, region, sizeof(gpu::shared::CoarseRegion), usage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                  gpu::Buffer::Memory::Device, "region");
     const std::size_t listWords = gpu::shared::coarseRegionListWords(dims);
@@ -138,21 +142,28 @@ protected:
       gpu::CommandBuffer cmd(*sCtx);
       vkCmdFillBuffer(cmd.handle(), blockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
       vkCmdFillBuffer(cmd.handle(), changed.handle(), 0, VK_WHOLE_SIZE, 0u);
+      vkCmdFillBuffer(cmd.handle(), marks.handle(), 0, VK_WHOLE_SIZE, 0u);
+      vkCmdFillBuffer(cmd.handle(), distance.handle(), 0, VK_WHOLE_SIZE, 0u);
+      gpu::computeBarrier(cmd.handle());
       edt.execute(cmd.handle(), nullptr, {seeds, region, lists}, {scratch, &planes, &nearest}, {dims});
-      distancePass.execute(cmd.handle(), nullptr, {nearest, region, lists}, {distance, changed, blockMax}, dp);
+      distancePass.execute(cmd.handle(), nullptr, {nearest, region, lists}, {distance, changed, blockMax, marks}, dp);
       cmd.submitAndWait();
     }
     OverChange out;
     out.blockMaxBefore.resize(blocks);
     gpu::download(*sCtx, blockMax, out.blockMaxBefore.data(), blocks * 4);
+    out.distanceBefore.resize(before.size());
+    gpu::download(*sCtx, distance, out.distanceBefore.data(), bytes);
     upload(*sCtx, seeds, after.data(), bytes);
     {
       gpu::CommandBuffer cmd(*sCtx);
+      vkCmdFillBuffer(cmd.handle(), marks.handle(), 0, VK_WHOLE_SIZE, 0u);
+      gpu::computeBarrier(cmd.handle());
       const std::vector<CoarseVoxelBox> changes{change};
       regionPass.execute(cmd.handle(), nullptr, {blockMax}, {region, lists}, {dims, changes});
       edt.execute(cmd.handle(), nullptr, {seeds, region, lists}, {scratch, &planes, &nearest}, {dims, &changes});
       dp.flags = gpu::shared::kCoarseDistanceRegionOnly | gpu::shared::kCoarseDistanceKeepBounds;
-      distancePass.execute(cmd.handle(), nullptr, {nearest, region, lists}, {distance, changed, blockMax}, dp);
+      distancePass.execute(cmd.handle(), nullptr, {nearest, region, lists}, {distance, changed, blockMax, marks}, dp);
       cmd.submitAndWait();
     }
     out.nearest.resize(before.size());
@@ -160,6 +171,8 @@ protected:
     gpu::download(*sCtx, nearest, out.nearest.data(), bytes);
     gpu::download(*sCtx, distance, out.distance.data(), bytes);
     gpu::download(*sCtx, region, &out.region, sizeof(out.region));
+    out.changedBlocks.resize(blocks);
+    gpu::download(*sCtx, marks, out.changedBlocks.data(), blocks * 4);
     std::vector<std::uint32_t> words(listWords);
     gpu::download(*sCtx, lists, words.data(), listWords * 4);
     const auto columnsAt = std::ptrdiff_t(gpu::shared::coarseRegionColumnsAt(dims));
@@ -418,6 +431,8 @@ TEST_F(CoarseSdfGpu, ExactEdtOverAChangeEqualsBruteForce) {
     EXPECT_EQ(gpu.blocks, cpuRegion.blocks);
     EXPECT_EQ(gpu.columns, cpuRegion.columns);
     EXPECT_EQ(gpu.region.counts.z, cpuRegion.voxels);
+    // The blocks whose voxels changed, marked with the neighbours they reach: the CPU copy's on the two fields.
+    EXPECT_EQ(gpu.changedBlocks, changedBlockMarksCpu(gpu.distanceBefore, gpu.distance, dims));
     const std::uint64_t covered = gpu.region.counts.z;
     std::printf("%s: region %llu of %zu voxels\n", c.name, static_cast<unsigned long long>(covered), n);
     if (c.seedsBefore >= n / 40) EXPECT_LT(covered, n / 2) << "dense seeds: the change reaches a part of the grid";
@@ -853,6 +868,103 @@ TEST(SeedLattice, BoxesOutsideCoverTheRestOnceAndTheLatticeNeedsAWholeCorner) {
   EXPECT_FALSE(seedLatticeCell(g).has_value()) << "a corner off the lattice";
   g.origin = glm::dvec3(double(kSeedLatticeCells), 0, 0) * 0.05;
   EXPECT_FALSE(seedLatticeCell(g).has_value()) << "too far for float cells";
+}
+
+// After a scroll, every fine voxel whose upsampled coarse SDF differs from its shifted value lies in a block that
+// UpsampleBlocksPass's CPU copy lists from the changed voxels' marks and scrollUpsampleBoxes, on the CPU: the old
+// grid's field upsampled (upsampleCoarse), shifted (the voxels that entered hold NaN), against the new grid's (its
+// coarse values the old ones moved, random where it entered, a few changed). Dyadic grids, so that the two frames'
+// trilinear weights are the same floats. The fine voxels are found in their blocks through upsampleBlockFineBegins,
+// which must split the grid. The layers at the faces left behind are needed: without them voxels are missed.
+TEST(ScrollUpsample, TheListedBlocksHoldEveryFineVoxelAScrollRewrites) {
+  const glm::ivec3 dims(32, 24, 28), ratio(2);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+  for (const glm::ivec3 shift : {glm::ivec3(4, 0, 0), glm::ivec3(-4, 0, 0), glm::ivec3(0, 4, -4),
+                                 glm::ivec3(4, -4, 4), glm::ivec3(0, 0, 28)}) {
+    SCOPED_TRACE(::testing::Message() << "shift " << shift.x << "," << shift.y << "," << shift.z);
+    GridSpec oldCoarse;
+    oldCoarse.dims = dims;
+    oldCoarse.voxelSize = 0.25;
+    oldCoarse.origin = glm::dvec3(-1.0, 0.5, 2.0);
+    GridSpec oldFine = oldCoarse;
+    oldFine.dims = dims * ratio;
+    oldFine.voxelSize = 0.125;
+    GridSpec newCoarse = oldCoarse, newFine = oldFine;
+    newCoarse.origin += glm::dvec3(shift) * oldCoarse.voxelSize;
+    newFine.origin = newCoarse.origin;
+    std::vector<float> before(oldCoarse.voxelCount());
+    for (float& c : before) c = value(rng);
+    // The old values moved (0 where the grid entered: the shift's fill), and the new field: the same, random where
+    // the grid entered, and two kept voxels changed at the corners of their blocks (so that their neighbours are
+    // reached through the marks alone).
+    std::vector<float> moved(before.size(), 0.0f), after(before.size());
+    for (int z = 0; z < dims.z; ++z)
+      for (int y = 0; y < dims.y; ++y)
+        for (int x = 0; x < dims.x; ++x) {
+          const glm::ivec3 from = glm::ivec3(x, y, z) + shift;
+          const std::size_t i = newCoarse.linear(x, y, z);
+          if (oldCoarse.contains(from)) moved[i] = before[oldCoarse.linear(from.x, from.y, from.z)];
+          after[i] = oldCoarse.contains(from) ? moved[i] : value(rng);
+        }
+    for (const glm::ivec3 v : {glm::ivec3(11, 11, 11), glm::ivec3(16, 8, 20)})
+      if (oldCoarse.contains(v + shift)) after[newCoarse.linear(v.x, v.y, v.z)] += 0.5f;
+    const std::vector<std::uint32_t> marks = changedBlockMarksCpu(moved, after, dims);
+    auto boxesOf = [](const std::vector<CoarseVoxelBox>& list) {
+      gpu::shared::UpsampleBoxes boxes{};
+      boxes.count.x = int(list.size());
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        boxes.lo[i] = glm::ivec4(list[i].lo, 0);
+        boxes.hi[i] = glm::ivec4(list[i].hi, 0);
+      }
+      return boxes;
+    };
+    const std::vector<CoarseVoxelBox> scroll = scrollUpsampleBoxes(dims, shift);
+    ASSERT_LE(scroll.size(), std::size_t(RTSDF_UPSAMPLE_MAX_BOXES));
+    const std::vector<std::uint32_t> listed = upsampleBlocksCpu(marks, dims, boxesOf(scroll));
+    // Without the face layers: the voxels that entered alone.
+    const std::vector<std::uint32_t> enteredOnly =
+        upsampleBlocksCpu(marks, dims, boxesOf(boxesOutside(dims, keptByShift(dims, shift))));
+    // Each fine voxel's block, through the table (which must cover every voxel once along each axis).
+    const std::vector<int> begins = upsampleBlockFineBegins(newCoarse, newFine);
+    const glm::ivec3 bd = gpu::shared::coarseBlockDims(dims), fd = newFine.dims;
+    std::vector<std::vector<int>> blockOf(3);
+    for (int a = 0; a < 3; ++a) {
+      const int at = gpu::shared::upsampleBlockFineAt(bd, a);
+      EXPECT_EQ(begins[std::size_t(at)], 0);
+      EXPECT_EQ(begins[std::size_t(at + bd[a])], fd[a]);
+      blockOf[std::size_t(a)].assign(std::size_t(fd[a]), -1);
+      for (int k = 0; k < bd[a]; ++k)
+        for (int x = begins[std::size_t(at + k)]; x < begins[std::size_t(at + k + 1)]; ++x)
+          blockOf[std::size_t(a)][std::size_t(x)] = k;
+    }
+    auto blockIndex = [&](const glm::ivec3& v) {
+      const glm::ivec3 b(blockOf[0][std::size_t(v.x)], blockOf[1][std::size_t(v.y)], blockOf[2][std::size_t(v.z)]);
+      return std::uint32_t((b.z * bd.y + b.y) * bd.x + b.x);
+    };
+    const glm::ivec3 fineShift = shift * ratio;
+    std::uint64_t rewritten = 0, missed = 0, missedWithoutFaces = 0, inListed = 0;
+    for (int z = 0; z < fd.z; ++z)
+      for (int y = 0; y < fd.y; ++y)
+        for (int x = 0; x < fd.x; ++x) {
+          const glm::ivec3 v(x, y, z), from = v + fineShift;
+          ASSERT_TRUE(blockOf[0][std::size_t(x)] >= 0 && blockOf[1][std::size_t(y)] >= 0 && blockOf[2][std::size_t(z)] >= 0);
+          const std::uint32_t b = blockIndex(v);
+          const bool isListed = std::binary_search(listed.begin(), listed.end(), b);
+          inListed += isListed;
+          const float shifted = oldFine.contains(from) ? upsampleCoarse(before, oldCoarse, oldFine, from) : NAN;
+          if (shifted == upsampleCoarse(after, newCoarse, newFine, v)) continue; // NaN (entered) never equals
+          ++rewritten;
+          missed += !isListed;
+          missedWithoutFaces += !std::binary_search(enteredOnly.begin(), enteredOnly.end(), b);
+        }
+    EXPECT_GT(rewritten, 0u);
+    EXPECT_EQ(missed, 0u) << "of " << rewritten << " fine voxels the scroll rewrites";
+    if (!keptByShift(dims, shift).empty()) {
+      EXPECT_GT(missedWithoutFaces, 0u) << "the faces left behind clamp their cells anew";
+      EXPECT_LT(inListed, newFine.voxelCount()) << "a part of the grid";
+    }
+  }
 }
 
 // ExactEdtPass's line runs for several change boxes cover every line of each box and no more lines than the boxes

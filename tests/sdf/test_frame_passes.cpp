@@ -12,6 +12,7 @@
 #include "sdf/mask/MaskPasses.h"
 #include "sdf/pipeline/InstanceMotion.h"
 #include "sdf/pipeline/PipelineProbe.h"
+#include "sdf/refine/RefineCpu.h"
 #include "sdf/refine/RefinePasses.h"
 #include "util/Error.h"
 
@@ -219,6 +220,28 @@ TEST_F(FramePasses, AMovingInstanceUpsamplesOnlyWhereTheCoarseSdfChanged) {
     EXPECT_EQ(glm::uvec3(box.hi), hi);
     EXPECT_GT(st.upsampledFineVoxels, 0u);
     EXPECT_LT(st.upsampledFineVoxels, all / 2) << "the teapot changes a corner of the room";
+    // The blocks marked, and those listed for the upsampling, are the CPU copies' on the two fields; their fine
+    // voxels are the count.
+    const PipelineProbe probe(pipe);
+    const std::vector<std::uint32_t> marks = probe.changedCoarseBlocks();
+    EXPECT_EQ(marks, changedBlockMarksCpu(before, after, dims));
+    const std::vector<std::uint32_t> listed = probe.upsampledBlocks();
+    EXPECT_EQ(listed, upsampleBlocksCpu(marks, dims, gpu::shared::UpsampleBoxes{}));
+    const glm::dvec3 corner = pipe.fineSpec().origin; // the frame the pipeline measures from
+    const std::vector<int> begins =
+        upsampleBlockFineBegins(pipe.coarseSpec().inFrame(corner), pipe.fineSpec().inFrame(corner));
+    const glm::ivec3 bd = gpu::shared::coarseBlockDims(dims);
+    std::uint64_t listedFine = 0;
+    for (const std::uint32_t b : listed) {
+      const glm::ivec3 c = gpu::shared::linearCell(b, bd);
+      std::uint64_t n = 1;
+      for (int a = 0; a < 3; ++a) {
+        const int at = gpu::shared::upsampleBlockFineAt(bd, a) + c[a];
+        n *= std::uint64_t(begins[std::size_t(at + 1)] - begins[std::size_t(at)]);
+      }
+      listedFine += n;
+    }
+    EXPECT_EQ(st.upsampledFineVoxels, listedFine);
     std::printf("frame %d: coarse box (%u %u %u)-(%u %u %u) of %dx%dx%d, upsampled %.1f%% of the fine voxels\n", f + 1,
                 lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, dims.x, dims.y, dims.z, 100.0 * double(st.upsampledFineVoxels) / double(all));
   }

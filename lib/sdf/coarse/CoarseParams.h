@@ -31,7 +31,8 @@ const uint kCoarseDistanceBindingDistance = 1u; // c per voxel (read: the last b
 const uint kCoarseDistanceBindingChanged = 2u;  // ChangedBox: grown to hold every voxel whose c changed
 const uint kCoarseDistanceBindingBlockMax = 3u; // uint per block: at least the largest squared seed distance in it
 const uint kCoarseDistanceBindingLists = 4u;    // the region's lists (its blocks read with kCoarseDistanceRegionOnly)
-const uint kCoarseDistanceBindingCount = 5u;
+const uint kCoarseDistanceBindingChangedBlocks = 5u; // uint per block: changedBlockReach of its changed voxels, or'd
+const uint kCoarseDistanceBindingCount = 6u;
 const uint kCoarseRegionBindingBlockMax = 0u;   // the last build's block bounds (read)
 const uint kCoarseRegionBindingRegion = 1u;     // CoarseRegion (written: the counts and dispatches)
 const uint kCoarseRegionBindingLists = 2u;      // the region's lists (coarseRegionListWords), counted and listed
@@ -94,6 +95,25 @@ RTSDF_FN uint coarseBlockIndex(ivec3 v, ivec3 blockDims) {
   ivec3 b = v / RTSDF_COARSE_BLOCK;
   return uint((b.z * blockDims.y + b.y) * blockDims.x + b.x);
 }
+/// The bit of the neighbour offset @a d (each component -1, 0 or 1) in a block's changed-voxel mark.
+RTSDF_FN uint changedReachBit(ivec3 d) { return 1u << uint((d.z + 1) * 9 + (d.y + 1) * 3 + (d.x + 1)); }
+
+/// The blocks a coarse voxel at @a local in its block (0..RTSDF_COARSE_BLOCK - 1 per axis) lies within one voxel of,
+/// as changedReachBit of their offsets: its own, and a neighbour's where it lies at the face, edge or corner they
+/// share. CoarseDistancePass ors this into the block's mark (kCoarseDistanceBindingChangedBlocks) where the voxel's
+/// value changed; the fine voxels a changed coarse voxel's upsampling reaches (their cells and the cell holding them
+/// lie within one coarse voxel of it) lie in those blocks (UpsampleBlocksPass).
+RTSDF_FN uint changedBlockReach(ivec3 local) {
+  ivec3 lo = ivec3(local.x == 0 ? -1 : 0, local.y == 0 ? -1 : 0, local.z == 0 ? -1 : 0);
+  ivec3 hi = ivec3(local.x == RTSDF_COARSE_BLOCK - 1 ? 1 : 0, local.y == RTSDF_COARSE_BLOCK - 1 ? 1 : 0,
+                   local.z == RTSDF_COARSE_BLOCK - 1 ? 1 : 0);
+  uint bits = 0u;
+  for (int dz = lo.z; dz <= hi.z; ++dz)
+    for (int dy = lo.y; dy <= hi.y; ++dy)
+      for (int dx = lo.x; dx <= hi.x; ++dx) bits |= changedReachBit(ivec3(dx, dy, dz));
+  return bits;
+}
+
 /// The cell at linear index @a i of a grid of @a dims cells, x fastest (a block among coarseBlockDims, a voxel in one).
 RTSDF_FN ivec3 linearCell(uint i, ivec3 dims) {
   int k = int(i);

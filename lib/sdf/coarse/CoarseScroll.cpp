@@ -52,4 +52,19 @@ CoarseVoxelBox keptByShift(const glm::ivec3& dims, const glm::ivec3& shift) {
   return {glm::max(-shift, glm::ivec3(0)), glm::min(dims - 1 - shift, dims - 1)};
 }
 
+std::vector<CoarseVoxelBox> scrollUpsampleBoxes(const glm::ivec3& dims, const glm::ivec3& shift) {
+  const CoarseVoxelBox grid{glm::ivec3(0), dims - 1};
+  const CoarseVoxelBox kept = keptByShift(dims, shift);
+  if (kept.empty()) return {grid};
+  std::vector<CoarseVoxelBox> boxes = boxesOutside(dims, kept);
+  // Voxel v took v + shift's place: a grid moved up an axis (shift > 0) left its low face behind, and the reverse.
+  for (int a = 0; a < 3; ++a) {
+    if (shift[a] == 0) continue;
+    CoarseVoxelBox face = grid;
+    face.lo[a] = face.hi[a] = shift[a] > 0 ? 0 : dims[a] - 1;
+    boxes.push_back(face);
+  }
+  return boxes;
+}
+
 } // namespace rtsdf

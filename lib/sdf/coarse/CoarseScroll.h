@@ -2,8 +2,9 @@
 /// @file CoarseScroll.h
 /// @brief What a coarse grid that scrolled by whole voxels keeps and what its next build must redo: the seed lattice
 ///        that makes a kept seed equal a full build's (seedLatticeCell), the voxels that stayed and those that entered
-///        (keptByShift, boxesOutside), and the change boxes of the transform (scrollChanges). Used by
-///        CoarseSdfBuilder::recordScroll and record().
+///        (keptByShift, boxesOutside), the change boxes of the transform (scrollChanges) and the voxels whose upsampling
+///        a scroll invalidates whatever their value (scrollUpsampleBoxes). Used by CoarseSdfBuilder::recordScroll and
+///        record(), and by FieldPasses.
 #include "grid/GridSpec.h"
 #include "sdf/coarse/CoarseSdf.h"
 
@@ -39,5 +40,15 @@ CoarseVoxelBox keptByShift(const glm::ivec3& dims, const glm::ivec3& shift);
 ///        the box of the voxels that entered, and the box of the old voxels that left it (beyond the grid), whose
 ///        seeds left with them (the voxels whose nearest seed was one are those that box reaches).
 std::vector<CoarseVoxelBox> scrollChanges(const glm::ivec3& dims, const glm::ivec3& shift);
+
+/// @brief The coarse voxels of a grid of @a dims, after it scrolled by @a shift voxels, near which the upsampled fine
+///        SDF must be written again although their coarse values may be the same as before the scroll: the voxels that
+///        entered (boxesOutside of keptByShift: the fine voxels under them hold their neighbours' values, the dense
+///        fine SDF's shift being loose), and the layer at each face the grid moved away from (a fine voxel within half
+///        a coarse voxel of a face takes the face's value, clamped, where it used to blend with the voxel beyond it).
+///        Grown by the upsampling's stencil (upsampleRegionOf), they and the coarse voxels whose value changed hold
+///        every fine voxel whose upsampled value differs from its shifted one. Empty for no shift; the whole grid for a
+///        shift of its size or more.
+std::vector<CoarseVoxelBox> scrollUpsampleBoxes(const glm::ivec3& dims, const glm::ivec3& shift);
 
 } // namespace rtsdf

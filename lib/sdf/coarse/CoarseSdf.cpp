@@ -244,6 +244,7 @@ void CoarseDistancePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
   b[kCoarseDistanceBindingChanged] = &out.changed;
   b[kCoarseDistanceBindingBlockMax] = &out.blockMax;
   b[kCoarseDistanceBindingLists] = &in.lists;
+  b[kCoarseDistanceBindingChangedBlocks] = &out.changedBlocks;
   if (params.flags & kCoarseDistanceRegionOnly)
     mPipeline.dispatchIndirect(cmd, b, &params, in.region, offsetof(CoarseRegion, distanceGroups));
   else
@@ -337,6 +338,8 @@ CoarseSdfBuilder::Prepared CoarseSdfBuilder::prepare(const InstancedTriangles& t
   const glm::u64vec3 blocks(coarseBlockDims(dims));
   gpu::reserve(mCtx, mBlockMax, blocks.x * blocks.y * blocks.z * 4, storage, Buffer::Memory::Device,
                "coarse SDF block bounds");
+  gpu::reserve(mCtx, mChangedBlocks, blocks.x * blocks.y * blocks.z * 4, storage, Buffer::Memory::Device,
+               "coarse SDF changed blocks");
   // Host memory: a frame's statistics read it mapped (readRegion), without a copy.
   gpu::reserve(mCtx, mRegion, sizeof(CoarseRegion), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                Buffer::Memory::Host, "coarse SDF region");
@@ -390,10 +393,11 @@ const gpu::Buffer& CoarseSdfBuilder::recordPasses(VkCommandBuffer cmd, gpu::GpuP
   static const ChangedBox kEmpty{glm::uvec4(kChangedBoxEmptyLo), glm::uvec4(0u)};
   gpu::recordUpload(cmd, mChangedBox, &kEmpty, sizeof(kEmpty));
   if (p.keep && !changes) vkCmdFillBuffer(cmd, mBlockMax.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd, mChangedBlocks.handle(), 0, VK_WHOLE_SIZE, 0u);
   gpu::computeBarrier(cmd);
   CoarseDistanceParams distance = p.distance;
   distance.flags = (changes ? kCoarseDistanceRegionOnly : 0u) | (p.keep ? kCoarseDistanceKeepBounds : 0u);
-  mDistance.execute(cmd, profiler, {nearest, mRegion, mRegionLists}, {mDistanceBuf, mChangedBox, mBlockMax},
+  mDistance.execute(cmd, profiler, {nearest, mRegion, mRegionLists}, {mDistanceBuf, mChangedBox, mBlockMax, mChangedBlocks},
                     distance);
   return nearest;
 }
@@ -537,6 +541,13 @@ std::vector<std::uint32_t> CoarseSdfBuilder::readBlockMax(const glm::ivec3& dims
   const glm::u64vec3 blocks(coarseBlockDims(dims));
   std::vector<std::uint32_t> out(blocks.x * blocks.y * blocks.z);
   download(mCtx, mBlockMax, out.data(), out.size() * 4);
+  return out;
+}
+
+std::vector<std::uint32_t> CoarseSdfBuilder::readChangedBlocks(const glm::ivec3& dims) const {
+  const glm::u64vec3 blocks(coarseBlockDims(dims));
+  std::vector<std::uint32_t> out(blocks.x * blocks.y * blocks.z);
+  download(mCtx, mChangedBlocks, out.data(), out.size() * 4);
   return out;
 }
 

@@ -192,14 +192,15 @@ public:
 /// @brief CoarseDistancePass: c = |p - nearest seed| * h - beta per voxel, the box of the voxels whose c differs
 ///        from what @a distance held (gpu::shared::ChangedBox, grown: the caller resets it), and per block of
 ///        RTSDF_COARSE_BLOCK^3 voxels, with kCoarseDistanceKeepBounds, @a blockMax raised to at least each voxel's
-///        squared seed distance (the caller zeroes it for a full build). With kCoarseDistanceRegionOnly, over the
-///        blocks listed in @a lists alone (dispatched indirectly from @a region); @a lists and @a blockMax are
-///        bound in any case.
+///        squared seed distance (the caller zeroes it for a full build), and per block @a changedBlocks or'd with
+///        changedBlockReach of each voxel whose c changed (the caller zeroes it). With kCoarseDistanceRegionOnly,
+///        over the blocks listed in @a lists alone (dispatched indirectly from @a region); @a lists and @a blockMax
+///        are bound in any case.
 class CoarseDistancePass : gpu::ComputePass {
 public:
   static constexpr const char* kName = "CoarseDistancePass";
   struct Inputs { const gpu::Buffer& nearest, & region, & lists; };
-  struct Outputs { const gpu::Buffer& distance, & changed, & blockMax; };
+  struct Outputs { const gpu::Buffer& distance, & changed, & blockMax, & changedBlocks; };
   using Params = gpu::shared::CoarseDistanceParams;
   explicit CoarseDistancePass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "coarse_distance.comp", gpu::shared::kCoarseDistanceBindingCount, sizeof(Params)) {}
@@ -285,6 +286,10 @@ public:
                     const GridShiftPass* gridShift = nullptr);
   /// @brief Whether the last record() built over what changed (its change was taken).
   bool lastBuiltOverChange() const { return mLastOverChange; }
+  /// @brief Whether a recordScroll() since the last record() moved the kept distances with the grid, so that the next
+  ///        record() on it builds over what the scroll changed and its ChangedBox holds the voxels whose value differs
+  ///        from their moved one.
+  bool scrollMovedDistances() const { return mScrolled && mScrollChanges.has_value(); }
   /// @brief The voxels whose seeds the last record() voxelized: the grid's, or where it built over what changed
   ///        those of the change box, or after a scroll those that entered and the change box's.
   std::uint64_t lastVoxelizedVoxels() const { return mLastVoxelized; }
@@ -305,6 +310,11 @@ public:
   /// @brief The box of the coarse voxels whose value the last build changed from the build before
   ///        (gpu::shared::ChangedBox; undefined after the buffer was (re)allocated: its old values were).
   const gpu::Buffer& changedBoxBuffer() const { return mChangedBox; }
+  /// @brief Per block of RTSDF_COARSE_BLOCK^3 voxels, the changedBlockReach bits of its voxels whose value the last
+  ///        record() changed (CoarseDistancePass).
+  const gpu::Buffer& changedBlocksBuffer() const { return mChangedBlocks; }
+  /// @brief Read back those marks of a grid of @a dims. Its command buffer must be finished.
+  std::vector<std::uint32_t> readChangedBlocks(const glm::ivec3& dims) const;
 
 private:
   struct Prepared {
@@ -342,6 +352,7 @@ private:
                       const CoarseVoxelBox* change);
   const gpu::VulkanContext& mCtx;
   gpu::Buffer mCorners, mIdentityInstance, mDispatch, mPlaced, mLarge, mSeedsA, mSeedsB, mDistanceBuf, mChangedBox;
+  gpu::Buffer mChangedBlocks; ///< CoarseDistancePass's marks of the blocks whose voxels changed
   gpu::Buffer mBlockMax, mRegion; ///< the block bounds (CoarseDistancePass) and the region of a build over changes
   gpu::Buffer mRegionLists;       ///< the region's lists (coarseRegionListWords)
   gpu::Buffer mPlanes, mNearest;  ///< kept transform (CoarseSdfSettings::keepTransform)

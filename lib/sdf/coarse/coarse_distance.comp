@@ -7,7 +7,9 @@
 // made the pass 4.6 times slower on lavapipe). In a build that keeps its transform, each voxel raises its block's bound
 // of the squared seed distance where it exceeds it (coarseBlockReached's input; a full build reset the bounds). A
 // build over what changed runs over the CoarseRegion's listed blocks alone, RTSDF_COARSE_REGION_BLOCKS_PER_GROUP a
-// group: elsewhere no voxel's nearest seed changed.
+// group: elsewhere no voxel's nearest seed changed. A voxel whose value changed also marks the blocks its upsampling
+// reaches (changedBlockReach, or'd atomically only where a bit is missing as last read: the marks start at zero each
+// build), from which UpsampleBlocksPass lists the fine voxels to upsample again.
 #include "sdf/coarse/CoarseParams.h"
 
 layout(local_size_x = RTSDF_JFA_GROUP_X, local_size_y = RTSDF_JFA_GROUP_Y, local_size_z = RTSDF_JFA_GROUP_Z) in;
@@ -17,6 +19,7 @@ layout(std430, binding = kCoarseDistanceBindingDistance) buffer Distance { float
 layout(std430, binding = kCoarseDistanceBindingChanged) buffer Changed { ChangedBox changed; };
 layout(std430, binding = kCoarseDistanceBindingBlockMax) buffer BlockMax { uint blockMax[]; };
 layout(std430, binding = kCoarseDistanceBindingLists) readonly buffer Lists { uvec4 counts; uint lists[]; };
+layout(std430, binding = kCoarseDistanceBindingChangedBlocks) buffer ChangedBlocks { uint changedBlocks[]; };
 
 // The voxel this invocation computes, or false where it computes none.
 bool voxelOf(ivec3 dims, out ivec3 p) {
@@ -51,6 +54,8 @@ void main() {
       if (v < changed.lo[a]) atomicMin(changed.lo[a], v);
       if (v > changed.hi[a]) atomicMax(changed.hi[a], v);
     }
+    uint reach = changedBlockReach(p % RTSDF_COARSE_BLOCK);
+    if ((changedBlocks[block] & reach) != reach) atomicOr(changedBlocks[block], reach);
   }
   distance[i] = c;
 }

@@ -3,9 +3,13 @@
 #include "sdf/coarse/CoarseScroll.h"
 #include "sdf/pipeline/FramePlan.h"
 #include "sdf/pipeline/GridShift.h"
+#include "util/Error.h"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cstring>
+#include <utility>
 
 namespace rtsdf {
 using gpu::Buffer;
@@ -15,7 +19,7 @@ FieldPasses::FieldPasses(const gpu::VulkanContext& ctx, const GridSpec& coarse, 
                          const PipelineSettings& settings, const RefineParts& parts,
                          const ClosestRefinePass::Variant& closest)
     : mCtx(ctx), mCoarseSpec(coarse), mFineSpec(fine), mSettings(settings), mParts(parts), mCoarse(ctx),
-      mUpsample(ctx), mUpsampleRegion(ctx),
+      mUpsample(ctx), mUpsampleBlocks(ctx), mUpsampleByBlocks(ctx),
       mRefine(settings.mode == RefineMode::Rays ? std::unique_ptr<RefinePass>(std::make_unique<RayRefinePass>(ctx))
                                                 : std::make_unique<ClosestRefinePass>(ctx, closest)) {
   if (settings.mode == RefineMode::Closest) {
@@ -28,10 +32,19 @@ FieldPasses::FieldPasses(const gpu::VulkanContext& ctx, const GridSpec& coarse, 
   if (settings.fineStorage == FineStorage::Dense)
     mFine = Buffer(ctx, fine.voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, Buffer::Memory::Device,
                    "fine SDF");
-  if (mFine)
-    mRegion = Buffer(ctx, sizeof(gpu::shared::UpsampleRegion),
-                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, Buffer::Memory::Host,
-                     "upsample region");
+  if (mFine) {
+    mUpsampleBoxes = Buffer(ctx, sizeof(gpu::shared::UpsampleBoxes), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                            Buffer::Memory::Host, "upsample boxes");
+    mBlockList = Buffer(ctx, UpsampleBlocksPass::listBytes(coarse.dims),
+                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                        Buffer::Memory::Device, "upsample block list");
+    mBlockListHeader = Buffer(ctx, sizeof(gpu::shared::UpsampleBlockListHeader), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              Buffer::Memory::Host, "upsample block list header");
+    mFineBegins = upsampleBlockFineBegins(coarse.inFrame(fine.origin), fine.inFrame(fine.origin));
+    gpu::reserveAndUpload(ctx, mBlockFineBegins, mFineBegins.data(), mFineBegins.size() * 4, gpu::kStorage,
+                          "upsample blocks' fine voxels");
+  }
   mSamplingParams = Buffer(ctx, sizeof(RefineParams),
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                            Buffer::Memory::Device, "brick sampling parameters");
@@ -51,7 +64,10 @@ void FieldPasses::recordCoarse(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, 
   // on the world's seed lattice from the world's origin (SdfPipeline::placeSeedsOnLattice).
   const glm::dvec3 seedOrigin = bvh.seedOrigin();
   if (seedOrigin == glm::dvec3(0.0)) cs.seedLatticeCell = seedLatticeCell(mCoarseSpec);
+  mScrollFrame = std::exchange(mScrollPending, ScrollUpsample{});
   mCoarse.record(cmd, profiler, bvh.instancedTriangles(), mCoarseSpec.inFrame(seedOrigin), cs, change);
+  // The ChangedBox holds what differs from the moved values only where this build ran over what the scroll changed.
+  if (!mCoarse.lastBuiltOverChange()) mScrollFrame.coarseMoved = false;
 }
 
 void FieldPasses::recordScroll(VkCommandBuffer cmd, const std::pair<GridSpec, GridSpec>& grids,
@@ -63,6 +79,23 @@ void FieldPasses::recordScroll(VkCommandBuffer cmd, const std::pair<GridSpec, Gr
   mCoarse.recordScroll(cmd, shift, scratch, sceneChanged, gridShift);
   // Loose: the voxels that entered are refined (new to the band) or upsampled by the next frame, whatever they hold.
   if (mFine) recordGridShift(cmd, mFine, scratch, gridShiftPlanLoose(mFineSpec.dims, 4, fineShift), 0u);
+  // A second scroll before a build moves no distances (CoarseSdfBuilder::recordScroll): then every voxel.
+  mScrollPending.scrolled = true;
+  mScrollPending.coarseMoved = mCoarse.scrollMovedDistances();
+  mScrollPending.boxes = mScrollPending.coarseMoved ? scrollUpsampleBoxes(mCoarseSpec.dims, shift)
+                                                    : std::vector<CoarseVoxelBox>{};
+  if (mScrollPending.boxes.size() > RTSDF_UPSAMPLE_MAX_BOXES)
+    throw Error(fmt::format("FieldPasses: a scroll left {} boxes to upsample, at most {} expected",
+                            mScrollPending.boxes.size(), RTSDF_UPSAMPLE_MAX_BOXES));
+  // The blocks' fine voxels move with the grids (whole coarse voxels): the table changes only if their offset did.
+  if (mFine) {
+    std::vector<int> begins = upsampleBlockFineBegins(mCoarseSpec.inFrame(mFineSpec.origin),
+                                                      mFineSpec.inFrame(mFineSpec.origin));
+    if (begins != mFineBegins) {
+      mFineBegins = std::move(begins);
+      gpu::recordUpload(cmd, mBlockFineBegins, mFineBegins.data(), mFineBegins.size() * 4);
+    }
+  }
 }
 
 RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& pool, std::uint32_t movedBoxes) const {
@@ -91,7 +124,7 @@ RefineParams FieldPasses::refineParams(std::uint32_t frame, const BrickPool& poo
 
 void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const RefineParams& p,
                              const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool,
-                             const Buffer& movedBoxes, bool refine, bool upsample, bool upsampleChanged) const {
+                             const Buffer& movedBoxes, bool refine, bool upsample, bool upsampleChanged) {
   const BrickPages pages = pool.pages();
   const Buffer& coarse = mCoarse.distanceBuffer();
   const Buffer& dense = mFine ? mFine : pool.placeholder();
@@ -108,31 +141,64 @@ void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
     if (mWindingExact && bvh.openPieces().any())
       mWindingExact->execute(cmd, profiler, {bvh, mWindingDoubts}, {pages, dense, mask.refineStats()}, p);
   }
-  if (upsample && mFine) {
-    const UpsamplePass::Inputs in{coarse, mask.fineToCoarse(), pool.slots()};
-    if (upsampleChanged) {
-      mUpsampleRegion.execute(cmd, nullptr, {mCoarse.changedBoxBuffer()}, {mRegion}, p);
-      mUpsample.executeIn(cmd, profiler, in, {mFine}, p, mRegion);
-      // The region's size is read on the host after the frame (lastRegionVoxels).
-      VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-      toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-      toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-      vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0,
-                           nullptr, 0, nullptr);
-    } else {
-      mUpsample.execute(cmd, profiler, in, {mFine}, p);
-    }
-  }
+  mLastUpsample = Upsampled::None;
+  if (upsample && mFine) recordUpsample(cmd, profiler, p, mask, pool, upsampleChanged);
   // Shading that samples the bricks finds the grids here.
   gpu::recordUpload(cmd, mSamplingParams, &p, sizeof(p));
 }
 
-std::uint64_t FieldPasses::lastRegionVoxels() const {
-  if (!mRegion) return 0;
-  gpu::shared::UpsampleRegion r;
-  std::memcpy(&r, mRegion.mapped(), sizeof(r));
-  const glm::i64vec3 n = glm::max(glm::i64vec3(glm::ivec3(r.end) - glm::ivec3(r.begin)), glm::i64vec3(0));
-  return std::uint64_t(n.x * n.y * n.z);
+void FieldPasses::recordUpsample(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const RefineParams& p,
+                                 const GpuRayMask& mask, const BrickPool& pool, bool changedOnly) {
+  const UpsamplePass::Inputs in{mCoarse.distanceBuffer(), mask.fineToCoarse(), pool.slots()};
+  // After a scroll the coarse SDF's changes are of use only where the build ran over what the scroll moved.
+  if (!changedOnly || (mScrollFrame.scrolled && !mScrollFrame.coarseMoved)) {
+    mUpsample.execute(cmd, profiler, in, {mFine}, p);
+    mLastUpsample = Upsampled::Whole;
+    return;
+  }
+  // The boxes a scroll invalidated whatever the coarse values there, written by the host (the frame before is
+  // finished); then the blocks the changes and the boxes reach, and their fine voxels.
+  gpu::shared::UpsampleBoxes boxes{};
+  boxes.count.x = int(mScrollFrame.boxes.size());
+  for (std::size_t i = 0; i < mScrollFrame.boxes.size(); ++i) {
+    boxes.lo[i] = glm::ivec4(mScrollFrame.boxes[i].lo, 0);
+    boxes.hi[i] = glm::ivec4(mScrollFrame.boxes[i].hi, 0);
+  }
+  std::memcpy(mUpsampleBoxes.mapped(), &boxes, sizeof(boxes));
+  mUpsampleBlocks.execute(cmd, profiler, {mCoarse.changedBlocksBuffer(), mUpsampleBoxes, mBlockFineBegins},
+                          {mBlockList}, mCoarseSpec.dims);
+  mUpsampleByBlocks.execute(cmd, profiler, {in, mBlockList, mBlockFineBegins}, {mFine}, p);
+  mLastUpsample = Upsampled::Blocks;
+  // The list's header is read on the host after the frame (lastUpsampledVoxels).
+  const VkBufferCopy header{0, 0, sizeof(gpu::shared::UpsampleBlockListHeader)};
+  vkCmdCopyBuffer(cmd, mBlockList.handle(), mBlockListHeader.handle(), 1, &header);
+  VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
+                       nullptr);
+}
+
+std::uint64_t FieldPasses::lastUpsampledVoxels() const {
+  switch (mLastUpsample) {
+  case Upsampled::None: return 0;
+  case Upsampled::Whole: return mFineSpec.voxelCount();
+  case Upsampled::Blocks: break;
+  }
+  gpu::shared::UpsampleBlockListHeader h;
+  std::memcpy(&h, mBlockListHeader.mapped(), sizeof(h));
+  return h.totals.x;
+}
+
+std::vector<std::uint32_t> FieldPasses::readUpsampledBlocks() const {
+  if (mLastUpsample != Upsampled::Blocks) return {};
+  gpu::shared::UpsampleBlockListHeader h;
+  std::memcpy(&h, mBlockListHeader.mapped(), sizeof(h));
+  std::vector<std::uint32_t> words(gpu::shared::kUpsampleBlockListHeaderWords + h.groups.w);
+  gpu::download(mCtx, mBlockList, words.data(), words.size() * 4);
+  std::vector<std::uint32_t> blocks(words.begin() + gpu::shared::kUpsampleBlockListHeaderWords, words.end());
+  std::sort(blocks.begin(), blocks.end());
+  return blocks;
 }
 
 const gpu::Buffer& FieldPasses::changedBoxBuffer() const { return mCoarse.changedBoxBuffer(); }

@@ -15,7 +15,7 @@ FramePlan planFrame(const FrameChanges& c, const PipelineSettings& s) {
   plan.mask = refining && (plan.coarse || c.poolReset || c.viewChanged || c.lastListed || dueEveryFrame);
   plan.refine = plan.mask;
   plan.upsample = s.fineStorage == FineStorage::Dense && (plan.coarse || c.poolReset);
-  plan.upsampleChanged = plan.upsample && c.moved && !c.scrolled && !c.poolReset;
+  plan.upsampleChanged = plan.upsample && !c.poolReset && (c.scrolled ? c.scrollMovedCoarse : c.moved);
   plan.coarseMovedSeeds = c.moved && coarseBuiltOverChanges(s);
   plan.coarseOverChange = plan.coarseMovedSeeds && !c.scrolled;
   plan.maskOverChange = plan.mask && !c.poolReset && !c.scrolled && !c.viewChanged && !c.viewLimited &&

@@ -15,6 +15,9 @@ struct FrameChanges {
   bool moved = false;       ///< an instance's transform differs from the previous frame's (movedInstanceBoxes)
   bool poolReset = false;   ///< the brick pool was (re)allocated for this frame: every coarse voxel is new to the band
   bool scrolled = false;    ///< the grids moved (SdfPipeline::scroll): the cells that entered are new to every buffer
+  /// The scroll moved the coarse SDF with the grids (CoarseSdfBuilder::scrollMovedDistances): the next build's
+  /// ChangedBox holds the coarse voxels whose value differs from their moved one.
+  bool scrollMovedCoarse = false;
   bool lastListed = true;   ///< the mask's last run listed voxels to refine (some may still be settling)
   bool viewChanged = false; ///< the view's reach changed (SdfPipeline::setViewReach): voxels enter or leave it
   bool viewLimited = false; ///< the band is refined only within a view's reach
@@ -26,7 +29,9 @@ struct FrameChanges {
 struct FramePlan {
   bool coarse = true, mask = true, refine = true, upsample = true;
   /// The upsampling rewrites only the fine voxels near the coarse voxels whose value the rebuild changed
-  /// (UpsampleRegionPass): an instance moved, and the grids, the pool and the last build's coarse SDF are as they were.
+  /// (UpsampleRegionPass), and after a scroll those near the voxels that entered and the faces the grids moved away
+  /// from (scrollUpsampleBoxes): an instance moved, or the grids scrolled with their coarse SDF
+  /// (scrollMovedCoarse), and the pool is as it was.
   bool upsampleChanged = false;
   /// The coarse SDF is built over what the moving instances' seeds can reach (CoarseSdfBuilder::record with their
   /// box): only instances moved, and coarseBuiltOverChanges.
@@ -54,7 +59,8 @@ bool coarseBuiltOverChanges(const PipelineSettings& s);
 ///        over the frames) or never settle (settleFrames 0). A run that lists nothing leaves the band, the bricks
 ///        and the fine SDF as they are, so skipping it changes nothing. The upsampling writes the coarse SDF
 ///        outside the slotted band: it runs when the coarse SDF or the slots changed, over the whole grid unless only
-///        an instance moved (then where the coarse SDF changed: the slots change only where the band does). The coarse
+///        an instance moved (then where the coarse SDF changed: the slots change only where the band does) or the
+///        grids scrolled with their coarse SDF (then also where they entered and at the faces they left). The coarse
 ///        SDF is built over what changed where only an instance moved (coarseOverChange).
 FramePlan planFrame(const FrameChanges& changes, const PipelineSettings& s);
 

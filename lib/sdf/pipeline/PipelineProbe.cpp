@@ -49,6 +49,16 @@ std::vector<std::uint32_t> PipelineProbe::coarseBlockMax() const {
   return mPipe.mFields->readCoarseBlockMax();
 }
 
+std::vector<std::uint32_t> PipelineProbe::changedCoarseBlocks() const {
+  mPipe.waitForFrame();
+  return mPipe.mFields->readChangedCoarseBlocks();
+}
+
+std::vector<std::uint32_t> PipelineProbe::upsampledBlocks() const {
+  mPipe.waitForFrame();
+  return mPipe.mFields->readUpsampledBlocks();
+}
+
 std::vector<std::uint32_t> PipelineProbe::coarseSeeds() const {
   mPipe.waitForFrame();
   return mPipe.mFields->readCoarseSeeds();

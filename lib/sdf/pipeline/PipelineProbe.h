@@ -48,6 +48,11 @@ public:
   ///        the last frame's coarse build was one.
   CoarseRegionLists coarseRegion() const;
   bool coarseOverChange() const;
+  /// @brief Per coarse block, the changedBlockReach bits of its voxels the last coarse build changed
+  ///        (CoarseSdfBuilder::readChangedBlocks), and the blocks the last upsampling over blocks listed (sorted;
+  ///        empty where it upsampled the whole grid or nothing).
+  std::vector<std::uint32_t> changedCoarseBlocks() const;
+  std::vector<std::uint32_t> upsampledBlocks() const;
   /// @brief The coarse voxels the last run of the mask visited (GpuRayMask::lastRegion).
   gpu::shared::MaskRegion lastMaskRegion() const;
 

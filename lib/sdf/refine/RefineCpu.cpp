@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <cstring>
 
 namespace rtsdf {
 using namespace gpu::shared;
@@ -79,6 +80,44 @@ std::vector<float> resolveFineCpu(const std::vector<float>& coarse, const GridSp
       }
   });
   return out;
+}
+
+std::vector<std::uint32_t> changedBlockMarksCpu(const std::vector<float>& before, const std::vector<float>& after,
+                                                const glm::ivec3& dims) {
+  using namespace gpu::shared;
+  const glm::ivec3 bd = coarseBlockDims(dims);
+  std::vector<std::uint32_t> marks(std::size_t(bd.x) * bd.y * bd.z, 0u);
+  for (int z = 0; z < dims.z; ++z)
+    for (int y = 0; y < dims.y; ++y)
+      for (int x = 0; x < dims.x; ++x) {
+        const std::size_t i = (std::size_t(z) * dims.y + y) * dims.x + x;
+        if (std::memcmp(&before[i], &after[i], sizeof(float)) == 0) continue;
+        const glm::ivec3 v(x, y, z);
+        marks[coarseBlockIndex(v, bd)] |= changedBlockReach(v % RTSDF_COARSE_BLOCK);
+      }
+  return marks;
+}
+
+std::vector<std::uint32_t> upsampleBlocksCpu(const std::vector<std::uint32_t>& marks, const glm::ivec3& dims,
+                                             const gpu::shared::UpsampleBoxes& boxes) {
+  using namespace gpu::shared;
+  const glm::ivec3 bd = coarseBlockDims(dims);
+  std::vector<std::uint32_t> listed;
+  for (int z = 0; z < bd.z; ++z)
+    for (int y = 0; y < bd.y; ++y)
+      for (int x = 0; x < bd.x; ++x) {
+        const glm::ivec3 b(x, y, z);
+        bool reached = false;
+        for (int k = 0; k < 27 && !reached; ++k) {
+          const glm::ivec3 d(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1), n = b + d;
+          if (glm::any(glm::lessThan(n, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(n, bd))) continue;
+          reached = (marks[std::size_t((n.z * bd.y + n.y) * bd.x + n.x)] & changedReachBit(-d)) != 0u;
+        }
+        for (int k = 0; k < boxes.count.x && k < RTSDF_UPSAMPLE_MAX_BOXES && !reached; ++k)
+          reached = upsampleBlockMeetsBox(b, dims, glm::ivec3(boxes.lo[k]), glm::ivec3(boxes.hi[k]));
+        if (reached) listed.push_back(std::uint32_t((z * bd.y + y) * bd.x + x));
+      }
+  return listed;
 }
 
 } // namespace rtsdf

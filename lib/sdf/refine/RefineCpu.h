@@ -38,4 +38,15 @@ std::vector<float> resolveFineCpu(const std::vector<float>& coarse, const GridSp
                                   const GridSpec& fineSpec, float band, const std::vector<std::uint32_t>& brickSlots,
                                   const std::vector<float>& poolValues);
 
+/// @brief CPU copy of CoarseDistancePass's changed-block marks: per block (coarseBlockIndex) of a coarse grid of
+///        @a dims, changedBlockReach of each voxel whose value differs, bit for bit, between @a before and @a after.
+std::vector<std::uint32_t> changedBlockMarksCpu(const std::vector<float>& before, const std::vector<float>& after,
+                                                const glm::ivec3& dims);
+
+/// @brief CPU copy of UpsampleBlocksPass's listing: the blocks (coarseBlockIndex, ascending) of a coarse grid of
+///        @a dims that a block within one of them holds a changed voxel reaching (@a marks), or that meet one of
+///        @a boxes grown by a voxel.
+std::vector<std::uint32_t> upsampleBlocksCpu(const std::vector<std::uint32_t>& marks, const glm::ivec3& dims,
+                                             const gpu::shared::UpsampleBoxes& boxes);
+
 } // namespace rtsdf

@@ -4,6 +4,7 @@
 #ifndef RTSDF_SDF_REFINE_REFINEPARAMS_H
 #define RTSDF_SDF_REFINE_REFINEPARAMS_H
 #include "bvh/GpuBvhLayout.h"
+#include "sdf/coarse/CoarseParams.h"
 #include "sdf/mask/MaskParams.h"
 
 RTSDF_SHARED_BEGIN
@@ -55,10 +56,63 @@ const uint kUpsampleBindingFineToCoarse = 2u; // int per fine index per axis (x 
 const uint kUpsampleBindingBrickSlots = 3u;   // uint per brick: its slot in the pool, kNoBrick: none
 const uint kUpsampleBindingRegion = 4u;       // UpsampleRegion: the fine voxels written (read)
 const uint kUpsampleBindingCount = 5u;
-/// Bindings of upsample_region.comp (UpsampleRegionPass).
-const uint kUpsampleRegionBindingChanged = 0u; // the coarse SDF's ChangedBox (sdf/coarse/CoarseParams.h; read)
-const uint kUpsampleRegionBindingRegion = 1u;  // UpsampleRegion (written)
-const uint kUpsampleRegionBindingCount = 2u;
+/// Bindings of refine_upsample_blocks.comp: kUpsampleBinding{Coarse, Fine, FineToCoarse, BrickSlots}, then these.
+const uint kUpsampleBindingBlockList = 4u;      // UpsampleBlockList: the coarse blocks whose fine voxels are written
+const uint kUpsampleBindingFineBegins = 5u;     // upsampleBlockFineBegins: each block's fine voxels
+const uint kUpsampleBlocksKernelBindingCount = 6u;
+/// Bindings of upsample_blocks.comp (UpsampleBlocksPass).
+const uint kUpsampleBlocksBindingMarks = 0u;      // uint per coarse block: CoarseDistancePass's changedBlockReach bits
+const uint kUpsampleBlocksBindingBoxes = 1u;      // UpsampleBoxes: coarse voxels to upsample near, whatever changed
+const uint kUpsampleBlocksBindingFineBegins = 2u; // upsampleBlockFineBegins (read: the listed fine voxels' count)
+const uint kUpsampleBlocksBindingList = 3u;       // UpsampleBlockList (written; its header reset by the host)
+const uint kUpsampleBlocksBindingCount = 4u;
+
+/// Work-group side of refine_upsample_blocks.comp: RTSDF_UPSAMPLE_BLOCK_GROUP^2 invocations, each a column along z of
+/// a listed block's fine voxels.
+#define RTSDF_UPSAMPLE_BLOCK_GROUP 8
+/// Work-group size of upsample_blocks.comp's listing (one invocation per coarse block).
+#define RTSDF_UPSAMPLE_BLOCKS_GROUP 64
+/// The most coarse boxes one upsampling over blocks takes besides the changed voxels (a scroll's: a slab that entered
+/// and a face left behind per axis, scrollUpsampleBoxes).
+#define RTSDF_UPSAMPLE_MAX_BOXES 6
+/// The coarse boxes (inclusive; count.x of them) near which every fine voxel is upsampled again, whatever changed.
+struct UpsampleBoxes {
+  ivec4 count;
+  ivec4 lo[RTSDF_UPSAMPLE_MAX_BOXES];
+  ivec4 hi[RTSDF_UPSAMPLE_MAX_BOXES];
+};
+/// Push constants of upsample_blocks.comp: coarseDims.xyz the coarse grid, w the phase.
+struct UpsampleBlocksParams {
+  ivec4 coarseDims;
+};
+#define RTSDF_UPSAMPLE_BLOCKS_LIST 0     // one invocation per coarse block: those to upsample listed
+#define RTSDF_UPSAMPLE_BLOCKS_DISPATCH 1 // one invocation: the indirect dispatch of refine_upsample_blocks.comp
+/// The list of an upsampling over blocks, at the head of its buffer (then the blocks, coarseBlockIndex, in no
+/// particular order): groups.xyz the indirect dispatch of refine_upsample_blocks.comp (a group a block, in rows of
+/// kCoarseRegionGroupsX), groups.w the listed blocks; totals.x their fine voxels. The host resets it to
+/// kUpsampleBlockListEmpty before the listing.
+struct UpsampleBlockListHeader {
+  uvec4 groups;
+  uvec4 totals;
+};
+const uint kUpsampleBlockListHeaderWords = 8u;
+
+/// Words of upsampleBlockFineBegins for a coarse grid of @a dims: per axis the blocks' first fine voxels and the end.
+RTSDF_FN uint upsampleBlockFineBeginWords(ivec3 dims) {
+  ivec3 bd = coarseBlockDims(dims);
+  return uint(bd.x + bd.y + bd.z + 3);
+}
+
+/// The words of upsampleBlockFineBegins where axis @a axis's entries start (x's, then y's, then z's; per axis the
+/// first fine voxel of each block, then the end), for a grid of @a bd blocks.
+RTSDF_FN int upsampleBlockFineAt(ivec3 bd, int axis) { return axis == 0 ? 0 : axis == 1 ? bd.x + 1 : bd.x + bd.y + 2; }
+
+/// Whether coarse block @a b meets box @a boxLo..@a boxHi grown by one voxel (the upsampling's stencil).
+RTSDF_FN bool upsampleBlockMeetsBox(ivec3 b, ivec3 dims, ivec3 boxLo, ivec3 boxHi) {
+  ivec3 lo = b * RTSDF_COARSE_BLOCK, hi = min(lo + ivec3(RTSDF_COARSE_BLOCK - 1), dims - ivec3(1));
+  return all(lessThanEqual(lo, boxHi + ivec3(1))) && all(greaterThanEqual(hi, boxLo - ivec3(1))) &&
+         all(lessThanEqual(boxLo, boxHi));
+}
 
 /// Bindings of refine_rays.comp and refine_closest*.comp: the scene BVH (GpuBvhLayout.h's kBvhBinding*), then these,
 /// then the brick pool's value pages (kRefineBindingValuePages + page) and vote pages (kRefineBindingVotePages + page),
@@ -123,47 +177,13 @@ struct RefineParams {
   ivec4 partBox;         // xyz: the most fine voxels per axis of one invocation's box; w: boxes along y
 };
 
-/// The fine voxels UpsamplePass writes, [begin, end) per axis, and the work groups that cover them (groups.xyz: a
-/// VkDispatchIndirectCommand at offset 0, refine_upsample.comp's groups).
+/// The fine voxels UpsamplePass writes over the whole grid, [begin, end) per axis (end clamped to the grid), with
+/// room for the work groups that cover them (groups).
 struct UpsampleRegion {
   uvec4 groups;
   ivec4 begin;
   ivec4 end;
 };
-
-/// The fine voxels whose upsampled value may differ once the coarse voxels in @a lo..@a hi (inclusive; empty where
-/// lo.x > hi.x) changed, with the work groups of refine_upsample.comp (runs of @a run voxels along z). A fine voxel
-/// reads its cell's eight corners and its own coarse voxel (the band test): both lie within one coarse voxel of it,
-/// so the region is the fine voxels of the box grown by one coarse voxel, and one fine voxel more each side for
-/// rounding; where the grown box reaches a face of the coarse grid, the region reaches the fine grid's face (the
-/// cells clamp there). The slots of the bricks change only where the band does, so inside the box as well.
-RTSDF_FN UpsampleRegion upsampleRegionOf(uvec4 lo, uvec4 hi, RefineParams p, int run) {
-  UpsampleRegion r;
-  r.groups = uvec4(0u, 1u, 1u, 0u);
-  r.begin = ivec4(0);
-  r.end = ivec4(0);
-  if (lo.x > hi.x) return r;
-  ivec3 cd = ivec3(p.coarseDims), fd = ivec3(p.fineDims);
-  ivec3 clo = max(ivec3(uvec3(lo)) - ivec3(1), ivec3(0));
-  ivec3 chi = min(ivec3(uvec3(hi)) + ivec3(1), cd - ivec3(1));
-  // Corners of the grown box relative to the fine grid's corner, in fine voxels.
-  vec3 toFine = vec3(p.coarseOriginInvH) - vec3(p.fineOriginH);
-  vec3 a = (toFine + vec3(clo) / p.coarseOriginInvH.w) / p.fineOriginH.w;
-  vec3 b = (toFine + vec3(chi + ivec3(1)) / p.coarseOriginInvH.w) / p.fineOriginH.w;
-  ivec3 begin = ivec3(floor(a)) - ivec3(1), end = -ivec3(floor(-b)) + ivec3(1);
-  for (int i = 0; i < 3; ++i) {
-    if (clo[i] == 0) begin[i] = 0;
-    if (chi[i] == cd[i] - 1) end[i] = fd[i];
-  }
-  begin = clamp(begin, ivec3(0), fd);
-  end = clamp(end, begin, fd);
-  ivec3 n = end - begin;
-  r.begin = ivec4(begin, 0);
-  r.end = ivec4(end, 0);
-  r.groups = uvec4(uint((n.x + RTSDF_UPSAMPLE_GROUP_X - 1) / RTSDF_UPSAMPLE_GROUP_X),
-                   uint((n.y + RTSDF_UPSAMPLE_GROUP_Y - 1) / RTSDF_UPSAMPLE_GROUP_Y), uint((n.z + run - 1) / run), 0u);
-  return r;
-}
 
 /// The two uniform numbers in [0, 1) of ray @a ray of voxel @a voxel in frame @a frame.
 RTSDF_FN uint rayHash(uint voxel, uint frame, uint ray, uint seed) {

@@ -1,6 +1,8 @@
 #include "sdf/refine/RefinePasses.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 
 namespace rtsdf {
@@ -53,42 +55,78 @@ UpsamplePass::UpsamplePass(const gpu::VulkanContext& ctx, Kernel kernel)
   gpu::reserveAndUpload(ctx, mWholeGrid, &whole, sizeof(whole), gpu::kStorage, "upsample whole grid");
 }
 
-std::array<gpu::Binding, kUpsampleBindingCount> UpsamplePass::bindings(const Inputs& in, const Outputs& out,
-                                                                      const gpu::Buffer& region) const {
+void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                           const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
   std::array<gpu::Binding, kUpsampleBindingCount> b;
   b[kUpsampleBindingCoarse] = &in.coarse;
   b[kUpsampleBindingFine] = &out.fine;
   b[kUpsampleBindingFineToCoarse] = &in.fineToCoarse;
   b[kUpsampleBindingBrickSlots] = &in.brickSlots;
-  b[kUpsampleBindingRegion] = &region;
-  return b;
-}
-
-void UpsamplePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
-                           const Params& params) const {
-  gpu::ProfileScope scope(profiler, cmd, kName);
+  b[kUpsampleBindingRegion] = &mWholeGrid;
   const glm::ivec3 d = params.fineDims;
-  mPipeline.dispatch(cmd, bindings(in, out, mWholeGrid), &params,
+  mPipeline.dispatch(cmd, b, &params,
                      {gpu::groupsFor(d.x, RTSDF_UPSAMPLE_GROUP_X), gpu::groupsFor(d.y, RTSDF_UPSAMPLE_GROUP_Y),
                       gpu::groupsFor(d.z, std::uint32_t(mRun))});
   gpu::computeBarrier(cmd);
 }
 
-void UpsamplePass::executeIn(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
-                             const Params& params, const gpu::Buffer& region) const {
-  if (mRun != RTSDF_UPSAMPLE_RUN_LENGTH) throw Error("UpsamplePass: a region needs the runs kernel");
-  gpu::ProfileScope scope(profiler, cmd, kName);
-  mPipeline.dispatchIndirect(cmd, bindings(in, out, region), &params, region);
+std::vector<int> upsampleBlockFineBegins(const GridSpec& coarse, const GridSpec& fine) {
+  const glm::ivec3 bd = coarseBlockDims(coarse.dims);
+  std::vector<int> begins(upsampleBlockFineBeginWords(coarse.dims));
+  for (int a = 0; a < 3; ++a) {
+    int* axis = begins.data() + upsampleBlockFineAt(bd, a);
+    // Fine voxel x's block: that of the coarse voxel holding its centre (clamped); blocks only grow with x.
+    int block = 0;
+    axis[0] = 0;
+    for (int x = 0; x < fine.dims[a]; ++x) {
+      const double centre = fine.origin[a] + (x + 0.5) * fine.voxelSize;
+      const int cell = std::clamp(int(std::floor((centre - coarse.origin[a]) / coarse.voxelSize)), 0, coarse.dims[a] - 1);
+      for (; block < cell / RTSDF_COARSE_BLOCK; ++block) axis[block + 1] = x;
+    }
+    for (; block < bd[a]; ++block) axis[block + 1] = fine.dims[a];
+  }
+  return begins;
+}
+
+std::uint64_t UpsampleBlocksPass::listBytes(const glm::ivec3& coarseDims) {
+  const glm::u64vec3 bd(coarseBlockDims(coarseDims));
+  return (kUpsampleBlockListHeaderWords + bd.x * bd.y * bd.z) * 4;
+}
+
+void UpsampleBlocksPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in,
+                                 const Outputs& out, const glm::ivec3& coarseDims) const {
+  gpu::ProfileScope scope(profiler, cmd, UpsamplePass::kName); // the upsampling's cost, its listing included
+  static const UpsampleBlockListHeader kEmpty{glm::uvec4(0u, 1u, 1u, 0u), glm::uvec4(0u)};
+  gpu::recordUpload(cmd, out.list, &kEmpty, sizeof(kEmpty));
+  gpu::computeBarrier(cmd);
+  std::array<gpu::Binding, kUpsampleBlocksBindingCount> b;
+  b[kUpsampleBlocksBindingMarks] = &in.marks;
+  b[kUpsampleBlocksBindingBoxes] = &in.boxes;
+  b[kUpsampleBlocksBindingFineBegins] = &in.fineBegins;
+  b[kUpsampleBlocksBindingList] = &out.list;
+  const glm::uvec3 bd(coarseBlockDims(coarseDims));
+  const std::uint32_t groups = gpu::groupsFor(bd.x * bd.y * bd.z, RTSDF_UPSAMPLE_BLOCKS_GROUP);
+  UpsampleBlocksParams p{glm::ivec4(coarseDims, RTSDF_UPSAMPLE_BLOCKS_LIST)};
+  mPipeline.dispatch(cmd, b, &p,
+                     {std::min(groups, kCoarseRegionGroupsX), gpu::groupsFor(groups, kCoarseRegionGroupsX), 1u});
+  gpu::computeBarrier(cmd);
+  p.coarseDims.w = RTSDF_UPSAMPLE_BLOCKS_DISPATCH;
+  mPipeline.dispatch(cmd, b, &p, {1u, 1u, 1u});
   gpu::computeBarrier(cmd);
 }
 
-void UpsampleRegionPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in,
-                                 const Outputs& out, const Params& params) const {
+void UpsampleByBlocksPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in,
+                                   const Outputs& out, const Params& params) const {
   gpu::ProfileScope scope(profiler, cmd, kName);
-  std::array<gpu::Binding, kUpsampleRegionBindingCount> b;
-  b[kUpsampleRegionBindingChanged] = &in.changed;
-  b[kUpsampleRegionBindingRegion] = &out.region;
-  mPipeline.dispatch(cmd, b, &params, {1u, 1u, 1u});
+  std::array<gpu::Binding, kUpsampleBlocksKernelBindingCount> b;
+  b[kUpsampleBindingCoarse] = &in.upsample.coarse;
+  b[kUpsampleBindingFine] = &out.fine;
+  b[kUpsampleBindingFineToCoarse] = &in.upsample.fineToCoarse;
+  b[kUpsampleBindingBrickSlots] = &in.upsample.brickSlots;
+  b[kUpsampleBindingBlockList] = &in.list;
+  b[kUpsampleBindingFineBegins] = &in.fineBegins;
+  mPipeline.dispatchIndirect(cmd, b, &params, in.list);
   gpu::computeBarrier(cmd);
 }
 

@@ -61,30 +61,56 @@ public:
   /// @brief Record the upsampling of every fine voxel.
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
-  /// @brief Record the upsampling of the fine voxels in @a region (an UpsampleRegion written by UpsampleRegionPass
-  ///        earlier in @a cmd; its groups are the dispatch's). Kernel::Runs only.
-  /// @throw Error with Kernel::PerVoxel.
-  void executeIn(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
-                 const Params& params, const gpu::Buffer& region) const;
 
 private:
-  std::array<gpu::Binding, gpu::shared::kUpsampleBindingCount> bindings(const Inputs& in, const Outputs& out,
-                                                                        const gpu::Buffer& region) const;
   int mRun;
   gpu::Buffer mWholeGrid; ///< the UpsampleRegion of every fine voxel (begin 0, end unbounded: the grid's dims)
 };
 
-/// @brief UpsampleRegionPass: the fine voxels UpsamplePass::executeIn rewrites after the coarse SDF changed in the box
-///        CoarseDistancePass grew (gpu::shared::upsampleRegionOf), and the work groups that cover them. One
-///        invocation; the fine field it leads to equals a whole-grid upsampling bit for bit.
-class UpsampleRegionPass : gpu::ComputePass {
+/// @brief The first fine voxel of each coarse block (RTSDF_COARSE_BLOCK^3 coarse voxels) per axis, then the fine grid's
+///        end: x's, then y's, then z's (gpu::shared::upsampleBlockFineAt), for @a coarse and @a fine as the GPU sees
+///        them. A fine voxel belongs to the block holding the coarse voxel its centre lies in (clamped to the grid), so
+///        the blocks split the fine grid; the coarse voxels its upsampling reads lie within one of that one.
+std::vector<int> upsampleBlockFineBegins(const GridSpec& coarse, const GridSpec& fine);
+
+/// @brief UpsampleBlocksPass: after a coarse build, the coarse blocks whose fine voxels the upsampling must write again
+///        (upsample_blocks.comp): those a changed voxel's upsampling reaches (CoarseDistancePass's marks) and those
+///        near @a boxes (what a scroll invalidated), listed with the indirect dispatch of UpsampleByBlocksPass and the
+///        count of their fine voxels (gpu::shared::UpsampleBlockListHeader). Its CPU copy is upsampleBlocksCpu.
+class UpsampleBlocksPass : gpu::ComputePass {
 public:
-  static constexpr const char* kName = "UpsampleRegionPass";
-  struct Inputs { const gpu::Buffer& changed; };  ///< the coarse SDF's ChangedBox (CoarseSdfBuilder::changedBoxBuffer)
-  struct Outputs { const gpu::Buffer& region; };  ///< an UpsampleRegion (storage and indirect usage)
-  using Params = gpu::shared::RefineParams;       ///< grids of both levels
-  explicit UpsampleRegionPass(const gpu::VulkanContext& ctx)
-      : ComputePass(ctx, "upsample_region.comp", gpu::shared::kUpsampleRegionBindingCount, sizeof(Params)) {}
+  static constexpr const char* kName = "UpsampleBlocksPass";
+  struct Inputs {
+    const gpu::Buffer& marks;      ///< CoarseSdfBuilder::changedBlocksBuffer
+    const gpu::Buffer& boxes;      ///< a gpu::shared::UpsampleBoxes
+    const gpu::Buffer& fineBegins; ///< upsampleBlockFineBegins of the grids
+  };
+  struct Outputs { const gpu::Buffer& list; }; ///< the header and a word per block (storage, indirect, transfer dst)
+  explicit UpsampleBlocksPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "upsample_blocks.comp", gpu::shared::kUpsampleBlocksBindingCount,
+                    sizeof(gpu::shared::UpsampleBlocksParams)) {}
+  /// @brief Record the list's reset, the listing over a coarse grid of @a coarseDims voxels and the dispatch.
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const glm::ivec3& coarseDims) const;
+  /// @brief The bytes of the list of a coarse grid of @a coarseDims voxels.
+  static std::uint64_t listBytes(const glm::ivec3& coarseDims);
+};
+
+/// @brief UpsampleByBlocksPass: UpsamplePass over the fine voxels of the blocks UpsampleBlocksPass listed (a work group
+///        a block, dispatched indirectly from the list), the same values bit for bit; profiled as UpsamplePass.
+class UpsampleByBlocksPass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = UpsamplePass::kName;
+  struct Inputs {
+    UpsamplePass::Inputs upsample;
+    const gpu::Buffer& list;       ///< UpsampleBlocksPass's
+    const gpu::Buffer& fineBegins; ///< upsampleBlockFineBegins of the grids
+  };
+  using Outputs = UpsamplePass::Outputs;
+  using Params = gpu::shared::RefineParams;
+  explicit UpsampleByBlocksPass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "refine_upsample_blocks.comp", gpu::shared::kUpsampleBlocksKernelBindingCount,
+                    sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 };

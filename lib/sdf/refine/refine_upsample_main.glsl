@@ -9,31 +9,40 @@
 // upsampled too. One invocation per run of RTSDF_UPSAMPLE_RUN fine
 // voxels along z (neighbouring invocations: neighbouring x, so a group's writes are contiguous): the run keeps
 // the 2 x 2 x 2 coarse values of its cell and loads only the new z plane of 4 when it crosses into the next
-// coarse cell. The voxels written are those of the region bound (UpsampleRegion: the whole grid, or where the coarse
-// SDF changed, UpsampleRegionPass), offset by its begin.
+// coarse cell. The voxels written are those of the region bound (UpsampleRegion: the whole grid).
+// With RTSDF_UPSAMPLE_BLOCKS (refine_upsample_blocks.comp, UpsampleByBlocksPass), the fine voxels of the coarse
+// blocks UpsampleBlocksPass listed instead: a work group a block, each invocation the runs of its columns along z.
 #include "sdf/refine/RefineParams.h"
 #ifndef RTSDF_UPSAMPLE_RUN
 #error "compile with RTSDF_UPSAMPLE_RUN defined (fine voxels along z per invocation)"
 #endif
+#ifndef RTSDF_UPSAMPLE_BLOCKS
+#define RTSDF_UPSAMPLE_BLOCKS 0
+#endif
 
+#if RTSDF_UPSAMPLE_BLOCKS
+layout(local_size_x = RTSDF_UPSAMPLE_BLOCK_GROUP, local_size_y = RTSDF_UPSAMPLE_BLOCK_GROUP, local_size_z = 1) in;
+#else
 layout(local_size_x = RTSDF_UPSAMPLE_GROUP_X, local_size_y = RTSDF_UPSAMPLE_GROUP_Y, local_size_z = 1) in;
+#endif
 layout(push_constant) uniform Push { RefineParams params; };
 layout(std430, binding = kUpsampleBindingCoarse) readonly buffer Coarse { float coarse[]; };
 layout(std430, binding = kUpsampleBindingFine) writeonly buffer Fine { float fine[]; };
 layout(std430, binding = kUpsampleBindingFineToCoarse) readonly buffer FineToCoarse { int fineToCoarse[]; };
 layout(std430, binding = kUpsampleBindingBrickSlots) readonly buffer BrickSlots { uint brickSlots[]; };
+#if RTSDF_UPSAMPLE_BLOCKS
+layout(std430, binding = kUpsampleBindingBlockList) readonly buffer List { UpsampleBlockListHeader header; uint blocks[]; };
+layout(std430, binding = kUpsampleBindingFineBegins) readonly buffer FineBegins { int fineBegins[]; };
+#else
 layout(std430, binding = kUpsampleBindingRegion) readonly buffer Region { UpsampleRegion region; };
+#endif
 
 #include "coarse_upsample.glsl"
 
-void main() {
+// Fine voxels (x, y, zBegin..zEnd - 1) upsampled, but for the slotted band's.
+void upsampleRun(int x, int y, int zBegin, int zEnd) {
   ivec3 fd = params.fineDims.xyz;
   ivec3 cd = params.coarseDims.xyz;
-  ivec3 end = min(region.end.xyz, fd);
-  int x = region.begin.x + int(gl_GlobalInvocationID.x), y = region.begin.y + int(gl_GlobalInvocationID.y);
-  int zBegin = region.begin.z + int(gl_GlobalInvocationID.z) * RTSDF_UPSAMPLE_RUN;
-  if (x >= end.x || y >= end.y || zBegin >= end.z) return;
-  int zEnd = min(zBegin + RTSDF_UPSAMPLE_RUN, end.z);
   // The coarse row holding this column of fine voxels (the ray mask's slabs), when the band masks anything.
   ivec2 slab = ivec2(fineToCoarse[x], fineToCoarse[fd.x + y]);
   bool maskable = params.band > 0.0 && slab.x >= 0 && slab.y >= 0;
@@ -59,4 +68,28 @@ void main() {
     }
     fine[(v.z * fd.y + v.y) * fd.x + v.x] = trilinear(c0, c1, t);
   }
+}
+
+void main() {
+#if RTSDF_UPSAMPLE_BLOCKS
+  uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  if (g >= header.groups.w) return;
+  ivec3 bd = coarseBlockDims(params.coarseDims.xyz);
+  ivec3 b = linearCell(blocks[g], bd);
+  ivec3 lo, hi;
+  for (int a = 0; a < 3; ++a) {
+    int at = upsampleBlockFineAt(bd, a) + b[a];
+    lo[a] = fineBegins[at];
+    hi[a] = fineBegins[at + 1];
+  }
+  for (int y = lo.y + int(gl_LocalInvocationID.y); y < hi.y; y += RTSDF_UPSAMPLE_BLOCK_GROUP)
+    for (int x = lo.x + int(gl_LocalInvocationID.x); x < hi.x; x += RTSDF_UPSAMPLE_BLOCK_GROUP)
+      upsampleRun(x, y, lo.z, hi.z);
+#else
+  ivec3 end = min(region.end.xyz, params.fineDims.xyz);
+  int x = region.begin.x + int(gl_GlobalInvocationID.x), y = region.begin.y + int(gl_GlobalInvocationID.y);
+  int zBegin = region.begin.z + int(gl_GlobalInvocationID.z) * RTSDF_UPSAMPLE_RUN;
+  if (x >= end.x || y >= end.y || zBegin >= end.z) return;
+  upsampleRun(x, y, zBegin, min(zBegin + RTSDF_UPSAMPLE_RUN, end.z));
+#endif
 }

@@ -29,9 +29,9 @@ struct FrameStats {
   std::uint64_t overflowBricks = 0;    ///< ...but these: the pool was full; the next frame grows it and starts over
   std::uint64_t poolBricks = 0;        ///< the pool's capacity this frame
   std::uint64_t deviceBytes = 0;       ///< the pipeline's device buffers this frame (estimate and pool)
-  /// Dense fine voxels the upsampling visited this frame: the whole grid, or after an instance moved those near the
-  /// coarse voxels whose value changed (UpsampleRegionPass), and after a scroll those too and those near the voxels
-  /// that entered and the faces left behind (a voxel in two of these regions counts twice); 0 where it did not run.
+  /// Dense fine voxels the upsampling visited this frame: the whole grid, or after an instance moved or a scroll
+  /// those of the coarse blocks that the changed coarse voxels reach (UpsampleBlocksPass), after a scroll also near
+  /// the voxels that entered and the faces left behind; 0 where it did not run.
   std::uint64_t upsampledFineVoxels = 0;
   /// Coarse voxels whose distance the coarse SDF's build wrote this frame: the whole grid, or where only instances
   /// moved the region their seeds can reach (CoarseRegionPass), or after a scroll by whole blocks the region the

@@ -61,7 +61,14 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
   // one keeps a bound per block of 64 coarse voxels, and the lists of a region (a word per block, two per column).
   const std::uint64_t keptTransform = coarseBuiltOverChanges(s) ? 2 * coarseBuf : 0;
   const std::uint64_t regionLists = std::uint64_t(gpu::shared::coarseRegionListWords(glm::ivec3(m.coarse.dims))) * 4;
-  m.deviceBytes = 6 * coarseBuf + keptTransform + coarseBuf / 64 + regionLists + fineBuf +
+  // Per block a mark of its changed voxels, and with a dense fine SDF the list of the blocks to upsample and their
+  // fine voxels' table (UpsampleBlocksPass).
+  const glm::ivec3 coarseDims(m.coarse.dims);
+  const std::uint64_t upsampleBlocks =
+      fineBuf ? (gpu::shared::kUpsampleBlockListHeaderWords + coarseBuf / 256 +
+                 gpu::shared::upsampleBlockFineBeginWords(coarseDims)) * 4
+              : 0;
+  m.deviceBytes = 6 * coarseBuf + keptTransform + 2 * (coarseBuf / 64) + regionLists + upsampleBlocks + fineBuf +
                   std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
                   scene.meshTriangles * (64 + 64 + 48 + 3 * 4) + scene.instanceTriangles * (48 + 4) +
                   scene.instances * (64 + 4 + 112 + 64 + 8 + 32) + nearHalfList + 4096;

@@ -386,6 +386,14 @@ void computeBarrier(VkCommandBuffer cmd) {
                        0, 1, &b, 0, nullptr, 0, nullptr);
 }
 
+void transferToHostBarrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &b, 0, nullptr, 0,
+                       nullptr);
+}
+
 void reserve(const VulkanContext& ctx, Buffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage, Buffer::Memory memory,
              const std::string& name) {
   const VkDeviceSize size = std::max<VkDeviceSize>(bytes, 16);

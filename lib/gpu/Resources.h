@@ -227,6 +227,10 @@ private:
 ///       validation layer misses dispatch-to-dispatch hazards on this driver version.
 void computeBarrier(VkCommandBuffer cmd);
 
+/// @brief Make every earlier transfer write visible to the host once the command buffer's fence is waited for (a
+///        read-back into host memory that the host reads mapped).
+void transferToHostBarrier(VkCommandBuffer cmd);
+
 /// @brief (Re)create @a b when it is empty or smaller than @a bytes (at least 16); keeps it otherwise, so
 ///        per-frame buffers are allocated once.
 void reserve(const VulkanContext& ctx, Buffer& b, VkDeviceSize bytes, VkBufferUsageFlags usage, Buffer::Memory memory,

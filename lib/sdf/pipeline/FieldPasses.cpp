@@ -172,11 +172,7 @@ void FieldPasses::recordUpsample(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
   // The list's header is read on the host after the frame (lastUpsampledVoxels).
   const VkBufferCopy header{0, 0, sizeof(gpu::shared::UpsampleBlockListHeader)};
   vkCmdCopyBuffer(cmd, mBlockList.handle(), mBlockListHeader.handle(), 1, &header);
-  VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
-                       nullptr);
+  gpu::transferToHostBarrier(cmd);
 }
 
 std::uint64_t FieldPasses::lastUpsampledVoxels() const {

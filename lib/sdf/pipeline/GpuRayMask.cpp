@@ -142,11 +142,7 @@ void GpuRayMask::recordCountsReadback(VkCommandBuffer cmd, const BrickPool& pool
   vkCmdCopyBuffer(cmd, pool.counts().handle(), mCountsReadback.handle(), 1, &bricks);
   const VkBufferCopy stats{0, kStatsAt * 4, gpu::shared::kRefineStatWords * 4};
   vkCmdCopyBuffer(cmd, mRefineStats.handle(), mCountsReadback.handle(), 1, &stats);
-  VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  toHost.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
-                       nullptr);
+  gpu::transferToHostBarrier(cmd);
 }
 
 double GpuRayMask::reachPad() const {

@@ -537,17 +537,10 @@ CoarseRegionLists CoarseSdfBuilder::readRegionLists(const glm::ivec3& dims) cons
   return out;
 }
 
-std::vector<std::uint32_t> CoarseSdfBuilder::readBlockMax(const glm::ivec3& dims) const {
+std::vector<std::uint32_t> CoarseSdfBuilder::readBlockWords(const gpu::Buffer& buffer, const glm::ivec3& dims) const {
   const glm::u64vec3 blocks(coarseBlockDims(dims));
   std::vector<std::uint32_t> out(blocks.x * blocks.y * blocks.z);
-  download(mCtx, mBlockMax, out.data(), out.size() * 4);
-  return out;
-}
-
-std::vector<std::uint32_t> CoarseSdfBuilder::readChangedBlocks(const glm::ivec3& dims) const {
-  const glm::u64vec3 blocks(coarseBlockDims(dims));
-  std::vector<std::uint32_t> out(blocks.x * blocks.y * blocks.z);
-  download(mCtx, mChangedBlocks, out.data(), out.size() * 4);
+  download(mCtx, buffer, out.data(), out.size() * 4);
   return out;
 }
 

@@ -300,7 +300,7 @@ public:
   CoarseRegionLists readRegionLists(const glm::ivec3& dims) const;
   /// @brief Read back the block bounds of the squared seed distances (RTSDF_COARSE_BLOCK^3 voxels per block, x
   ///        fastest) of a grid of @a dims as the last record() on it left them. Its command buffer must be finished.
-  std::vector<std::uint32_t> readBlockMax(const glm::ivec3& dims) const;
+  std::vector<std::uint32_t> readBlockMax(const glm::ivec3& dims) const { return readBlockWords(mBlockMax, dims); }
   /// @brief Read back the seeds (VoxelizePass's output, x fastest) of a grid of @a dims as the last record() or
   ///        recordScroll() left them: meaningful where it kept its transform. Its command buffer must be finished.
   std::vector<std::uint32_t> readSeeds(const glm::ivec3& dims) const;
@@ -314,9 +314,13 @@ public:
   ///        record() changed (CoarseDistancePass).
   const gpu::Buffer& changedBlocksBuffer() const { return mChangedBlocks; }
   /// @brief Read back those marks of a grid of @a dims. Its command buffer must be finished.
-  std::vector<std::uint32_t> readChangedBlocks(const glm::ivec3& dims) const;
+  std::vector<std::uint32_t> readChangedBlocks(const glm::ivec3& dims) const {
+    return readBlockWords(mChangedBlocks, dims);
+  }
 
 private:
+  /// A word per block of a grid of @a dims in @a buffer, read back.
+  std::vector<std::uint32_t> readBlockWords(const gpu::Buffer& buffer, const glm::ivec3& dims) const;
   struct Prepared {
     VoxelizePass::Params voxelize;
     JumpFloodPass::Params flood;

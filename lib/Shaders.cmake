@@ -72,6 +72,8 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   "sdf_shadow_umbra_cascade4.comp render/sdfshadow/sdf_shadow_main.glsl  RTSDF_SHADOW_FIELD_CASCADE RTSDF_SHADOW_UMBRA RTSDF_CASCADE_CASES=4"
   "sdf_shadow_umbra_cascade.comp  render/sdfshadow/sdf_shadow_main.glsl  RTSDF_SHADOW_FIELD_CASCADE RTSDF_SHADOW_UMBRA RTSDF_CASCADE_CASES=10"
   "volume_fill.comp               render/sdfshadow/volume_fill.comp"
+  "volume_update_blocks.comp      render/sdfshadow/volume_update_main.glsl  RTSDF_VOLUME_UPDATE_REFINED=0"
+  "volume_update_refined.comp     render/sdfshadow/volume_update_main.glsl  RTSDF_VOLUME_UPDATE_REFINED=1"
   "shadow_map.comp                render/shadowmap/shadow_map.comp"
   "shadow_lookup.comp             render/shadowmap/shadow_lookup.comp"
   "taa.comp                       render/taa/taa.comp"

@@ -355,15 +355,16 @@ void SampledVolume::copyTo(VkCommandBuffer cmd, const Buffer& dst) const {
                        0, 1, &mb, 0, nullptr, 1, &ib);
 }
 
-void SampledVolume::beginShaderWrite(VkCommandBuffer cmd) const {
+void SampledVolume::beginShaderWrite(VkCommandBuffer cmd, bool keep) const {
   if (!mStorage) throw Error(fmt::format("volume '{}': made without storage use, shaders cannot write it", mName));
   // Earlier writes of whatever the shaders read (a buffer) before they read it; the image's old contents, read
-  // by earlier shaders, are discarded: UNDEFINED -> GENERAL after those reads.
+  // by earlier shaders, are discarded (UNDEFINED -> GENERAL after those reads) or kept (from SHADER_READ_ONLY).
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
   mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-  const VkImageMemoryBarrier ib = imageBarrier(mImage.get(), VK_ACCESS_SHADER_READ_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                                               VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
+  const VkImageMemoryBarrier ib =
+      imageBarrier(mImage.get(), VK_ACCESS_SHADER_READ_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                   keep ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0, nullptr, 1, &ib);
 }

@@ -74,10 +74,11 @@ public:
   /// @throw Error when @a src is smaller than the texture.
   void copyFrom(VkCommandBuffer cmd, const Buffer& src) const;
 
-  /// @brief Record: make the texture writable by later compute shaders as a storage image (layout GENERAL; its
-  ///        old contents, read by earlier shaders, are discarded), after earlier shader and transfer writes.
+  /// @brief Record: make the texture writable by later compute shaders as a storage image (layout GENERAL), after
+  ///        earlier shader and transfer writes. Its old contents, read by earlier shaders, are discarded, or where
+  ///        @a keep kept (the texture ready for sampling before: the shaders write only some of its texels).
   /// @throw Error when the texture was made without storage use (see storageSupported).
-  void beginShaderWrite(VkCommandBuffer cmd) const;
+  void beginShaderWrite(VkCommandBuffer cmd, bool keep = false) const;
   /// @brief Record: the compute shaders' writes done, make the texture ready for sampling by later ones.
   void endShaderWrite(VkCommandBuffer cmd) const;
 

@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cstring>
 #include <chrono>
 #include <cmath>
 
@@ -96,6 +97,7 @@ struct Renderer::Gpu {
   Buffer cascadeLevels;           ///< cascades: a CascadeFieldLevel per level
   gpu::SampledVolume fineTexture; ///< SdfSampling::Texture: the fine SDF for hardware-filtered sampling
   bool textureCurrent = false;    ///< fineTexture holds the fine SDF as the last frame left it
+  std::uint32_t textureFrame = 0; ///< the SdfPipeline frame whose fine SDF fineTexture holds
   Gpu(const gpu::VulkanContext& ctx, bool umbra)
       : gbufferPass(ctx), sdfShadowPass(ctx, umbra), contactShadowPass(ctx), shadowMapPass(ctx), taaPass(ctx),
         profiler(ctx) {}
@@ -260,12 +262,17 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
       g.sdfShadowPass.execute(cmd.handle(), &g.profiler, {g.gbuffer, bricks.coarse, nullptr, g.lights, &bricks},
                               {g.visibility}, mSdfParams);
     } else {
-      // The 3D texture is filled only when the frame changed the fine SDF (a static scene's frames do not).
+      // The 3D texture is filled only when the frame changed the fine SDF (a static scene's frames do not), and
+      // where it held the frame before's, only where this one wrote it.
       const bool fill = texture && (!g.textureCurrent || out.sdf.fieldChanged);
+      const DenseFineWrites& writes = mSdf->lastFineWrites();
+      const bool follows = g.textureCurrent && writes.frame == g.textureFrame + 1;
       g.sdfShadowPass.execute(cmd.handle(), &g.profiler,
-                              {g.gbuffer, mSdf->fineBuffer(), texture, g.lights, nullptr, fill}, {g.visibility},
-                              mSdfParams);
+                              {g.gbuffer, mSdf->fineBuffer(), texture, g.lights, nullptr, fill, nullptr,
+                               follows ? &writes : nullptr},
+                              {g.visibility}, mSdfParams);
       g.textureCurrent = texture != nullptr;
+      g.textureFrame = writes.frame;
     }
   }
   if (mSdf || mCascades) {
@@ -337,6 +344,20 @@ std::vector<float> Renderer::shadowMapDepths() const {
   std::vector<float> d(mGpu->depth.size() / 4);
   download(mCtx, mGpu->depth, d.data(), d.size() * 4);
   return d;
+}
+
+std::vector<float> Renderer::fineTexture() const {
+  const gpu::SampledVolume& t = mGpu->fineTexture;
+  if (!t || !mGpu->textureCurrent) return {};
+  const glm::uvec3 d = t.dims();
+  gpu::Buffer back(mCtx, VkDeviceSize(d.x) * d.y * d.z * sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                   gpu::Buffer::Memory::Host, "fine SDF texture (readback)");
+  gpu::CommandBuffer cmd(mCtx);
+  t.copyTo(cmd.handle(), back);
+  cmd.submitAndWait();
+  std::vector<float> values(std::size_t(d.x) * d.y * d.z);
+  std::memcpy(values.data(), back.mapped(), values.size() * sizeof(float));
+  return values;
 }
 
 LightVisibility Renderer::rawVisibility() const {

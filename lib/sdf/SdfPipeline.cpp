@@ -269,6 +269,9 @@ void SdfPipeline::submitFrame(double time) {
   }
   mFields->recordFine(cmd, profiler, mFields->refineParams(mFrame, *mPool, moved), *mBvh, *mMask, *mPool,
                       mMotion->buffer(), mPlan.refine, mPlan.upsample, mPlan.upsampleChanged);
+  // A first frame cleared the dense fine SDF, a scroll shifted it: every voxel may differ from a copy of the last.
+  mLastWrites = mFields->denseWrites(*mMask, mPlan.refine, changes.first || changes.scrolled);
+  mLastWrites.frame = mFrame;
   gpu::computeBarrier(cmd);
   if (mPlan.mask) mMask->recordCountsReadback(cmd, *mPool);
   mRecorder->submit(stats, t0);

@@ -14,6 +14,7 @@
 #include "sdf/scenebvh/GpuSceneBvh.h"
 #include "sdf/PipelineSettings.h"
 #include "sdf/refine/RefinePasses.h"
+#include "sdf/pipeline/DenseFineWrites.h"
 #include "sdf/pipeline/FramePlan.h"
 #include "sdf/pipeline/FrameStats.h"
 #include "sdf/pipeline/PipelineMemory.h"
@@ -151,6 +152,11 @@ public:
   /// @brief The fine SDF as the bricks hold it, valid after runFrame() or finishFrame().
   /// @throw Error with FineStorage::Dense (sample fineBuffer()).
   GpuBrickField brickField() const;
+  /// @brief Where the last frame wrote the dense fine SDF (fineBuffer()), for a copy of it kept up to date (the
+  ///        renderer's 3D texture, VolumeUpdatePass): nowhere, everywhere, or the GPU's lists of the blocks its
+  ///        upsampling wrote and the coarse voxels its refinement wrote, valid until the next frame is recorded.
+  ///        Extent::Whole before the first frame.
+  const DenseFineWrites& lastFineWrites() const { return mLastWrites; }
   /// @brief The coarse SDF on the GPU (dense, x fastest, coarseSpec()), valid after runFrame() or finishFrame().
   const gpu::Buffer& coarseBuffer() const;
   /// @brief The scene's BVH on the GPU, its top level as of the last runFrame(), in the frame of frameOrigin().
@@ -199,6 +205,7 @@ private:
   bool mFailNextScroll = false;
   std::optional<ViewReach> mView; ///< setViewReach's
   FramePlan mPlan;         ///< the passes the last frame ran
+  DenseFineWrites mLastWrites; ///< where the last frame wrote the dense fine SDF
   std::unique_ptr<GpuSceneBvh> mBvh;
   std::unique_ptr<InstanceMotion> mMotion;
   std::unique_ptr<FieldPasses> mFields;

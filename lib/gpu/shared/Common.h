@@ -11,7 +11,7 @@
 #define RTSDF_PRECISE
 #define RTSDF_SHARED_BEGIN namespace rtsdf::gpu::shared { \
   using uint = std::uint32_t; using glm::vec3; using glm::vec4; using glm::ivec3; using glm::ivec4; \
-  using glm::uvec2; using glm::uvec3; using glm::uvec4; using glm::min; using glm::max; using glm::abs; using glm::floor; \
+  using glm::ivec2; using glm::uvec2; using glm::uvec3; using glm::uvec4; using glm::min; using glm::max; using glm::abs; using glm::floor; \
   using glm::clamp; using glm::sqrt; using glm::length; using glm::normalize; using glm::dot; using glm::cross; \
   using glm::cos; using glm::sin; using glm::exp2; using glm::log2;
 #define RTSDF_SHARED_END }

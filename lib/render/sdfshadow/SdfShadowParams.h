@@ -1,9 +1,11 @@
 // Shared by C++ and GLSL: the bindings and push constants of SdfShadowPass (sdf_shadow_main.glsl and its
-// variants) and VolumeFillPass (volume_fill.comp). The march itself is in SdfShadowMarch.h: the shaders that
+// variants), VolumeFillPass (volume_fill.comp) and VolumeUpdatePass (volume_update_main.glsl, which pushes
+// RefineParams). The march itself is in SdfShadowMarch.h: the shaders that
 // sample the field declare it at these bindings before including the march (its functions fetch through macros).
 #ifndef RTSDF_RENDER_SDFSHADOW_SDFSHADOWPARAMS_H
 #define RTSDF_RENDER_SDFSHADOW_SDFSHADOWPARAMS_H
 #include "render/RenderParams.h"
+#include "sdf/refine/RefineParams.h"
 
 RTSDF_SHARED_BEGIN
 
@@ -51,6 +53,17 @@ RTSDF_FN float insideLevel(CascadeFieldLevel lv, vec3 p) {
 const uint kVolumeFillBindingField = 0u;
 const uint kVolumeFillBindingTexture = 1u;
 const uint kVolumeFillBindingCount = 2u;
+
+/// volume_update_*.comp: the texels of the fine voxels an SdfPipeline frame wrote (DenseFineWrites), from the dense
+/// fine SDF into the 3D texture, over the pipeline's own lists.
+const uint kVolumeUpdateBindingField = 0u;       // the dense fine SDF, x fastest
+const uint kVolumeUpdateBindingTexture = 1u;     // the 3D texture (a storage image)
+const uint kVolumeUpdateBindingBlockList = 2u;   // UpsampleBlocksPass's list (UpsampleBlockListHeader, then blocks)
+const uint kVolumeUpdateBindingFineBegins = 3u;  // upsampleBlockFineBegins of the grids
+const uint kVolumeUpdateBindingRefineList = 4u;  // the mask's refine list (coarse voxels and flags)
+const uint kVolumeUpdateBindingMaskCounts = 5u;  // the mask's counts: the refinement's dispatch, the list's length
+const uint kVolumeUpdateBindingFineRanges = 6u;  // maskFineRanges of the grids
+const uint kVolumeUpdateBindingCount = 7u;
 
 /// How the SDF soft shadow turns the march into a visibility.
 const uint kPenumbraClassic = 0u;  // min over samples of h / (w t): the classic estimate (outer penumbra)

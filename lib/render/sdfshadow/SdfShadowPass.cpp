@@ -50,6 +50,45 @@ void VolumeFillPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
   out.texture.endShaderWrite(cmd);
 }
 
+VolumeUpdatePass::VolumeUpdatePass(const gpu::VulkanContext& ctx) {
+  if (gpu::SampledVolume::storageSupported(ctx)) {
+    std::vector<VkDescriptorType> types(kVolumeUpdateBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+    types[kVolumeUpdateBindingTexture] = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    mBlocks = gpu::ComputePipeline(ctx, "volume_update_blocks.comp", types, sizeof(Params));
+    mRefined = gpu::ComputePipeline(ctx, "volume_update_refined.comp", types, sizeof(Params));
+  }
+}
+
+void VolumeUpdatePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                               const Params& params) const {
+  if (!available())
+    throw Error("VolumeUpdatePass: this device cannot store to R32_SFLOAT 3D textures (fill the whole texture)");
+  if (in.writes.extent != DenseFineWrites::Extent::Listed)
+    throw Error("VolumeUpdatePass: the frame's writes are not listed (fill the whole texture)");
+  const glm::uvec3 d = out.texture.dims();
+  if (in.field.size() < VkDeviceSize(d.x) * d.y * d.z * sizeof(float) || glm::uvec3(params.fineDims) != d)
+    throw Error(fmt::format("VolumeUpdatePass: buffer '{}' ({} bytes, grid {}x{}x{}) does not fill texture '{}'",
+                            in.field.name(), in.field.size(), params.fineDims.x, params.fineDims.y,
+                            params.fineDims.z, out.texture.name()));
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  gpu::computeBarrier(cmd); // the lists' dispatches, read indirectly
+  out.texture.beginShaderWrite(cmd, true);
+  std::array<gpu::Binding, kVolumeUpdateBindingCount> b;
+  b[kVolumeUpdateBindingField] = &in.field;
+  b[kVolumeUpdateBindingTexture] = &out.texture;
+  // Every binding is bound; a list the frame did not write is never read (its dispatch is not recorded).
+  const DenseFineWrites& w = in.writes;
+  const gpu::Buffer& any = in.field;
+  b[kVolumeUpdateBindingBlockList] = w.blockList ? w.blockList : &any;
+  b[kVolumeUpdateBindingFineBegins] = w.blockFineBegins ? w.blockFineBegins : &any;
+  b[kVolumeUpdateBindingRefineList] = w.refineList ? w.refineList : &any;
+  b[kVolumeUpdateBindingMaskCounts] = w.maskCounts ? w.maskCounts : &any;
+  b[kVolumeUpdateBindingFineRanges] = w.fineRanges ? w.fineRanges : &any;
+  if (w.blockList && w.blockFineBegins) mBlocks.dispatchIndirect(cmd, b, &params, *w.blockList);
+  if (w.refineList && w.maskCounts && w.fineRanges) mRefined.dispatchIndirect(cmd, b, &params, *w.maskCounts);
+  out.texture.endShaderWrite(cmd);
+}
+
 SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra)
     : mBufferPipeline(ctx, umbra ? "sdf_shadow_umbra_buffer.comp" : "sdf_shadow_buffer.comp", kSdfShadowBindingCount,
                       sizeof(SdfShadowParams)),
@@ -59,7 +98,7 @@ SdfShadowPass::SdfShadowPass(const gpu::VulkanContext& ctx, bool umbra)
                         kSdfShadowBindingCascadeCount, sizeof(SdfShadowParams)),
       mCascadePipeline(ctx, umbra ? "sdf_shadow_umbra_cascade.comp" : "sdf_shadow_cascade.comp",
                        kSdfShadowBindingCascadeCount, sizeof(SdfShadowParams)),
-      mFill(ctx), mFillMethod(VolumeFillPass::defaultMethod(ctx)), mUmbra(umbra) {
+      mFill(ctx), mUpdate(ctx), mFillMethod(VolumeFillPass::defaultMethod(ctx)), mUmbra(umbra) {
   if (gpu::SampledVolume::supported(ctx))
     mTexturePipeline = gpu::ComputePipeline(ctx, umbra ? "sdf_shadow_umbra.comp" : "sdf_shadow.comp",
                                             sdfShadowTextureBindings(), sizeof(SdfShadowParams));
@@ -79,7 +118,11 @@ void SdfShadowPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, con
   if (in.texture) {
     if (mTexturePipeline.name().empty())
       throw Error("SdfShadowPass: this device cannot sample the fine SDF as a filtered 3D texture");
-    if (in.fillTexture) mFill.execute(cmd, profiler, {in.field}, {*in.texture}, mFillMethod);
+    const bool update = in.fillOnly && in.fillOnly->extent == DenseFineWrites::Extent::Listed && mUpdate.available();
+    if (in.fillTexture && update)
+      mUpdate.execute(cmd, profiler, {in.field, *in.fillOnly}, {*in.texture}, in.fillOnly->params);
+    else if (in.fillTexture)
+      mFill.execute(cmd, profiler, {in.field}, {*in.texture}, mFillMethod);
     gpu::ProfileScope scope(profiler, cmd, kName);
     b[kSdfShadowBindingField] = in.texture;
     mTexturePipeline.dispatch(cmd, b, &params, groups);

@@ -34,6 +34,33 @@ private:
   gpu::ComputePipeline mCompute; ///< empty where SampledVolume::storageSupported is false
 };
 
+/// @brief The 3D texture brought up to date with the dense fine SDF where the last SdfPipeline frame wrote it
+///        (DenseFineWrites::Extent::Listed): the fine voxels of the blocks its upsampling listed and of the coarse
+///        voxels its mask listed for refinement, by compute shader stores dispatched indirectly from those lists on
+///        the GPU. The texture's other texels must hold the field's values already (the fill or update after the
+///        frame before).
+class VolumeUpdatePass {
+public:
+  static constexpr const char* kName = "FineSdfTextureUpdate";
+  struct Inputs {
+    const gpu::Buffer& field;      ///< the dense fine SDF (texture.dims() floats, x fastest)
+    const DenseFineWrites& writes; ///< its last frame's writes: Extent::Listed
+  };
+  struct Outputs { const gpu::SampledVolume& texture; };
+  using Params = gpu::shared::RefineParams; ///< the frame's (DenseFineWrites::params)
+  explicit VolumeUpdatePass(const gpu::VulkanContext& ctx);
+  /// @brief Whether the device can run the pass (it stores to R32_SFLOAT 3D textures: storageSupported).
+  bool available() const { return !mBlocks.name().empty(); }
+  /// @throw Error when the pass is not available, @a in.writes is not Extent::Listed, or the field is smaller than
+  ///        the texture.
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+
+private:
+  /// The blocks' and the refined voxels' shaders; empty where SampledVolume::storageSupported is false.
+  gpu::ComputePipeline mBlocks, mRefined;
+};
+
 /// @brief Camera-centred cascade levels as SdfShadowPass samples them (Params::cascadeLevels of them).
 struct GpuCascadeField {
   const gpu::Buffer& levels;              ///< a CascadeFieldLevel per level, finest first
@@ -63,6 +90,10 @@ public:
     /// Where given (and no texture or bricks), the march samples these cascade levels (sdf_shadow_cascade.comp);
     /// @a field is unread.
     const GpuCascadeField* cascade = nullptr;
+    /// Where given (with fillTexture, Extent::Listed, and the device able: VolumeUpdatePass::available), the texture
+    /// held the field's values before this frame's writes and only those are copied (VolumeUpdatePass); else the
+    /// whole field is (VolumeFillPass).
+    const DenseFineWrites* fillOnly = nullptr;
   };
   struct Outputs { const gpu::Buffer& visibility; }; ///< params.gridDims.w * width * height floats, light-major
   using Params = gpu::shared::SdfShadowParams;
@@ -80,6 +111,7 @@ private:
   gpu::ComputePipeline mTexturePipeline, mBufferPipeline, mBrickPipeline;
   gpu::ComputePipeline mCascade4Pipeline, mCascadePipeline; ///< up to 4 levels (a cheaper switch), up to 10
   VolumeFillPass mFill;
+  VolumeUpdatePass mUpdate;
   VolumeFillPass::Method mFillMethod;
   bool mUmbra = false;
 };

@@ -142,6 +142,7 @@ void FieldPasses::recordFine(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, co
       mWindingExact->execute(cmd, profiler, {bvh, mWindingDoubts}, {pages, dense, mask.refineStats()}, p);
   }
   mLastUpsample = Upsampled::None;
+  mLastParams = p;
   if (upsample && mFine) recordUpsample(cmd, profiler, p, mask, pool, upsampleChanged);
   // Shading that samples the bricks finds the grids here.
   gpu::recordUpload(cmd, mSamplingParams, &p, sizeof(p));
@@ -173,6 +174,27 @@ void FieldPasses::recordUpsample(VkCommandBuffer cmd, gpu::GpuProfiler* profiler
   const VkBufferCopy header{0, 0, sizeof(gpu::shared::UpsampleBlockListHeader)};
   vkCmdCopyBuffer(cmd, mBlockList.handle(), mBlockListHeader.handle(), 1, &header);
   gpu::transferToHostBarrier(cmd);
+}
+
+DenseFineWrites FieldPasses::denseWrites(const GpuRayMask& mask, bool refined, bool whole) const {
+  DenseFineWrites w;
+  w.params = mLastParams;
+  refined = refined && mSettings.band > 0.0;
+  if (!mFine || (!whole && mLastUpsample == Upsampled::None && !refined)) {
+    w.extent = DenseFineWrites::Extent::None;
+  } else if (!whole && mLastUpsample != Upsampled::Whole) {
+    w.extent = DenseFineWrites::Extent::Listed;
+    if (mLastUpsample == Upsampled::Blocks) {
+      w.blockList = &mBlockList;
+      w.blockFineBegins = &mBlockFineBegins;
+    }
+    if (refined) {
+      w.refineList = &mask.refineList();
+      w.maskCounts = &mask.countsBuffer();
+      w.fineRanges = &mask.fineRanges();
+    }
+  }
+  return w;
 }
 
 std::uint64_t FieldPasses::lastUpsampledVoxels() const {

@@ -13,6 +13,7 @@
 #include "sdf/PipelineSettings.h"
 #include "sdf/refine/RefinePasses.h"
 #include "sdf/pipeline/BrickPool.h"
+#include "sdf/pipeline/DenseFineWrites.h"
 #include "sdf/pipeline/GpuRayMask.h"
 
 #include <array>
@@ -78,6 +79,10 @@ public:
                   const GpuSceneBvh& bvh, const GpuRayMask& mask, const BrickPool& pool,
                   const gpu::Buffer& movedBoxes, bool refine = true, bool upsample = true,
                   bool upsampleChanged = false);
+  /// @brief Where the last recordFine wrote the dense fine SDF: its upsampling's blocks (or the whole grid) and, where
+  ///        @a refined (it refined), @a mask's refine list; the whole grid where @a whole (a first frame or a scroll:
+  ///        the dense fine SDF was cleared or shifted). None without a dense fine SDF.
+  DenseFineWrites denseWrites(const GpuRayMask& mask, bool refined, bool whole) const;
   /// @brief The fine voxels the last recordFine's upsampling wrote or kept (the slotted band's): the grid's, or those
   ///        of the listed blocks; 0 where it did not upsample. The frame must be finished.
   std::uint64_t lastUpsampledVoxels() const;
@@ -133,6 +138,7 @@ private:
   ScrollUpsample mScrollFrame;   ///< before this frame's recordCoarse, for its recordFine
   enum class Upsampled { None, Whole, Blocks };
   Upsampled mLastUpsample = Upsampled::None;
+  gpu::shared::RefineParams mLastParams{}; ///< the last recordFine's
   std::unique_ptr<RefinePass> mRefine; ///< RayRefinePass or ClosestRefinePass, by the mode
   std::unique_ptr<WindingExactPass> mWindingExact; ///< closest mode: the winding numbers near 1/2
   gpu::Buffer mFine, mSamplingParams;

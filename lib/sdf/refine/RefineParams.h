@@ -185,6 +185,19 @@ struct UpsampleRegion {
   ivec4 end;
 };
 
+/// The fine voxels @a lo..@a hi of refinement invocation @a part of a listed coarse voxel whose fine voxels are
+/// @a rx, @a ry, @a rz along the axes (maskFineRanges): boxes of @a p.partBox.xyz voxels, p.brickDims.w along x and
+/// p.partBox.w along y a layer. False where the part holds none. The refinement (refine_main.glsl) and the copies
+/// that follow what it wrote (volume_update.comp) cut the voxels alike.
+RTSDF_FN bool refinePartBox(RefineParams p, ivec2 rx, ivec2 ry, ivec2 rz, uint part, RTSDF_OUT(ivec3) lo,
+                            RTSDF_OUT(ivec3) hi) {
+  uint partsX = uint(p.brickDims.w), partsY = uint(p.partBox.w);
+  ivec3 box = ivec3(p.partBox);
+  lo = ivec3(rx.x, ry.x, rz.x) + box * ivec3(int(part % partsX), int(part / partsX % partsY), int(part / (partsX * partsY)));
+  hi = min(lo + box - ivec3(1), ivec3(rx.y, ry.y, rz.y));
+  return lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z;
+}
+
 /// The two uniform numbers in [0, 1) of ray @a ray of voxel @a voxel in frame @a frame.
 RTSDF_FN uint rayHash(uint voxel, uint frame, uint ray, uint seed) {
   return pcgHash(voxel ^ pcgHash(frame * 0x9E3779B9u + pcgHash(ray + seed * 0x85EBCA6Bu)));

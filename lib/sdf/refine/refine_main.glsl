@@ -530,12 +530,9 @@ void keepCoarse(ivec3 lo, ivec3 hi) {
 void refineBox(uint ci, uint part, bool fresh, bool outOfView, bool movedOnly) {
   ivec3 cd = params.coarseDims.xyz;
   ivec3 c = ivec3(int(ci % uint(cd.x)), int(ci / uint(cd.x) % uint(cd.y)), int(ci / uint(cd.x * cd.y)));
-  ivec2 rx = fineRanges[c.x], ry = fineRanges[cd.x + c.y], rz = fineRanges[cd.x + cd.y + c.z];
-  uint partsX = uint(params.brickDims.w), partsY = uint(params.partBox.w);
-  ivec3 box = params.partBox.xyz;
-  ivec3 lo = ivec3(rx.x, ry.x, rz.x) + box * ivec3(part % partsX, part / partsX % partsY, part / (partsX * partsY));
-  ivec3 hi = min(lo + box - 1, ivec3(rx.y, ry.y, rz.y));
-  if (any(greaterThan(lo, hi))) return;
+  ivec3 lo, hi;
+  if (!refinePartBox(params, fineRanges[c.x], fineRanges[cd.x + c.y], fineRanges[cd.x + cd.y + c.z], part, lo, hi))
+    return;
   if (outOfView) {
     keepCoarse(lo, hi);
     return;

@@ -10,7 +10,6 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <cstring>
 #include <chrono>
 #include <cmath>
 
@@ -263,7 +262,7 @@ RenderedFrame Renderer::renderFrame(double time, bool readBack) {
                               {g.visibility}, mSdfParams);
     } else {
       // The 3D texture is filled only when the frame changed the fine SDF (a static scene's frames do not), and
-      // where it held the frame before's, only where this one wrote it.
+      // where it held the frame before's, on a GPU only where this one wrote it (SdfShadowPass::Inputs::fillOnly).
       const bool fill = texture && (!g.textureCurrent || out.sdf.fieldChanged);
       const DenseFineWrites& writes = mSdf->lastFineWrites();
       const bool follows = g.textureCurrent && writes.frame == g.textureFrame + 1;
@@ -344,20 +343,6 @@ std::vector<float> Renderer::shadowMapDepths() const {
   std::vector<float> d(mGpu->depth.size() / 4);
   download(mCtx, mGpu->depth, d.data(), d.size() * 4);
   return d;
-}
-
-std::vector<float> Renderer::fineTexture() const {
-  const gpu::SampledVolume& t = mGpu->fineTexture;
-  if (!t || !mGpu->textureCurrent) return {};
-  const glm::uvec3 d = t.dims();
-  gpu::Buffer back(mCtx, VkDeviceSize(d.x) * d.y * d.z * sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                   gpu::Buffer::Memory::Host, "fine SDF texture (readback)");
-  gpu::CommandBuffer cmd(mCtx);
-  t.copyTo(cmd.handle(), back);
-  cmd.submitAndWait();
-  std::vector<float> values(std::size_t(d.x) * d.y * d.z);
-  std::memcpy(values.data(), back.mapped(), values.size() * sizeof(float));
-  return values;
 }
 
 LightVisibility Renderer::rawVisibility() const {

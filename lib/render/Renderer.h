@@ -280,9 +280,6 @@ public:
   std::vector<float> shadowMapDepths() const;
   /// @brief The raw (pre-TAA) visibility of the last frame.
   LightVisibility rawVisibility() const;
-  /// @brief The 3D texture the SDF march sampled in the last frame (SdfSampling::Texture), read back by a copy of
-  ///        the whole texture, x fastest; empty without one.
-  std::vector<float> fineTexture() const;
 
 private:
   struct Gpu;

@@ -30,9 +30,12 @@ struct TechniqueTiming {
   RenderedFrame last;
 };
 
+/// @a fps > 0: the frames are the scene's animation at that rate from time 0 (else every frame at time 0).
 TechniqueTiming timeTechnique(const gpu::VulkanContext& ctx, const Scene& scene, const RenderSettings& rs,
-                              const std::string& name, int frames, double warmUpSeconds) {
-  const Bounds bounds = buildSceneGeometry(scene, 0.0).bounds;
+                              const std::string& name, int frames, double warmUpSeconds, double fps = 0.0) {
+  const auto timeOf = [&](int f) { return fps > 0.0 ? f / fps : 0.0; };
+  Bounds bounds;
+  for (int f = 0; f < frames + 2; ++f) bounds.add(buildSceneGeometry(scene, timeOf(f)).bounds);
   if (warmUpSeconds > 0.0) { // the GPU's clocks, on a renderer of its own: the measured frames' TAA history stays
     Renderer warm(ctx, scene, bounds, rs);
     warmUpGpu(warmUpSeconds, [&] { warm.renderFrame(0.0, false); });
@@ -44,7 +47,7 @@ TechniqueTiming timeTechnique(const gpu::VulkanContext& ctx, const Scene& scene,
   TechniqueTiming t;
   Progress progress(fmt::format("render {} {}x{}", name, rs.width, rs.height), std::uint64_t(frames + 2));
   for (int f = 0; f < frames + 2; ++f) {
-    t.last = r.renderFrame(0.0, f + 1 == frames + 2);
+    t.last = r.renderFrame(timeOf(f), f + 1 == frames + 2);
     progress.add();
     if (f < 2) continue;
     std::map<std::string, double> sum;
@@ -113,6 +116,17 @@ std::string renderSize(const gpu::VulkanContext& ctx, const BenchOptions& s, con
     if (pictures && sampling == SdfSampling::Texture)
       writePng(s.output.parent_path() / fmt::format("{}_{}.png", stem, toString(t)),
                displayImage(composeImage(scene, timing.last)));
+  }
+  // The scene's animation at 30 fps, SDF shadows from the texture: on a GPU each frame updates it where the pipeline
+  // wrote the fine SDF (VolumeUpdatePass; a CPU device fills it whole); with every pass over the whole grid
+  // (--full-rebuild) it is filled whole. Timings only (their pictures would be of other moments than the truth's).
+  for (const bool whole : {false, true}) {
+    RenderSettings moving = rs;
+    moving.technique = ShadowTechnique::Sdf;
+    moving.sdf.sampling = SdfSampling::Texture;
+    moving.pipeline.fullRebuild = whole;
+    const std::string name = whole ? "sdf (texture), moving, every pass (--full-rebuild)" : "sdf (texture), moving";
+    md += timeTechnique(ctx, scene, moving, name, frames, s.warmUpSeconds, 30.0).rows;
   }
   if (pictures)
     writePng(s.output.parent_path() / fmt::format("{}_raytraced.png", stem), displayImage(composeImage(scene, truth)));

@@ -1052,55 +1052,67 @@ TEST_F(Render, ComposePassEqualsItsCpuReference) {
 // The 3D texture the march samples is filled only in frames that wrote the fine SDF (FrameStats::fieldChanged): the
 // orbiting teapot moving, still for three frames, moving again gives the same visibility bit for bit as a renderer
 // whose pipeline rebuilds every pass, and the still frames after the band settled copy nothing.
-// After the first frame the texture is updated only where a frame wrote the dense fine SDF (VolumeUpdatePass over
-// the pipeline's lists of upsampled blocks and refined coarse voxels), and it must still hold that SDF bit for bit:
-// read back by a copy of the whole texture, after every frame of the orbiting teapot moving, standing still and
-// moving again. Without the refined voxels' dispatch, or the blocks', the texture keeps stale values near the teapot.
+// VolumeUpdatePass after every frame of an SdfPipeline (the first filled whole by VolumeFillPass) must leave the
+// texture holding the dense fine SDF bit for bit, read back by a copy of the whole texture, over the orbiting teapot
+// moving, standing still and moving again. Rays mode: a refinement changes its voxels' values every frame (the
+// history decays towards the ray hits), so the still frames write the band without upsampling anything. Without the
+// refined voxels' dispatch, or the blocks', the texture keeps stale values. (The renderer updates so on a GPU; a CPU
+// device fills whole: SdfShadowPass::Inputs::fillOnly.)
 TEST_F(Render, TheTextureUpdatedWhereTheFrameWroteHoldsTheFineSdf) {
   const Scene scene = defaultScene();
-  RenderSettings s = small(ShadowTechnique::Sdf);
-  s.sdf.sampling = SdfSampling::Texture;
-  s.pipeline.band = 0.05;
-  // Rays mode: a refinement changes its voxels' values every frame (the history decays towards the ray hits), so
-  // the frames where the teapot stands still write its band's values without upsampling anything.
-  s.pipeline.mode = RefineMode::Rays;
-  s.pipeline.rays = 4;
-  s.pipeline.coarseRes = 40;
-  s.pipeline.fineRes = 80;
+  PipelineSettings s;
+  s.band = 0.05;
+  s.coarseRes = 40;
+  s.fineRes = 80;
+  s.mode = RefineMode::Rays;
+  s.rays = 4;
   const std::vector<double> times = {0.0, 0.1, 0.2, 0.3, 0.3, 0.3, 0.3, 0.7, 0.8};
   Bounds bounds;
   for (const double t : times) bounds.add(boundsOf(scene, t));
-  Renderer r(*sCtx, scene, bounds, s);
-  ASSERT_EQ(r.sdfSampling(), SdfSampling::Texture);
+  SdfPipeline pipe(*sCtx, scene, bounds, s);
+  const glm::uvec3 dims(pipe.fineSpec().dims);
+  const gpu::SampledVolume texture(*sCtx, dims, "texture");
+  gpu::Buffer back;
+  gpu::reserve(*sCtx, back, pipe.fineSpec().voxelCount() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+               gpu::Buffer::Memory::Device, "back");
+  const VolumeFillPass fill(*sCtx);
+  const VolumeUpdatePass update(*sCtx);
+  ASSERT_TRUE(update.available()) << sCtx->info().name << " cannot store to R32F 3D textures";
   int updated = 0, refinedOnly = 0, withBlocks = 0;
   for (std::size_t f = 0; f < times.size(); ++f) {
     SCOPED_TRACE(::testing::Message() << "frame " << f + 1 << " at t = " << times[f]);
-    const RenderedFrame frame = r.renderFrame(times[f]);
-    const auto ran = [&](const char* pass) {
-      return std::any_of(frame.passMs.begin(), frame.passMs.end(), [&](const auto& e) { return e.first == pass; });
-    };
-    const DenseFineWrites& writes = r.sdfPipeline()->lastFineWrites();
+    const FrameStats stats = pipe.runFrame(times[f]);
+    const DenseFineWrites& writes = pipe.lastFineWrites();
     EXPECT_EQ(writes.frame, f + 1);
-    if (f == 0) EXPECT_EQ(writes.extent, DenseFineWrites::Extent::Whole);
-    const bool listed = writes.extent == DenseFineWrites::Extent::Listed;
-    EXPECT_EQ(ran(VolumeUpdatePass::kName), listed);
-    EXPECT_EQ(ran(SdfShadowPass::kCopyName), writes.extent == DenseFineWrites::Extent::Whole);
-    if (listed) {
+    if (f == 0) ASSERT_EQ(writes.extent, DenseFineWrites::Extent::Whole);
+    gpu::CommandBuffer cmd(*sCtx);
+    if (writes.extent == DenseFineWrites::Extent::Whole) {
+      fill.execute(cmd.handle(), nullptr, {pipe.fineBuffer()}, {texture}, VolumeFillPass::Method::Transfer);
+    } else if (writes.extent == DenseFineWrites::Extent::Listed) {
+      update.execute(cmd.handle(), nullptr, {pipe.fineBuffer(), writes}, {texture}, writes.params);
       ++updated;
       refinedOnly += writes.refineList && !writes.blockList;
       withBlocks += writes.blockList != nullptr;
-      EXPECT_LT(frame.sdf.upsampledFineVoxels + frame.sdf.refinedFineVoxels, r.sdfPipeline()->fineSpec().voxelCount())
+      EXPECT_LT(stats.upsampledFineVoxels + stats.refinedFineVoxels, pipe.fineSpec().voxelCount())
           << "a listed frame writes part of the grid";
     }
-    const std::vector<float> texture = r.fineTexture(), field = r.sdfPipeline()->fineField();
-    ASSERT_EQ(texture.size(), field.size());
+    texture.copyTo(cmd.handle(), back);
+    cmd.submitAndWait();
+    std::vector<float> got(pipe.fineSpec().voxelCount());
+    gpu::download(*sCtx, back, got.data(), got.size() * 4);
+    const std::vector<float> field = pipe.fineField();
     std::size_t differ = 0;
-    for (std::size_t i = 0; i < field.size(); ++i) differ += std::memcmp(&texture[i], &field[i], 4) != 0;
+    for (std::size_t i = 0; i < field.size(); ++i) differ += std::memcmp(&got[i], &field[i], 4) != 0;
     EXPECT_EQ(differ, 0u) << "of " << field.size() << " texels";
   }
-  EXPECT_GE(updated, 6) << "the frames after the first update the texture where they wrote";
+  EXPECT_GE(updated, 6) << "the frames after the first write part of the grid";
   EXPECT_GE(refinedOnly, 2) << "frames whose refinement alone wrote (the teapot still)";
   EXPECT_GE(withBlocks, 3) << "frames whose upsampling wrote listed blocks (the teapot moving)";
+  gpu::CommandBuffer cmd(*sCtx);
+  DenseFineWrites whole = pipe.lastFineWrites();
+  whole.extent = DenseFineWrites::Extent::Whole;
+  EXPECT_THROW(update.execute(cmd.handle(), nullptr, {pipe.fineBuffer(), whole}, {texture}, whole.params), Error);
+  cmd.submitAndWait();
 }
 
 TEST_F(Render, TheTextureIsFilledOnlyWhenTheFieldChanged) {
@@ -1123,7 +1135,7 @@ TEST_F(Render, TheTextureIsFilledOnlyWhenTheFieldChanged) {
     const RenderedFrame a = skipping.renderFrame(times[f]), b = rebuilt.renderFrame(times[f]);
     // Frame 3 still runs the mask (frame 2 refined voxels near the teapot); 4 and 5 run nothing.
     const bool filled = f < 3 || f == 5;
-    const auto copied = [](const RenderedFrame& r) { // the whole field, or where the frame wrote it
+    const auto copied = [](const RenderedFrame& r) { // the whole field, or on a GPU where the frame wrote it
       return std::any_of(r.passMs.begin(), r.passMs.end(), [](const auto& e) {
         return e.first == SdfShadowPass::kCopyName || e.first == VolumeUpdatePass::kName;
       });

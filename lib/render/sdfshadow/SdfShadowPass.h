@@ -90,8 +90,9 @@ public:
     /// Where given (and no texture or bricks), the march samples these cascade levels (sdf_shadow_cascade.comp);
     /// @a field is unread.
     const GpuCascadeField* cascade = nullptr;
-    /// Where given (with fillTexture, Extent::Listed, and the device able: VolumeUpdatePass::available), the texture
-    /// held the field's values before this frame's writes and only those are copied (VolumeUpdatePass); else the
+    /// Where given (with fillTexture and Extent::Listed), the texture held the field's values before this frame's
+    /// writes: on a device whose whole fill is by compute shader (VolumeFillPass::defaultMethod, a GPU) only those
+    /// are copied (VolumeUpdatePass); else, and on a CPU device (its whole fill a copy command, as fast there), the
     /// whole field is (VolumeFillPass).
     const DenseFineWrites* fillOnly = nullptr;
   };

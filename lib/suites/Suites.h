@@ -17,7 +17,8 @@ enum class BenchSuite {
   Reference, ///< exact SDF vs OpenVDB meshToLevelSet, same voxels and band
   Coarse,    ///< GPU voxelize + nearest-seed transform per pass and method vs CPU jump flooding, exact EDT, OpenVDB SDF
   Refine,    ///< the paper's ray-trace tables (sizes x rays, band x rays) with errors, vs OpenVDB meshToLevelSet
-  Render,    ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth
+  Render,    ///< per-pass times of SDF shadows and shadow maps with their image error against the ray-traced truth;
+             ///< the SDF shadows' pass times with the scene moving at 30 fps
   Frame,     ///< the pipeline frame by frame on one scene: host / GPU / wall time, mask, error (suites/FrameSuite.h)
   Sign,      ///< every method's signs on generated meshes whose faces lie, vs the clean solid and OpenVDB
   Cascade    ///< cascade levels along a camera path, walking and driving, vs every level rebuilt (CascadeSuite.h)

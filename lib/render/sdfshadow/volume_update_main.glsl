@@ -26,6 +26,8 @@ layout(std430, binding = kVolumeUpdateBindingRefineList) readonly buffer RefineL
 layout(std430, binding = kVolumeUpdateBindingMaskCounts) readonly buffer MaskCounts { uint maskCounts[]; };
 layout(std430, binding = kVolumeUpdateBindingFineRanges) readonly buffer FineRanges { ivec2 fineRanges[]; };
 
+#include "sdf/refine/upsample_block_fine.glsl"
+
 // Fine voxels lo..hi (inclusive) into the texture.
 void copyBox(ivec3 lo, ivec3 hi) {
   ivec3 fd = params.fineDims.xyz;
@@ -39,14 +41,8 @@ void copyListedBlock() {
   const int side = RTSDF_UPSAMPLE_BLOCK_GROUP; // the invocations as the upsampling's 8 x 8 columns
   uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
   if (g >= header.groups.w || gl_LocalInvocationID.x >= uint(side * side)) return;
-  ivec3 bd = coarseBlockDims(params.coarseDims.xyz);
-  ivec3 b = linearCell(blocks[g], bd);
   ivec3 lo, end;
-  for (int a = 0; a < 3; ++a) {
-    int at = upsampleBlockFineAt(bd, a) + b[a];
-    lo[a] = fineBegins[at];
-    end[a] = fineBegins[at + 1];
-  }
+  upsampleBlockFine(blocks[g], params.coarseDims.xyz, lo, end);
   int ix = int(gl_LocalInvocationID.x) % side, iy = int(gl_LocalInvocationID.x) / side;
   for (int y = lo.y + iy; y < end.y; y += side)
     for (int x = lo.x + ix; x < end.x; x += side) copyBox(ivec3(x, y, lo.z), ivec3(x, y, end.z - 1));

@@ -38,6 +38,9 @@ layout(std430, binding = kUpsampleBindingRegion) readonly buffer Region { Upsamp
 #endif
 
 #include "coarse_upsample.glsl"
+#if RTSDF_UPSAMPLE_BLOCKS
+#include "upsample_block_fine.glsl"
+#endif
 
 // Fine voxels (x, y, zBegin..zEnd - 1) upsampled, but for the slotted band's.
 void upsampleRun(int x, int y, int zBegin, int zEnd) {
@@ -74,14 +77,8 @@ void main() {
 #if RTSDF_UPSAMPLE_BLOCKS
   uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
   if (g >= header.groups.w) return;
-  ivec3 bd = coarseBlockDims(params.coarseDims.xyz);
-  ivec3 b = linearCell(blocks[g], bd);
   ivec3 lo, hi;
-  for (int a = 0; a < 3; ++a) {
-    int at = upsampleBlockFineAt(bd, a) + b[a];
-    lo[a] = fineBegins[at];
-    hi[a] = fineBegins[at + 1];
-  }
+  upsampleBlockFine(blocks[g], params.coarseDims.xyz, lo, hi);
   for (int y = lo.y + int(gl_LocalInvocationID.y); y < hi.y; y += RTSDF_UPSAMPLE_BLOCK_GROUP)
     for (int x = lo.x + int(gl_LocalInvocationID.x); x < hi.x; x += RTSDF_UPSAMPLE_BLOCK_GROUP)
       upsampleRun(x, y, lo.z, hi.z);

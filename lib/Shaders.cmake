@@ -55,6 +55,7 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   "mask_compact.comp              sdf/mask/mask_compact.comp"
   "mask_dispatch.comp             sdf/mask/mask_dispatch.comp"
   "mask_region.comp               sdf/mask/mask_region.comp"
+  "mask_leave.comp                sdf/mask/mask_leave.comp"
   "brick_alloc.comp               sdf/mask/brick_alloc.comp"
   # A scrolled level's grids moved by whole cells.
   "grid_shift.comp                sdf/pipeline/grid_shift.comp"

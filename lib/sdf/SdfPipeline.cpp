@@ -229,6 +229,7 @@ void SdfPipeline::submitFrame(double time) {
   changes.poolReset = mPoolReset;
   changes.scrolled = mScrolled;
   changes.scrollMovedCoarse = mScrolled && mFields->scrollMovedCoarse();
+  changes.scrollCarriesMask = mScrolled && mMask->carriesOverScroll();
   changes.viewChanged = mViewChanged;
   changes.viewLimited = mView.has_value();
   // Listed for a walk: the band voxels out of the view's reach written again are listed too, and a run skipped keeps
@@ -260,12 +261,12 @@ void SdfPipeline::submitFrame(double time) {
     const bool anywhere = changes.first || changes.poolReset || changes.scrolled || changes.viewChanged;
     const int flags = (anywhere ? kMaskRelistOutOfView : 0) | (mPlan.coarse ? kMaskCoarseRebuilt : 0) |
                       (mSettings.mode == RefineMode::Closest ? kMaskMotionKeepsSettled : 0) |
-                      (mPlan.maskOverChange ? kMaskRegionOnly : 0);
+                      (mPlan.maskOverChange ? kMaskRegionOnly : 0) | (mPlan.maskOverBlocks ? kMaskBlockList : 0);
     // Over what changed: the band voxels a moving box can come within reach of (movedWithinReach: |c| <= band).
     const CoarseVoxelBox near = movedReachBox(mMotion->lastBoxes(), mCoarseSpec.inFrame(frameOrigin()),
                                               mSettings.band + mMask->reachPad());
     mMask->recordMask(cmd, profiler, ++mMaskFrame, moved, mFields->coarseBuffer(), mMotion->buffer(),
-                      mFields->changedBoxBuffer(), flags, *mPool, near);
+                      mFields->changedBoxBuffer(), flags, *mPool, near, &mFields->changedBlocksBuffer());
   }
   mFields->recordFine(cmd, profiler, mFields->refineParams(mFrame, *mPool, moved), *mBvh, *mMask, *mPool,
                       mMotion->buffer(), mPlan.refine, mPlan.upsample, mPlan.upsampleChanged);
@@ -292,7 +293,7 @@ FrameStats SdfPipeline::finishFrame() {
     stats.overflowBricks = counts.overflowBricks;
     stats.poolBricks = mPool->capacity();
     stats.upsampledFineVoxels = mFields->lastUpsampledVoxels();
-    stats.maskVisitedVoxels = mPlan.mask && mSettings.band > 0.0 ? regionVoxels(mMask->lastRegion()) : 0;
+    stats.maskVisitedVoxels = mPlan.mask && mSettings.band > 0.0 ? mMask->lastVisitedVoxels() : 0;
     stats.coarseRebuiltVoxels = !mPlan.coarse                     ? 0
                                 : mFields->lastCoarseOverChange() ? mFields->readCoarseRegion().counts.z
                                                                   : mCoarseSpec.voxelCount();

@@ -13,6 +13,7 @@
 #include "scene/SceneLoader.h"
 #include "sdf/cascade/CascadeFaults.h"
 #include "sdf/cascade/CascadeSet.h"
+#include "sdf/pipeline/GpuRayMask.h"
 #include "sdf/pipeline/GridShift.h"
 #include "sdf/pipeline/PipelineProbe.h"
 #include "util/Error.h"
@@ -208,6 +209,8 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
   int scrolls = 0, recuts = 0, rebuilds = 0;
   std::uint64_t scrolledRefined = 0, freshRefined = 0, scrolledVoxelized = 0, freshVoxelized = 0;
   std::uint64_t scrolledRebuilt = 0, freshRebuilt = 0, scrolledUpsampled = 0, freshUpsampled = 0;
+  std::uint64_t scrolledMasked = 0, freshMasked = 0;
+  int maskedOverBlocks = 0;
   double worst = 0.0;
   for (int f = 1; f <= 14; ++f) {
     const double speed = f < 8 ? 0.03 : 0.09;
@@ -231,6 +234,11 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
       worst = std::max({worst, fine, coarse});
       // The seeds a scroll kept and those voxelized where the level entered are a full build's, bit for bit.
       EXPECT_EQ(PipelineProbe(set.level(i)).coarseSeeds(), PipelineProbe(fresh.level(i)).coarseSeeds());
+      // The band's counts and bricks, carried over the scroll and changed where the mask visited, are a fresh count's.
+      const FrameStats &a = stats[std::size_t(i)], &b = freshStats[std::size_t(i)];
+      EXPECT_EQ(a.maskCoarseVoxels, b.maskCoarseVoxels);
+      EXPECT_EQ(a.maskFineVoxels, b.maskFineVoxels);
+      EXPECT_EQ(a.activeBricks, b.activeBricks);
       const bool scrolled = std::count(move.moved.begin(), move.moved.end(), i) &&
                             !std::count(move.rebuilt.begin(), move.rebuilt.end(), i);
       if (scrolled) {
@@ -245,6 +253,9 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
         freshRebuilt += freshStats[std::size_t(i)].coarseRebuiltVoxels;
         scrolledUpsampled += stats[std::size_t(i)].upsampledFineVoxels;
         freshUpsampled += freshStats[std::size_t(i)].upsampledFineVoxels;
+        scrolledMasked += a.maskVisitedVoxels;
+        freshMasked += b.maskVisitedVoxels;
+        maskedOverBlocks += a.maskVisitedVoxels < set.level(i).coarseSpec().voxelCount();
       }
     }
   }
@@ -257,12 +268,40 @@ TEST_F(CascadeSetGpu, ScrolledLevelsAlongACameraPathEqualLevelsBuiltFresh) {
   EXPECT_LT(scrolledRebuilt, freshRebuilt) << "the transform over what the seeds that entered and left reach";
   EXPECT_LT(double(scrolledUpsampled), 0.8 * double(freshUpsampled))
       << "the upsampling over the blocks that what changed, entered and the faces left behind reach";
+  EXPECT_GE(maskedOverBlocks, 4) << "scrolled levels' masks over the blocks of what changed";
+  EXPECT_LT(double(scrolledMasked), 0.8 * double(freshMasked))
+      << "the mask over the blocks that what changed, entered, settles or moves reaches";
   std::printf("%d scrolls (%d with the scene cut again), %d rebuilds; largest difference from fresh levels %.2e fine "
               "voxels; scrolled levels refined %.3f of the voxels fresh ones did, voxelized %.3f, transformed "
-              "%.3f and upsampled %.3f\n",
+              "%.3f, upsampled %.3f and masked %.3f (%d masks over blocks)\n",
               scrolls, recuts, rebuilds, worst, double(scrolledRefined) / double(freshRefined),
               double(scrolledVoxelized) / double(freshVoxelized), double(scrolledRebuilt) / double(freshRebuilt),
-              double(scrolledUpsampled) / double(freshUpsampled));
+              double(scrolledUpsampled) / double(freshUpsampled), double(scrolledMasked) / double(freshMasked),
+              maskedOverBlocks);
+}
+
+// A run of the mask over what changed after a scroll reads the last run's settling box as the scroll left it: moved
+// with its voxels, clipped to the grid, empty where all of it left (the camera-path test's levels settle at once).
+TEST(MaskScroll, SettlingBoxesMoveWithTheirVoxelsAndAreEmptyWhereAllLeft) {
+  using gpu::shared::MaskRegion;
+  const glm::ivec3 dims(16, 16, 16);
+  MaskRegion r{};
+  r.settlingLo[0] = glm::uvec4(2, 3, 4, 0);
+  r.settlingHi[0] = glm::uvec4(10, 12, 14, 0);
+  r.settlingLo[1] = glm::uvec4(0xFFFFFFFFu);
+  r.settlingHi[1] = glm::uvec4(0u);
+  MaskRegion m = settlingMovedWith(r, dims, glm::ivec3(4, 0, -2));
+  EXPECT_EQ(glm::uvec3(m.settlingLo[0]), glm::uvec3(0, 3, 6));
+  EXPECT_EQ(glm::uvec3(m.settlingHi[0]), glm::uvec3(6, 12, 15));
+  EXPECT_EQ(m.settlingLo[1], glm::uvec4(0xFFFFFFFFu)) << "an empty box stays empty";
+  m = settlingMovedWith(r, dims, glm::ivec3(-8, 0, 0));
+  EXPECT_EQ(glm::uvec3(m.settlingLo[0]), glm::uvec3(10, 3, 4));
+  EXPECT_EQ(glm::uvec3(m.settlingHi[0]), glm::uvec3(15, 12, 14));
+  for (const glm::ivec3 shift : {glm::ivec3(11, 0, 0), glm::ivec3(0, -13, 0), glm::ivec3(0, 0, 15)}) {
+    m = settlingMovedWith(r, dims, shift);
+    EXPECT_EQ(m.settlingLo[0], glm::uvec4(0xFFFFFFFFu)) << "all of it left";
+    EXPECT_EQ(m.settlingHi[0], glm::uvec4(0u));
+  }
 }
 
 // Kept sparse (only the bricks on the GPU, no dense fine SDF), a scrolled level keeps its bricks' values in their

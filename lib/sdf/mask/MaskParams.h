@@ -73,7 +73,19 @@ const uint kMaskBindingMovedBoxes = 5u;  // MovedBox per instance that moved sin
 const uint kMaskBindingBrickNeeded = 6u; // uint per brick: the band voxels in view over it (counted: brickBandDelta)
 const uint kMaskBindingChangedBox = 7u;  // the coarse SDF's ChangedBox (read where kMaskCoarseRebuilt)
 const uint kMaskBindingRegion = 8u;      // MaskRegion: the voxels visited (read), the settling box (grown)
-const uint kMaskBindingCount = 9u;
+const uint kMaskBindingBlockList = 9u;   // with kMaskBlockList: the coarse blocks visited (UpsampleBlocksPass's list)
+const uint kMaskBindingCount = 10u;
+
+/// Bindings of mask_leave.comp (MaskLeavePass).
+const uint kMaskLeaveBindingCounts = 0u;      // MaskCounts words: the band's two counts lowered
+const uint kMaskLeaveBindingCoarseState = 1u; // the coarse state before the scroll's shift (read)
+const uint kMaskLeaveBindingFineRanges = 2u;  // maskFineRanges of the grids
+const uint kMaskLeaveBindingCount = 3u;
+/// Push constants of mask_leave.comp: the coarse grid's dims and the scroll's shift (voxel v takes v + shift's).
+struct MaskLeaveParams {
+  ivec4 dims;
+  ivec4 shift;
+};
 
 /// Bindings of mask_region.comp (MaskRegionPass).
 const uint kMaskRegionBindingChangedBox = 0u; // the coarse SDF's ChangedBox (read where kMaskCoarseRebuilt)
@@ -99,7 +111,7 @@ struct MaskRegion {
 
 /// Push constants of mask_region.comp.
 struct MaskRegionParams {
-  ivec4 dims;   // xyz: coarse voxels per axis; w: kMaskRegionOnly | kMaskCoarseRebuilt
+  ivec4 dims;   // xyz: coarse voxels per axis; w: kMaskRegionOnly | kMaskCoarseRebuilt | kMaskBlockList
   ivec4 nearLo; // xyz: the coarse voxels a moving box comes within the band's reach of, inclusive (empty: lo > hi)
   ivec4 nearHi;
   uint frame;   // the run's frame number: it reads the settling box of the other parity and resets its own
@@ -152,10 +164,12 @@ const int kMaskMotionKeepsSettled = 4; // closest mode: a moving instance does n
                                        // (refinementsAfter)
 const int kMaskRegionOnly = 8;         // the run visits the MaskRegion alone, keeps the band's counts and the bricks'
                                        // band counts and changes them where a visited voxel's band or view changed
+const int kMaskBlockList = 16;         // with kMaskRegionOnly, the run visits the coarse blocks of a list instead of
+                                       // the MaskRegion's box: a work group a block (after a scroll)
 
 struct MaskParams {
   ivec4 coarseDims;    // xyz: coarse voxels per axis; w: kMaskRelistOutOfView | kMaskCoarseRebuilt |
-                       // kMaskMotionKeepsSettled | kMaskRegionOnly | growth << 8
+                       // kMaskMotionKeepsSettled | kMaskRegionOnly | kMaskBlockList | growth << 8
   float band;          // d: a coarse voxel is in the band when |c| <= d (the CPU mirror's float comparison)
   uint refineCapacity; // entries the refine list holds (appends beyond it are counted, not written)
   uint pad0;

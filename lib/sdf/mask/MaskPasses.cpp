@@ -1,5 +1,8 @@
 #include "sdf/mask/MaskPasses.h"
 
+#include "sdf/coarse/CoarseParams.h"
+#include "util/Error.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -65,7 +68,26 @@ void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, c
   b[kMaskBindingMovedBoxes] = &in.movedBoxes;
   b[kMaskBindingChangedBox] = &in.changedBox;
   b[kMaskBindingRegion] = &out.region;
-  mPipeline.dispatchIndirect(cmd, b, &params, out.region, offsetof(MaskRegion, groups));
+  const bool listed = (params.coarseDims.w & kMaskBlockList) != 0;
+  if (listed && !in.blockList)
+    throw Error("MaskCompactPass: a run over listed blocks (kMaskBlockList) needs the list");
+  b[kMaskBindingBlockList] = in.blockList ? in.blockList : &in.coarse; // unread without kMaskBlockList
+  if (listed) mPipeline.dispatchIndirect(cmd, b, &params, *in.blockList);
+  else mPipeline.dispatchIndirect(cmd, b, &params, out.region, offsetof(MaskRegion, groups));
+  gpu::computeBarrier(cmd);
+}
+
+void MaskLeavePass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+                            const Params& params) const {
+  gpu::ProfileScope scope(profiler, cmd, kName);
+  std::array<gpu::Binding, kMaskLeaveBindingCount> b;
+  b[kMaskLeaveBindingCounts] = &out.counts;
+  b[kMaskLeaveBindingCoarseState] = &in.coarseState;
+  b[kMaskLeaveBindingFineRanges] = &in.fineRanges;
+  const glm::uvec3 d(params.dims);
+  const std::uint32_t groups = gpu::groupsFor(d.x * d.y * d.z, 64);
+  mPipeline.dispatch(cmd, b, &params,
+                     {std::min(groups, kCoarseRegionGroupsX), gpu::groupsFor(groups, kCoarseRegionGroupsX), 1u});
   gpu::computeBarrier(cmd);
 }
 

@@ -50,6 +50,9 @@ public:
     const gpu::Buffer& fineRanges; ///< maskFineRanges() of the two grids
     const gpu::Buffer& movedBoxes; ///< MovedBox per instance that moved (params.movedBoxes of them)
     const gpu::Buffer& changedBox; ///< the coarse SDF's ChangedBox (read with kMaskCoarseRebuilt in params)
+    /// With kMaskBlockList in params: the coarse blocks to visit (UpsampleBlocksPass's list: its dispatch at offset
+    /// 0, a work group a block) instead of the MaskRegion's box.
+    const gpu::Buffer* blockList = nullptr;
   };
   /// @a coarseState: (the run that last visited it in the band or kNotInBand, refinements in a row) per coarse voxel,
   /// read and advanced; @a brickNeeded: per brick, the band voxels in view over it; @a region: the MaskRegion.
@@ -57,6 +60,21 @@ public:
   using Params = gpu::shared::MaskParams; ///< refineCapacity: entries the refine list holds
   explicit MaskCompactPass(const gpu::VulkanContext& ctx)
       : ComputePass(ctx, "mask_compact.comp", gpu::shared::kMaskBindingCount, sizeof(Params)) {}
+  void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
+               const Params& params) const;
+};
+
+/// @brief MaskLeavePass (mask_leave.comp): before a scroll shifts the coarse refinement state, the band's two counts
+///        (kMaskCountCoarse, kMaskCountMaskedFine) lose the band voxels that leave the grid, so that a run over what
+///        changed after it (kMaskRegionOnly) counts from those that stayed.
+class MaskLeavePass : gpu::ComputePass {
+public:
+  static constexpr const char* kName = "MaskLeavePass";
+  struct Inputs { const gpu::Buffer &coarseState, &fineRanges; }; ///< the state before the shift
+  struct Outputs { const gpu::Buffer& counts; };
+  using Params = gpu::shared::MaskLeaveParams; ///< the coarse dims, the shift (voxel v takes v + shift's)
+  explicit MaskLeavePass(const gpu::VulkanContext& ctx)
+      : ComputePass(ctx, "mask_leave.comp", gpu::shared::kMaskLeaveBindingCount, sizeof(Params)) {}
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
 };

@@ -19,7 +19,14 @@
 // The refinement hashes by voxel, not by slot, so the list's order does not matter. Slots are reserved per subgroup
 // (a ballot's prefix count, one global atomic per counter and subgroup): one global atomic per band voxel serialised the whole band on a single address, and a work
 // group's reservation through shared memory needs two barriers, which cost lavapipe as much as the pass's work.
+// With kMaskBlockList (a run over what changed after a scroll) the voxels visited are those of the coarse blocks a
+// list holds (UpsampleBlocksPass's, a work group a block, dispatched from the list) instead of the MaskRegion's box.
+#include "sdf/coarse/CoarseParams.h"
 #include "sdf/mask/MaskParams.h"
+#include "sdf/refine/RefineParams.h"
+#if RTSDF_MASK_GROUP != RTSDF_COARSE_BLOCK
+#error "a work group of mask_compact.comp must be a coarse block (kMaskBlockList)"
+#endif
 
 layout(local_size_x = RTSDF_MASK_GROUP, local_size_y = RTSDF_MASK_GROUP, local_size_z = RTSDF_MASK_GROUP) in;
 layout(push_constant) uniform Push { MaskParams params; };
@@ -32,6 +39,10 @@ layout(std430, binding = kMaskBindingMovedBoxes) readonly buffer MovedBoxes { Mo
 layout(std430, binding = kMaskBindingBrickNeeded) buffer BrickNeeded { uint brickNeeded[]; };
 layout(std430, binding = kMaskBindingChangedBox) readonly buffer Changed { uvec4 changedLo; uvec4 changedHi; };
 layout(std430, binding = kMaskBindingRegion) buffer Region { MaskRegion region; };
+layout(std430, binding = kMaskBindingBlockList) readonly buffer BlockList {
+  UpsampleBlockListHeader listHeader;
+  uint listBlocks[];
+};
 
 // Add @a delta to the band counts of the bricks holding fine voxels [lo, hi].
 void countBricks(ivec3 lo, ivec3 hi, int delta) {
@@ -86,10 +97,26 @@ void addSubgroup(uint counter, uint value) {
   if (subgroupElect() && sum != 0u) atomicAdd(counts[counter], sum);
 }
 
-void main() {
+// The coarse voxel this invocation visits, and whether it lies in the run's region: the MaskRegion's box, or with
+// kMaskBlockList this work group's listed block.
+ivec3 visitedVoxel(out bool inRegion) {
+  if ((params.coarseDims.w & kMaskBlockList) != 0) {
+    uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    inRegion = g < listHeader.groups.w;
+    ivec3 b = inRegion ? linearCell(listBlocks[g], coarseBlockDims(params.coarseDims.xyz)) : ivec3(0);
+    ivec3 p = b * RTSDF_COARSE_BLOCK + ivec3(gl_LocalInvocationID);
+    inRegion = inRegion && all(lessThan(p, params.coarseDims.xyz));
+    return p;
+  }
   ivec3 p = ivec3(gl_GlobalInvocationID) + ivec3(region.lo.xyz);
+  inRegion = all(lessThanEqual(p, ivec3(region.hi.xyz)));
+  return p;
+}
+
+void main() {
+  bool inGrid;
+  ivec3 p = visitedVoxel(inGrid);
   ivec3 dims = params.coarseDims.xyz;
-  bool inGrid = all(lessThanEqual(p, ivec3(region.hi.xyz)));
   uint i = inGrid ? uint((p.z * dims.y + p.y) * dims.x + p.x) : 0u;
   float c = inGrid ? coarse[i] : 0.0;
   uvec2 state = inGrid ? coarseState[i] : uvec2(kNotInBand);

@@ -7,7 +7,7 @@
 // other is near a moved instance, movedWithinReach), and the band voxels the last run left settling (the box it
 // grew); elsewhere a band voxel is settled, not near a moved instance and not new, so it keeps its values, its bricks
 // and its state. Then the indirect dispatch over the box, and this run's settling box reset (the last run's is the
-// other parity's).
+// other parity's). A run over listed blocks (kMaskBlockList, after a scroll) has no box: its dispatch is the list's.
 #include "sdf/mask/MaskParams.h"
 
 layout(local_size_x = 1) in;
@@ -28,7 +28,9 @@ uint groupsFor(uint n) { return (n + uint(RTSDF_MASK_GROUP) - 1u) / uint(RTSDF_M
 void main() {
   uvec3 dims = uvec3(params.dims.xyz);
   uint last = (params.frame + 1u) & 1u, self = params.frame & 1u;
-  if ((params.dims.w & kMaskRegionOnly) == 0) {
+  if ((params.dims.w & kMaskBlockList) != 0) {
+    // The run visits a list's blocks (mask_compact.comp): no box, and its dispatch is the list's.
+  } else if ((params.dims.w & kMaskRegionOnly) == 0) {
     add(uvec4(0u), uvec4(dims - uvec3(1u), 0u));
   } else {
     if ((params.dims.w & kMaskCoarseRebuilt) != 0) add(changedLo, changedHi);

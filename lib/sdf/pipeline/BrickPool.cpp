@@ -125,6 +125,9 @@ void BrickPool::recordScroll(VkCommandBuffer cmd, const glm::ivec3& brickShift, 
     vkCmdUpdateBuffer(cmd, mCounts.handle(), gpu::shared::kBrickCountFreeTop * 4, 4, &newTop);
   }
   recordGridShift(cmd, shiftPass, mSlots, scratch, mBrickDims, 4, brickShift, gpu::shared::kNoBrick);
+  // The band voxels counted over each brick move with it, so that the next mask may count only what changed
+  // (GpuRayMask::carriesOverScroll; a run over every voxel counts from zero anyway).
+  recordGridShift(cmd, shiftPass, mNeeded, scratch, mBrickDims, 4, brickShift, 0u);
 }
 
 void BrickPool::noteFrame(std::uint64_t activeBricks, std::uint64_t overflowBricks) {

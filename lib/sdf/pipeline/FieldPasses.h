@@ -91,6 +91,8 @@ public:
   gpu::shared::ChangedBox readChangedBox() const;
   /// @brief The coarse SDF's ChangedBox on the GPU, as the last recordCoarse left it.
   const gpu::Buffer& changedBoxBuffer() const;
+  /// @brief The last recordCoarse's changed-block marks on the GPU (CoarseSdfBuilder::changedBlocksBuffer).
+  const gpu::Buffer& changedBlocksBuffer() const { return mCoarse.changedBlocksBuffer(); }
 
   /// @brief The grids moved to @a grids (coarse, fine), @a shift coarse voxels from where they were
   ///        (SdfPipeline::scroll): record, through @a scratch, the coarse seeds' and transform's move

@@ -18,8 +18,10 @@ FramePlan planFrame(const FrameChanges& c, const PipelineSettings& s) {
   plan.upsampleChanged = plan.upsample && !c.poolReset && (c.scrolled ? c.scrollMovedCoarse : c.moved);
   plan.coarseMovedSeeds = c.moved && coarseBuiltOverChanges(s);
   plan.coarseOverChange = plan.coarseMovedSeeds && !c.scrolled;
-  plan.maskOverChange = plan.mask && !c.poolReset && !c.scrolled && !c.viewChanged && !c.viewLimited &&
+  const bool scrollKept = !c.scrolled || (c.scrollMovedCoarse && c.scrollCarriesMask);
+  plan.maskOverChange = plan.mask && !c.poolReset && scrollKept && !c.viewChanged && !c.viewLimited &&
                         settleFramesFor(s) > 0 && refreshPeriodFor(s) == 0;
+  plan.maskOverBlocks = plan.maskOverChange && c.scrolled;
   return plan;
 }
 

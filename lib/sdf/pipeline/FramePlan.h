@@ -18,6 +18,9 @@ struct FrameChanges {
   /// The scroll moved the coarse SDF with the grids (CoarseSdfBuilder::scrollMovedDistances): the next build's
   /// ChangedBox holds the coarse voxels whose value differs from their moved one.
   bool scrollMovedCoarse = false;
+  /// The mask carried its counts and bricks over the scroll (GpuRayMask::carriesOverScroll), so that its next run may
+  /// visit only the coarse blocks of what changed.
+  bool scrollCarriesMask = false;
   bool lastListed = true;   ///< the mask's last run listed voxels to refine (some may still be settling)
   bool viewChanged = false; ///< the view's reach changed (SdfPipeline::setViewReach): voxels enter or leave it
   bool viewLimited = false; ///< the band is refined only within a view's reach
@@ -40,9 +43,13 @@ struct FramePlan {
   /// (CoarseSdfBuilder keeps the seeds that stayed in the grid and voxelizes those that entered and the box).
   bool coarseMovedSeeds = false;
   /// The mask visits only the coarse voxels whose decisions can change (MaskRegionPass, kMaskRegionOnly): the
-  /// grids, the pool and the view are as they were, no view limits the band, and settled voxels stay settled
-  /// (settleFrames > 0, no refresh period).
+  /// pool and the view are as they were, no view limits the band, settled voxels stay settled (settleFrames > 0, no
+  /// refresh period), and the grids are as they were or scrolled with their coarse SDF and the mask's counts
+  /// (scrollMovedCoarse, scrollCarriesMask).
   bool maskOverChange = false;
+  /// maskOverChange after a scroll: the mask visits the coarse blocks the changed voxels, the entered ones, the
+  /// settling box and the moving boxes reach (kMaskBlockList), not one box (it would span the level).
+  bool maskOverBlocks = false;
 };
 
 /// @brief Whether a pipeline under @a s keeps the exact transform from frame to frame, so that a frame where only
@@ -61,7 +68,8 @@ bool coarseBuiltOverChanges(const PipelineSettings& s);
 ///        outside the slotted band: it runs when the coarse SDF or the slots changed, over the whole grid unless only
 ///        an instance moved (then where the coarse SDF changed: the slots change only where the band does) or the
 ///        grids scrolled with their coarse SDF (then also where they entered and at the faces they left). The coarse
-///        SDF is built over what changed where only an instance moved (coarseOverChange).
+///        SDF is built over what changed where only an instance moved (coarseOverChange); the mask visits what
+///        changed (maskOverChange), after a scroll by blocks (maskOverBlocks).
 FramePlan planFrame(const FrameChanges& changes, const PipelineSettings& s);
 
 /// @brief The profiler names of the passes @a plan leaves out under @a s (in recording order), for FrameStats.

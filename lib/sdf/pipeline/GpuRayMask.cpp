@@ -1,5 +1,6 @@
 #include "sdf/pipeline/GpuRayMask.h"
 
+#include "sdf/coarse/CoarseScroll.h"
 #include "sdf/pipeline/GridShift.h"
 
 #include "util/Error.h"
@@ -21,14 +22,46 @@ using gpu::kStorageRead;
 namespace {
 constexpr std::uint32_t kStatsAt = gpu::shared::kMaskCountWords + gpu::shared::kBrickCountWords;
 constexpr std::uint32_t kReadbackWords = kStatsAt + gpu::shared::kRefineStatWords;
+
+/// Per axis each coarse block's first coarse voxel and the end (upsampleBlockFineBegins' layout), so that the block
+/// lister's total counts the listed blocks' coarse voxels.
+std::vector<int> coarseBlockBegins(const glm::ivec3& dims) {
+  std::vector<int> begins;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b * RTSDF_COARSE_BLOCK < dims[a]; ++b) begins.push_back(b * RTSDF_COARSE_BLOCK);
+    begins.push_back(dims[a]);
+  }
+  return begins;
+}
+
+/// Whether every coarse voxel's fine voxels lie in one brick that a scroll by whole bricks moves with it.
+bool exactCover(const GridSpec& coarse, const GridSpec& fine) {
+  const glm::ivec3 c = coarse.dims, f = fine.dims;
+  const int r = f.x / std::max(c.x, 1);
+  return r >= 1 && f == c * r && RTSDF_BRICK % r == 0;
+}
+
 } // namespace
+
+gpu::shared::MaskRegion settlingMovedWith(gpu::shared::MaskRegion r, const glm::ivec3& dims, const glm::ivec3& shift) {
+  for (int k = 0; k < 2; ++k) {
+    if (glm::any(glm::greaterThan(glm::uvec3(r.settlingLo[k]), glm::uvec3(r.settlingHi[k])))) continue; // empty
+    const glm::ivec3 lo = glm::max(glm::ivec3(glm::uvec3(r.settlingLo[k])) - shift, glm::ivec3(0));
+    const glm::ivec3 hi = glm::min(glm::ivec3(glm::uvec3(r.settlingHi[k])) - shift, dims - 1);
+    const bool left = glm::any(glm::greaterThan(lo, hi)); // all of it
+    r.settlingLo[k] = left ? glm::uvec4(0xFFFFFFFFu) : glm::uvec4(glm::uvec3(lo), 0u);
+    r.settlingHi[k] = left ? glm::uvec4(0u) : glm::uvec4(glm::uvec3(hi), 0u);
+  }
+  return r;
+}
 
 GpuRayMask::GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, const GridSpec& fine,
                        const PipelineSettings& settings, std::uint32_t refineParts)
     : mCtx(ctx), mCoarseSpec(coarse), mFineSpec(fine), mBand(settings.band),
       mBeta(settings.beta >= 0.0 ? settings.beta : 0.5 * coarse.voxelSize),
       mSettleFrames(std::uint32_t(settleFramesFor(settings))), mRefreshPeriod(std::uint32_t(refreshPeriodFor(settings))),
-      mRefineParts(refineParts), mBrickDims(brickDimsOf(fine)), mCompact(ctx), mDispatch(ctx), mRegionPass(ctx) {
+      mRefineParts(refineParts), mBrickDims(brickDimsOf(fine)), mCompact(ctx), mDispatch(ctx), mRegionPass(ctx),
+      mLeave(ctx), mLister(ctx), mExactCover(exactCover(coarse, fine)) {
   mCoarseState = Buffer(ctx, coarse.voxelCount() * 8, kStorageFilled, Buffer::Memory::Device,
                         "coarse refinement state");
   const std::vector<int> fineToCoarse = maskCoarseOfFine(coarse, fine);
@@ -52,6 +85,15 @@ GpuRayMask::GpuRayMask(const gpu::VulkanContext& ctx, const GridSpec& coarse, co
     // Each coarse voxel is appended at most once.
     mRefineList = Buffer(ctx, coarse.voxelCount() * 4, kStorageRead, Buffer::Memory::Device,
                          "refine list (coarse voxels)");
+    mListBoxes = Buffer(ctx, sizeof(gpu::shared::UpsampleBoxes), kStorage, Buffer::Memory::Host, "mask list boxes");
+    mBlockList = Buffer(ctx, UpsampleBlocksPass::listBytes(coarse.dims),
+                        kStorage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                            VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                        Buffer::Memory::Device, "mask block list");
+    mBlockListHeader = Buffer(ctx, sizeof(gpu::shared::UpsampleBlockListHeader), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              Buffer::Memory::Host, "mask block list header");
+    const std::vector<int> begins = coarseBlockBegins(coarse.dims);
+    gpu::reserveAndUpload(ctx, mCoarseBegins, begins.data(), begins.size() * 4, kStorage, "mask blocks' voxels");
   }
 }
 
@@ -63,10 +105,18 @@ void GpuRayMask::recordClear(VkCommandBuffer cmd) const {
 void GpuRayMask::recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine,
                               const glm::ivec3& coarseShift, const gpu::Buffer& scratch,
                               const GridShiftPass* shiftPass) {
+  // The band's counts lose the voxels that leave, read from the state before it moves.
+  mLeave.execute(cmd, nullptr, {mCoarseState, mFineRanges}, {mCounts},
+                 {glm::ivec4(mCoarseSpec.dims, 0), glm::ivec4(coarseShift, 0)});
   mCoarseSpec = coarse;
   mFineSpec = fine;
   // 0xFFFFFFFF: no frame in the band (as BrickPool::allocate resets it), so an entered voxel in the band is fresh.
   recordGridShift(cmd, shiftPass, mCoarseState, scratch, coarse.dims, 8, coarseShift, 0xFFFFFFFFu);
+  // The settling boxes move with their voxels (the last frame is finished: the region is the host's to write).
+  const gpu::shared::MaskRegion r = settlingMovedWith(lastRegion(), coarse.dims, coarseShift);
+  std::memcpy(mRegion.mapped(), &r, sizeof(r));
+  mEnteredBoxes = boxesOutside(coarse.dims, keptByShift(coarse.dims, coarseShift));
+  ++mScrollsSinceRun;
 }
 
 gpu::shared::MaskParams GpuRayMask::params(std::uint32_t frame, std::uint32_t movedBoxes, int flags) const {
@@ -103,12 +153,34 @@ void GpuRayMask::setViewReach(const ViewReach* reach) {
   if (reach) mView = *reach;
 }
 
+void GpuRayMask::writeListBoxes(std::uint32_t frame, const CoarseVoxelBox& near) const {
+  gpu::shared::UpsampleBoxes boxes{};
+  const auto add = [&](const glm::ivec3& lo, const glm::ivec3& hi) {
+    if (glm::any(glm::greaterThan(lo, hi))) return;
+    if (boxes.count.x == RTSDF_UPSAMPLE_MAX_BOXES) throw Error("GpuRayMask: more boxes than a block listing takes");
+    boxes.lo[boxes.count.x] = glm::ivec4(lo, 0);
+    boxes.hi[boxes.count.x++] = glm::ivec4(hi, 0);
+  };
+  for (const CoarseVoxelBox& b : mEnteredBoxes) add(b.lo, b.hi);
+  const gpu::shared::MaskRegion r = lastRegion();
+  const std::uint32_t last = (frame + 1u) & 1u;
+  if (glm::all(glm::lessThanEqual(glm::uvec3(r.settlingLo[last]), glm::uvec3(r.settlingHi[last]))))
+    add(glm::ivec3(glm::uvec3(r.settlingLo[last])), glm::ivec3(glm::uvec3(r.settlingHi[last])));
+  add(near.lo, near.hi);
+  std::memcpy(mListBoxes.mapped(), &boxes, sizeof(boxes));
+}
+
 void GpuRayMask::recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame,
                             std::uint32_t movedCount, const gpu::Buffer& coarse, const gpu::Buffer& movedBoxes,
                             const gpu::Buffer& changedBox, int flags, const BrickPool& pool,
-                            const CoarseVoxelBox& near) {
+                            const CoarseVoxelBox& near, const gpu::Buffer* changedBlocks) {
   using namespace gpu::shared;
+  if ((flags & kMaskBlockList) != 0 && (!carriesOverScroll() || !changedBlocks || !(flags & kMaskRegionOnly)))
+    throw Error("GpuRayMask: a run over listed blocks needs one scroll the mask carried over, the changed blocks' "
+                "marks and a run over what changed");
   mLastParams = params(frame, movedCount, flags);
+  mLastListed = (flags & kMaskBlockList) != 0 && mBand > 0.0;
+  mScrollsSinceRun = 0;
   const bool regionOnly = (flags & kMaskRegionOnly) != 0;
   if (regionOnly) { // the band's counts are the last run's, changed where a visited voxel changed
     vkCmdFillBuffer(cmd, mCounts.handle(), 0, kMaskCountCoarse * 4, 0u);
@@ -123,13 +195,22 @@ void GpuRayMask::recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std
   // d = 0 refines nothing (not even voxels with c = 0): the counts stay zero, and so does the dispatch.
   if (mBand > 0.0) {
     MaskRegionParams rp{};
-    rp.dims = glm::ivec4(mCoarseSpec.dims, flags & (kMaskRegionOnly | kMaskCoarseRebuilt));
+    rp.dims = glm::ivec4(mCoarseSpec.dims, flags & (kMaskRegionOnly | kMaskCoarseRebuilt | kMaskBlockList));
     rp.nearLo = glm::ivec4(near.lo, 0);
     rp.nearHi = glm::ivec4(near.hi, 0);
     rp.frame = frame;
+    if (mLastListed) { // the blocks what changed, entered, settles or is near a moving box reaches
+      gpu::ProfileScope scope(profiler, cmd, MaskCompactPass::kName);
+      writeListBoxes(frame, near);
+      mLister.execute(cmd, nullptr, {*changedBlocks, mListBoxes, mCoarseBegins}, {mBlockList}, mCoarseSpec.dims);
+      const VkBufferCopy header{0, 0, sizeof(UpsampleBlockListHeader)};
+      vkCmdCopyBuffer(cmd, mBlockList.handle(), mBlockListHeader.handle(), 1, &header);
+      gpu::transferToHostBarrier(cmd);
+    }
     mRegionPass.execute(cmd, nullptr, {changedBox}, {mRegion}, rp);
-    mCompact.execute(cmd, profiler, {coarse, mFineRanges, movedBoxes, changedBox},
-                     {mCounts, mRefineList, mCoarseState, pool.bandCounts(), mRegion}, mLastParams);
+    MaskCompactPass::Inputs in{coarse, mFineRanges, movedBoxes, changedBox, mLastListed ? &mBlockList : nullptr};
+    mCompact.execute(cmd, profiler, in, {mCounts, mRefineList, mCoarseState, pool.bandCounts(), mRegion},
+                     mLastParams);
     pool.recordAlloc(cmd, profiler);
   }
   mDispatch.execute(cmd, profiler, {}, {mCounts}, mLastParams);
@@ -147,6 +228,24 @@ void GpuRayMask::recordCountsReadback(VkCommandBuffer cmd, const BrickPool& pool
 
 double GpuRayMask::reachPad() const {
   return mBeta + std::sqrt(3.0) * mCoarseSpec.voxelSize + mFineSpec.voxelSize;
+}
+
+std::uint64_t GpuRayMask::lastVisitedVoxels() const {
+  if (!mLastListed) return regionVoxels(lastRegion());
+  gpu::shared::UpsampleBlockListHeader h;
+  std::memcpy(&h, mBlockListHeader.mapped(), sizeof(h));
+  return h.totals.x; // the listed blocks' coarse voxels (coarseBlockBegins)
+}
+
+std::vector<std::uint32_t> GpuRayMask::readListedBlocks() const {
+  if (!mLastListed) return {};
+  gpu::shared::UpsampleBlockListHeader h;
+  std::memcpy(&h, mBlockListHeader.mapped(), sizeof(h));
+  std::vector<std::uint32_t> words(gpu::shared::kUpsampleBlockListHeaderWords + h.groups.w);
+  download(mCtx, mBlockList, words.data(), words.size() * 4);
+  std::vector<std::uint32_t> blocks(words.begin() + gpu::shared::kUpsampleBlockListHeaderWords, words.end());
+  std::sort(blocks.begin(), blocks.end());
+  return blocks;
 }
 
 gpu::shared::MaskRegion GpuRayMask::lastRegion() const {

@@ -19,6 +19,11 @@ namespace rtsdf {
 
 class GridShiftPass;
 
+/// @brief @a region's two settling boxes after its coarse grid of @a dims scrolled by @a shift voxels (voxel v takes
+///        v + shift's): moved with their voxels and clipped to the grid, empty where all of a box left.
+gpu::shared::MaskRegion settlingMovedWith(gpu::shared::MaskRegion region, const glm::ivec3& dims,
+                                          const glm::ivec3& shift);
+
 /// @brief The ray mask compacted on the GPU, for one pair of grids.
 ///
 /// Owns the three passes and their buffers: the grids' tables (maskFineRanges: "ray mask fine ranges";
@@ -49,8 +54,15 @@ public:
   ///        (SdfPipeline::scroll): record the refinement's history shifted through @a scratch (by @a shiftPass
   ///        where given: recordGridShift), the voxels that entered new to the band. The grids' tables are relative
   ///        to the corner and stay.
+  ///        Before the shift the band's counts lose the voxels that leave (MaskLeavePass), and the settling boxes move
+  ///        with the grid, so that the next run may visit only what changed (carriesOverScroll).
   void recordScroll(VkCommandBuffer cmd, const GridSpec& coarse, const GridSpec& fine, const glm::ivec3& coarseShift,
                     const gpu::Buffer& scratch, const GridShiftPass* shiftPass);
+  /// @brief Whether the next run may visit only the coarse blocks of what changed (kMaskBlockList) although the grids
+  ///        scrolled: one scroll since the last run, and grids whose every coarse voxel's fine voxels lie in one brick
+  ///        that moves with it (the fine grid r times the coarse one, r dividing RTSDF_BRICK), so that the kept
+  ///        voxels' counts in the bricks and the band moved with them.
+  bool carriesOverScroll() const { return mExactCover && mScrollsSinceRun == 1; }
   /// @brief From the next mask on, refine only the band within @a reach (world units; null: the whole band).
   void setViewReach(const ViewReach* reach);
   /// @brief MaskCompactPass's parameters for frame number @a frame with @a movedBoxes moving instances and the
@@ -62,9 +74,19 @@ public:
   ///        @a pool's BrickAllocPass; then MaskDispatchPass. With kMaskRegionOnly in @a flags the run visits only what
   ///        can change (the band's and the bricks' counts are kept), @a near the coarse voxels a moving box comes
   ///        within the band's reach of (movedReachBox). The parameters become lastParams().
+  ///        With kMaskBlockList too (after a scroll: carriesOverScroll) it visits the coarse blocks that the changed
+  ///        voxels' marks @a changedBlocks (CoarseSdfBuilder::changedBlocksBuffer) reach, those that entered with
+  ///        the scroll, the last run's settling box and @a near (UpsampleBlocksPass lists them).
   void recordMask(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, std::uint32_t frame, std::uint32_t movedCount,
                   const gpu::Buffer& coarse, const gpu::Buffer& movedBoxes, const gpu::Buffer& changedBox, int flags,
-                  const BrickPool& pool, const CoarseVoxelBox& near = {});
+                  const BrickPool& pool, const CoarseVoxelBox& near = {},
+                  const gpu::Buffer* changedBlocks = nullptr);
+  /// @brief The coarse voxels the last run visited: its MaskRegion's, or its listed blocks'. The frame must be
+  ///        finished.
+  std::uint64_t lastVisitedVoxels() const;
+  /// @brief The blocks the last run listed (kMaskBlockList; coarseBlockIndex), sorted; empty for a run over a box.
+  ///        The frame must be finished.
+  std::vector<std::uint32_t> readListedBlocks() const;
   /// @brief The region the last run of the mask visited (MaskRegion, host-visible). The frame must be finished.
   gpu::shared::MaskRegion lastRegion() const;
   /// @brief Record: the mask's and @a pool's counts copied into the host-visible copy, visible to the host after
@@ -113,9 +135,20 @@ private:
   double mBand, mBeta;
   std::uint32_t mSettleFrames, mRefreshPeriod, mRefineParts;
   glm::ivec3 mBrickDims;
+  /// The boxes of a run over listed blocks (host-written), written from the last run's settling box and the scroll's.
+  void writeListBoxes(std::uint32_t frame, const CoarseVoxelBox& near) const;
   MaskCompactPass mCompact;
   MaskDispatchPass mDispatch;
   MaskRegionPass mRegionPass;
+  MaskLeavePass mLeave;
+  UpsampleBlocksPass mLister;
+  /// A run over listed blocks: its boxes (host-written), its list and a host copy of the list's header, and per axis
+  /// each block's first coarse voxel (upsampleBlockFineBegins' layout: the list's total counts coarse voxels).
+  gpu::Buffer mListBoxes, mBlockList, mBlockListHeader, mCoarseBegins;
+  bool mLastListed = false;  ///< the last run visited listed blocks
+  bool mExactCover = false;  ///< the grids as carriesOverScroll needs them
+  int mScrollsSinceRun = 0;  ///< scrolls since the last run
+  std::vector<CoarseVoxelBox> mEnteredBoxes; ///< the voxels the last scroll brought in
   gpu::Buffer mCoarseState, mFineToCoarse, mFineRanges, mCounts, mRefineStats, mCountsReadback, mRefineList;
   gpu::Buffer mRegion; ///< MaskRegion (host memory: lastRegion() reads it mapped)
   gpu::shared::MaskParams mLastParams{};

@@ -68,7 +68,12 @@ PipelineMemory estimatePipelineMemory(const std::pair<GridSpec, GridSpec>& grids
       fineBuf ? (gpu::shared::kUpsampleBlockListHeaderWords + coarseBuf / 256 +
                  gpu::shared::upsampleBlockFineBeginWords(coarseDims)) * 4
               : 0;
-  m.deviceBytes = 6 * coarseBuf + keptTransform + 2 * (coarseBuf / 64) + regionLists + upsampleBlocks + fineBuf +
+  // The mask's own list of blocks (a run over what changed after a scroll) and their coarse voxels' table.
+  const std::uint64_t maskBlocks = s.band > 0.0 ? (gpu::shared::kUpsampleBlockListHeaderWords + coarseBuf / 256 +
+                                                   gpu::shared::upsampleBlockFineBeginWords(coarseDims)) * 4
+                                                : 0;
+  m.deviceBytes = 6 * coarseBuf + keptTransform + 2 * (coarseBuf / 64) + regionLists + upsampleBlocks + maskBlocks +
+                  fineBuf +
                   std::uint64_t(bricks.x) * bricks.y * bricks.z * 8 +
                   scene.meshTriangles * (64 + 64 + 48 + 3 * 4) + scene.instanceTriangles * (48 + 4) +
                   scene.instances * (64 + 4 + 112 + 64 + 8 + 32) + nearHalfList + 4096;

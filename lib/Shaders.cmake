@@ -53,6 +53,7 @@ rtsdf_add_shaders(TARGET rtsdf_shaders ROOT ${CMAKE_CURRENT_SOURCE_DIR} SHADERS
   "winding_exact.comp             sdf/refine/winding_exact.comp"
   # The ray mask and the brick pool.
   "mask_compact.comp              sdf/mask/mask_compact.comp"
+  "mask_compact_blocks.comp       sdf/mask/mask_compact.comp  RTSDF_MASK_BLOCK_LIST=1"
   "mask_dispatch.comp             sdf/mask/mask_dispatch.comp"
   "mask_region.comp               sdf/mask/mask_region.comp"
   "mask_leave.comp                sdf/mask/mask_leave.comp"

@@ -72,7 +72,7 @@ void MaskCompactPass::execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, c
   if (listed && !in.blockList)
     throw Error("MaskCompactPass: a run over listed blocks (kMaskBlockList) needs the list");
   b[kMaskBindingBlockList] = in.blockList ? in.blockList : &in.coarse; // unread without kMaskBlockList
-  if (listed) mPipeline.dispatchIndirect(cmd, b, &params, *in.blockList);
+  if (listed) mBlocks.dispatchIndirect(cmd, b, &params, *in.blockList);
   else mPipeline.dispatchIndirect(cmd, b, &params, out.region, offsetof(MaskRegion, groups));
   gpu::computeBarrier(cmd);
 }

@@ -59,9 +59,14 @@ public:
   struct Outputs { const gpu::Buffer &counts, &refineList, &coarseState, &brickNeeded, &region; };
   using Params = gpu::shared::MaskParams; ///< refineCapacity: entries the refine list holds
   explicit MaskCompactPass(const gpu::VulkanContext& ctx)
-      : ComputePass(ctx, "mask_compact.comp", gpu::shared::kMaskBindingCount, sizeof(Params)) {}
+      : ComputePass(ctx, "mask_compact.comp", gpu::shared::kMaskBindingCount, sizeof(Params)),
+        mBlocks(ctx, "mask_compact_blocks.comp", gpu::shared::kMaskBindingCount, sizeof(Params)) {}
+  /// @throw Error with kMaskBlockList in params and no Inputs::blockList.
   void execute(VkCommandBuffer cmd, gpu::GpuProfiler* profiler, const Inputs& in, const Outputs& out,
                const Params& params) const;
+
+private:
+  gpu::ComputePipeline mBlocks; ///< the variant over listed blocks (kMaskBlockList)
 };
 
 /// @brief MaskLeavePass (mask_leave.comp): before a scroll shifts the coarse refinement state, the band's two counts

@@ -19,11 +19,15 @@
 // The refinement hashes by voxel, not by slot, so the list's order does not matter. Slots are reserved per subgroup
 // (a ballot's prefix count, one global atomic per counter and subgroup): one global atomic per band voxel serialised the whole band on a single address, and a work
 // group's reservation through shared memory needs two barriers, which cost lavapipe as much as the pass's work.
-// With kMaskBlockList (a run over what changed after a scroll) the voxels visited are those of the coarse blocks a
-// list holds (UpsampleBlocksPass's, a work group a block, dispatched from the list) instead of the MaskRegion's box.
+// Compiled with RTSDF_MASK_BLOCK_LIST 1 (mask_compact_blocks.comp, for kMaskBlockList: a run over what changed after a
+// scroll) the voxels visited are those of the coarse blocks a list holds (UpsampleBlocksPass's, a work group a block,
+// dispatched from the list) instead of the MaskRegion's box: a variant, since lavapipe runs both sides of a branch.
 #include "sdf/coarse/CoarseParams.h"
 #include "sdf/mask/MaskParams.h"
 #include "sdf/refine/RefineParams.h"
+#ifndef RTSDF_MASK_BLOCK_LIST
+#define RTSDF_MASK_BLOCK_LIST 0
+#endif
 #if RTSDF_MASK_GROUP != RTSDF_COARSE_BLOCK
 #error "a work group of mask_compact.comp must be a coarse block (kMaskBlockList)"
 #endif
@@ -39,10 +43,12 @@ layout(std430, binding = kMaskBindingMovedBoxes) readonly buffer MovedBoxes { Mo
 layout(std430, binding = kMaskBindingBrickNeeded) buffer BrickNeeded { uint brickNeeded[]; };
 layout(std430, binding = kMaskBindingChangedBox) readonly buffer Changed { uvec4 changedLo; uvec4 changedHi; };
 layout(std430, binding = kMaskBindingRegion) buffer Region { MaskRegion region; };
+#if RTSDF_MASK_BLOCK_LIST
 layout(std430, binding = kMaskBindingBlockList) readonly buffer BlockList {
   UpsampleBlockListHeader listHeader;
   uint listBlocks[];
 };
+#endif
 
 // Add @a delta to the band counts of the bricks holding fine voxels [lo, hi].
 void countBricks(ivec3 lo, ivec3 hi, int delta) {
@@ -100,16 +106,16 @@ void addSubgroup(uint counter, uint value) {
 // The coarse voxel this invocation visits, and whether it lies in the run's region: the MaskRegion's box, or with
 // kMaskBlockList this work group's listed block.
 ivec3 visitedVoxel(out bool inRegion) {
-  if ((params.coarseDims.w & kMaskBlockList) != 0) {
-    uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    inRegion = g < listHeader.groups.w;
-    ivec3 b = inRegion ? linearCell(listBlocks[g], coarseBlockDims(params.coarseDims.xyz)) : ivec3(0);
-    ivec3 p = b * RTSDF_COARSE_BLOCK + ivec3(gl_LocalInvocationID);
-    inRegion = inRegion && all(lessThan(p, params.coarseDims.xyz));
-    return p;
-  }
+#if RTSDF_MASK_BLOCK_LIST
+  uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  inRegion = g < listHeader.groups.w;
+  ivec3 b = inRegion ? linearCell(listBlocks[g], coarseBlockDims(params.coarseDims.xyz)) : ivec3(0);
+  ivec3 p = b * RTSDF_COARSE_BLOCK + ivec3(gl_LocalInvocationID);
+  inRegion = inRegion && all(lessThan(p, params.coarseDims.xyz));
+#else
   ivec3 p = ivec3(gl_GlobalInvocationID) + ivec3(region.lo.xyz);
   inRegion = all(lessThanEqual(p, ivec3(region.hi.xyz)));
+#endif
   return p;
 }
 

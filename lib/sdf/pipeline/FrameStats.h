@@ -42,7 +42,8 @@ struct FrameStats {
   /// entered and that box (CoarseSdfBuilder::recordScroll); 0 where it did not run.
   std::uint64_t coarseVoxelizedVoxels = 0;
   /// Coarse voxels the mask's compaction visited this frame: the whole grid, or where its inputs changed only near
-  /// moving instances those whose decisions can change (MaskRegionPass); 0 where it did not run.
+  /// moving instances those whose decisions can change (MaskRegionPass's box; after a cascade level's scroll the
+  /// blocks of what changed: FramePlan::maskOverBlocks); 0 where it did not run.
   std::uint64_t maskVisitedVoxels = 0;
   std::uint64_t movedInstances = 0;    ///< instances whose transform changed since the previous frame near the grid
   /// CPU time of the frame outside its wait for the GPU: the BVH's top level and the instance transforms,

@@ -237,17 +237,6 @@ std::uint64_t GpuRayMask::lastVisitedVoxels() const {
   return h.totals.x; // the listed blocks' coarse voxels (coarseBlockBegins)
 }
 
-std::vector<std::uint32_t> GpuRayMask::readListedBlocks() const {
-  if (!mLastListed) return {};
-  gpu::shared::UpsampleBlockListHeader h;
-  std::memcpy(&h, mBlockListHeader.mapped(), sizeof(h));
-  std::vector<std::uint32_t> words(gpu::shared::kUpsampleBlockListHeaderWords + h.groups.w);
-  download(mCtx, mBlockList, words.data(), words.size() * 4);
-  std::vector<std::uint32_t> blocks(words.begin() + gpu::shared::kUpsampleBlockListHeaderWords, words.end());
-  std::sort(blocks.begin(), blocks.end());
-  return blocks;
-}
-
 gpu::shared::MaskRegion GpuRayMask::lastRegion() const {
   gpu::shared::MaskRegion r{};
   std::memcpy(&r, mRegion.mapped(), sizeof(r));

@@ -84,9 +84,6 @@ public:
   /// @brief The coarse voxels the last run visited: its MaskRegion's, or its listed blocks'. The frame must be
   ///        finished.
   std::uint64_t lastVisitedVoxels() const;
-  /// @brief The blocks the last run listed (kMaskBlockList; coarseBlockIndex), sorted; empty for a run over a box.
-  ///        The frame must be finished.
-  std::vector<std::uint32_t> readListedBlocks() const;
   /// @brief The region the last run of the mask visited (MaskRegion, host-visible). The frame must be finished.
   gpu::shared::MaskRegion lastRegion() const;
   /// @brief Record: the mask's and @a pool's counts copied into the host-visible copy, visible to the host after

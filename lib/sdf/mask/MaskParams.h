@@ -165,7 +165,8 @@ const int kMaskMotionKeepsSettled = 4; // closest mode: a moving instance does n
 const int kMaskRegionOnly = 8;         // the run visits the MaskRegion alone, keeps the band's counts and the bricks'
                                        // band counts and changes them where a visited voxel's band or view changed
 const int kMaskBlockList = 16;         // with kMaskRegionOnly, the run visits the coarse blocks of a list instead of
-                                       // the MaskRegion's box: a work group a block (after a scroll)
+                                       // the MaskRegion's box: a work group a block (after a scroll), run by
+                                       // MaskCompactPass's variant mask_compact_blocks.comp
 
 struct MaskParams {
   ivec4 coarseDims;    // xyz: coarse voxels per axis; w: kMaskRelistOutOfView | kMaskCoarseRebuilt |

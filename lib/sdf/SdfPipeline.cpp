@@ -60,6 +60,7 @@ SdfPipeline::SdfPipeline(const gpu::VulkanContext& ctx, const Scene& scene,
                                                         "the coarse one", mCoarseSpec.describe(),
                                                         mFineSpec.describe()));
   mBvh = std::make_unique<GpuSceneBvh>(ctx, scene, frameOrigin());
+  mBvh->setUnionReach(unionReach());
   placeSeedsOnLattice();
   mFields = std::make_unique<FieldPasses>(ctx, mCoarseSpec, mFineSpec, mSettings, parts,
                                           ClosestRefinePass::Variant{s.rays > 0, cellSearch, cpuShaders});
@@ -83,6 +84,13 @@ void SdfPipeline::restartHistory() {
   mMaskFrame = 0;
   mPoolReset = mScrolled = mViewChanged = false; // a first frame runs everything over every voxel
   mRecordingInterrupted = false;
+}
+
+Bounds SdfPipeline::unionReach() const {
+  Bounds box;
+  box.add(glm::dvec3(-mFineSpec.voxelSize));
+  box.add(glm::dvec3(mFineSpec.dims + 1) * mFineSpec.voxelSize);
+  return box;
 }
 
 Bounds SdfPipeline::motionReach() const {
@@ -134,6 +142,7 @@ void SdfPipeline::scroll(const std::pair<GridSpec, GridSpec>& grids, const gpu::
   mFineSpec = mMemory.fine = grids.second;
   if (recut) {
     mBvh = std::make_unique<GpuSceneBvh>(mCtx, *recut, frameOrigin());
+    mBvh->setUnionReach(unionReach());
     placeSeedsOnLattice();
     mMotion->setScene(*recut);
   } else {

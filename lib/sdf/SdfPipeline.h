@@ -179,6 +179,9 @@ private:
   /// The world box an instance's motion must meet to change the fields (InstanceMotion's reach): the fine grid
   /// grown by the band and the mask's reach pad.
   Bounds motionReach() const;
+  /// The box the refinement asks the closed pieces' union about, in the BVH's frame (GpuSceneBvh::setUnionReach): the
+  /// fine grid grown by a voxel for rounding.
+  Bounds unionReach() const;
   /// Every part's buffers cleared as at construction, and the frame counts to 0: the next frame is a first frame
   /// (every pass over every voxel, the pool sized again).
   void restartHistory();

@@ -72,7 +72,7 @@ SceneClosedPieces sceneClosedPieces(const Scene& scene, const MeshBvhs& meshes) 
 }
 
 std::vector<UnionPiece> overlappingClosedPieces(const Scene& scene, const SceneClosedPieces& pieces,
-                                                const InstanceBvh& top) {
+                                                const InstanceBvh& top, const Bounds& reach) {
   std::vector<PlacedPiece> placed;
   for (std::uint32_t s = 0; s < top.instances.size(); ++s) {
     const BvhInstance& inst = top.instances[s];
@@ -104,6 +104,9 @@ std::vector<UnionPiece> overlappingClosedPieces(const Scene& scene, const SceneC
   std::vector<UnionPiece> out;
   for (std::size_t k = 0; k < placed.size(); ++k) {
     if (!overlaps[k]) continue;
+    if (!reach.empty() && (glm::any(glm::lessThan(glm::dvec3(placed[k].hi), reach.min)) ||
+                           glm::any(glm::greaterThan(glm::dvec3(placed[k].lo), reach.max))))
+      continue;
     const SceneClosedPieces::Box& b = pieces.closedBoxes[scene.instances[placed[k].slot].mesh][placed[k].box];
     out.push_back({glm::vec4(b.lo, bitsAsFloat(placed[k].slot)), glm::vec4(b.hi, bitsAsFloat(b.piece))});
   }

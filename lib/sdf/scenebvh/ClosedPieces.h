@@ -8,6 +8,7 @@
 #include "bvh/Bvh.h"
 #include "scene/Scene.h"
 #include "sdf/scenebvh/PieceUnionParams.h"
+#include "util/Bounds.h"
 
 #include <cstdint>
 #include <vector>
@@ -34,8 +35,10 @@ SceneClosedPieces sceneClosedPieces(const Scene& scene, const MeshBvhs& meshes);
 /// @brief The closed pieces of @a top's instances whose world boxes (their object boxes placed by the instance's
 ///        transform) touch or overlap another closed piece's: the only ones that can hold a point whose nearest
 ///        surface is another piece's (the exact field's rule, PieceUnion). Empty when none overlap.
+/// @param reach where not empty (the BVH's frame), only the pieces whose world boxes meet it: the points the list is
+///        asked about lie in it, and every piece costs each of them a test (overlaps are found among all pieces).
 std::vector<gpu::shared::UnionPiece> overlappingClosedPieces(const Scene& scene, const SceneClosedPieces& pieces,
-                                                             const InstanceBvh& top);
+                                                             const InstanceBvh& top, const Bounds& reach = {});
 
 /// @brief CPU copy of piece_union.glsl's insideAnotherPiece: whether @a p (the BVH's frame) lies inside a piece of
 ///        @a list other than piece @a skipPiece of instance slot @a skipSlot, by the majority of three rays' crossing

@@ -81,7 +81,7 @@ void GpuSceneBvh::recordUpdate(VkCommandBuffer cmd, double time) {
   gpu::recordUpload(cmd, mVoxelizeBuf, mVoxelizeInstances.data(),
                     mVoxelizeInstances.size() * sizeof(gpu::shared::VoxelizeInstance));
   // The pieces that overlap at this moment (instances move): the header, then the list.
-  mUnionList = overlappingClosedPieces(mScene, mPieces, mTop);
+  mUnionList = overlappingClosedPieces(mScene, mPieces, mTop, mUnionReach);
   static_assert(sizeof(gpu::shared::UnionPiece) == 2 * sizeof(glm::uvec4), "UnionPiece is two uvec4s in std430");
   mUnionUpload.assign(1, glm::uvec4(std::uint32_t(mUnionList.size()), 0u, 0u, 0u));
   const std::size_t header = mUnionUpload.size();

@@ -78,6 +78,13 @@ public:
   const glm::dvec3& frameOrigin() const { return mFrameOrigin; }
   /// @brief Measure from @a origin from the next update on (a pipeline whose grids scrolled): the bottom levels are
   ///        in their meshes' own space and stay; the top level is rebuilt by the next update, whatever its time.
+  /// @brief From the next update on, list only the overlapping closed pieces whose boxes meet @a box (the BVH's frame;
+  ///        empty: every one, the default): the points insideAnotherPiece is asked about lie in it (a pipeline's fine
+  ///        grid), and each piece listed costs every one of them a test.
+  void setUnionReach(const Bounds& box) {
+    mUnionReach = box;
+    mHaveTop = false;
+  }
   void setFrameOrigin(const glm::dvec3& origin) {
     mFrameOrigin = origin;
     mHaveTop = false;
@@ -97,6 +104,7 @@ private:
   SceneClosedPieces mPieces;
   SceneOpenPieces mOpen;
   std::vector<gpu::shared::UnionPiece> mUnionList;
+  Bounds mUnionReach; ///< setUnionReach (empty: every piece)
   std::vector<glm::uvec4> mUnionUpload; ///< the header and the list as uploaded (kept alive for vkCmdUpdateBuffer)
   gpu::Buffer mBlasNodes, mCorners, mTriangleIds, mTlasNodes, mTlasSlots, mInstances, mVoxelizeBuf;
   gpu::Buffer mPieceOf, mUnionPieces, mOpenFlags, mWindingNodes, mInstanceTriangles;

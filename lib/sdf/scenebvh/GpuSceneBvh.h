@@ -76,8 +76,6 @@ public:
   const InstanceBvh& top() const { return mTop; }
   /// @brief The world point of the BVH's (0, 0, 0).
   const glm::dvec3& frameOrigin() const { return mFrameOrigin; }
-  /// @brief Measure from @a origin from the next update on (a pipeline whose grids scrolled): the bottom levels are
-  ///        in their meshes' own space and stay; the top level is rebuilt by the next update, whatever its time.
   /// @brief From the next update on, list only the overlapping closed pieces whose boxes meet @a box (the BVH's frame;
   ///        empty: every one, the default): the points insideAnotherPiece is asked about lie in it (a pipeline's fine
   ///        grid), and each piece listed costs every one of them a test.
@@ -85,6 +83,8 @@ public:
     mUnionReach = box;
     mHaveTop = false;
   }
+  /// @brief Measure from @a origin from the next update on (a pipeline whose grids scrolled): the bottom levels are
+  ///        in their meshes' own space and stay; the top level is rebuilt by the next update, whatever its time.
   void setFrameOrigin(const glm::dvec3& origin) {
     mFrameOrigin = origin;
     mHaveTop = false;

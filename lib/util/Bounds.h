@@ -22,6 +22,11 @@ struct Bounds {
   glm::dvec3 extent() const { return empty() ? glm::dvec3(0.0) : max - min; }
   glm::dvec3 center() const { return 0.5 * (min + max); }
   double maxExtent() const { const glm::dvec3 e = extent(); return glm::max(e.x, glm::max(e.y, e.z)); }
+  /// Whether this box and @a o share a point (touching counts); never for an empty one.
+  bool meets(const Bounds& o) const {
+    return !empty() && !o.empty() && glm::all(glm::lessThanEqual(min, o.max)) &&
+           glm::all(glm::lessThanEqual(o.min, max));
+  }
 };
 
 } // namespace rtsdf

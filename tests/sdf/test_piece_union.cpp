@@ -155,7 +155,8 @@ TEST_F(PieceUnionGpu, APipelineListsOnlyThePiecesItsGridMeets) {
   SdfPipeline nearOnly(*sCtx, scene, nearBox, settingsFor(RefineMode::Closest, 0));
   nearOnly.runFrame(0.0);
   ASSERT_EQ(nearOnly.bvh().unionList().size(), 2u);
-  for (const gpu::shared::UnionPiece& u : nearOnly.bvh().unionList()) EXPECT_EQ(glm::floatBitsToUint(u.lo.w), 0u) << "slot";
+  for (const gpu::shared::UnionPiece& u : nearOnly.bvh().unionList())
+    EXPECT_EQ(glm::floatBitsToUint(u.lo.w), 0u) << "the near pair's slot";
   const SignCount c = wrongSigns(nearOnly, twoSpheresDistance);
   EXPECT_GT(c.voxels, 5000u);
   EXPECT_LE(c.share(), 5e-4);

@@ -22,8 +22,7 @@ std::vector<gpu::shared::MovedBox> movedInstanceBoxes(const Scene& scene, const 
       swept.add(glm::dvec3(m0 * p));
       swept.add(glm::dvec3(m1 * p));
     }
-    if (!reach.empty() && (glm::any(glm::lessThan(swept.max, reach.min)) || glm::any(glm::greaterThan(swept.min, reach.max))))
-      continue;
+    if (!reach.empty() && !swept.meets(reach)) continue;
     swept.min -= origin;
     swept.max -= origin;
     gpu::shared::MovedBox box{};

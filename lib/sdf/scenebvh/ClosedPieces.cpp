@@ -104,9 +104,7 @@ std::vector<UnionPiece> overlappingClosedPieces(const Scene& scene, const SceneC
   std::vector<UnionPiece> out;
   for (std::size_t k = 0; k < placed.size(); ++k) {
     if (!overlaps[k]) continue;
-    if (!reach.empty() && (glm::any(glm::lessThan(glm::dvec3(placed[k].hi), reach.min)) ||
-                           glm::any(glm::greaterThan(glm::dvec3(placed[k].lo), reach.max))))
-      continue;
+    if (!reach.empty() && !Bounds{glm::dvec3(placed[k].lo), glm::dvec3(placed[k].hi)}.meets(reach)) continue;
     const SceneClosedPieces::Box& b = pieces.closedBoxes[scene.instances[placed[k].slot].mesh][placed[k].box];
     out.push_back({glm::vec4(b.lo, bitsAsFloat(placed[k].slot)), glm::vec4(b.hi, bitsAsFloat(b.piece))});
   }
